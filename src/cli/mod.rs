@@ -1,0 +1,56 @@
+//! The `tetwalk` command line.
+
+mod exit;
+mod gen_cases;
+mod walk;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "tetwalk",
+    version,
+    about = "Finds out, with proof, when f32 ray traversal of tetrahedral meshes goes wrong"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the exit-face methods.
+    Methods,
+    /// Answer (tetrahedron, ray) cases from JSON Lines with each method, judged exactly.
+    Exit(exit::Args),
+    /// Write generated (tetrahedron, ray) cases as JSON Lines.
+    GenCases(gen_cases::Args),
+    /// Walk rays through a generated mesh with each method, every step judged exactly.
+    Walk(walk::Args),
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Methods => {
+            println!("| method | claims robust | implements |\n|---|---|---|");
+            for m in crate::methods::METHODS {
+                println!(
+                    "| {} | {} | {} |",
+                    m.name,
+                    if m.claims_robust { "yes" } else { "no" },
+                    m.source
+                );
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Exit(a) => exit::run(a),
+        Command::GenCases(a) => gen_cases::run(a),
+        Command::Walk(a) => walk::run(a),
+    };
+    result.unwrap_or_else(|e| {
+        eprintln!("tetwalk: {e}");
+        ExitCode::from(2)
+    })
+}

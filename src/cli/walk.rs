@@ -1,0 +1,124 @@
+//! `tetwalk walk`: rays through a generated mesh, each method's walk judged step by step.
+
+use crate::methods::parse_list;
+use crate::scenes::{self, Generated};
+use crate::walk::{Outcome, default_max_steps, locate, same_result};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[arg(long, value_enum, default_value = "fan")]
+    mesh: Generated,
+    /// Grid cells per side, or 16·size tetrahedra in the fan.
+    #[arg(long, default_value_t = 8)]
+    size: u32,
+    /// Move the mesh and rays this far from the origin along (1, 1, 1); exact up to 2^20.
+    #[arg(long, default_value_t = 0.0)]
+    offset: f32,
+    #[arg(long, default_value_t = 10000)]
+    rays: usize,
+    #[arg(long, default_value = "all")]
+    methods: String,
+    #[arg(long)]
+    fma: bool,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+#[derive(Default, Clone, Copy)]
+struct Tally {
+    rays: u64,
+    kinds: [u64; 5],
+    wrong: u64,
+    diverged: u64,
+    steps: u64,
+}
+
+fn kind_index(o: &Outcome) -> usize {
+    match o {
+        Outcome::Hit { .. } => 0,
+        Outcome::LeftMesh { .. } => 1,
+        Outcome::NoExitFace { .. } => 2,
+        Outcome::Cycle { .. } => 3,
+        Outcome::StepLimit { .. } => 4,
+    }
+}
+
+pub fn run(a: Args) -> Result<ExitCode, String> {
+    let methods = parse_list(&a.methods)?;
+    let offset = Vec3::splat(a.offset);
+    let mesh = scenes::generated(a.mesh, a.size, offset, a.seed).map_err(|e| e.to_string())?;
+    let rays = scenes::rays(a.mesh, &mesh, offset, a.rays, a.seed);
+    let max = default_max_steps(&mesh);
+    let exact = crate::methods::by_name("exact").expect("registered");
+    let per_ray: Vec<Option<Vec<Tally>>> = rays
+        .par_iter()
+        .map(|ray| {
+            let start = locate(&mesh, ray.org, 0).ok()?;
+            let reference = exact.walk(false)(&mesh, ray, start, max);
+            let tallies = methods
+                .iter()
+                .map(|m| {
+                    let (w, div) = m.walk_checked(a.fma)(&mesh, ray, start, max);
+                    let mut t = Tally {
+                        rays: 1,
+                        steps: w.steps as u64,
+                        ..Tally::default()
+                    };
+                    t.kinds[kind_index(&w.outcome)] = 1;
+                    t.wrong = !same_result(&mesh, ray, &w, &reference) as u64;
+                    t.diverged = div.is_some() as u64;
+                    t
+                })
+                .collect();
+            Some(tallies)
+        })
+        .collect();
+    let outside = per_ray.iter().filter(|r| r.is_none()).count();
+    println!(
+        "mesh {:?} size {} offset {} ({} tetrahedra), {} rays, seed {}, {}{}\n",
+        a.mesh,
+        a.size,
+        a.offset,
+        mesh.tets.len(),
+        rays.len() - outside,
+        a.seed,
+        if a.fma { "fma" } else { "plain f32" },
+        if outside > 0 {
+            format!(", {outside} rays starting outside skipped")
+        } else {
+            String::new()
+        },
+    );
+    println!(
+        "| method | hit | left mesh | no exit face | cycle | step limit | wrong result | diverged | mean steps |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for (i, m) in methods.iter().enumerate() {
+        let mut s = Tally::default();
+        for t in per_ray.iter().flatten() {
+            let t = t[i];
+            s.rays += t.rays;
+            s.wrong += t.wrong;
+            s.diverged += t.diverged;
+            s.steps += t.steps;
+            (0..5).for_each(|k| s.kinds[k] += t.kinds[k]);
+        }
+        let k = s.kinds;
+        println!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
+            m.name,
+            k[0],
+            k[1],
+            k[2],
+            k[3],
+            k[4],
+            s.wrong,
+            s.diverged,
+            s.steps as f64 / s.rays.max(1) as f64
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,77 @@
+//! Exact ray–triangle intersection with rationals, and the brute-force first hit over a mesh's
+//! constrained faces: the reference that walks are checked against.
+
+use super::rational::{det, neg, q3, sub};
+use crate::mesh::Mesh;
+use crate::tet::Ray;
+use glam::Vec3;
+use rug::Rational;
+
+/// The parameter `t` at which the line `o + t·d` crosses the closed triangle `abc`, if it crosses it
+/// (a line in the triangle's plane does not cross it).
+pub fn line_triangle(tri: [Vec3; 3], ray: &Ray) -> Option<Rational> {
+    let [a, b, c] = tri.map(q3);
+    let (o, d) = (q3(ray.org), q3(ray.dir));
+    let (ab, ac) = (sub(&b, &a), sub(&c, &a));
+    // Cramer on o + t d = a + u ab + v ac.
+    let nd = neg(&d);
+    let den = det(&ab, &ac, &nd);
+    if den.cmp0().is_eq() {
+        return None;
+    }
+    let rhs = sub(&o, &a);
+    let u = det(&rhs, &ac, &nd) / &den;
+    let v = det(&ab, &rhs, &nd) / &den;
+    let t = det(&ab, &ac, &rhs) / &den;
+    let inside = u.cmp0().is_ge() && v.cmp0().is_ge() && Rational::from(&u + &v) <= 1;
+    inside.then_some(t)
+}
+
+/// Whether the ray, its origin perturbed as in [`super::perturbed_exit`], crosses the triangle at
+/// `t > 0`; `t` is then the unperturbed crossing parameter. A ray that only grazes an edge or vertex, lies
+/// in the triangle's plane, or starts on the triangle and moves away, passes beside it, as the `exact`
+/// walk sees it.
+pub fn perturbed_crossing(tri: [Vec3; 3], ray: &Ray) -> Option<Rational> {
+    let [a, b, c] = tri;
+    let nd = super::normal_dot(a, b, c, ray.dir);
+    let sides = [(a, b), (b, c), (c, a)].map(|(p, q)| super::perturbed_side(p, q, ray));
+    if nd == 0 || sides.iter().any(|&s| s != nd) {
+        return None;
+    }
+    let t = line_triangle(tri, ray)?;
+    let ahead = match t.cmp0() {
+        std::cmp::Ordering::Equal => {
+            // t(ε) = n · (a - o_ε) / (n · d): ahead iff -n's first nonzero component has the sign of n · d.
+            let n0 = (0..3)
+                .map(|k| super::normal_dot(a, b, c, super::unit(k)))
+                .find(|&x| x != 0)
+                .unwrap_or(0);
+            -n0 == nd
+        }
+        o => o.is_gt(),
+    };
+    ahead.then_some(t)
+}
+
+/// The first crossing of the ray ([`perturbed_crossing`]) with any constrained face of the mesh, by
+/// trying every one: the smallest `t` and every `(tetrahedron, face)` crossed there.
+pub fn first_hit(mesh: &Mesh, ray: &Ray) -> Option<(Rational, Vec<(u32, u8)>)> {
+    let mut best: Option<(Rational, Vec<(u32, u8)>)> = None;
+    for t in 0..mesh.tets.len() as u32 {
+        for f in 0..4 {
+            if !mesh.is_constrained(t, f) {
+                continue;
+            }
+            let tri = mesh.face(t, f).map(|i| mesh.points[i as usize]);
+            let Some(x) = perturbed_crossing(tri, ray) else {
+                continue;
+            };
+            match &mut best {
+                Some((bt, faces)) if *bt == x => faces.push((t, f as u8)),
+                Some((bt, _)) if *bt < x => {}
+                _ => best = Some((x, vec![(t, f as u8)])),
+            }
+        }
+    }
+    best
+}

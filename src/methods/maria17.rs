@@ -1,0 +1,89 @@
+//! `maria17`: Maria, Horna, Aveneau 2017, "Efficient Ray Traversal of Constrained Delaunay
+//! Tetrahedralization" — two side products from the entry face, three in the starting tetrahedron.
+
+use super::{Arith, ExitMethod};
+use crate::tet::{Ray, Tet};
+use glam::Vec3;
+
+/// Table 2: vertices of face `F_i` counterclockwise from inside; `Λ_j` runs from vertex `j` to `V_i`.
+const FACE_VERTICES: [[usize; 3]; 4] = [[3, 1, 2], [2, 0, 3], [3, 0, 1], [1, 0, 2]];
+
+/// Table 1: exit face from the entry face (column) and the local identifier in {0, 1, 2}.
+const GET_FACE: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+
+/// The ray as Plücker line `{u : v}`: direction `u = d` and moment `v = o × d`, computed once.
+#[derive(Clone, Copy, Debug)]
+pub struct Plucker {
+    u: Vec3,
+    v: Vec3,
+}
+
+pub struct Maria17;
+
+/// §3.4: side product of the ray with `Λ = V_k V_f`, in the frame translated to the complement vertex
+/// `V_f`, where `Λ` has nil moment: `v' · (V_f - V_k)`, with `v' = v - V_f × u` shared per tetrahedron.
+#[inline(always)]
+fn side<A: Arith>(moment: Vec3, vf: Vec3, vk: Vec3) -> f32 {
+    A::dot(moment, vf - vk)
+}
+
+/// §3.4: the ray's moment in the frame translated to `V_f`, `v' = v - V_f × u`.
+#[inline(always)]
+fn translated_moment<A: Arith>(ray: &Plucker, vf: Vec3) -> Vec3 {
+    ray.v - A::cross(vf, ray.u)
+}
+
+/// Algorithm 1: exit face search from the entry face `F_e`, exactly two side products, no branch.
+#[inline(always)]
+fn exit_tetra<A: Arith>(tet: &Tet, ray: &Plucker, entry: usize) -> usize {
+    let vf = tet[entry];
+    let moment = translated_moment::<A>(ray, vf);
+    let lambda = FACE_VERTICES[entry];
+    let s = side::<A>(moment, vf, tet[lambda[2]]);
+    let id = (s >= 0.0) as usize;
+    let s = side::<A>(moment, vf, tet[lambda[id]]);
+    let id = id + (s < 0.0) as usize;
+    GET_FACE[entry][id]
+}
+
+impl ExitMethod for Maria17 {
+    type RayData = Plucker;
+
+    fn prepare<A: Arith>(ray: &Ray) -> Plucker {
+        Plucker {
+            u: ray.dir,
+            v: A::cross(ray.org, ray.dir),
+        }
+    }
+
+    /// Algorithm 1 with a known entry face; Algorithm 2 in the starting tetrahedron (side product
+    /// with `V_2 V_3`, taken in the frame of `V_3`, then Algorithm 1 with `F_0` or `F_1` as fake entry).
+    /// Always answers a face: the published method has no "no exit" outcome.
+    fn exit_face<A: Arith>(tet: &Tet, ray: &Plucker, entry: Option<usize>) -> Option<usize> {
+        let entry = entry.unwrap_or_else(|| {
+            let s = side::<A>(translated_moment::<A>(ray, tet[3]), tet[3], tet[2]);
+            (s < 0.0) as usize
+        });
+        Some(exit_tetra::<A>(tet, ray, entry))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Table 1 follows from Table 2: local face `id` is bounded by `Λ_id` and `Λ_(id+2)%3`, so it is the
+    /// face opposite the vertex of `Λ_(id+1)%3`.
+    #[test]
+    fn table_1_follows_from_table_2() {
+        for e in 0..4 {
+            for id in 0..3 {
+                assert_eq!(
+                    GET_FACE[e][id],
+                    FACE_VERTICES[e][(id + 1) % 3],
+                    "entry {e} id {id}"
+                );
+            }
+        }
+    }
+}

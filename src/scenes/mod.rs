@@ -1,0 +1,103 @@
+//! Generated scenes, seeded and deterministic: single tetrahedra of each shape family with rays that stab
+//! them, and small meshes that trap walks.
+
+pub mod meshes;
+pub mod tets;
+
+/// The generators' random source: PCG, the same stream for a seed on every platform.
+pub type Rng = rand_pcg::Pcg64;
+
+/// A generator seeded with `seed`.
+pub fn rng(seed: u64) -> Rng {
+    rand::SeedableRng::seed_from_u64(seed)
+}
+
+use crate::mesh::{Mesh, MeshError};
+use crate::tet::Ray;
+use glam::Vec3;
+use rand::RngExt;
+
+/// The generated meshes, by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Generated {
+    /// Kuhn-subdivided `n³` cube grid; the inner box's faces constrained.
+    Kuhn,
+    /// The same with interior points jittered.
+    Jitter,
+    /// `16·n` thin tetrahedra around one edge; the lower hull constrained.
+    Fan,
+}
+
+/// A generated mesh of `size`, moved by `offset` (exactly, for offsets up to 2^20).
+pub fn generated(kind: Generated, size: u32, offset: Vec3, seed: u64) -> Result<Mesh, MeshError> {
+    let raw = match kind {
+        Generated::Kuhn => meshes::kuhn_grid(size),
+        Generated::Jitter => meshes::jittered_grid(size, 0.15, &mut rng(seed)),
+        Generated::Fan => meshes::edge_fan(16 * size.max(1), 8.0),
+    };
+    let mesh = Mesh::build(raw)?;
+    if offset == Vec3::ZERO {
+        Ok(mesh)
+    } else {
+        mesh.translated(offset)
+    }
+}
+
+/// Rays for a generated mesh: origins inside it, half with random directions and half aimed exactly
+/// through vertices and edges (lattice directions in the grids, through the axis edge in the fan).
+/// Coordinates are multiples of 1/16, so the rays move exactly with the mesh's `offset`.
+pub fn rays(kind: Generated, mesh: &Mesh, offset: Vec3, n: usize, seed: u64) -> Vec<Ray> {
+    let mut r = rng(seed ^ 0x005e_ed0f_4a75);
+    let (lo, hi) = mesh
+        .points
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
+            (a.min(p - offset), b.max(p - offset))
+        });
+    let q = |x: f32| (x * 16.0).round() / 16.0;
+    (0..n)
+        .map(|i| {
+            let tie = i % 2 == 1;
+            let (org, dir) = match kind {
+                Generated::Fan => {
+                    let a = r.random_range(0.0..std::f32::consts::TAU);
+                    let rad = r.random_range(0.5..3.0);
+                    let org = Vec3::new(
+                        q(rad * a.cos()),
+                        q(rad * a.sin()),
+                        q(r.random_range(-0.5..0.5)),
+                    );
+                    let dz = q(r.random_range(-0.5..0.5));
+                    let dir = if tie {
+                        Vec3::new(-org.x, -org.y, dz)
+                    } else {
+                        Vec3::new(r.random_range(-1.0..1.0), r.random_range(-1.0..1.0), dz)
+                    };
+                    (org, dir)
+                }
+                Generated::Kuhn | Generated::Jitter => {
+                    let span = hi - lo;
+                    let org = Vec3::from_array(std::array::from_fn(|a| {
+                        q(lo[a] + span[a] * r.random_range(0.1..0.9))
+                    }));
+                    if tie {
+                        let d = Vec3::from_array(std::array::from_fn(|_| {
+                            r.random_range(-2..=2) as f32
+                        }));
+                        (org.round(), d)
+                    } else {
+                        (
+                            org,
+                            Vec3::from_array(std::array::from_fn(|_| r.random_range(-1.0..1.0))),
+                        )
+                    }
+                }
+            };
+            Ray {
+                org: org + offset,
+                dir: if dir == Vec3::ZERO { Vec3::Z } else { dir },
+            }
+        })
+        .collect()
+}

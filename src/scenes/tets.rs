@@ -1,0 +1,221 @@
+//! Single tetrahedra — well-shaped, sliver, cap, needle, wedge — and rays that stab them: random, aimed
+//! exactly through an edge or a vertex, or within k ulps of one.
+
+use super::Rng;
+use crate::tet::{EDGES, FACE_VERTICES, Ray, Tet, normalize, orientation};
+use glam::{Mat3, Quat, Vec3};
+use rand::RngExt;
+
+/// Shape families (Cheng et al.'s taxonomy of badly shaped tetrahedra), plus the well-shaped one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Family {
+    /// Near-regular.
+    Well,
+    /// Four well-separated vertices near one plane, no short edge.
+    Sliver,
+    /// One vertex just above the inside of the opposite face.
+    Cap,
+    /// Three vertices close together, the fourth far away.
+    Needle,
+    /// One short edge.
+    Wedge,
+}
+
+impl Family {
+    pub const ALL: [Family; 5] = [
+        Family::Well,
+        Family::Sliver,
+        Family::Cap,
+        Family::Needle,
+        Family::Wedge,
+    ];
+
+    /// The family in its own frame; `flatness` in (0, 1], smaller is flatter.
+    fn canonical(self, flatness: f32, rng: &mut Rng) -> [Vec3; 4] {
+        let h = flatness;
+        let mut j = |s: f32| {
+            Vec3::new(
+                rng.random_range(-s..s),
+                rng.random_range(-s..s),
+                rng.random_range(-s..s),
+            )
+        };
+        match self {
+            Family::Well => [
+                Vec3::new(1.0, 1.0, 1.0) + j(0.15),
+                Vec3::new(1.0, -1.0, -1.0) + j(0.15),
+                Vec3::new(-1.0, 1.0, -1.0) + j(0.15),
+                Vec3::new(-1.0, -1.0, 1.0) + j(0.15),
+            ],
+            Family::Sliver => [
+                Vec3::new(1.0, 0.0, h) + j(0.1) * Vec3::new(1.0, 1.0, h),
+                Vec3::new(-1.0, 0.0, h) + j(0.1) * Vec3::new(1.0, 1.0, h),
+                Vec3::new(0.0, 1.0, -h) + j(0.1) * Vec3::new(1.0, 1.0, h),
+                Vec3::new(0.0, -1.0, -h) + j(0.1) * Vec3::new(1.0, 1.0, h),
+            ],
+            Family::Cap => {
+                let apex = j(0.3) * Vec3::new(1.0, 1.0, 0.0) + Vec3::new(0.0, 0.0, h);
+                [
+                    Vec3::new(1.0, 0.0, 0.0),
+                    Vec3::new(-0.5, 0.866, 0.0),
+                    Vec3::new(-0.5, -0.866, 0.0),
+                    apex,
+                ]
+            }
+            Family::Needle => [
+                Vec3::new(h, 0.0, 0.0) + j(0.2 * h),
+                Vec3::new(-0.5 * h, 0.866 * h, 0.0) + j(0.2 * h),
+                Vec3::new(-0.5 * h, -0.866 * h, 0.0) + j(0.2 * h),
+                Vec3::new(0.0, 0.0, 2.0) + j(0.3),
+            ],
+            Family::Wedge => [
+                Vec3::new(-0.5 * h, 0.0, 0.0),
+                Vec3::new(0.5 * h, 0.0, 0.0),
+                Vec3::new(0.3, 1.0, 0.0) + j(0.2),
+                Vec3::new(-0.2, 0.0, 1.0) + j(0.2),
+            ],
+        }
+    }
+}
+
+/// A random rotation.
+fn rotation(rng: &mut Rng) -> Mat3 {
+    let q = Quat::from_xyzw(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    );
+    Mat3::from_quat(if q.length() > 1e-3 {
+        q.normalize()
+    } else {
+        Quat::IDENTITY
+    })
+}
+
+/// A positively oriented, non-flat tetrahedron of `family`, randomly rotated, of size about 1 near the
+/// origin; `flatness` in (0, 1].
+pub fn tet(family: Family, flatness: f32, rng: &mut Rng) -> Tet {
+    loop {
+        let r = rotation(rng);
+        let c = family.canonical(flatness, rng).map(|v| r * v);
+        let (t, _) = normalize(&c);
+        if orientation(&t) != 0 {
+            return t;
+        }
+    }
+}
+
+/// A point inside the tetrahedron (random barycentric weights, kept away from the faces).
+pub fn interior_point(t: &Tet, rng: &mut Rng) -> Vec3 {
+    let w: [f32; 4] = std::array::from_fn(|_| rng.random_range(0.2..1.0));
+    let s: f32 = w.iter().sum();
+    (0..4).map(|i| t[i] * (w[i] / s)).sum()
+}
+
+/// A random point of face `f` (away from its edges).
+fn face_point(t: &Tet, f: usize, rng: &mut Rng) -> Vec3 {
+    let w: [f32; 3] = std::array::from_fn(|_| rng.random_range(0.2..1.0));
+    let s: f32 = w.iter().sum();
+    let v = FACE_VERTICES[f];
+    (0..3).map(|i| t[v[i]] * (w[i] / s)).sum()
+}
+
+/// A ray that stabs the tetrahedron through two of its faces; the origin is inside (half the time)
+/// or up to one diameter before the entry face.
+pub fn stabbing_ray(t: &Tet, rng: &mut Rng) -> Ray {
+    let e = rng.random_range(0..4);
+    let x = (e + rng.random_range(1..4)) % 4;
+    let (a, b) = (face_point(t, e, rng), face_point(t, x, rng));
+    let dir = b - a;
+    let s = if rng.random_bool(0.5) {
+        rng.random_range(0.05..0.95)
+    } else {
+        -rng.random_range(0.0..1.0)
+    };
+    Ray {
+        org: a + dir * s,
+        dir,
+    }
+}
+
+/// What a tie-aiming ray aims at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    Edge,
+    Vertex,
+}
+
+/// A tetrahedron of `family` with integer coordinates (scaled by a power of two so its flat dimension
+/// still spans a few dozen units), and a ray from a lattice point inside it passing exactly through the
+/// midpoint of an edge or through a vertex; all of it exact in f32, so the line truly meets the edge or
+/// vertex. `None` if 100 draws found none (only for flatness far below 1e-4).
+pub fn through(family: Family, flatness: f32, target: Target, rng: &mut Rng) -> Option<(Tet, Ray)> {
+    let scale = (64.0 / flatness.clamp(1e-5, 1.0)).log2().ceil().exp2();
+    for _ in 0..100 {
+        let t = tet(family, flatness, rng).map(|v| (v * scale).round());
+        if orientation(&t) <= 0 {
+            continue;
+        }
+        let p = interior_point(&t, rng).round();
+        let inside = FACE_VERTICES
+            .iter()
+            .all(|v| orientation(&[t[v[0]], t[v[1]], t[v[2]], p]) > 0);
+        if !inside {
+            continue;
+        }
+        let aim = match target {
+            Target::Vertex => t[rng.random_range(0..4)],
+            Target::Edge => {
+                let [a, b] = EDGES[rng.random_range(0..6)];
+                (t[a] + t[b]) * 0.5
+            }
+        };
+        let dir = aim - p;
+        if dir == Vec3::ZERO {
+            continue;
+        }
+        // Start behind the interior point half the time, still exactly on the line.
+        let org = if rng.random_bool(0.5) { p } else { p - dir };
+        return Some((t, Ray { org, dir }));
+    }
+    None
+}
+
+/// `x` moved by `k` ulps (towards +∞ for positive `k`).
+pub fn ulps(x: f32, k: i32) -> f32 {
+    let mut y = x;
+    for _ in 0..k.unsigned_abs() {
+        y = if k > 0 { y.next_up() } else { y.next_down() };
+    }
+    y
+}
+
+/// [`through`], then the origin moved by 1 to `k` ulps along a random axis: a line that misses the edge
+/// or vertex by a hair.
+pub fn near(
+    family: Family,
+    flatness: f32,
+    target: Target,
+    k: i32,
+    rng: &mut Rng,
+) -> Option<(Tet, Ray)> {
+    let (t, mut ray) = through(family, flatness, target, rng)?;
+    let axis = rng.random_range(0..3);
+    let by = rng.random_range(1..=k.max(1)) * if rng.random_bool(0.5) { 1 } else { -1 };
+    ray.org[axis] = ulps(ray.org[axis], by);
+    Some((t, ray))
+}
+
+/// The tetrahedron and ray moved by `offset` (rounded to f32); `None` when rounding flattened it.
+pub fn translated(t: &Tet, ray: &Ray, offset: Vec3) -> Option<(Tet, Ray)> {
+    let (t, _) = normalize(&t.map(|v| v + offset));
+    (orientation(&t) != 0).then_some((
+        t,
+        Ray {
+            org: ray.org + offset,
+            dir: ray.dir,
+        },
+    ))
+}

@@ -1,0 +1,93 @@
+//! Tetrahedra and rays in f32, and the one orientation convention that all of tetwalk shares.
+
+use glam::Vec3;
+
+/// The line `org + t·dir`, in f32 as the methods see it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    pub org: Vec3,
+    pub dir: Vec3,
+}
+
+/// Four vertices; face `i` is the face opposite vertex `i` (TetGen's convention).
+pub type Tet = [Vec3; 4];
+
+/// Vertices of face `i`, counterclockwise seen from outside a positively oriented tetrahedron,
+/// so that `orient3d(face..., v_i) > 0`.
+pub const FACE_VERTICES: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];
+
+/// The six edges `(i, j)`, `i < j`.
+pub const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
+
+/// Index into [`EDGES`] of the edge joining `i` and `j`, with `true` when it runs `j → i`.
+pub fn edge_index(i: usize, j: usize) -> (usize, bool) {
+    let (lo, hi, rev) = if i < j { (i, j, false) } else { (j, i, true) };
+    let e = EDGES.iter().position(|&[a, b]| a == lo && b == hi);
+    (
+        e.expect("i and j are distinct vertices of a tetrahedron"),
+        rev,
+    )
+}
+
+/// Face permutation applied by [`normalize`] when it swaps vertices 0 and 1.
+pub const SWAP01: [usize; 4] = [1, 0, 2, 3];
+
+/// **The orientation convention**, stated once: a tetrahedron `[v0, v1, v2, v3]` is positively oriented
+/// (+1) when `robust::orient3d(v0, v1, v2, v3) > 0`, i.e. `v3` lies below the plane of `v0, v1, v2` seen
+/// counterclockwise from above; the labelling Maria et al. 2017 Table 2 assumes. Exact; 0 when flat.
+/// Meshes and cases are normalised to +1 where they are read ([`normalize`]); TetGen writes -1.
+pub fn orientation(tet: &Tet) -> i8 {
+    let c = |v: Vec3| robust::Coord3D {
+        x: v.x as f64,
+        y: v.y as f64,
+        z: v.z as f64,
+    };
+    let o = robust::orient3d(c(tet[0]), c(tet[1]), c(tet[2]), c(tet[3]));
+    (o > 0.0) as i8 - (o < 0.0) as i8
+}
+
+/// Bring a tetrahedron to the positive orientation by swapping vertices 0 and 1 when it is negative.
+/// Returns the tetrahedron and whether it was swapped (faces 0 and 1 then trade places, see [`SWAP01`]).
+/// A flat tetrahedron is returned as it is; callers reject it.
+pub fn normalize(tet: &Tet) -> (Tet, bool) {
+    if orientation(tet) < 0 {
+        ([tet[1], tet[0], tet[2], tet[3]], true)
+    } else {
+        (*tet, false)
+    }
+}
+
+/// Whether every coordinate of the points is finite.
+pub fn all_finite(points: &[Vec3]) -> bool {
+    points.iter().all(|p| p.is_finite())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn faces_are_outward_on_positive_tets() {
+        let tet = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 0.0, 1.0),
+        ];
+        assert_eq!(orientation(&tet), 1);
+        for (i, f) in FACE_VERTICES.iter().enumerate() {
+            assert!(!f.contains(&i));
+            let t = [tet[f[0]], tet[f[1]], tet[f[2]], tet[i]];
+            assert_eq!(orientation(&t), 1, "face {i}");
+        }
+        let (n, swapped) = normalize(&[tet[1], tet[0], tet[2], tet[3]]);
+        assert!(swapped);
+        assert_eq!(n, tet);
+    }
+
+    #[test]
+    fn edge_index_finds_both_directions() {
+        assert_eq!(edge_index(2, 3), (5, false));
+        assert_eq!(edge_index(3, 0), (2, true));
+    }
+}

@@ -1,0 +1,202 @@
+//! The command line as a user runs it.
+
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+fn tetwalk(args: &[&str], stdin: &str) -> (i32, String, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(stdin.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let text = |b: Vec<u8>| String::from_utf8(b).unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        text(out.stdout),
+        text(out.stderr),
+    )
+}
+
+fn json_lines(s: &str) -> Vec<serde_json::Value> {
+    s.lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+const UNIT: &str = r#""tet": [[0,0,0],[0,1,0],[1,0,0],[0,0,1]]"#;
+
+#[test]
+fn exit_answers_each_case_with_each_method() {
+    let input = format!(
+        "{{{UNIT}, \"org\": [0.2,0.2,-1], \"dir\": [0,0,1], \"entry\": 3}}\n\n\
+         {{{UNIT}, \"org\": [0.25,0.25,0.25], \"dir\": [-0.25,0.25,0.25], \"entry\": null}}\n\
+         {{{UNIT}, \"org\": [5,5,5], \"dir\": [1,0,0]}}\n"
+    );
+    let (code, out, _) = tetwalk(&["exit", "--method", "all"], &input);
+    assert_eq!(code, 0);
+    let v = json_lines(&out);
+    let methods = tetwalk::methods::METHODS.len();
+    assert_eq!(v.len(), 3 * methods);
+    assert!(
+        v[..methods]
+            .iter()
+            .all(|x| x["line"] == 1 && x["exact_exit"] == serde_json::json!([0]))
+    );
+    assert!(
+        v[..methods]
+            .iter()
+            .all(|x| x["exact_entry"] == serde_json::json!([3]) && x["correct"] == true)
+    );
+    // Line 2 was blank; line 3 goes exactly through edge v1 v3: faces 0 and 2 are both right.
+    let through_edge = &v[methods..2 * methods];
+    assert!(
+        through_edge
+            .iter()
+            .all(|x| x["line"] == 3 && x["exact_exit"] == serde_json::json!([0, 2]))
+    );
+    let exact = through_edge
+        .iter()
+        .find(|x| x["method"] == "exact")
+        .unwrap();
+    assert_eq!(exact["correct"], true);
+    // Line 4 misses: no exact faces, correct is null.
+    assert!(
+        v[2 * methods..]
+            .iter()
+            .all(|x| x["line"] == 4 && x["correct"].is_null())
+    );
+    assert!(
+        v[2 * methods..]
+            .iter()
+            .all(|x| x["exact_exit"] == serde_json::json!([]))
+    );
+}
+
+#[test]
+fn bad_lines_get_errors_and_the_rest_are_answered() {
+    let input = format!(
+        "not json\n\
+         {{\"tet\": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]], \"org\": [0,0,1], \"dir\": [0,0,1]}}\n\
+         {{{UNIT}, \"org\": [0.2,0.2,-1], \"dir\": [0,0,1], \"entry\": 0}}\n\
+         {{{UNIT}, \"org\": [0.2,0.2,-1], \"dir\": [0,0,0]}}\n\
+         {{{UNIT}, \"org\": [0.2,0.2,1e39], \"dir\": [0,0,1]}}\n\
+         {{{UNIT}, \"org\": [0.2,0.2,-1], \"dir\": [0,0,1], \"entry\": 7}}\n\
+         {{{UNIT}, \"org\": [0.2,0.2,-1], \"dir\": [0,0,1]}}\n"
+    );
+    let (code, out, err) = tetwalk(&["exit", "--method", "maria17"], &input);
+    assert_ne!(code, 0, "errors give a non-zero exit status");
+    assert!(err.contains("6 line(s)"), "{err}");
+    let v = json_lines(&out);
+    assert_eq!(v.len(), 7);
+    let expect = [
+        "malformed JSON",
+        "flat",
+        "not an exact entry face",
+        "direction is zero",
+        "not finite",
+        "entry must be",
+    ];
+    for (i, e) in expect.iter().enumerate() {
+        assert_eq!(v[i]["line"], i + 1);
+        assert!(
+            v[i]["error"].as_str().unwrap().contains(e),
+            "line {}: {} lacks '{e}'",
+            i + 1,
+            v[i]["error"]
+        );
+    }
+    assert_eq!(v[6]["face"], 0);
+    assert_eq!(v[6]["correct"], true);
+}
+
+#[test]
+fn negatively_oriented_cases_are_answered_in_their_own_numbering() {
+    // The unit tetrahedron with vertices 0 and 1 swapped: faces 0 and 1 swap too.
+    let input = r#"{"tet": [[0,1,0],[0,0,0],[1,0,0],[0,0,1]], "org": [0.2,0.2,-1], "dir": [0,0,1], "entry": 3}"#;
+    let (code, out, _) = tetwalk(&["exit", "--method", "all"], input);
+    assert_eq!(code, 0);
+    for v in json_lines(&out) {
+        assert_eq!(v["exact_exit"], serde_json::json!([1]));
+        assert_eq!(v["face"], 1, "{v}");
+    }
+}
+
+#[test]
+fn decimal_numbers_round_once_to_the_nearest_f32() {
+    // 1 + 2^-24 + 2^-60: just above the midpoint of two f32 values, so it rounds up; through f64 it
+    // would first land on the midpoint and then round down to 1 (ties to even).
+    let x = "1.00000005960464477625798673798840354720596";
+    assert_eq!(
+        x.parse::<f64>().unwrap() as f32,
+        1.0,
+        "the double rounding this test guards against"
+    );
+    let case =
+        tetwalk::cases::Case::parse(&format!("{{{UNIT}, \"org\": [{x},0,0], \"dir\": [0,0,1]}}"))
+            .unwrap();
+    assert_eq!(case.org.x, 1.0f32.next_up());
+}
+
+#[test]
+fn generated_cases_run_through_exit_and_methods_are_listed() {
+    let (code, cases, _) = tetwalk(
+        &[
+            "gen-cases",
+            "--family",
+            "sliver",
+            "--rays",
+            "edge",
+            "--count",
+            "50",
+            "--with-entry",
+        ],
+        "",
+    );
+    assert_eq!(code, 0);
+    assert_eq!(cases.lines().count(), 50);
+    let (code, out, _) = tetwalk(&["exit", "--method", "exact"], &cases);
+    assert_eq!(code, 0);
+    assert!(json_lines(&out).iter().all(|v| v["correct"] == true));
+    let (code, out, _) = tetwalk(&["methods"], "");
+    assert_eq!(code, 0);
+    assert!(out.contains("maria17") && out.contains("exact"));
+    let (code, _, err) = tetwalk(&["exit", "--method", "nope"], "");
+    assert_eq!(code, 2);
+    assert!(err.contains("unknown method 'nope'"), "{err}");
+}
+
+#[test]
+fn walk_reports_a_table_with_exact_never_wrong() {
+    let (code, out, _) = tetwalk(
+        &["walk", "--mesh", "kuhn", "--size", "4", "--rays", "300"],
+        "",
+    );
+    assert_eq!(code, 0);
+    // "... (N tetrahedra), R rays, ..." then the table; rays starting outside the mesh are skipped.
+    let rays: u32 = out
+        .split(" rays,")
+        .next()
+        .unwrap()
+        .rsplit(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(rays > 250, "{out}");
+    let exact = out.lines().find(|l| l.starts_with("| exact |")).unwrap();
+    let cols: Vec<&str> = exact.split('|').map(str::trim).collect();
+    assert_eq!(&cols[4..9], &["0", "0", "0", "0", "0"], "{exact}");
+    assert_eq!(
+        cols[2].parse::<u32>().unwrap() + cols[3].parse::<u32>().unwrap(),
+        rays
+    );
+}

@@ -1,0 +1,97 @@
+//! Case generators shared by the integration tests, as proptest strategies over the crate's seeded
+//! generators (so a failing case is reproduced from its seed and persisted under corpora/proptest/).
+#![allow(dead_code)]
+
+use glam::Vec3;
+use proptest::prelude::*;
+use proptest::test_runner::{Config, FileFailurePersistence};
+use tetwalk::scenes::rng;
+use tetwalk::scenes::tets::{self, Family, Target};
+use tetwalk::tet::{Ray, Tet};
+
+/// Proptest configuration persisting failures under `corpora/proptest/<name>.txt`.
+pub fn config(name: &'static str, cases: u32) -> Config {
+    let path: &'static str = Box::leak(
+        format!("{}/corpora/proptest/{name}.txt", env!("CARGO_MANIFEST_DIR")).into_boxed_str(),
+    );
+    Config {
+        cases,
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(path))),
+        ..Config::default()
+    }
+}
+
+/// How a generated case's ray meets its tetrahedron.
+#[derive(Clone, Copy, Debug)]
+pub enum Kind {
+    Stab,
+    Through(Target),
+    Near(Target, i32),
+}
+
+pub fn family() -> impl Strategy<Value = Family> {
+    prop_oneof![
+        Just(Family::Well),
+        Just(Family::Sliver),
+        Just(Family::Cap),
+        Just(Family::Needle),
+        Just(Family::Wedge),
+    ]
+}
+
+pub fn kind() -> impl Strategy<Value = Kind> {
+    prop_oneof![
+        3 => Just(Kind::Stab),
+        1 => Just(Kind::Through(Target::Edge)),
+        1 => Just(Kind::Through(Target::Vertex)),
+        1 => (1..8i32).prop_map(|k| Kind::Near(Target::Edge, k)),
+        1 => (1..8i32).prop_map(|k| Kind::Near(Target::Vertex, k)),
+    ]
+}
+
+/// A generated case.
+pub fn make(
+    family: Family,
+    flatness: f32,
+    kind: Kind,
+    offset: f32,
+    seed: u64,
+) -> Option<(Tet, Ray)> {
+    let mut r = rng(seed);
+    let (t, ray) = match kind {
+        Kind::Stab => {
+            let t = tets::tet(family, flatness, &mut r);
+            (t, tets::stabbing_ray(&t, &mut r))
+        }
+        Kind::Through(target) => tets::through(family, flatness, target, &mut r)?,
+        Kind::Near(target, k) => tets::near(family, flatness, target, k, &mut r)?,
+    };
+    tets::translated(&t, &ray, Vec3::splat(offset))
+}
+
+/// Any case: every family and flatness down to 1e-4, every ray kind, near the origin or far from it.
+pub fn any_case() -> impl Strategy<Value = (Tet, Ray)> {
+    (
+        family(),
+        prop_oneof![Just(1.0f32), Just(0.1), Just(1e-2), Just(1e-3), Just(1e-4)],
+        kind(),
+        prop_oneof![3 => Just(0.0f32), 1 => Just(1.0e4), 1 => Just(1.0e5), 1 => Just(-1.0e6)],
+        any::<u64>(),
+    )
+        .prop_filter_map("rounding flattened it", |(f, fl, k, off, seed)| {
+            make(f, fl, k, off, seed)
+        })
+}
+
+/// Cases on small-integer geometry: every coordinate in -4..=4, so ties are everywhere.
+pub fn lattice_case() -> impl Strategy<Value = (Tet, Ray)> {
+    let p = || {
+        (-4i32..=4, -4i32..=4, -4i32..=4)
+            .prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32))
+    };
+    ([p(), p(), p(), p()], p(), p())
+        .prop_filter("flat tetrahedron or zero direction", |(t, _, d)| {
+            tetwalk::tet::orientation(t) != 0 && *d != Vec3::ZERO
+        })
+        .prop_map(|(t, o, d)| (t, Ray { org: o, dir: d }))
+}

@@ -1,0 +1,127 @@
+//! Methods against the oracle: `exact` always right; every method right on well-shaped tetrahedra with
+//! rays at a measured margin from every edge; failures on degenerate families measured and printed.
+
+mod common;
+
+use common::{Kind, any_case, config, lattice_case, make};
+use proptest::prelude::*;
+use tetwalk::cases::{Case, judge};
+use tetwalk::exact::{classify, edge_margin};
+use tetwalk::methods::{METHODS, by_name};
+use tetwalk::scenes::rng;
+use tetwalk::scenes::tets::{Family, Target, stabbing_ray, tet};
+use tetwalk::tet::{Ray, Tet};
+
+/// Margin (see [`edge_margin`]) far above f32 rounding (2^-24 ≈ 6e-8) times any operation count.
+const SAFE_MARGIN: f64 = 1e-4;
+
+fn case_of(t: Tet, ray: Ray, with_entry: bool) -> (Case, tetwalk::exact::Classification) {
+    let c = classify(&t, &ray).unwrap();
+    let entry = if with_entry {
+        c.entry.first().map(|f| f as u8)
+    } else {
+        None
+    };
+    (
+        Case {
+            tet: t,
+            org: ray.org,
+            dir: ray.dir,
+            entry,
+        },
+        c,
+    )
+}
+
+proptest! {
+    #![proptest_config(config("exact_correct", 2000))]
+    #[test]
+    fn exact_is_correct_on_every_case(case in prop_oneof![any_case(), lattice_case()], with_entry: bool, fma: bool) {
+        let (case, c) = case_of(case.0, case.1, with_entry);
+        let j = judge(&case, &c, by_name("exact").unwrap(), fma);
+        prop_assert_ne!(j.correct, Some(false), "exact answered {:?}, exact exits {:?}", j.face, j.exact_exit);
+        prop_assert_eq!(j.face.is_some(), c.meets());
+    }
+}
+
+proptest! {
+    #![proptest_config(config("methods_margin", 3000))]
+    #[test]
+    fn every_method_is_right_with_margin(seed: u64, with_entry: bool, fma: bool) {
+        let mut r = rng(seed);
+        let t = tet(Family::Well, 1.0, &mut r);
+        let ray = stabbing_ray(&t, &mut r);
+        prop_assume!(edge_margin(&t, &ray) >= SAFE_MARGIN);
+        let (case, c) = case_of(t, ray, with_entry);
+        prop_assert_eq!(c.exit.0.count_ones(), 1);
+        for m in METHODS {
+            let j = judge(&case, &c, m, fma);
+            prop_assert_eq!(j.correct, Some(true), "{} (fma {}) answered {:?}, exact {:?}", m.name, fma, j.face, j.exact_exit);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(config("methods_some_exit", 2000))]
+    #[test]
+    fn no_method_finds_no_exit_far_from_edges(
+        family in common::family(),
+        flatness in prop_oneof![Just(1.0f32), Just(0.1), Just(0.01)],
+        seed: u64, with_entry: bool, fma: bool,
+    ) {
+        let (t, ray) = make(family, flatness, Kind::Stab, 0.0, seed).unwrap();
+        prop_assume!(edge_margin(&t, &ray) >= SAFE_MARGIN);
+        let (case, c) = case_of(t, ray, with_entry);
+        for m in METHODS {
+            prop_assert!(judge(&case, &c, m, fma).face.is_some(), "{} found no exit face", m.name);
+        }
+    }
+}
+
+#[test]
+fn degenerate_families_failures_are_measured() {
+    let kinds = [
+        ("stab", Kind::Stab),
+        ("near-edge", Kind::Near(Target::Edge, 4)),
+        ("near-vertex", Kind::Near(Target::Vertex, 4)),
+        ("edge", Kind::Through(Target::Edge)),
+        ("vertex", Kind::Through(Target::Vertex)),
+    ];
+    println!("| method | fma | family | flatness | rays | cases | wrong | misses |");
+    for m in METHODS {
+        for fma in [false, true] {
+            for family in Family::ALL {
+                for flatness in [1e-2f32, 1e-4] {
+                    for (name, kind) in kinds {
+                        let (mut wrong, mut n, mut misses) = (0, 0, 0);
+                        for seed in 0..300 {
+                            let Some((t, ray)) = make(family, flatness, kind, 0.0, seed) else {
+                                continue;
+                            };
+                            let (case, c) = case_of(t, ray, seed % 2 == 0);
+                            match judge(&case, &c, m, fma).correct {
+                                Some(false) => wrong += 1,
+                                None => misses += 1,
+                                Some(true) => {}
+                            }
+                            n += 1;
+                        }
+                        assert!(
+                            n >= 250,
+                            "the generator must produce cases ({family:?} {name}: {n})"
+                        );
+                        if m.name == "exact" {
+                            assert_eq!(wrong, 0, "exact was wrong on {family:?} {flatness} {name}");
+                        }
+                        if wrong > 0 {
+                            println!(
+                                "| {} | {fma} | {family:?} | {flatness} | {name} | {n} | {wrong} | {misses} |",
+                                m.name
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,155 @@
+//! Walks: `exact` walks end on the exact first hit on every generated mesh, near and far from the
+//! origin; located tetrahedra hold the origin; cycles and step limits are caught.
+
+mod common;
+
+use glam::Vec3;
+use tetwalk::exact::hit::{first_hit, line_triangle};
+use tetwalk::mesh::{Mesh, load_tetgen};
+use tetwalk::methods::{ExitMethod, Plain, by_name};
+use tetwalk::scenes::{self, Generated};
+use tetwalk::tet::{FACE_VERTICES, Ray, Tet, orientation};
+use tetwalk::walk::{Outcome, default_max_steps, locate, walk};
+
+/// Checks every ray's `exact` walk against the brute-force first hit; returns how many were checked.
+fn check_exact_walks(mesh: &Mesh, rays: &[Ray]) -> usize {
+    let exact = by_name("exact").unwrap();
+    let max = default_max_steps(mesh);
+    let mut checked = 0;
+    let mut start = 0;
+    for ray in rays {
+        start = locate(mesh, ray.org, start).expect("origin inside the mesh");
+        let t = mesh.tet(start);
+        for v in FACE_VERTICES {
+            assert!(
+                orientation(&[t[v[0]], t[v[1]], t[v[2]], ray.org]) >= 0,
+                "located tetrahedron must hold {ray:?}"
+            );
+        }
+        let reference = first_hit(mesh, ray);
+        let (w, div) = exact.walk_checked(false)(mesh, ray, start, max);
+        assert_eq!(div, None, "exact walk left the exact exit faces on {ray:?}");
+        assert_eq!(
+            w,
+            exact.walk(false)(mesh, ray, start, max),
+            "checked and plain walks differ"
+        );
+        match (w.outcome, reference) {
+            (Outcome::LeftMesh { .. }, None) => {}
+            (Outcome::Hit { tet, face }, Some((t, faces))) => {
+                let tri = mesh
+                    .face(tet, face as usize)
+                    .map(|i| mesh.points[i as usize]);
+                assert!(
+                    faces.contains(&(tet, face)) || line_triangle(tri, ray).is_some_and(|x| x == t),
+                    "hit {tet}/{face} is not the first hit ({faces:?}) of {ray:?}"
+                );
+            }
+            (o, r) => panic!("exact walk ended {o:?}, brute force says {r:?} for {ray:?}"),
+        }
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn exact_walks_hit_the_first_constrained_face_on_every_generated_mesh() {
+    for (kind, size, offset) in [
+        (Generated::Kuhn, 6, 0.0),
+        (Generated::Kuhn, 6, 1.0e6),
+        (Generated::Jitter, 6, 0.0),
+        (Generated::Jitter, 6, 1.0e5),
+        (Generated::Fan, 8, 0.0),
+        (Generated::Fan, 8, 1.0e6),
+    ] {
+        let offset = Vec3::splat(offset);
+        let mesh = scenes::generated(kind, size, offset, 3).unwrap();
+        let rays = scenes::rays(kind, &mesh, offset, 400, 3);
+        let n = check_exact_walks(&mesh, &rays);
+        println!("{kind:?} offset {offset}: {n} rays checked");
+        assert_eq!(n, rays.len());
+    }
+}
+
+#[test]
+fn tetgen_mesh_loads_and_exact_walks_are_right() {
+    let mesh =
+        load_tetgen(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/twobox.1").as_ref()).unwrap();
+    assert_eq!(mesh.tets.len(), 42);
+    assert_eq!(
+        mesh.flipped, 42,
+        "TetGen writes negative tetrahedra: all are normalised"
+    );
+    let sides: u32 = mesh.constrained.iter().map(|c| c.count_ones()).sum();
+    assert_eq!(
+        sides,
+        12 * 2 + 12,
+        "inner box faces have two sides, outer box faces one"
+    );
+    let mut r = scenes::rng(9);
+    use rand::RngExt;
+    let rays: Vec<Ray> = (0..300)
+        .map(|_| Ray {
+            org: Vec3::from_array(std::array::from_fn(|_| r.random_range(0.1..3.9))),
+            dir: Vec3::from_array(std::array::from_fn(|_| r.random_range(-1.0..1.0))),
+        })
+        .collect();
+    assert_eq!(check_exact_walks(&mesh, &rays), 300);
+}
+
+/// A broken method that always turns back through the entry face.
+struct TurnBack;
+
+impl ExitMethod for TurnBack {
+    type RayData = ();
+    fn prepare<A: tetwalk::methods::Arith>(_: &Ray) {}
+    fn exit_face<A: tetwalk::methods::Arith>(
+        _: &Tet,
+        _: &(),
+        entry: Option<usize>,
+    ) -> Option<usize> {
+        Some(entry.unwrap_or(3))
+    }
+}
+
+#[test]
+fn cycles_and_step_limits_are_typed_outcomes() {
+    let mesh = scenes::generated(Generated::Kuhn, 4, Vec3::ZERO, 1).unwrap();
+    let ray = Ray {
+        org: Vec3::new(2.3, 1.6, 2.2),
+        dir: Vec3::X,
+    };
+    let max = default_max_steps(&mesh);
+    // Start where face 3 is neither boundary nor constrained, so TurnBack ping-pongs between two tetrahedra.
+    let start = (0..mesh.tets.len() as u32)
+        .find(|&t| {
+            mesh.neighbors[t as usize][3] != tetwalk::mesh::HULL && !mesh.is_constrained(t, 3)
+        })
+        .unwrap();
+    let w = walk::<TurnBack, Plain>(&mesh, &ray, start, max);
+    assert!(
+        matches!(w.outcome, Outcome::Cycle { period: 2, .. }),
+        "{w:?}"
+    );
+    assert!(w.steps < 10, "Brent's detection is prompt: {w:?}");
+    let w = walk::<TurnBack, Plain>(&mesh, &ray, start, 1);
+    assert_eq!(w.outcome.kind(), "step_limit");
+}
+
+#[test]
+fn locating_a_mesh_vertex_picks_one_tetrahedron_holding_it() {
+    let mesh = scenes::generated(Generated::Kuhn, 4, Vec3::ZERO, 1).unwrap();
+    for p in [
+        Vec3::new(2.0, 2.0, 2.0),
+        Vec3::new(1.0, 2.0, 1.5),
+        Vec3::new(0.0, 0.0, 0.0),
+    ] {
+        let t = locate(&mesh, p, 0).unwrap();
+        assert!(mesh.tet(t).contains(&p) || p.z == 1.5, "{p}: {t}");
+        // Starting anywhere else gives the same tetrahedron: the perturbation decides, not the path.
+        for s in [0, 17, 200, 383] {
+            assert_eq!(locate(&mesh, p, s).unwrap(), t);
+        }
+    }
+    assert!(locate(&mesh, Vec3::splat(-1.0), 5).is_err());
+}
