@@ -7,6 +7,7 @@ pub mod cli;
 pub mod exact;
 pub mod mesh;
 pub mod methods;
+pub mod report;
 pub mod scenes;
 pub mod tet;
 pub mod walk;

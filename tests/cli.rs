@@ -200,3 +200,61 @@ fn walk_reports_a_table_with_exact_never_wrong() {
         rays
     );
 }
+
+#[test]
+fn stress_is_deterministic_whatever_the_threads_and_exact_never_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |threads: &str, name: &str| {
+        let path = dir.path().join(name);
+        let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+            .args([
+                "stress",
+                "--cases",
+                "3000",
+                "--json",
+                path.to_str().unwrap(),
+            ])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        let table = String::from_utf8(out.stdout).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        (table, json)
+    };
+    let (table, one) = run("1", "one.json");
+    let (_, two) = run("2", "two.json");
+    assert_eq!(one, two, "results must not depend on the thread count");
+    let methods: Vec<&str> = one["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_str().unwrap())
+        .collect();
+    assert_eq!(methods.len(), tetwalk::methods::METHODS.len());
+    let exact = methods.iter().position(|&m| m == "exact").unwrap();
+    let rows = one["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 10, "every family and ray kind is a row");
+    let mut failures = 0;
+    for r in rows {
+        let t = &r["tallies"][exact];
+        assert!(t["judged"].as_u64().unwrap() > 2500, "{r}");
+        assert_eq!(
+            (t["wrong_face"].as_u64(), t["no_exit_face"].as_u64()),
+            (Some(0), Some(0)),
+            "{r}"
+        );
+        failures += r["tallies"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| t["wrong_face"].as_u64().unwrap())
+            .sum::<u64>();
+    }
+    assert!(
+        failures > 0,
+        "the adversarial rows must make some f32 method fail"
+    );
+    assert!(table.contains("| through-vertex |"), "{table}");
+}

@@ -41,7 +41,8 @@ fn check_exact_walks(mesh: &Mesh, rays: &[Ray]) -> usize {
                     .face(tet, face as usize)
                     .map(|i| mesh.points[i as usize]);
                 assert!(
-                    faces.contains(&(tet, face)) || line_triangle(tri, ray).is_some_and(|x| x == t),
+                    faces.contains(&(tet, face))
+                        || line_triangle(tri, ray).is_some_and(|x| x.t == t),
                     "hit {tet}/{face} is not the first hit ({faces:?}) of {ray:?}"
                 );
             }

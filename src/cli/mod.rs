@@ -2,6 +2,7 @@
 
 mod exit;
 mod gen_cases;
+mod stress;
 mod walk;
 
 use clap::{Parser, Subcommand};
@@ -28,6 +29,8 @@ enum Command {
     GenCases(gen_cases::Args),
     /// Walk rays through a generated mesh with each method, every step judged exactly.
     Walk(walk::Args),
+    /// Wrong exit faces and "no exit face" per million cases, per method and tetrahedron family.
+    Stress(stress::Args),
 }
 
 pub fn main() -> ExitCode {
@@ -48,9 +51,23 @@ pub fn main() -> ExitCode {
         Command::Exit(a) => exit::run(a),
         Command::GenCases(a) => gen_cases::run(a),
         Command::Walk(a) => walk::run(a),
+        Command::Stress(a) => stress::run(a),
     };
     result.unwrap_or_else(|e| {
         eprintln!("tetwalk: {e}");
         ExitCode::from(2)
     })
+}
+
+/// A progress bar on standard error (drawn only when it is a terminal and the work lasts).
+fn progress(len: u64, unit: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::with_draw_target(
+        Some(len),
+        indicatif::ProgressDrawTarget::stderr(),
+    );
+    let style = format!("{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit} ({{eta}} left)");
+    if let Ok(st) = indicatif::ProgressStyle::with_template(&style) {
+        bar.set_style(st);
+    }
+    bar
 }

@@ -7,9 +7,17 @@ use crate::tet::Ray;
 use glam::Vec3;
 use rug::Rational;
 
-/// The parameter `t` at which the line `o + t·d` crosses the closed triangle `abc`, if it crosses it
-/// (a line in the triangle's plane does not cross it).
-pub fn line_triangle(tri: [Vec3; 3], ray: &Ray) -> Option<Rational> {
+/// Where the line `o + t·d` crosses a closed triangle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Crossing {
+    pub t: Rational,
+    /// The point lies on the triangle's boundary (an edge or a vertex).
+    pub on_boundary: bool,
+}
+
+/// Where the line `o + t·d` crosses the closed triangle `abc`, if it crosses it (a line in the
+/// triangle's plane does not cross it).
+pub fn line_triangle(tri: [Vec3; 3], ray: &Ray) -> Option<Crossing> {
     let [a, b, c] = tri.map(q3);
     let (o, d) = (q3(ray.org), q3(ray.dir));
     let (ab, ac) = (sub(&b, &a), sub(&c, &a));
@@ -23,8 +31,10 @@ pub fn line_triangle(tri: [Vec3; 3], ray: &Ray) -> Option<Rational> {
     let u = det(&rhs, &ac, &nd) / &den;
     let v = det(&ab, &rhs, &nd) / &den;
     let t = det(&ab, &ac, &rhs) / &den;
-    let inside = u.cmp0().is_ge() && v.cmp0().is_ge() && Rational::from(&u + &v) <= 1;
-    inside.then_some(t)
+    let w = Rational::from(1) - Rational::from(&u + &v);
+    let inside = u.cmp0().is_ge() && v.cmp0().is_ge() && w.cmp0().is_ge();
+    let on_boundary = u.cmp0().is_eq() || v.cmp0().is_eq() || w.cmp0().is_eq();
+    inside.then_some(Crossing { t, on_boundary })
 }
 
 /// Whether the ray, its origin perturbed as in [`super::perturbed_exit`], crosses the triangle at
@@ -38,7 +48,7 @@ pub fn perturbed_crossing(tri: [Vec3; 3], ray: &Ray) -> Option<Rational> {
     if nd == 0 || sides.iter().any(|&s| s != nd) {
         return None;
     }
-    let t = line_triangle(tri, ray)?;
+    let t = line_triangle(tri, ray)?.t;
     let ahead = match t.cmp0() {
         std::cmp::Ordering::Equal => {
             // t(ε) = n · (a - o_ε) / (n · d): ahead iff -n's first nonzero component has the sign of n · d.

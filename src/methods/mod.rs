@@ -4,13 +4,26 @@
 //! written (what a CPU compiler emits), [`Fused`] contracts each `a·b + c` into one fused multiply-add
 //! (what a GPU shader compiler may emit). Contractions applied by [`Fused`]: in [`Arith::dot`] the second
 //! and third products are fused into the running sum; in [`Arith::cross`] the first product of each
-//! component is fused with the negated second one. Nothing else is contracted.
+//! component is fused with the negated second one; in [`Arith::axpy`] each product with its sum; and
+//! wherever a method calls [`Arith::mad`]. Nothing else is contracted.
 
+mod aman20;
 mod exact;
+mod halfspace;
 mod maria17;
+mod ms06;
+mod plucker;
+mod ray_plane;
+mod stp;
 
+pub use aman20::{Aman20, Aman20Scaled};
 pub use exact::Exact;
+pub use halfspace::HalfSpace;
 pub use maria17::Maria17;
+pub use ms06::Ms06;
+pub use plucker::Plucker;
+pub use ray_plane::RayPlane;
+pub use stp::Stp;
 
 use crate::tet::{Ray, Tet};
 use crate::walk::{self, CheckedWalkFn, WalkFn};
@@ -23,6 +36,14 @@ pub trait Arith {
     /// `a.x·b.x + a.y·b.y + a.z·b.z`, summed left to right.
     fn dot(a: Vec3, b: Vec3) -> f32 {
         Self::mad(a.z, b.z, Self::mad(a.y, b.y, a.x * b.x))
+    }
+    /// `s·a + b`, per component.
+    fn axpy(s: f32, a: Vec3, b: Vec3) -> Vec3 {
+        Vec3::new(
+            Self::mad(a.x, s, b.x),
+            Self::mad(a.y, s, b.y),
+            Self::mad(a.z, s, b.z),
+        )
     }
     /// `a × b`, each component `a_j·b_k - a_k·b_j`.
     fn cross(a: Vec3, b: Vec3) -> Vec3 {
@@ -125,10 +146,45 @@ pub static METHODS: &[Method] = &[
         "exact oracle with Simulation of Simplicity tie-breaking (reference)",
         true,
     ),
+    Method::of::<RayPlane>(
+        "ray-plane",
+        "Lagae & Dutré 2008 after Garrity 1990: four ray/plane intersections, smallest t (reconstructed)",
+        false,
+    ),
+    Method::of::<HalfSpace>(
+        "halfspace",
+        "Lagae & Dutré 2008: half-space classification (reconstructed)",
+        false,
+    ),
+    Method::of::<Plucker>(
+        "plucker",
+        "Lagae & Dutré 2008 after Platis & Theoharis 2003: six Plücker side products (reconstructed)",
+        false,
+    ),
+    Method::of::<Stp>(
+        "stp",
+        "Lagae & Dutré 2008: three to six scalar triple products with early outs (reconstructed)",
+        false,
+    ),
+    Method::of::<Ms06>(
+        "ms06",
+        "Marmitt & Slusallek 2006: Plücker tests from the entry face, 2.67 on average (reconstructed)",
+        false,
+    ),
     Method::of::<Maria17>(
         "maria17",
         "Maria, Horna, Aveneau 2017, Algorithms 1-2, Tables 1-2, translated frame of §3.4",
         true,
+    ),
+    Method::of::<Aman20>(
+        "aman20",
+        "Aman, Demirci, Güdükbay §4: Duff et al. 2017 2-D frame, Algorithm 1",
+        false,
+    ),
+    Method::of::<Aman20Scaled>(
+        "aman20-scaled",
+        "Aman, Demirci, Güdükbay §4.1: specialised scaled basis (eqs. 1-3), Algorithm 1",
+        false,
     ),
 ];
 

@@ -114,9 +114,9 @@ pub fn interior_point(t: &Tet, rng: &mut Rng) -> Vec3 {
     (0..4).map(|i| t[i] * (w[i] / s)).sum()
 }
 
-/// A random point of face `f` (away from its edges).
+/// A random point of face `f` (uniform barycentric weights, so near its edges too).
 fn face_point(t: &Tet, f: usize, rng: &mut Rng) -> Vec3 {
-    let w: [f32; 3] = std::array::from_fn(|_| rng.random_range(0.2..1.0));
+    let w: [f32; 3] = std::array::from_fn(|_| rng.random_range(0.0..1.0));
     let s: f32 = w.iter().sum();
     let v = FACE_VERTICES[f];
     (0..3).map(|i| t[v[i]] * (w[i] / s)).sum()

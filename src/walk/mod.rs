@@ -142,26 +142,29 @@ fn walk_observed<M: ExitMethod, A: Arith>(
     }
 }
 
-/// Whether walk `w` ends where `reference` (the `exact` walk of the same ray) does: both leave the
-/// mesh, or both stop on a constrained face and `w`'s face contains the exact point where the
-/// reference's face is hit (a point on a shared edge or vertex may be claimed by any face holding it).
+/// Whether walk `w` ends rightly, `reference` being the `exact` walk of the same ray: both leave the
+/// mesh, or `w` stops on a constrained face that contains the exact point where the ray first meets the
+/// constrained faces — the reference's hit point (a point on a shared edge or vertex may be claimed by
+/// any face holding it), or, where the reference left the mesh, a point where the ray grazes the
+/// boundary of a constrained face (the reference's perturbation passes beside it; the true ray touches it).
 pub fn same_result(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> bool {
+    let tri = |t: u32, f: u8| {
+        let mut v = mesh.face(t, f as usize);
+        v.sort_unstable();
+        v
+    };
+    let crossing = |t: u32, f: u8| {
+        let p = mesh.face(t, f as usize).map(|i| mesh.points[i as usize]);
+        exact::hit::line_triangle(p, ray).filter(|c| c.t.cmp0().is_ge())
+    };
     match (w.outcome, reference.outcome) {
         (Outcome::LeftMesh { .. }, Outcome::LeftMesh { .. }) => true,
         (Outcome::Hit { tet, face }, Outcome::Hit { tet: rt, face: rf }) => {
-            let tri = |t: u32, f: u8| {
-                let mut v = mesh.face(t, f as usize);
-                v.sort_unstable();
-                v
-            };
-            if tri(tet, face) == tri(rt, rf) {
-                return true;
-            }
-            let at = |t: u32, f: u8| {
-                let p = mesh.face(t, f as usize).map(|i| mesh.points[i as usize]);
-                exact::hit::line_triangle(p, ray)
-            };
-            matches!((at(tet, face), at(rt, rf)), (Some(x), Some(y)) if x == y)
+            tri(tet, face) == tri(rt, rf)
+                || matches!((crossing(tet, face), crossing(rt, rf)), (Some(x), Some(y)) if x.t == y.t)
+        }
+        (Outcome::Hit { tet, face }, Outcome::LeftMesh { .. }) => {
+            crossing(tet, face).is_some_and(|c| c.on_boundary)
         }
         _ => false,
     }

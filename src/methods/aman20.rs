@@ -1,0 +1,165 @@
+//! `aman20` and `aman20-scaled`: Aman, Demirci, Güdükbay (seed 003) §4: the tetrahedron projected onto
+//! a 2-D frame around the ray, Algorithm 1 exit selection from the one newly fetched vertex.
+
+use super::{Arith, ExitMethod};
+use crate::tet::{FACE_VERTICES, Ray, Tet};
+use glam::{Vec2, Vec3};
+
+/// `det(a, b) = a.x·b.y - a.y·b.x` (Algorithm 1).
+#[inline(always)]
+fn det<A: Arith>(a: Vec2, b: Vec2) -> f32 {
+    A::mad(a.x, b.y, -(a.y * b.x))
+}
+
+/// Algorithm 1, GETEXITFACE: `p0 p1 p2` the entry face, `p3` the new vertex; returns `k`, the exit face
+/// being the one across `p_k`. Two determinants, four multiplications.
+#[inline(always)]
+fn get_exit_face<A: Arith>(p: &[Vec2; 4]) -> usize {
+    let mut exit = 0;
+    if det::<A>(p[3], p[0]) < 0.0 {
+        if det::<A>(p[3], p[2]) >= 0.0 {
+            exit = 1;
+        }
+    } else if det::<A>(p[3], p[1]) < 0.0 {
+        exit = 2;
+    }
+    exit
+}
+
+/// The shared method over a projection: with an entry face, its vertices in the order Algorithm 1
+/// expects (counterclockwise seen along the ray: the outward cycle reversed) and the opposite vertex
+/// as `p3`. Projecting per call gives the same f32 values as the paper's walk, which keeps the three
+/// shared projections and projects only the new vertex. Without an entry face, §4's "at most four
+/// point-in-triangle tests": the first face whose projected outward cycle has the origin on the left of
+/// (or on) all three edges, not all on them.
+#[inline(always)]
+fn exit_2d<A: Arith>(
+    tet: &Tet,
+    project: impl Fn(Vec3) -> Vec2,
+    entry: Option<usize>,
+) -> Option<usize> {
+    match entry {
+        Some(e) => {
+            let [a0, a1, a2] = FACE_VERTICES[e];
+            let idx = [a0, a2, a1, e];
+            let p = idx.map(|i| project(tet[i]));
+            Some(idx[get_exit_face::<A>(&p)])
+        }
+        None => {
+            let p = tet.map(&project);
+            (0..4).find(|&f| {
+                let v = FACE_VERTICES[f];
+                let d: [f32; 3] = std::array::from_fn(|k| det::<A>(p[v[k]], p[v[(k + 1) % 3]]));
+                d.iter().all(|&x| x >= 0.0) && d.iter().any(|&x| x != 0.0)
+            })
+        }
+    }
+}
+
+/// The ray origin and the orthonormal 2-D basis of Duff et al. 2017 around the unit ray direction.
+#[derive(Clone, Copy, Debug)]
+pub struct DuffFrame {
+    org: Vec3,
+    u: Vec3,
+    v: Vec3,
+}
+
+/// §4 with the Duff et al. 2017 basis of the normalised direction; each vertex is projected as
+/// `(u · (v - o), v · (v - o))` (Algorithm 2: 3 sub, 6 mul, 4 add), then Algorithm 1 (4 mul, 2 sub,
+/// 2 comparisons).
+pub struct Aman20;
+
+impl ExitMethod for Aman20 {
+    type RayData = DuffFrame;
+
+    fn prepare<A: Arith>(ray: &Ray) -> DuffFrame {
+        let n = ray.dir / A::dot(ray.dir, ray.dir).sqrt();
+        let sign = 1.0f32.copysign(n.z);
+        let a = -1.0 / (sign + n.z);
+        let b = n.x * n.y * a;
+        DuffFrame {
+            org: ray.org,
+            u: Vec3::new(A::mad(sign * n.x, n.x * a, 1.0), sign * b, -sign * n.x),
+            v: Vec3::new(b, A::mad(n.y, n.y * a, sign), -n.y),
+        }
+    }
+
+    fn exit_face<A: Arith>(tet: &Tet, r: &DuffFrame, entry: Option<usize>) -> Option<usize> {
+        exit_2d::<A>(
+            tet,
+            |p| {
+                let q = p - r.org;
+                Vec2::new(A::dot(r.u, q), A::dot(r.v, q))
+            },
+            entry,
+        )
+    }
+}
+
+/// The specialised scaled basis of §4.1: `u` (eq. 1) and `v` (eq. 2) scaled so their largest
+/// components are exactly ±1, with the component indices of eq. 3.
+#[derive(Clone, Copy, Debug)]
+pub struct ScaledFrame {
+    org: Vec3,
+    u: Vec3,
+    v: Vec3,
+    max: usize,
+    min: usize,
+    other: usize,
+}
+
+/// §4.1: eq. 1 `u_min = 0, u_(min+1) = n_(min-1)/n_max, u_(min-1) = -n_(min+1)/n_max`; eq. 2 `v = n × u`
+/// scaled so its largest component, at `min`, is ±1 (the text's "only the absolute largest components
+/// become one (or minus one)"; its printed divisor `t_(3-max-min)` would make that component large, so we
+/// divide by `|t_min|`, which keeps `(u, v)` right-handed around `n`); eq. 3 `p_x = u_max·q_max + u_other·q_other`,
+/// `p_y = v_max·q_max + v_other·q_other ± q_min` with `q = p - o`: 3 sub, 3 mul, 3 add (products by ±1 are
+/// exact). Then Algorithm 1.
+pub struct Aman20Scaled;
+
+impl ExitMethod for Aman20Scaled {
+    type RayData = ScaledFrame;
+
+    fn prepare<A: Arith>(ray: &Ray) -> ScaledFrame {
+        let n = ray.dir;
+        let m = n.abs();
+        let max = if m.x >= m.y && m.x >= m.z {
+            0
+        } else if m.y >= m.z {
+            1
+        } else {
+            2
+        };
+        let min = (0..3)
+            .filter(|&i| i != max)
+            .fold(3, |b, i| if b == 3 || m[i] < m[b] { i } else { b });
+        let other = 3 - max - min;
+        let (p, q) = ((min + 1) % 3, (min + 2) % 3);
+        let mut u = Vec3::ZERO;
+        u[p] = n[q] / n[max];
+        u[q] = -n[p] / n[max];
+        let t = A::cross(n, u);
+        let v = t / t[min].abs();
+        ScaledFrame {
+            org: ray.org,
+            u,
+            v,
+            max,
+            min,
+            other,
+        }
+    }
+
+    fn exit_face<A: Arith>(tet: &Tet, r: &ScaledFrame, entry: Option<usize>) -> Option<usize> {
+        exit_2d::<A>(
+            tet,
+            |p| {
+                let q = p - r.org;
+                let x = A::mad(r.u[r.max], q[r.max], r.u[r.other] * q[r.other]);
+                let y =
+                    A::mad(r.v[r.other], q[r.other], r.v[r.max] * q[r.max]) + r.v[r.min] * q[r.min];
+                Vec2::new(x, y)
+            },
+            entry,
+        )
+    }
+}

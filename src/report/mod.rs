@@ -1,0 +1,3 @@
+//! Reports: failure counts per method, as markdown tables and JSON.
+
+pub mod stress;

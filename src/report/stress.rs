@@ -1,0 +1,244 @@
+//! `tetwalk stress`: wrong exit faces and "no exit face" per million cases, per method and family.
+
+use crate::cases::{Case, classify, judge};
+use crate::methods::Method;
+use crate::scenes::rng;
+use crate::scenes::tets::{self, Family, Target};
+use crate::tet::{Ray, Tet};
+use glam::Vec3;
+use rand::RngExt;
+use rayon::prelude::*;
+
+/// The rows of the stress table: a tetrahedron family with stabbing rays, or a way of aiming rays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Row {
+    Well,
+    Sliver,
+    Cap,
+    Needle,
+    Wedge,
+    /// Well-shaped, moved 1e4 to 1e6 from the origin.
+    FarOffset,
+    /// Within k ulps of an edge (every shape family in turn).
+    NearEdge,
+    /// Within k ulps of a vertex.
+    NearVertex,
+    /// Exactly through an edge.
+    ThroughEdge,
+    /// Exactly through a vertex.
+    ThroughVertex,
+}
+
+impl Row {
+    pub const ALL: [Row; 10] = [
+        Row::Well,
+        Row::Sliver,
+        Row::Cap,
+        Row::Needle,
+        Row::Wedge,
+        Row::FarOffset,
+        Row::NearEdge,
+        Row::NearVertex,
+        Row::ThroughEdge,
+        Row::ThroughVertex,
+    ];
+
+    fn name(self) -> String {
+        serde_json::to_value(self)
+            .ok()
+            .and_then(|v| v.as_str().map(String::from))
+            .unwrap_or_default()
+    }
+}
+
+/// Settings of a stress run.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Settings {
+    pub cases: usize,
+    pub rows: Vec<Row>,
+    pub seed: u64,
+    pub fma: bool,
+    /// Flatness of the degenerate families (well-shaped ones use 1).
+    pub flatness: f32,
+    /// Largest ulp offset of the near-* rows.
+    pub ulps: i32,
+}
+
+/// Counts for one method on one row.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct Tally {
+    /// Cases whose line meets the tetrahedron (the others are not judged).
+    pub judged: u64,
+    pub wrong_face: u64,
+    pub no_exit_face: u64,
+}
+
+impl Tally {
+    pub fn per_million(n: u64, of: u64) -> f64 {
+        if of == 0 {
+            0.0
+        } else {
+            n as f64 * 1e6 / of as f64
+        }
+    }
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RowReport {
+    pub row: Row,
+    /// Per method, in the order of `StressReport::methods`.
+    pub tallies: Vec<Tally>,
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct StressReport {
+    pub settings: Settings,
+    pub methods: Vec<String>,
+    pub rows: Vec<RowReport>,
+    /// Signs the oracle decided in its f64 filter and exactly.
+    pub oracle: crate::exact::Counts,
+}
+
+/// Case `i` of `row`: a pure function of `(seed, row, i)`, so results do not depend on threads.
+fn case(row: Row, s: &Settings, i: usize) -> Option<(Tet, Ray)> {
+    let key = s.seed
+        ^ (row as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+        ^ (i as u64).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    let mut r = rng(key);
+    let shape = Family::ALL[i % Family::ALL.len()];
+    let flat = |f: Family| if f == Family::Well { 1.0 } else { s.flatness };
+    let stab = |f: Family, r: &mut crate::scenes::Rng| {
+        let t = tets::tet(f, flat(f), r);
+        let ray = tets::stabbing_ray(&t, r);
+        Some((t, ray))
+    };
+    match row {
+        Row::Well => stab(Family::Well, &mut r),
+        Row::Sliver => stab(Family::Sliver, &mut r),
+        Row::Cap => stab(Family::Cap, &mut r),
+        Row::Needle => stab(Family::Needle, &mut r),
+        Row::Wedge => stab(Family::Wedge, &mut r),
+        Row::FarOffset => {
+            let (t, ray) = stab(Family::Well, &mut r)?;
+            let d = 10f32.powf(r.random_range(4.0..6.0));
+            let dir = Vec3::new(
+                r.random_range(-1.0..1.0),
+                r.random_range(-1.0..1.0),
+                r.random_range(-1.0..1.0),
+            );
+            tets::translated(&t, &ray, dir.normalize_or(Vec3::X) * d)
+        }
+        Row::NearEdge => tets::near(shape, flat(shape), Target::Edge, s.ulps, &mut r),
+        Row::NearVertex => tets::near(shape, flat(shape), Target::Vertex, s.ulps, &mut r),
+        Row::ThroughEdge => tets::through(shape, flat(shape), Target::Edge, &mut r),
+        Row::ThroughVertex => tets::through(shape, flat(shape), Target::Vertex, &mut r),
+    }
+}
+
+/// Run every method on `cases` cases of every row, judging each answer exactly. Even-numbered cases give
+/// the method the exact entry face (as a walk would), odd ones none (as in the starting tetrahedron).
+pub fn run(s: &Settings, methods: &[&Method], progress: &indicatif::ProgressBar) -> StressReport {
+    let mut rows = Vec::new();
+    let mut oracle = crate::exact::Counts::default();
+    for &row in &s.rows {
+        let (tallies, counts) = (0..s.cases)
+            .into_par_iter()
+            .map(|i| {
+                let before = crate::exact::counts();
+                let mut out = vec![Tally::default(); methods.len()];
+                if let Some((tet, ray)) = case(row, s, i) {
+                    let mut c = Case {
+                        tet,
+                        org: ray.org,
+                        dir: ray.dir,
+                        entry: None,
+                    };
+                    if let Ok(x) = classify(&c) {
+                        if i % 2 == 0 {
+                            c.entry = x.entry.first().map(|f| f as u8);
+                        }
+                        for (m, t) in methods.iter().zip(&mut out) {
+                            let j = judge(&c, &x, m, s.fma);
+                            t.judged += j.correct.is_some() as u64;
+                            t.wrong_face += (j.correct == Some(false) && j.face.is_some()) as u64;
+                            t.no_exit_face += (j.correct == Some(false) && j.face.is_none()) as u64;
+                        }
+                    }
+                }
+                progress.inc(1);
+                (out, crate::exact::counts().since(before))
+            })
+            .reduce(
+                || {
+                    (
+                        vec![Tally::default(); methods.len()],
+                        crate::exact::Counts::default(),
+                    )
+                },
+                |(mut a, mut ca), (b, cb)| {
+                    for (x, y) in a.iter_mut().zip(b) {
+                        x.judged += y.judged;
+                        x.wrong_face += y.wrong_face;
+                        x.no_exit_face += y.no_exit_face;
+                    }
+                    ca += cb;
+                    (a, ca)
+                },
+            );
+        oracle += counts;
+        rows.push(RowReport { row, tallies });
+    }
+    StressReport {
+        settings: s.clone(),
+        methods: methods.iter().map(|m| m.name.to_string()).collect(),
+        rows,
+        oracle,
+    }
+}
+
+impl StressReport {
+    /// The table: per row and method, wrong exit faces / "no exit face", per million judged cases.
+    pub fn markdown(&self) -> String {
+        let s = &self.settings;
+        let mut out = format!(
+            "{} cases per row, seed {}, {}, flatness {}, near-* within {} ulps; cells: wrong face / no exit face per million judged cases\n\n",
+            s.cases,
+            s.seed,
+            if s.fma {
+                "fma (as a GPU compiles it)"
+            } else {
+                "plain f32"
+            },
+            s.flatness,
+            s.ulps
+        );
+        out += &format!("| row | judged | {} |\n", self.methods.join(" | "));
+        out += &format!("|---|---|{}\n", "---|".repeat(self.methods.len()));
+        for r in &self.rows {
+            let judged = r.tallies.first().map_or(0, |t| t.judged);
+            let cells: Vec<String> = r
+                .tallies
+                .iter()
+                .map(|t| {
+                    format!(
+                        "{:.0} / {:.0}",
+                        Tally::per_million(t.wrong_face, t.judged),
+                        Tally::per_million(t.no_exit_face, t.judged)
+                    )
+                })
+                .collect();
+            out += &format!(
+                "| {} | {} | {} |\n",
+                r.row.name(),
+                judged,
+                cells.join(" | ")
+            );
+        }
+        out += &format!(
+            "\noracle: {} signs decided by the f64 filter, {} exactly\n",
+            self.oracle.filter, self.oracle.exact
+        );
+        out
+    }
+}
