@@ -1,6 +1,8 @@
 //! Tetrahedral meshes: f32 points, tetrahedra, neighbours across each face, constrained faces; checked
 //! with exact predicates when they are built, whatever they were built from.
 
+pub mod layout;
+pub mod reorder;
 mod tetgen;
 
 pub use tetgen::load_tetgen;

@@ -11,10 +11,15 @@ fn det<A: Arith>(a: Vec2, b: Vec2) -> f32 {
     A::mad(a.x, b.y, -(a.y * b.x))
 }
 
+/// A 2-D frame around the ray onto which vertices are projected, with the ray at the origin.
+pub trait Frame: Copy + Send + Sync {
+    fn project<A: Arith>(&self, p: Vec3) -> Vec2;
+}
+
 /// Algorithm 1, GETEXITFACE: `p0 p1 p2` the entry face, `p3` the new vertex; returns `k`, the exit face
 /// being the one across `p_k`. Two determinants, four multiplications.
 #[inline(always)]
-fn get_exit_face<A: Arith>(p: &[Vec2; 4]) -> usize {
+pub fn get_exit_face<A: Arith>(p: &[Vec2; 4]) -> usize {
     let mut exit = 0;
     if det::<A>(p[3], p[0]) < 0.0 {
         if det::<A>(p[3], p[2]) >= 0.0 {
@@ -33,27 +38,26 @@ fn get_exit_face<A: Arith>(p: &[Vec2; 4]) -> usize {
 /// point-in-triangle tests": the first face whose projected outward cycle has the origin on the left of
 /// (or on) all three edges, not all on them.
 #[inline(always)]
-fn exit_2d<A: Arith>(
-    tet: &Tet,
-    project: impl Fn(Vec3) -> Vec2,
-    entry: Option<usize>,
-) -> Option<usize> {
+fn exit_2d<A: Arith>(tet: &Tet, frame: &impl Frame, entry: Option<usize>) -> Option<usize> {
     match entry {
         Some(e) => {
             let [a0, a1, a2] = FACE_VERTICES[e];
             let idx = [a0, a2, a1, e];
-            let p = idx.map(|i| project(tet[i]));
+            let p = idx.map(|i| frame.project::<A>(tet[i]));
             Some(idx[get_exit_face::<A>(&p)])
         }
-        None => {
-            let p = tet.map(&project);
-            (0..4).find(|&f| {
-                let v = FACE_VERTICES[f];
-                let d: [f32; 3] = std::array::from_fn(|k| det::<A>(p[v[k]], p[v[(k + 1) % 3]]));
-                d.iter().all(|&x| x >= 0.0) && d.iter().any(|&x| x != 0.0)
-            })
-        }
+        None => start_exit_face::<A>(&tet.map(|v| frame.project::<A>(v))),
     }
+}
+
+/// §4's exit from the starting tetrahedron, from its four projected vertices.
+#[inline(always)]
+pub fn start_exit_face<A: Arith>(p: &[Vec2; 4]) -> Option<usize> {
+    (0..4).find(|&f| {
+        let v = FACE_VERTICES[f];
+        let d: [f32; 3] = std::array::from_fn(|k| det::<A>(p[v[k]], p[v[(k + 1) % 3]]));
+        d.iter().all(|&x| x >= 0.0) && d.iter().any(|&x| x != 0.0)
+    })
 }
 
 /// The ray origin and the orthonormal 2-D basis of Duff et al. 2017 around the unit ray direction.
@@ -85,14 +89,7 @@ impl ExitMethod for Aman20 {
     }
 
     fn exit_face<A: Arith>(tet: &Tet, r: &DuffFrame, entry: Option<usize>) -> Option<usize> {
-        exit_2d::<A>(
-            tet,
-            |p| {
-                let q = p - r.org;
-                Vec2::new(A::dot(r.u, q), A::dot(r.v, q))
-            },
-            entry,
-        )
+        exit_2d::<A>(tet, r, entry)
     }
 }
 
@@ -150,16 +147,32 @@ impl ExitMethod for Aman20Scaled {
     }
 
     fn exit_face<A: Arith>(tet: &Tet, r: &ScaledFrame, entry: Option<usize>) -> Option<usize> {
-        exit_2d::<A>(
-            tet,
-            |p| {
-                let q = p - r.org;
-                let x = A::mad(r.u[r.max], q[r.max], r.u[r.other] * q[r.other]);
-                let y =
-                    A::mad(r.v[r.other], q[r.other], r.v[r.max] * q[r.max]) + r.v[r.min] * q[r.min];
-                Vec2::new(x, y)
-            },
-            entry,
-        )
+        exit_2d::<A>(tet, r, entry)
+    }
+}
+
+impl Frame for DuffFrame {
+    #[inline(always)]
+    fn project<A: Arith>(&self, p: Vec3) -> Vec2 {
+        let q = p - self.org;
+        Vec2::new(A::dot(self.u, q), A::dot(self.v, q))
+    }
+}
+
+impl Frame for ScaledFrame {
+    #[inline(always)]
+    fn project<A: Arith>(&self, p: Vec3) -> Vec2 {
+        let q = p - self.org;
+        let x = A::mad(
+            self.u[self.max],
+            q[self.max],
+            self.u[self.other] * q[self.other],
+        );
+        let y = A::mad(
+            self.v[self.other],
+            q[self.other],
+            self.v[self.max] * q[self.max],
+        ) + self.v[self.min] * q[self.min];
+        Vec2::new(x, y)
     }
 }

@@ -7,7 +7,7 @@
 //! component is fused with the negated second one; in [`Arith::axpy`] each product with its sum; and
 //! wherever a method calls [`Arith::mad`]. Nothing else is contracted.
 
-mod aman20;
+pub mod aman20;
 mod exact;
 mod halfspace;
 mod maria17;

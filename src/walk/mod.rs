@@ -1,6 +1,7 @@
 //! The walk: locate the tetrahedron holding the ray origin, then step from tetrahedron to tetrahedron
 //! with a method until a constrained face or the mesh boundary. Always bounded; always a typed outcome.
 
+pub mod layouts;
 mod locate;
 
 pub use locate::{LocateError, locate};
@@ -69,6 +70,18 @@ pub fn default_max_steps(mesh: &Mesh) -> u32 {
     (mesh.tets.len() as u32)
         .saturating_mul(8)
         .saturating_add(64)
+}
+
+/// [`walk`], also listing the tetrahedra visited, in order.
+pub fn walk_traced<M: ExitMethod, A: Arith>(
+    mesh: &Mesh,
+    ray: &Ray,
+    start: u32,
+    max_steps: u32,
+) -> (Walk, Vec<u32>) {
+    let mut visited = Vec::new();
+    let w = walk_observed::<M, A>(mesh, ray, start, max_steps, |t, _, _| visited.push(t));
+    (w, visited)
 }
 
 /// Walk with method `M` from `start` (which must contain the ray origin).
@@ -170,17 +183,15 @@ pub fn same_result(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> bool {
     }
 }
 
-type State = (u32, Option<usize>);
-
-/// Brent's cycle detection over the walk's states.
-struct Brent {
-    saved: State,
+/// Brent's cycle detection over a walk's states (tetrahedron and entry face).
+struct Brent<S> {
+    saved: S,
     power: u32,
     lam: u32,
 }
 
-impl Brent {
-    fn new(s: State) -> Self {
+impl<S: PartialEq> Brent<S> {
+    fn new(s: S) -> Self {
         Brent {
             saved: s,
             power: 1,
@@ -190,7 +201,7 @@ impl Brent {
 
     /// Feed the next state; the cycle length once a state repeats.
     #[inline(always)]
-    fn step(&mut self, s: State) -> Option<u32> {
+    fn step(&mut self, s: S) -> Option<u32> {
         self.lam += 1;
         if s == self.saved {
             return Some(self.lam);
@@ -211,7 +222,7 @@ mod tests {
     #[test]
     fn brent_finds_the_period() {
         let seq = [1u32, 2, 3, 4, 5, 6, 4, 5, 6, 4, 5, 6, 4, 5, 6, 4, 5, 6];
-        let mut b = Brent::new((0, None));
+        let mut b = Brent::new((0u32, None::<usize>));
         let found = seq.iter().find_map(|&x| b.step((x, None)));
         assert_eq!(found, Some(3));
     }

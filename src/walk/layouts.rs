@@ -1,0 +1,180 @@
+//! Aman et al.'s walk over the compact layouts (seed 003 §4, Algorithms 2, 4 and 6): one new vertex
+//! fetched and projected per tetrahedron, decoded from the xor-sum; the next tetrahedron decoded by
+//! GETNEXTTET32/20/16.
+
+use super::Brent;
+use crate::mesh::layout::{BOUNDARY, Layout, STOP, next_tet16, next_tet20, next_tet32, rank};
+use crate::mesh::{HULL, Mesh};
+use crate::methods::aman20::{Frame, get_exit_face, start_exit_face};
+use crate::methods::{Arith, ExitMethod};
+use crate::tet::{FACE_VERTICES, Ray};
+use glam::Vec3;
+
+/// Which layout to walk.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+pub enum Kind {
+    Tet32,
+    Tet20,
+    Tet16,
+}
+
+/// The source tetrahedron of §3: the walk's start, with complete vertex and neighbour information.
+#[derive(Clone, Copy, Debug)]
+pub struct Source {
+    pub tet: u32,
+    pub vertices: [u32; 4],
+    /// Neighbour fields as the layouts encode them ([`STOP`] set for constrained and boundary faces).
+    pub neighbors: [u32; 4],
+}
+
+impl Source {
+    /// Tetrahedron `t` as a source: its vertices and encoded neighbours, from Tet32.
+    pub fn new(layout: &Layout, t: u32) -> Source {
+        let r = &layout.tet32[t as usize];
+        let fourth = r.v[0] ^ r.v[1] ^ r.v[2] ^ r.vx;
+        Source {
+            tet: t,
+            vertices: [r.v[0], r.v[1], r.v[2], fourth],
+            neighbors: r.n,
+        }
+    }
+}
+
+/// How a layout walk ended. Tet20 and Tet16 keep no vertex order, so a face is named by the vertex it is
+/// across (`across`), not by its index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum LayoutOutcome {
+    Hit { tet: u32, across: u32 },
+    LeftMesh { tet: u32, across: u32 },
+    NoExitFace { tet: u32 },
+    Cycle { tet: u32, period: u32 },
+    StepLimit { tet: u32 },
+}
+
+impl LayoutOutcome {
+    /// The outcome with faces named by index in the plain mesh's tetrahedra, as [`super::walk`] gives it.
+    pub fn to_outcome(&self, mesh: &Mesh) -> super::Outcome {
+        use super::Outcome as O;
+        let face = |t: u32, v: u32| {
+            mesh.tets[t as usize]
+                .iter()
+                .position(|&x| x == v)
+                .unwrap_or(4) as u8
+        };
+        match *self {
+            LayoutOutcome::Hit { tet, across } => O::Hit {
+                tet,
+                face: face(tet, across),
+            },
+            LayoutOutcome::LeftMesh { tet, across } => O::LeftMesh {
+                tet,
+                face: face(tet, across),
+            },
+            LayoutOutcome::NoExitFace { tet } => O::NoExitFace { tet },
+            LayoutOutcome::Cycle { tet, period } => O::Cycle { tet, period },
+            LayoutOutcome::StepLimit { tet } => O::StepLimit { tet },
+        }
+    }
+}
+
+/// One step as decoded from the layout: the tetrahedron entered, the vertex index recovered from the
+/// xor-sum, and the next neighbour field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Decoded {
+    pub tet: u32,
+    pub fourth: u32,
+    /// The vertex across the exit face Algorithm 1 chose.
+    pub across: u32,
+    pub next: u32,
+}
+
+/// Walk with method `M` (`aman20` or `aman20-scaled`) over `kind` from `source`; `observe` sees every
+/// decoded step. Steps count tetrahedra whose exit face was sought, as in [`super::walk`].
+pub fn walk_layout<M, A>(
+    kind: Kind,
+    layout: &Layout,
+    points: &[Vec3],
+    ray: &Ray,
+    source: &Source,
+    max_steps: u32,
+    mut observe: impl FnMut(Decoded),
+) -> (LayoutOutcome, u32)
+where
+    M: ExitMethod,
+    M::RayData: Frame,
+    A: Arith,
+{
+    let frame = M::prepare::<A>(ray);
+    let project = |i: u32| frame.project::<A>(points[i as usize]);
+    let p4 = source.vertices.map(project);
+    let Some(f) = start_exit_face::<A>(&p4) else {
+        return (LayoutOutcome::NoExitFace { tet: source.tet }, 1);
+    };
+    // The exit face's outward cycle is the order Algorithm 1 expects for the entry face of the next one.
+    let mut idx = FACE_VERTICES[f].map(|k| source.vertices[k]);
+    let mut p = FACE_VERTICES[f].map(|k| p4[k]);
+    let (mut tet, mut next, mut across) = (source.tet, source.neighbors[f], source.vertices[f]);
+    // States are (tetrahedron, vertex across its exit face), which match the plain walk's (next
+    // tetrahedron, entry face) one to one; the start's sentinel matches its (start, no entry face).
+    let mut brent = Brent::new((tet, u32::MAX));
+    let mut steps = 1;
+    loop {
+        if next & STOP != 0 {
+            let end = if next == STOP | BOUNDARY {
+                LayoutOutcome::LeftMesh { tet, across }
+            } else {
+                LayoutOutcome::Hit { tet, across }
+            };
+            return (end, steps);
+        }
+        if let Some(period) = brent.step((tet, across)) {
+            return (LayoutOutcome::Cycle { tet: next, period }, steps);
+        }
+        if steps >= max_steps {
+            return (LayoutOutcome::StepLimit { tet: next }, steps);
+        }
+        let prev = tet;
+        tet = next;
+        steps += 1;
+        let t = tet as usize;
+        let vx = match kind {
+            Kind::Tet32 => layout.tet32[t].vx,
+            Kind::Tet20 => layout.tet20[t].vx,
+            Kind::Tet16 => layout.tet16[t].vx,
+        };
+        let fourth = idx[0] ^ idx[1] ^ idx[2] ^ vx;
+        let p3 = project(fourth);
+        let k = get_exit_face::<A>(&[p[0], p[1], p[2], p3]);
+        across = idx[k];
+        let all = [idx[0], idx[1], idx[2], fourth];
+        next = match kind {
+            Kind::Tet32 => next_tet32(&layout.tet32[t], across),
+            Kind::Tet20 => next_tet20(&layout.tet20[t], rank(&all, across)),
+            Kind::Tet16 => next_tet16(
+                &layout.tet16[t],
+                prev,
+                rank(&all, fourth),
+                rank(&all, across),
+            ),
+        };
+        observe(Decoded {
+            tet,
+            fourth,
+            across,
+            next,
+        });
+        idx[k] = fourth;
+        p[k] = p3;
+    }
+}
+
+/// The plain mesh's neighbour across face `f` of `t` as the layouts encode it (for checking decodes).
+pub fn encoded_neighbor(mesh: &Mesh, layout: &Layout, t: u32, f: usize) -> u32 {
+    let nb = mesh.neighbors[t as usize][f];
+    if mesh.is_constrained(t, f) || nb == HULL {
+        layout.tet32[t as usize].n[f]
+    } else {
+        nb
+    }
+}
