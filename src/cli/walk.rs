@@ -1,8 +1,11 @@
 //! `tetwalk walk`: rays through a generated mesh, each method's walk judged step by step.
 
+use crate::mesh::layout::Layout;
+use crate::mesh::reorder::hilbert_sorted;
 use crate::methods::parse_list;
 use crate::scenes::{self, Generated};
-use crate::walk::{Outcome, default_max_steps, locate, same_result};
+use crate::walk::layouts::{Kind, Source};
+use crate::walk::{Outcome, Walk, default_max_steps, locate, same_result};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::process::ExitCode;
@@ -25,6 +28,13 @@ pub struct Args {
     fma: bool,
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Walk the methods that can (aman20, aman20-scaled) over this compact layout instead of the plain
+    /// mesh (their "diverged" column is then not measured).
+    #[arg(long, value_enum)]
+    layout: Option<Kind>,
+    /// Reorder points and tetrahedra along a Hilbert curve, by region, first (seed 003 §5).
+    #[arg(long)]
+    hilbert: bool,
 }
 
 #[derive(Default, Clone, Copy)]
@@ -50,6 +60,12 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
     let methods = parse_list(&a.methods)?;
     let offset = Vec3::splat(a.offset);
     let mesh = scenes::generated(a.mesh, a.size, offset, a.seed).map_err(|e| e.to_string())?;
+    let mesh = if a.hilbert {
+        hilbert_sorted(&mesh)
+    } else {
+        mesh
+    };
+    let layout = a.layout.map(|_| Layout::build(&mesh));
     let rays = scenes::rays(a.mesh, &mesh, offset, a.rays, a.seed);
     let max = default_max_steps(&mesh);
     let exact = crate::methods::by_name("exact").expect("registered");
@@ -61,7 +77,27 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
             let tallies = methods
                 .iter()
                 .map(|m| {
-                    let (w, div) = m.walk_checked(a.fma)(&mesh, ray, start, max);
+                    let on_layout = a.layout.zip(layout.as_ref()).zip(m.layout_walk(a.fma));
+                    let (w, div) = match on_layout {
+                        Some(((kind, layout), walk)) => {
+                            let (end, steps) = walk(
+                                kind,
+                                layout,
+                                &mesh.points,
+                                ray,
+                                &Source::new(layout, start),
+                                max,
+                            );
+                            (
+                                Walk {
+                                    outcome: end.to_outcome(&mesh),
+                                    steps,
+                                },
+                                None,
+                            )
+                        }
+                        None => m.walk_checked(a.fma)(&mesh, ray, start, max),
+                    };
                     let mut t = Tally {
                         rays: 1,
                         steps: w.steps as u64,
@@ -107,16 +143,23 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
             (0..5).for_each(|k| s.kinds[k] += t.kinds[k]);
         }
         let k = s.kinds;
+        let on_layout = a.layout.filter(|_| m.layout_walk(a.fma).is_some());
+        let name = on_layout.map_or(m.name.to_string(), |k| format!("{} ({k:?})", m.name));
+        let diverged = if on_layout.is_some() {
+            "-".to_string()
+        } else {
+            s.diverged.to_string()
+        };
         println!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
-            m.name,
+            name,
             k[0],
             k[1],
             k[2],
             k[3],
             k[4],
             s.wrong,
-            s.diverged,
+            diverged,
             s.steps as f64 / s.rays.max(1) as f64
         );
     }

@@ -26,6 +26,7 @@ pub use ray_plane::RayPlane;
 pub use stp::Stp;
 
 use crate::tet::{Ray, Tet};
+use crate::walk::layouts::{self, LayoutWalkFn};
 use crate::walk::{self, CheckedWalkFn, WalkFn};
 use glam::Vec3;
 
@@ -102,6 +103,7 @@ pub struct Method {
     exit: [ExitFn; 2],
     walk: [WalkFn; 2],
     checked: [CheckedWalkFn; 2],
+    layout_walk: Option<[LayoutWalkFn; 2]>,
 }
 
 impl Method {
@@ -120,6 +122,21 @@ impl Method {
                 walk::walk_checked::<M, Plain>,
                 walk::walk_checked::<M, Fused>,
             ],
+            layout_walk: None,
+        }
+    }
+
+    /// A method of the 2-D frame family, which can also walk the compact layouts.
+    const fn planar<M: ExitMethod>(name: &'static str, source: &'static str) -> Self
+    where
+        M::RayData: aman20::Frame,
+    {
+        Method {
+            layout_walk: Some([
+                layouts::walk_layout_unobserved::<M, Plain>,
+                layouts::walk_layout_unobserved::<M, Fused>,
+            ]),
+            ..Self::of::<M>(name, source, false)
         }
     }
 
@@ -131,6 +148,11 @@ impl Method {
     /// The walk specialised to this method, plain or with `fma`.
     pub fn walk(&self, fma: bool) -> WalkFn {
         self.walk[fma as usize]
+    }
+
+    /// The walk over Tet32/Tet20/Tet16, for the methods that have one (seed 003 Algorithms 2-7).
+    pub fn layout_walk(&self, fma: bool) -> Option<LayoutWalkFn> {
+        self.layout_walk.map(|w| w[fma as usize])
     }
 
     /// The walk that judges every step with the oracle ([`walk::walk_checked`]).
@@ -176,15 +198,13 @@ pub static METHODS: &[Method] = &[
         "Maria, Horna, Aveneau 2017, Algorithms 1-2, Tables 1-2, translated frame of §3.4",
         true,
     ),
-    Method::of::<Aman20>(
+    Method::planar::<Aman20>(
         "aman20",
-        "Aman, Demirci, Güdükbay §4: Duff et al. 2017 2-D frame, Algorithm 1",
-        false,
+        "Aman, Demirci, Güdükbay §4: Duff et al. 2017 2-D frame, Algorithm 1; walks Tet32/20/16",
     ),
-    Method::of::<Aman20Scaled>(
+    Method::planar::<Aman20Scaled>(
         "aman20-scaled",
-        "Aman, Demirci, Güdükbay §4.1: specialised scaled basis (eqs. 1-3), Algorithm 1",
-        false,
+        "Aman, Demirci, Güdükbay §4.1: specialised scaled basis (eqs. 1-3), Algorithm 1; walks Tet32/20/16",
     ),
 ];
 

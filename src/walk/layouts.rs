@@ -169,6 +169,26 @@ where
     }
 }
 
+/// A layout walk specialised to one method and arithmetic, for callers that pick methods at run time.
+pub type LayoutWalkFn = fn(Kind, &Layout, &[Vec3], &Ray, &Source, u32) -> (LayoutOutcome, u32);
+
+/// [`walk_layout`] with nothing observing it.
+pub fn walk_layout_unobserved<M, A>(
+    kind: Kind,
+    layout: &Layout,
+    points: &[Vec3],
+    ray: &Ray,
+    source: &Source,
+    max_steps: u32,
+) -> (LayoutOutcome, u32)
+where
+    M: ExitMethod,
+    M::RayData: Frame,
+    A: Arith,
+{
+    walk_layout::<M, A>(kind, layout, points, ray, source, max_steps, |_| {})
+}
+
 /// The plain mesh's neighbour across face `f` of `t` as the layouts encode it (for checking decodes).
 pub fn encoded_neighbor(mesh: &Mesh, layout: &Layout, t: u32, f: usize) -> u32 {
     let nb = mesh.neighbors[t as usize][f];
