@@ -46,7 +46,7 @@ fn exit_faces(c: &mut Criterion) {
 
 fn walks(c: &mut Criterion) {
     let mesh = tetwalk::mesh::reorder::hilbert_sorted(
-        &scenes::generated(Generated::Jitter, 12, Vec3::ZERO, 1).unwrap(),
+        &scenes::generated_mesh(Generated::Jitter, 12, Vec3::ZERO, 1).unwrap(),
     );
     let layout = Layout::build(&mesh);
     let max = default_max_steps(&mesh);

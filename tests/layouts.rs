@@ -24,7 +24,7 @@ fn meshes() -> Vec<(String, Mesh, Vec<Ray>, Vec3)> {
         (Generated::Fan, 0.0),
     ] {
         let off = Vec3::splat(offset);
-        let mesh = scenes::generated(kind, 6, off, 5).unwrap();
+        let mesh = scenes::generated_mesh(kind, 6, off, 5).unwrap();
         let rays = scenes::rays(kind, &mesh, off, 300, 5);
         out.push((format!("{kind:?} {offset}"), mesh, rays, off));
     }
@@ -206,7 +206,7 @@ fn hilbert_order_keeps_regions_together_and_walks_unchanged() {
         r.windows(2).filter(|w| w[0] != w[1]).count() == 1,
         "each region is contiguous: {r:?}"
     );
-    let kuhn = scenes::generated(Generated::Jitter, 6, Vec3::ZERO, 2).unwrap();
+    let kuhn = scenes::generated_mesh(Generated::Jitter, 6, Vec3::ZERO, 2).unwrap();
     let sorted = hilbert_sorted(&kuhn);
     assert_ne!(sorted.tets, kuhn.tets);
     let exact = by_name("exact").unwrap();

@@ -64,7 +64,7 @@ fn exact_walks_hit_the_first_constrained_face_on_every_generated_mesh() {
         (Generated::Fan, 8, 1.0e6),
     ] {
         let offset = Vec3::splat(offset);
-        let mesh = scenes::generated(kind, size, offset, 3).unwrap();
+        let mesh = scenes::generated_mesh(kind, size, offset, 3).unwrap();
         let rays = scenes::rays(kind, &mesh, offset, 400, 3);
         let n = check_exact_walks(&mesh, &rays);
         println!("{kind:?} offset {offset}: {n} rays checked");
@@ -115,7 +115,7 @@ impl ExitMethod for TurnBack {
 
 #[test]
 fn cycles_and_step_limits_are_typed_outcomes() {
-    let mesh = scenes::generated(Generated::Kuhn, 4, Vec3::ZERO, 1).unwrap();
+    let mesh = scenes::generated_mesh(Generated::Kuhn, 4, Vec3::ZERO, 1).unwrap();
     let ray = Ray {
         org: Vec3::new(2.3, 1.6, 2.2),
         dir: Vec3::X,
@@ -139,7 +139,7 @@ fn cycles_and_step_limits_are_typed_outcomes() {
 
 #[test]
 fn locating_a_mesh_vertex_picks_one_tetrahedron_holding_it() {
-    let mesh = scenes::generated(Generated::Kuhn, 4, Vec3::ZERO, 1).unwrap();
+    let mesh = scenes::generated_mesh(Generated::Kuhn, 4, Vec3::ZERO, 1).unwrap();
     for p in [
         Vec3::new(2.0, 2.0, 2.0),
         Vec3::new(1.0, 2.0, 1.5),

@@ -1,7 +1,9 @@
 //! The `tetwalk` command line.
 
+mod count;
 mod exit;
 mod gen_cases;
+mod scene;
 mod stress;
 mod walk;
 
@@ -31,6 +33,11 @@ enum Command {
     Walk(walk::Args),
     /// Wrong exit faces and "no exit face" per million cases, per method and tetrahedron family.
     Stress(stress::Args),
+    /// Wrong rays per image, per method, on a scene (seed 000 Table 4), judged exactly.
+    Count(count::Args),
+    /// Build or describe scenes.
+    #[command(subcommand)]
+    Scene(scene::Scene),
 }
 
 pub fn main() -> ExitCode {
@@ -52,6 +59,8 @@ pub fn main() -> ExitCode {
         Command::GenCases(a) => gen_cases::run(a),
         Command::Walk(a) => walk::run(a),
         Command::Stress(a) => stress::run(a),
+        Command::Scene(s) => scene::run(s),
+        Command::Count(a) => count::run(a),
     };
     result.unwrap_or_else(|e| {
         eprintln!("tetwalk: {e}");

@@ -59,7 +59,7 @@ fn kind_index(o: &Outcome) -> usize {
 pub fn run(a: Args) -> Result<ExitCode, String> {
     let methods = parse_list(&a.methods)?;
     let offset = Vec3::splat(a.offset);
-    let mesh = scenes::generated(a.mesh, a.size, offset, a.seed).map_err(|e| e.to_string())?;
+    let mesh = scenes::generated_mesh(a.mesh, a.size, offset, a.seed).map_err(|e| e.to_string())?;
     let mesh = if a.hilbert {
         hilbert_sorted(&mesh)
     } else {

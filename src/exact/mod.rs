@@ -62,12 +62,14 @@ pub enum ExactError {
     ZeroDirection,
 }
 
-/// Signs the oracle derives everything from, in the tetrahedron's own orientation.
+/// Signs the oracle derives everything from, computed once per tetrahedron and line.
 struct Signs {
     /// Sign of the side product of the line with each edge of [`EDGES`], `det[a - o, b - o, d]`.
     side: [i8; 6],
     /// Sign of `n_f · d` for each face, `n_f` its outward normal.
     normal: [i8; 4],
+    /// The tetrahedron's orientation.
+    orient: i8,
 }
 
 fn check(tet: &Tet, ray: &Ray) -> Result<i8, ExactError> {
@@ -89,7 +91,30 @@ fn signs(tet: &Tet, ray: &Ray) -> Result<Signs, ExactError> {
     // Faces of a negatively oriented tetrahedron wind inwards: flip so that `normal` is outward.
     let normal =
         FACE_VERTICES.map(|[a, b, c]| s * sign::sign_det(tet[b], tet[a], tet[c], tet[a], ray.dir));
-    Ok(Signs { side, normal })
+    Ok(Signs {
+        side,
+        normal,
+        orient: s,
+    })
+}
+
+impl Signs {
+    fn classification(&self) -> Classification {
+        let mut c = Classification {
+            exit: FaceSet::default(),
+            entry: FaceSet::default(),
+        };
+        for f in 0..4 {
+            let cyc = cycle(&self.side, f, self.orient);
+            if self.normal[f] > 0 && cyc.iter().all(|&x| x >= 0) {
+                c.exit.insert(f);
+            }
+            if self.normal[f] < 0 && cyc.iter().all(|&x| x <= 0) {
+                c.entry.insert(f);
+            }
+        }
+        c
+    }
 }
 
 /// Signs of the side products along face `f`'s outward counterclockwise cycle, given per-edge signs.
@@ -123,22 +148,7 @@ pub fn edge_margin(tet: &Tet, ray: &Ray) -> f64 {
 /// Face `f` is an exit face iff `n_f · d > 0` and the three side products along its outward cycle
 /// are all `≥ 0` (the line crosses the closed triangle); entry faces likewise with `< 0` and `≤ 0`.
 pub fn classify(tet: &Tet, ray: &Ray) -> Result<Classification, ExactError> {
-    let s = signs(tet, ray)?;
-    let o = orientation(tet);
-    let mut c = Classification {
-        exit: FaceSet::default(),
-        entry: FaceSet::default(),
-    };
-    for f in 0..4 {
-        let cyc = cycle(&s.side, f, o);
-        if s.normal[f] > 0 && cyc.iter().all(|&x| x >= 0) {
-            c.exit.insert(f);
-        }
-        if s.normal[f] < 0 && cyc.iter().all(|&x| x <= 0) {
-            c.entry.insert(f);
-        }
-    }
-    Ok(c)
+    Ok(signs(tet, ray)?.classification())
 }
 
 /// The exit face under symbolic perturbation (Simulation of Simplicity) of the ray origin to
@@ -147,18 +157,18 @@ pub fn classify(tet: &Tet, ray: &Ray) -> Result<Classification, ExactError> {
 /// consistent. The perturbed side sign of edge `a → b` is the first nonzero of
 /// `(side, -m_x, -m_y, -m_z)`, `m = (b - a) × d`. `None` when the perturbed line misses the tetrahedron.
 pub fn perturbed_exit(tet: &Tet, ray: &Ray) -> Result<(Option<usize>, Classification), ExactError> {
-    let c = classify(tet, ray)?;
+    let mut s = signs(tet, ray)?;
+    let c = s.classification();
     if c.exit.is_empty() {
         return Ok((None, c));
     }
-    let mut s = signs(tet, ray)?;
     for (e, &[a, b]) in EDGES.iter().enumerate() {
         if s.side[e] == 0 {
             s.side[e] = perturbed_side_of_zero(tet[a], tet[b], ray);
         }
     }
-    let o = orientation(tet);
-    let face = (0..4).find(|&f| s.normal[f] > 0 && cycle(&s.side, f, o).iter().all(|&x| x > 0));
+    let face =
+        (0..4).find(|&f| s.normal[f] > 0 && cycle(&s.side, f, s.orient).iter().all(|&x| x > 0));
     Ok((face, c))
 }
 

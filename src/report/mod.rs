@@ -1,3 +1,5 @@
 //! Reports: failure counts per method, as markdown tables and JSON.
 
+pub mod count;
+pub mod scene_info;
 pub mod stress;

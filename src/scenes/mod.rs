@@ -1,7 +1,9 @@
 //! Generated scenes, seeded and deterministic: single tetrahedra of each shape family with rays that stab
 //! them, and small meshes that trap walks.
 
+pub mod build;
 pub mod meshes;
+pub mod model;
 pub mod tets;
 
 /// The generators' random source: PCG, the same stream for a seed on every platform.
@@ -29,8 +31,47 @@ pub enum Generated {
     Fan,
 }
 
+/// The scenes shipped in `corpora/scenes/`, by name.
+pub const BUILT_IN: [&str; 3] = ["bunny-quality", "bunny-cdt", "bunny-far"];
+
+/// A scene by name: a built-in one (`corpora/scenes/NAME`), a generated one (`kuhn`, `jitter`, `fan`,
+/// each with a `-far` variant moved by 2^16), or the stem or any file of TetGen output.
+pub fn load(name: &str) -> Result<Mesh, String> {
+    let (base, far) = match name.strip_suffix("-far") {
+        Some(b) if b != "bunny" => (b, true),
+        _ => (name, false),
+    };
+    let offset = if far {
+        Vec3::splat(65536.0)
+    } else {
+        Vec3::ZERO
+    };
+    let generated = match base {
+        "kuhn" => Some(Generated::Kuhn),
+        "jitter" => Some(Generated::Jitter),
+        "fan" => Some(Generated::Fan),
+        _ => None,
+    };
+    if let Some(kind) = generated {
+        return generated_mesh(kind, 8, offset, 1).map_err(|e| e.to_string());
+    }
+    let path = if BUILT_IN.contains(&name) {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("corpora/scenes")
+            .join(name)
+    } else {
+        std::path::PathBuf::from(name)
+    };
+    crate::mesh::load_tetgen(&path).map_err(|e| e.to_string())
+}
+
 /// A generated mesh of `size`, moved by `offset` (exactly, for offsets up to 2^20).
-pub fn generated(kind: Generated, size: u32, offset: Vec3, seed: u64) -> Result<Mesh, MeshError> {
+pub fn generated_mesh(
+    kind: Generated,
+    size: u32,
+    offset: Vec3,
+    seed: u64,
+) -> Result<Mesh, MeshError> {
     let raw = match kind {
         Generated::Kuhn => meshes::kuhn_grid(size),
         Generated::Jitter => meshes::jittered_grid(size, 0.15, &mut rng(seed)),

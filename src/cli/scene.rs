@@ -1,0 +1,62 @@
+//! `tetwalk scene build` and `tetwalk scene info`.
+
+use crate::mesh::Mesh;
+use crate::report::scene_info::SceneInfo;
+use crate::scenes::build::build_scene;
+use crate::scenes::model::Model;
+use glam::Vec3;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Subcommand)]
+pub enum Scene {
+    /// Tetrahedralize a closed model (OFF, OBJ or ASCII PLY) in a box with the installed TetGen.
+    Build {
+        model: PathBuf,
+        /// A quality CDT (-q1.414) instead of a pure one.
+        #[arg(long)]
+        quality: bool,
+        /// Move the model this far along (1, 1, 1) first (rounded to f32).
+        #[arg(long, default_value_t = 0.0)]
+        offset: f32,
+        /// Output stem (writes OUT.node, OUT.ele, OUT.neigh, OUT.face); the model's stem by default.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Counts, memory per layout and flatness of a scene.
+    Info {
+        /// A built-in scene name or a TetGen stem.
+        scene: String,
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+}
+
+pub fn run(s: Scene) -> Result<ExitCode, String> {
+    match s {
+        Scene::Build {
+            model,
+            quality,
+            offset,
+            out,
+        } => {
+            let m = Model::read(&model)?;
+            let out = out.unwrap_or_else(|| model.with_extension(""));
+            let mesh = build_scene(&m, quality, Vec3::splat(offset), &out)?;
+            println!("{}: {} tetrahedra", out.display(), mesh.tets.len());
+            print!("{}", SceneInfo::of(&mesh).markdown());
+            Ok(ExitCode::SUCCESS)
+        }
+        Scene::Info { scene, json } => {
+            let mesh: Mesh = crate::scenes::load(&scene)?;
+            let info = SceneInfo::of(&mesh);
+            println!("scene {scene}\n");
+            print!("{}", info.markdown());
+            if let Some(p) = json {
+                let text = serde_json::to_string_pretty(&info).map_err(|e| e.to_string())?;
+                std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! Scenes: the shipped bunny tetrahedralizations and the generated ones load, validate, report counts
+//! that independent counts confirm, and `exact` walks of camera rays end on the brute-force first hit.
+
+use glam::Vec3;
+use std::process::Command;
+use tetwalk::exact::hit::first_hit;
+use tetwalk::methods::by_name;
+use tetwalk::report::count::view;
+use tetwalk::report::scene_info::SceneInfo;
+use tetwalk::walk::{Outcome, default_max_steps, locate};
+
+const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/scenes");
+
+/// The first number of a TetGen file (its count).
+fn header_count(path: &str) -> usize {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.split_whitespace().next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn bunny_scenes_load_and_their_counts_check_out() {
+    let off = std::fs::read_to_string(format!("{SCENES}/bunny.off")).unwrap();
+    let model_triangles: usize = off
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(model_triangles, 3674);
+    for name in tetwalk::scenes::BUILT_IN {
+        let mesh = tetwalk::scenes::load(name).unwrap();
+        let info = SceneInfo::of(&mesh);
+        assert_eq!(
+            info.tetrahedra,
+            header_count(&format!("{SCENES}/{name}.ele")),
+            "{name}"
+        );
+        assert_eq!(
+            info.points,
+            header_count(&format!("{SCENES}/{name}.node")),
+            "{name}"
+        );
+        // -Y keeps every input triangle as one face: the model's and the box's twelve.
+        assert_eq!(info.constrained_faces, model_triangles + 12, "{name}");
+        assert_eq!(
+            header_count(&format!("{SCENES}/{name}.face")),
+            model_triangles + 12,
+            "{name}"
+        );
+        // Every face is shared by two tetrahedra except the 12 hull (box) triangles.
+        assert_eq!(
+            info.constrained_faces + info.other_faces,
+            (4 * info.tetrahedra + 12) / 2,
+            "{name}"
+        );
+        assert_eq!(info.layout_bytes[3].1, 16 * info.tetrahedra);
+        assert_eq!(
+            info.min_dihedral_deg_5.iter().sum::<usize>(),
+            info.tetrahedra
+        );
+        assert_eq!(
+            info.volume_ratio_decades.iter().sum::<usize>(),
+            info.tetrahedra
+        );
+        assert_eq!(
+            mesh.flipped,
+            mesh.tets.len(),
+            "TetGen's negative tetrahedra are all normalised"
+        );
+    }
+    let far = tetwalk::scenes::load("bunny-far").unwrap();
+    assert!(
+        far.points.iter().all(|p| p.min_element() > 65536.0 - 100.0),
+        "bunny-far is far from the origin"
+    );
+}
+
+#[test]
+fn exact_walks_of_camera_rays_end_on_the_brute_force_first_hit() {
+    for name in ["bunny-quality", "bunny-far", "jitter", "kuhn-far"] {
+        let mesh = tetwalk::scenes::load(name).unwrap();
+        let (lo, hi) = mesh
+            .points
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
+                (a.min(p), b.max(p))
+            });
+        let exact = by_name("exact").unwrap();
+        let max = default_max_steps(&mesh);
+        let mut hits = 0;
+        for v in 0..4 {
+            let cam = view(lo, hi, v, 4, 3, 40.0, 1.0);
+            let start = locate(&mesh, cam.eye, 0).unwrap();
+            for k in 0..8 {
+                let ray = cam.ray(3 + 4 * k, 2 + 4 * k, 32, 32);
+                let w = exact.walk(false)(&mesh, &ray, start, max);
+                match (w.outcome, first_hit(&mesh, &ray)) {
+                    (Outcome::Hit { tet, face }, Some((_, faces))) => {
+                        hits += 1;
+                        let tri = |t: u32, f: u8| {
+                            let mut v = mesh.face(t, f as usize);
+                            v.sort_unstable();
+                            v
+                        };
+                        assert!(
+                            faces.iter().any(|&(t, f)| tri(t, f) == tri(tet, face)),
+                            "{name}: {ray:?}"
+                        );
+                    }
+                    (Outcome::LeftMesh { .. }, None) => {}
+                    (o, b) => panic!("{name}: exact walk {o:?}, brute force {b:?}"),
+                }
+            }
+        }
+        assert!(hits >= 16, "{name}: camera rays should mostly hit ({hits})");
+    }
+}
+
+fn tetwalk(args: &[&str], path: Option<&str>) -> (bool, String) {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_tetwalk"));
+    c.args(args);
+    if let Some(p) = path {
+        c.env("PATH", p);
+    }
+    let out = c.output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr),
+    )
+}
+
+#[test]
+fn scene_build_runs_tetgen_and_refuses_bad_models() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |f: &str| dir.path().join(f).to_str().unwrap().to_string();
+    let model = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/twobox.off");
+    let (ok, out) = tetwalk(
+        &["scene", "build", model, "--quality", "--out", &d("two")],
+        None,
+    );
+    assert!(ok, "{out}");
+    let mesh = tetwalk::mesh::load_tetgen(std::path::Path::new(&d("two"))).unwrap();
+    let info = SceneInfo::of(&mesh);
+    assert_eq!(
+        info.constrained_faces,
+        24 + 12,
+        "two model boxes and the scene box"
+    );
+    let (ok, out) = tetwalk(&["scene", "info", &d("two")], None);
+    assert!(
+        ok && out.contains(&format!("| {} |", mesh.tets.len())),
+        "{out}"
+    );
+
+    let text = std::fs::read_to_string(model).unwrap();
+    // A hole: drop the last triangle.
+    let holed: Vec<&str> = text.lines().collect();
+    let n = holed.len();
+    let holed = holed[..n - 1].join("\n").replace("16 24 0", "16 23 0");
+    std::fs::write(d("holed.off"), holed).unwrap();
+    let (ok, out) = tetwalk(&["scene", "build", &d("holed.off")], None);
+    assert!(!ok && out.contains("not closed"), "{out}");
+    // Two closed boxes passing through each other.
+    let crossing = text
+        .replace("1.5 1.5 1.5", "-1 1.5 1.5")
+        .replace("1.5 2.5 1.5", "-1 2.5 1.5")
+        .replace("1.5 1.5 2.5", "-1 1.5 2.5")
+        .replace("1.5 2.5 2.5", "-1 2.5 2.5");
+    assert_ne!(crossing, text);
+    std::fs::write(d("crossing.off"), crossing).unwrap();
+    let (ok, out) = tetwalk(&["scene", "build", &d("crossing.off")], None);
+    assert!(!ok && out.contains("intersect"), "{out}");
+    let (ok, out) = tetwalk(&["scene", "build", model, "--out", &d("x")], Some(""));
+    assert!(!ok && out.contains("tetgen is not installed"), "{out}");
+}
