@@ -82,12 +82,7 @@ fn bunny_scenes_load_and_their_counts_check_out() {
 fn exact_walks_of_camera_rays_end_on_the_brute_force_first_hit() {
     for name in ["bunny-quality", "bunny-far", "jitter", "kuhn-far"] {
         let mesh = tetwalk::scenes::load(name).unwrap();
-        let (lo, hi) = mesh
-            .points
-            .iter()
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
-                (a.min(p), b.max(p))
-            });
+        let (lo, hi) = tetwalk::mesh::bounds(&mesh.points);
         let exact = by_name("exact").unwrap();
         let max = default_max_steps(&mesh);
         let mut hits = 0;

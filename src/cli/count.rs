@@ -62,9 +62,6 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
     let report = count::run(&mesh, &settings, &methods, &backend, &|| bar.inc(1));
     bar.finish_and_clear();
     print!("{}", report.markdown());
-    if let Some(p) = a.json {
-        let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
-    }
+    super::write_json(a.json.as_deref(), &report)?;
     Ok(ExitCode::SUCCESS)
 }

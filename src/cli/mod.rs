@@ -80,3 +80,10 @@ fn progress(len: u64, unit: &str) -> indicatif::ProgressBar {
     }
     bar
 }
+
+/// Write `value` as pretty JSON to `path`, when one is given.
+fn write_json(path: Option<&std::path::Path>, value: &impl serde::Serialize) -> Result<(), String> {
+    let Some(p) = path else { return Ok(()) };
+    let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
+    std::fs::write(p, text).map_err(|e| format!("{}: {e}", p.display()))
+}

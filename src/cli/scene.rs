@@ -52,10 +52,7 @@ pub fn run(s: Scene) -> Result<ExitCode, String> {
             let info = SceneInfo::of(&mesh);
             println!("scene {scene}\n");
             print!("{}", info.markdown());
-            if let Some(p) = json {
-                let text = serde_json::to_string_pretty(&info).map_err(|e| e.to_string())?;
-                std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
-            }
+            super::write_json(json.as_deref(), &info)?;
             Ok(ExitCode::SUCCESS)
         }
     }

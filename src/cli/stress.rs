@@ -51,9 +51,6 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
     let report = stress::run(&settings, &methods, &bar);
     bar.finish_and_clear();
     print!("{}", report.markdown());
-    if let Some(p) = a.json {
-        let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-        std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;
-    }
+    super::write_json(a.json.as_deref(), &report)?;
     Ok(ExitCode::SUCCESS)
 }

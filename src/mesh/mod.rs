@@ -243,6 +243,15 @@ impl Mesh {
     }
 }
 
+/// The axis-aligned bounding box of points: `(lower corner, upper corner)`.
+pub fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
+    points
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
+            (a.min(p), b.max(p))
+        })
+}
+
 fn sorted(mut f: [u32; 3]) -> [u32; 3] {
     f.sort_unstable();
     f

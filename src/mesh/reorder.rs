@@ -1,7 +1,7 @@
 //! Reordering for cache locality (seed 003 §5): tetrahedra grouped by region (connected through faces
 //! that are not constrained), then sorted along a 3-D Hilbert curve by centroid; points by position.
 
-use super::{HULL, Mesh};
+use super::{HULL, Mesh, bounds};
 use glam::Vec3;
 
 /// Hilbert keys of points quantised to 16 bits per axis over `lo..hi`.
@@ -41,12 +41,7 @@ pub fn regions(mesh: &Mesh) -> Vec<u32> {
 /// Hilbert order of their first tetrahedron), then by the Hilbert order of their centroids. Vertex
 /// order inside each tetrahedron, and so its orientation and face numbering, is kept.
 pub fn hilbert_sorted(mesh: &Mesh) -> Mesh {
-    let (lo, hi) = mesh
-        .points
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
-            (a.min(p), b.max(p))
-        });
+    let (lo, hi) = bounds(&mesh.points);
     let mut point_order: Vec<u32> = (0..mesh.points.len() as u32).collect();
     point_order.sort_by_key(|&i| (hilbert_key(mesh.points[i as usize], lo, hi), i));
     let mut new_point = vec![0u32; mesh.points.len()];

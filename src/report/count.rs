@@ -199,12 +199,7 @@ pub fn run(
 ) -> CountReport {
     let exact = by_name("exact").expect("registered");
     let max = default_max_steps(mesh);
-    let (lo, hi) = mesh
-        .points
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
-            (a.min(p), b.max(p))
-        });
+    let (lo, hi) = crate::mesh::bounds(&mesh.points);
     let aspect = s.width as f32 / s.height as f32;
     let mut totals: Vec<MethodCount> = std::iter::once(exact)
         .chain(methods.iter().copied())

@@ -18,11 +18,7 @@ pub fn switches(quality: bool) -> &'static str {
 /// away from its centre on every side: the points and triangles TetGen gets, box corners last.
 pub fn boxed(model: &Model, offset: Vec3) -> Model {
     let points: Vec<Vec3> = model.points.iter().map(|&p| p + offset).collect();
-    let (lo, hi) = points
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
-            (a.min(p), b.max(p))
-        });
+    let (lo, hi) = crate::mesh::bounds(&points);
     let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
     let (blo, bhi) = (c - Vec3::splat(3.0 * r), c + Vec3::splat(3.0 * r));
     let base = points.len() as u32;

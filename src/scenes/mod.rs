@@ -90,12 +90,8 @@ pub fn generated_mesh(
 /// Coordinates are multiples of 1/16, so the rays move exactly with the mesh's `offset`.
 pub fn rays(kind: Generated, mesh: &Mesh, offset: Vec3, n: usize, seed: u64) -> Vec<Ray> {
     let mut r = rng(seed ^ 0x005e_ed0f_4a75);
-    let (lo, hi) = mesh
-        .points
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), &p| {
-            (a.min(p - offset), b.max(p - offset))
-        });
+    let (lo, hi) = crate::mesh::bounds(&mesh.points);
+    let (lo, hi) = (lo - offset, hi - offset);
     let q = |x: f32| (x * 16.0).round() / 16.0;
     (0..n)
         .map(|i| {
