@@ -1,7 +1,6 @@
 //! Scenes: the shipped bunny tetrahedralizations and the generated ones load, validate, report counts
 //! that independent counts confirm, and `exact` walks of camera rays end on the brute-force first hit.
 
-use glam::Vec3;
 use std::process::Command;
 use tetwalk::exact::hit::first_hit;
 use tetwalk::methods::by_name;
