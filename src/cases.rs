@@ -119,16 +119,53 @@ pub fn classify(case: &Case) -> Result<exact::Classification, String> {
     Ok(c)
 }
 
-/// Run `method` on a case and judge it. The tetrahedron is handed to the method positively oriented
-/// ([`normalize`]); faces are mapped back, so answers are in the case's own numbering.
-pub fn judge(case: &Case, c: &exact::Classification, method: &Method, fma: bool) -> Judged {
+/// The case as methods see it: the tetrahedron positively oriented ([`normalize`]) and the entry face
+/// renumbered to match, with the map from its face numbers back to the case's.
+pub fn normalized(case: &Case) -> (Tet, Option<usize>, [usize; 4]) {
     let (tet, swapped) = normalize(&case.tet);
-    let map = |f: usize| if swapped { SWAP01[f] } else { f };
-    let face = method.exit(fma)(&tet, &case.ray(), case.entry.map(|e| map(e as usize))).map(map);
+    let map = if swapped { SWAP01 } else { [0, 1, 2, 3] };
+    (tet, case.entry.map(|e| map[e as usize]), map)
+}
+
+/// `method`'s exit face for a case on the CPU, in the case's own numbering.
+pub fn answer(case: &Case, method: &Method, fma: bool) -> Option<usize> {
+    let (tet, entry, map) = normalized(case);
+    method.exit(fma)(&tet, &case.ray(), entry).map(|f| map[f])
+}
+
+/// A face (in the case's numbering) beside the exact answer.
+pub fn judged(c: &exact::Classification, face: Option<usize>) -> Judged {
     Judged {
         face: face.map(|f| f as u8),
         exact_exit: c.exit.to_vec(),
         exact_entry: c.entry.to_vec(),
         correct: c.meets().then(|| face.is_some_and(|f| c.exit.contains(f))),
     }
+}
+
+/// Run `method` on a case on the CPU and judge it.
+pub fn judge(case: &Case, c: &exact::Classification, method: &Method, fma: bool) -> Judged {
+    judged(c, answer(case, method, fma))
+}
+
+/// Each case's exit face by `method` on the GPU, in the cases' own numbering.
+pub fn answers_gpu(
+    gpu: &crate::gpu::Gpu,
+    cases: &[Case],
+    method: &Method,
+) -> Result<Vec<Option<usize>>, String> {
+    let prepared: Vec<_> = cases.iter().map(normalized).collect();
+    let input: Vec<_> = cases
+        .iter()
+        .zip(&prepared)
+        .map(|(c, (tet, entry, _))| crate::gpu::GpuCase::new(tet, &c.ray(), *entry))
+        .collect();
+    let faces = gpu
+        .exit_faces(method.name, &input)
+        .map_err(|e| e.to_string())?;
+    Ok(faces
+        .into_iter()
+        .zip(&prepared)
+        .map(|(f, (_, _, map))| f.map(|f| map[f]))
+        .collect())
 }

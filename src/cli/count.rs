@@ -20,7 +20,8 @@ pub struct Args {
     /// Methods to judge (comma-separated, or all); `exact` is the reference and always runs.
     #[arg(long, default_value = "all")]
     methods: String,
-    #[arg(long, value_parser = ["cpu", "cpu-fma"], default_value = "cpu")]
+    /// Where the methods run: `cpu`, `cpu-fma` (as a GPU compiles them), or `gpu` (WGSL through wgpu).
+    #[arg(long, value_parser = ["cpu", "cpu-fma", "gpu"], default_value = "cpu")]
     backend: String,
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -55,11 +56,16 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
         seed: a.seed,
         fov_deg: 40.0,
     };
-    let backend = count::Cpu {
-        fma: a.backend == "cpu-fma",
+    let backend: Box<dyn count::Backend> = if a.backend == "gpu" {
+        let gpu = crate::gpu::Gpu::new().map_err(|e| e.to_string())?;
+        Box::new(count::Gpu::new(gpu, &mesh))
+    } else {
+        Box::new(count::Cpu {
+            fma: a.backend == "cpu-fma",
+        })
     };
     let bar = super::progress(views as u64, "views");
-    let report = count::run(&mesh, &settings, &methods, &backend, &|| bar.inc(1));
+    let report = count::run(&mesh, &settings, &methods, backend.as_ref(), &|| bar.inc(1))?;
     bar.finish_and_clear();
     print!("{}", report.markdown());
     super::write_json(a.json.as_deref(), &report)?;

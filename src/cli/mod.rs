@@ -35,6 +35,8 @@ enum Command {
     Stress(stress::Args),
     /// Wrong rays per image, per method, on a scene (seed 000 Table 4), judged exactly.
     Count(count::Args),
+    /// The GPU adapters wgpu finds.
+    GpuInfo,
     /// Build or describe scenes.
     #[command(subcommand)]
     Scene(scene::Scene),
@@ -61,6 +63,18 @@ pub fn main() -> ExitCode {
         Command::Stress(a) => stress::run(a),
         Command::Scene(s) => scene::run(s),
         Command::Count(a) => count::run(a),
+        Command::GpuInfo => {
+            let found = crate::gpu::adapters();
+            if found.is_empty() {
+                println!(
+                    "no GPU adapter found (install a Vulkan driver, e.g. mesa-vulkan-drivers for lavapipe)"
+                );
+            }
+            for a in found {
+                println!("{a}");
+            }
+            Ok(ExitCode::SUCCESS)
+        }
     };
     result.unwrap_or_else(|e| {
         eprintln!("tetwalk: {e}");

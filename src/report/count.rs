@@ -156,7 +156,7 @@ pub trait Backend: Sync {
         rays: &[Ray],
         start: u32,
         max_steps: u32,
-    ) -> Vec<Walk>;
+    ) -> Result<Vec<Walk>, String>;
 }
 
 /// The CPU, both cores (rayon), plain f32 or as a GPU compiles it (`fma`).
@@ -180,11 +180,50 @@ impl Backend for Cpu {
         rays: &[Ray],
         start: u32,
         max_steps: u32,
-    ) -> Vec<Walk> {
+    ) -> Result<Vec<Walk>, String> {
         let walk = method.walk(self.fma);
-        rays.par_iter()
+        Ok(rays
+            .par_iter()
             .map(|r| walk(mesh, r, start, max_steps))
-            .collect()
+            .collect())
+    }
+}
+
+/// A GPU through wgpu, with the mesh uploaded once.
+pub struct Gpu {
+    pub gpu: crate::gpu::Gpu,
+    mesh: crate::gpu::GpuMesh,
+}
+
+impl Gpu {
+    pub fn new(gpu: crate::gpu::Gpu, mesh: &Mesh) -> Gpu {
+        let uploaded = gpu.upload(mesh);
+        Gpu {
+            gpu,
+            mesh: uploaded,
+        }
+    }
+}
+
+impl Backend for Gpu {
+    fn describe(&self) -> String {
+        format!("gpu: {}", self.gpu.describe())
+    }
+
+    fn walks(
+        &self,
+        mesh: &Mesh,
+        method: &Method,
+        rays: &[Ray],
+        start: u32,
+        max_steps: u32,
+    ) -> Result<Vec<Walk>, String> {
+        if mesh.tets.len() != self.mesh.tetrahedra {
+            return Err("the GPU holds another mesh".into());
+        }
+        self.gpu
+            .walks(method.name, &self.mesh, rays, start, max_steps)
+            .map_err(|e| e.to_string())
     }
 }
 
@@ -196,7 +235,7 @@ pub fn run(
     methods: &[&Method],
     backend: &dyn Backend,
     tick: &(dyn Fn() + Sync),
-) -> CountReport {
+) -> Result<CountReport, String> {
     let exact = by_name("exact").expect("registered");
     let max = default_max_steps(mesh);
     let (lo, hi) = crate::mesh::bounds(&mesh.points);
@@ -223,12 +262,12 @@ pub fn run(
             .collect();
         rays_counted += rays.len() as u64;
         let t0 = Instant::now();
-        let reference = Cpu { fma: false }.walks(mesh, exact, &rays, located, max);
+        let reference = Cpu { fma: false }.walks(mesh, exact, &rays, located, max)?;
         totals[0].seconds += t0.elapsed().as_secs_f64();
         totals[0].steps += reference.iter().map(|w| w.steps as u64).sum::<u64>();
         for (m, total) in methods.iter().zip(&mut totals[1..]) {
             let t0 = Instant::now();
-            let walks = backend.walks(mesh, m, &rays, located, max);
+            let walks = backend.walks(mesh, m, &rays, located, max)?;
             total.seconds += t0.elapsed().as_secs_f64();
             let (wrong, steps) = rays
                 .par_iter()
@@ -249,14 +288,14 @@ pub fn run(
             total.steps += steps;
         }
     }
-    CountReport {
+    Ok(CountReport {
         settings: s.clone(),
         backend: backend.describe(),
         tetrahedra: mesh.tets.len(),
         rays: rays_counted,
         views_counted,
         methods: totals,
-    }
+    })
 }
 
 impl CountReport {

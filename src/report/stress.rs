@@ -1,6 +1,7 @@
 //! `tetwalk stress`: wrong exit faces and "no exit face" per million cases, per method and family.
 
-use crate::cases::{Case, classify, judge};
+use crate::cases::{Case, answer, classify, judged};
+use crate::exact::Classification;
 use crate::methods::Method;
 use crate::scenes::rng;
 use crate::scenes::tets::{self, Family, Target};
@@ -58,7 +59,8 @@ pub struct Settings {
     pub cases: usize,
     pub rows: Vec<Row>,
     pub seed: u64,
-    pub fma: bool,
+    /// `cpu`, `cpu-fma` or the GPU's description.
+    pub backend: String,
     /// Flatness of the degenerate families (well-shaped ones use 1).
     pub flatness: f32,
     /// Largest ulp offset of the near-* rows.
@@ -136,64 +138,161 @@ fn case(row: Row, s: &Settings, i: usize) -> Option<(Tet, Ray)> {
     }
 }
 
-/// Run every method on `cases` cases of every row, judging each answer exactly. Even-numbered cases give
-/// the method the exact entry face (as a walk would), odd ones none (as in the starting tetrahedron).
-pub fn run(s: &Settings, methods: &[&Method], progress: &indicatif::ProgressBar) -> StressReport {
+/// Where a stress run's methods answer.
+pub enum Answers<'a> {
+    /// On the CPU, plain or as a GPU compiles it.
+    Cpu { fma: bool },
+    /// On a GPU (`exact` stays on the CPU).
+    Gpu(&'a crate::gpu::Gpu),
+}
+
+impl Answers<'_> {
+    fn faces(&self, cases: &[Case], m: &Method) -> Result<Vec<Option<usize>>, String> {
+        match self {
+            Answers::Gpu(g) if m.name != "exact" => crate::cases::answers_gpu(g, cases, m),
+            Answers::Gpu(_) => Ok(cases.par_iter().map(|c| answer(c, m, false)).collect()),
+            Answers::Cpu { fma } => Ok(cases.par_iter().map(|c| answer(c, m, *fma)).collect()),
+        }
+    }
+}
+
+/// Generated cases of a row with their exact classification (lines that miss included). Even-numbered
+/// cases carry the exact entry face (as a walk would have it), odd ones none (a starting tetrahedron).
+fn row_cases(row: Row, s: &Settings) -> (Vec<(Case, Classification)>, crate::exact::Counts) {
+    (0..s.cases)
+        .into_par_iter()
+        .map(|i| {
+            let before = crate::exact::counts();
+            let out = case(row, s, i).and_then(|(tet, ray)| {
+                let mut c = Case {
+                    tet,
+                    org: ray.org,
+                    dir: ray.dir,
+                    entry: None,
+                };
+                let x = classify(&c).ok()?;
+                if i % 2 == 0 {
+                    c.entry = x.entry.first().map(|f| f as u8);
+                }
+                Some((c, x))
+            });
+            (out, crate::exact::counts().since(before))
+        })
+        .fold(
+            || (Vec::new(), crate::exact::Counts::default()),
+            |(mut v, mut n), (c, k)| {
+                v.extend(c);
+                n += k;
+                (v, n)
+            },
+        )
+        .reduce(
+            || (Vec::new(), crate::exact::Counts::default()),
+            |(mut a, mut na), (b, nb)| {
+                a.extend(b);
+                na += nb;
+                (a, na)
+            },
+        )
+}
+
+/// Run every method on `cases` cases of every row where `answers` says, judging each answer exactly.
+pub fn run(
+    s: &Settings,
+    methods: &[&Method],
+    answers: &Answers,
+    progress: &indicatif::ProgressBar,
+) -> Result<StressReport, String> {
     let mut rows = Vec::new();
     let mut oracle = crate::exact::Counts::default();
     for &row in &s.rows {
-        let (tallies, counts) = (0..s.cases)
-            .into_par_iter()
-            .map(|i| {
-                let before = crate::exact::counts();
-                let mut out = vec![Tally::default(); methods.len()];
-                if let Some((tet, ray)) = case(row, s, i) {
-                    let mut c = Case {
-                        tet,
-                        org: ray.org,
-                        dir: ray.dir,
-                        entry: None,
-                    };
-                    if let Ok(x) = classify(&c) {
-                        if i % 2 == 0 {
-                            c.entry = x.entry.first().map(|f| f as u8);
-                        }
-                        for (m, t) in methods.iter().zip(&mut out) {
-                            let j = judge(&c, &x, m, s.fma);
-                            t.judged += j.correct.is_some() as u64;
-                            t.wrong_face += (j.correct == Some(false) && j.face.is_some()) as u64;
-                            t.no_exit_face += (j.correct == Some(false) && j.face.is_none()) as u64;
-                        }
-                    }
-                }
-                progress.inc(1);
-                (out, crate::exact::counts().since(before))
-            })
-            .reduce(
-                || {
-                    (
-                        vec![Tally::default(); methods.len()],
-                        crate::exact::Counts::default(),
-                    )
-                },
-                |(mut a, mut ca), (b, cb)| {
-                    for (x, y) in a.iter_mut().zip(b) {
-                        x.judged += y.judged;
-                        x.wrong_face += y.wrong_face;
-                        x.no_exit_face += y.no_exit_face;
-                    }
-                    ca += cb;
-                    (a, ca)
-                },
-            );
+        let (cases, counts) = row_cases(row, s);
         oracle += counts;
+        let plain: Vec<Case> = cases.iter().map(|(c, _)| *c).collect();
+        let mut tallies = Vec::new();
+        for m in methods {
+            let faces = answers.faces(&plain, m)?;
+            let mut t = Tally::default();
+            for ((_, x), f) in cases.iter().zip(faces) {
+                let j = judged(x, f);
+                t.judged += j.correct.is_some() as u64;
+                t.wrong_face += (j.correct == Some(false) && j.face.is_some()) as u64;
+                t.no_exit_face += (j.correct == Some(false) && j.face.is_none()) as u64;
+            }
+            tallies.push(t);
+        }
+        progress.inc(s.cases as u64);
         rows.push(RowReport { row, tallies });
     }
-    StressReport {
+    Ok(StressReport {
         settings: s.clone(),
         methods: methods.iter().map(|m| m.name.to_string()).collect(),
         rows,
         oracle,
+    })
+}
+
+/// How often two backends answer differently, per row and method: cpu vs cpu-fma, cpu vs gpu, cpu-fma
+/// vs gpu (the comparison mode).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Disagreements {
+    pub methods: Vec<String>,
+    /// Per row: per method, the three pair counts, out of `cases` cases.
+    pub rows: Vec<(Row, usize, Vec<[u64; 3]>)>,
+    pub gpu: String,
+}
+
+/// The same generated cases on the CPU, the CPU as a GPU compiles it, and the GPU.
+pub fn compare(
+    s: &Settings,
+    methods: &[&Method],
+    gpu: &crate::gpu::Gpu,
+) -> Result<Disagreements, String> {
+    let mut rows = Vec::new();
+    for &row in &s.rows {
+        let plain: Vec<Case> = row_cases(row, s).0.into_iter().map(|(c, _)| c).collect();
+        let mut per = Vec::new();
+        for m in methods.iter().filter(|m| m.name != "exact") {
+            let a = Answers::Cpu { fma: false }.faces(&plain, m)?;
+            let b = Answers::Cpu { fma: true }.faces(&plain, m)?;
+            let c = Answers::Gpu(gpu).faces(&plain, m)?;
+            let diff = |x: &[Option<usize>], y: &[Option<usize>]| {
+                x.iter().zip(y).filter(|(p, q)| p != q).count() as u64
+            };
+            per.push([diff(&a, &b), diff(&a, &c), diff(&b, &c)]);
+        }
+        rows.push((row, plain.len(), per));
+    }
+    Ok(Disagreements {
+        methods: methods
+            .iter()
+            .filter(|m| m.name != "exact")
+            .map(|m| m.name.to_string())
+            .collect(),
+        rows,
+        gpu: gpu.describe(),
+    })
+}
+
+impl Disagreements {
+    pub fn markdown(&self) -> String {
+        let mut out = format!(
+            "GPU {}; cells: cpu≠cpu-fma / cpu≠gpu / cpu-fma≠gpu, cases out of the row's\n\n",
+            self.gpu
+        );
+        out += &format!(
+            "| row | cases | {} |\n|---|---|{}\n",
+            self.methods.join(" | "),
+            "---|".repeat(self.methods.len())
+        );
+        for (row, n, per) in &self.rows {
+            let cells: Vec<String> = per
+                .iter()
+                .map(|[a, b, c]| format!("{a} / {b} / {c}"))
+                .collect();
+            out += &format!("| {} | {n} | {} |\n", row.name(), cells.join(" | "));
+        }
+        out
     }
 }
 
@@ -203,15 +302,7 @@ impl StressReport {
         let s = &self.settings;
         let mut out = format!(
             "{} cases per row, seed {}, {}, flatness {}, near-* within {} ulps; cells: wrong face / no exit face per million judged cases\n\n",
-            s.cases,
-            s.seed,
-            if s.fma {
-                "fma (as a GPU compiles it)"
-            } else {
-                "plain f32"
-            },
-            s.flatness,
-            s.ulps
+            s.cases, s.seed, s.backend, s.flatness, s.ulps
         );
         out += &format!("| row | judged | {} |\n", self.methods.join(" | "));
         out += &format!("|---|---|{}\n", "---|".repeat(self.methods.len()));
