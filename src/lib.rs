@@ -5,6 +5,7 @@
 pub mod cases;
 pub mod cli;
 pub mod exact;
+pub mod found;
 pub mod gpu;
 pub mod mesh;
 pub mod methods;

@@ -262,11 +262,24 @@ fn stress_is_deterministic_whatever_the_threads_and_exact_never_fails() {
 #[test]
 fn asking_for_a_gpu_that_is_not_there_fails_clearly() {
     let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
-        .args(["count", "--scene", "fan", "--views", "1", "--size", "8x8", "--backend", "gpu"])
+        .args([
+            "count",
+            "--scene",
+            "fan",
+            "--views",
+            "1",
+            "--size",
+            "8x8",
+            "--backend",
+            "gpu",
+        ])
         .env("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere")
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("no GPU adapter found named 'no-such-adapter-anywhere'"), "{err}");
+    assert!(
+        err.contains("no GPU adapter found named 'no-such-adapter-anywhere'"),
+        "{err}"
+    );
 }

@@ -75,6 +75,11 @@ fn every_kind_of_bad_input_names_its_place() {
         ),
         (
             "ele",
+            Box::new(|_| "0 4 1\n".to_string()),
+            &["twobox.1.ele", "no tetrahedra"],
+        ),
+        (
+            "ele",
             Box::new(|t| set_line(t, 2, "    0      15    11     1     99    1")),
             &["twobox.1.ele line 2", "out of range"],
         ),

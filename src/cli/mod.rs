@@ -2,6 +2,7 @@
 
 mod count;
 mod exit;
+mod fuzz_import;
 mod gen_cases;
 mod scene;
 mod stress;
@@ -37,6 +38,8 @@ enum Command {
     Count(count::Args),
     /// The GPU adapters wgpu finds.
     GpuInfo,
+    /// Turn fuzzer crash files into readable found cases (corpora/found/METHOD/).
+    FuzzImport(fuzz_import::Args),
     /// Build or describe scenes.
     #[command(subcommand)]
     Scene(scene::Scene),
@@ -63,6 +66,7 @@ pub fn main() -> ExitCode {
         Command::Stress(a) => stress::run(a),
         Command::Scene(s) => scene::run(s),
         Command::Count(a) => count::run(a),
+        Command::FuzzImport(a) => fuzz_import::run(a),
         Command::GpuInfo => {
             let found = crate::gpu::adapters();
             if found.is_empty() {

@@ -5,7 +5,7 @@ pub mod layout;
 pub mod reorder;
 mod tetgen;
 
-pub use tetgen::load_tetgen;
+pub use tetgen::{TetgenTexts, load_tetgen, parse_tetgen};
 
 use crate::tet::{FACE_VERTICES, Tet, orientation};
 use glam::Vec3;
@@ -88,6 +88,9 @@ impl Mesh {
         }
         let n = raw.points.len();
         let mut tets = raw.tets;
+        if tets.is_empty() {
+            return Err(err(Item::Tet(0), "the mesh has no tetrahedra".into()));
+        }
         let mut signs = Vec::with_capacity(tets.len());
         for (t, v) in tets.iter().enumerate() {
             if let Some(&i) = v.iter().find(|&&i| i as usize >= n) {

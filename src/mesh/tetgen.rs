@@ -14,11 +14,14 @@ struct Table {
 }
 
 impl Table {
-    fn read(path: &Path) -> Result<Table, MeshError> {
-        let text = std::fs::read_to_string(path).map_err(|e| MeshError {
+    fn read(path: &Path) -> Result<String, MeshError> {
+        std::fs::read_to_string(path).map_err(|e| MeshError {
             place: path.display().to_string(),
             what: format!("cannot read: {e}"),
-        })?;
+        })
+    }
+
+    fn parse(path: &Path, text: &str) -> Result<Table, MeshError> {
         let mut rows = Vec::new();
         for (i, line) in text.lines().enumerate() {
             let body = line.split('#').next().unwrap_or("");
@@ -118,7 +121,42 @@ pub fn load_tetgen(path: &Path) -> Result<Mesh, MeshError> {
         p.push(ext);
         PathBuf::from(p)
     };
-    let node = Table::read(&file("node"))?;
+    let optional = |ext: &str| {
+        file(ext)
+            .exists()
+            .then(|| Table::read(&file(ext)))
+            .transpose()
+    };
+    let (node, ele) = (Table::read(&file("node"))?, Table::read(&file("ele"))?);
+    let (neigh, face) = (optional("neigh")?, optional("face")?);
+    parse_tetgen(
+        &stem,
+        &TetgenTexts {
+            node: &node,
+            ele: &ele,
+            neigh: neigh.as_deref(),
+            face: face.as_deref(),
+        },
+    )
+}
+
+/// The texts of a TetGen mesh's files.
+pub struct TetgenTexts<'a> {
+    pub node: &'a str,
+    pub ele: &'a str,
+    pub neigh: Option<&'a str>,
+    pub face: Option<&'a str>,
+}
+
+/// [`load_tetgen`] from the files' texts; `stem` names them in errors.
+pub fn parse_tetgen(stem: &Path, texts: &TetgenTexts) -> Result<Mesh, MeshError> {
+    let file = |ext: &str| {
+        let mut p = stem.as_os_str().to_owned();
+        p.push(".");
+        p.push(ext);
+        PathBuf::from(p)
+    };
+    let node = Table::parse(&file("node"), texts.node)?;
     let (header, rows) = node.body(4)?;
     if header.get(1).is_some_and(|&d| d != 3.0) {
         return Err(node.err(0, format!("dimension {} is not 3", header[1])));
@@ -145,7 +183,7 @@ pub fn load_tetgen(path: &Path) -> Result<Mesh, MeshError> {
         }
         points.push(p);
     }
-    let ele = Table::read(&file("ele"))?;
+    let ele = Table::parse(&file("ele"), texts.ele)?;
     let (header, rows) = ele.body(5)?;
     if header.get(1).is_some_and(|&n| n != 4.0 && n != 10.0) {
         return Err(ele.err(
@@ -161,10 +199,9 @@ pub fn load_tetgen(path: &Path) -> Result<Mesh, MeshError> {
         }
         tets.push(v);
     }
-    let neigh_path = file("neigh");
-    let neigh = neigh_path
-        .exists()
-        .then(|| Table::read(&neigh_path))
+    let neigh = texts
+        .neigh
+        .map(|t| Table::parse(&file("neigh"), t))
         .transpose()?;
     let neighbors = match &neigh {
         None => None,
@@ -185,10 +222,9 @@ pub fn load_tetgen(path: &Path) -> Result<Mesh, MeshError> {
             Some(out)
         }
     };
-    let face_path = file("face");
-    let face = face_path
-        .exists()
-        .then(|| Table::read(&face_path))
+    let face = texts
+        .face
+        .map(|t| Table::parse(&file("face"), t))
         .transpose()?;
     let mut constrained = Vec::new();
     if let Some(t) = &face {

@@ -2,6 +2,7 @@
 //! them, and small meshes that trap walks.
 
 pub mod build;
+pub mod from_bytes;
 pub mod meshes;
 pub mod model;
 pub mod tets;
@@ -20,7 +21,9 @@ use glam::Vec3;
 use rand::RngExt;
 
 /// The generated meshes, by name.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Generated {
     /// Kuhn-subdivided `n³` cube grid; the inner box's faces constrained.

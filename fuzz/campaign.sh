@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# A fuzz campaign: every target for SECONDS each (default 600) holding `exact` and the methods that claim
+# robustness to exactness, then each other method on its own; every failure is minimised, filed as a
+# readable case under corpora/found/<method>/ (replayed by `cargo test`), and a table printed: executions,
+# time to first failure, failures by kind. Usage: fuzz/campaign.sh [SECONDS] [METHODS...]
+set -uo pipefail
+cd "$(dirname "$0")/.."
+secs=${1:-600}
+shift || true
+others=${*:-ray-plane halfspace plucker stp ms06 aman20 aman20-scaled}
+cargo build --release --quiet
+cargo +nightly fuzz build -O >/dev/null
+log=$(mktemp -d)
+printf '| target | methods held exact | executions | seconds to first failure | found |\n|---|---|---|---|---|\n' > "$log/table"
+run() { # target selection
+    local target=$1 sel=$2 out="$log/$1-$2" start end execs found kinds
+    mkdir -p "corpora/$target" "$out"
+    start=$(date +%s.%N)
+    TETWALK_FUZZ_METHOD=$sel cargo +nightly fuzz run -O "$target" "corpora/$target" -- \
+        -max_total_time="$secs" -print_final_stats=1 -artifact_prefix="$out/" >"$out/log" 2>&1
+    end=$(date +%s.%N)
+    execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$out/log" | grep -o '[0-9]*$' || echo "?")
+    found="-"
+    if ls "$out"/crash-* >/dev/null 2>&1; then
+        for c in "$out"/crash-*; do
+            if [ "$target" = mesh_load ]; then
+                echo "BUG: a reader panicked or hung on $c" | tee -a "$out/found"
+                continue
+            fi
+            TETWALK_FUZZ_METHOD=$sel cargo +nightly fuzz tmin -O "$target" "$c" -- -runs=5000 >/dev/null 2>&1
+            m="fuzz/artifacts/$target/minimized-from-${c##*crash-}"
+            [ -f "$m" ] || m=$c
+            TETWALK_FUZZ_METHOD=$sel ./target/release/tetwalk fuzz-import --target "$target" "$m" >>"$out/found"
+        done
+        found="$(printf '%.1f' "$(echo "$end - $start" | bc)") s: $(cut -d' ' -f2- "$out/found" | sort | uniq -c | tr '\n' ';')"
+        printf '| %s | %s | %s | %s |\n' "$target" "$sel" "$execs" "$found" >> "$log/table"
+    else
+        printf '| %s | %s | %s | none in %s s | - |\n' "$target" "$sel" "$execs" "$secs" >> "$log/table"
+    fi
+}
+run mesh_load robust
+for target in exit_face walk; do
+    run "$target" robust
+    for m in $others; do run "$target" "$m"; done
+done
+cat "$log/table"
+echo "found cases: corpora/found/ (replayed by cargo test); logs: $log"
