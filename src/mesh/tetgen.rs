@@ -199,6 +199,9 @@ pub fn parse_tetgen(stem: &Path, texts: &TetgenTexts) -> Result<Mesh, MeshError>
         }
         tets.push(v);
     }
+    if tets.is_empty() {
+        return Err(ele.err(0, "no tetrahedra".into()));
+    }
     let neigh = texts
         .neigh
         .map(|t| Table::parse(&file("neigh"), t))
