@@ -70,11 +70,13 @@ fn bunny_scenes_load_and_their_counts_check_out() {
             "TetGen's negative tetrahedra are all normalised"
         );
     }
-    let far = tetwalk::scenes::load("bunny-far").unwrap();
-    assert!(
-        far.points.iter().all(|p| p.min_element() > 65536.0 - 100.0),
-        "bunny-far is far from the origin"
-    );
+    for far in ["bunny-far", "bunny-quality-far"] {
+        let far = tetwalk::scenes::load(far).unwrap();
+        assert!(
+            far.points.iter().all(|p| p.min_element() > 65536.0 - 100.0),
+            "bunny-far is far from the origin"
+        );
+    }
 }
 
 #[test]

@@ -16,3 +16,4 @@ rm -rf "$tmp"
 cargo run --release --quiet -- scene build bunny.off --out bunny-cdt
 cargo run --release --quiet -- scene build bunny.off --quality --out bunny-quality
 cargo run --release --quiet -- scene build bunny.off --offset 65536 --out bunny-far
+cargo run --release --quiet -- scene build bunny.off --quality --offset 65536 --out bunny-quality-far

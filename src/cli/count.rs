@@ -7,7 +7,8 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// A built-in scene (bunny-quality, bunny-cdt, bunny-far, kuhn, jitter, fan, and their -far), or a
+    /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, kuhn, jitter, fan and their
+    /// -far), or a
     /// TetGen stem.
     #[arg(long, default_value = "bunny-quality")]
     scene: String,

@@ -35,28 +35,28 @@ pub enum Generated {
 }
 
 /// The scenes shipped in `corpora/scenes/`, by name.
-pub const BUILT_IN: [&str; 3] = ["bunny-quality", "bunny-cdt", "bunny-far"];
+pub const BUILT_IN: [&str; 4] = [
+    "bunny-quality",
+    "bunny-cdt",
+    "bunny-far",
+    "bunny-quality-far",
+];
 
 /// A scene by name: a built-in one (`corpora/scenes/NAME`), a generated one (`kuhn`, `jitter`, `fan`,
 /// each with a `-far` variant moved by 2^16), or the stem or any file of TetGen output.
 pub fn load(name: &str) -> Result<Mesh, String> {
-    let (base, far) = match name.strip_suffix("-far") {
-        Some(b) if b != "bunny" => (b, true),
-        _ => (name, false),
-    };
-    let offset = if far {
-        Vec3::splat(65536.0)
-    } else {
-        Vec3::ZERO
-    };
-    let generated = match base {
+    let kind = |b: &str| match b {
         "kuhn" => Some(Generated::Kuhn),
         "jitter" => Some(Generated::Jitter),
         "fan" => Some(Generated::Fan),
         _ => None,
     };
-    if let Some(kind) = generated {
-        return generated_mesh(kind, 8, offset, 1).map_err(|e| e.to_string());
+    let generated = match name.strip_suffix("-far").and_then(kind) {
+        Some(k) => Some((k, Vec3::splat(65536.0))),
+        None => kind(name).map(|k| (k, Vec3::ZERO)),
+    };
+    if let Some((k, offset)) = generated {
+        return generated_mesh(k, 8, offset, 1).map_err(|e| e.to_string());
     }
     let path = if BUILT_IN.contains(&name) {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
