@@ -9,6 +9,7 @@ pub mod found;
 pub mod gpu;
 pub mod mesh;
 pub mod methods;
+pub mod render;
 pub mod report;
 pub mod scenes;
 pub mod tet;

@@ -4,6 +4,7 @@ mod count;
 mod exit;
 mod fuzz_import;
 mod gen_cases;
+mod render;
 mod scene;
 mod stress;
 mod walk;
@@ -36,6 +37,8 @@ enum Command {
     Stress(stress::Args),
     /// Wrong rays per image, per method, on a scene (seed 000 Table 4), judged exactly.
     Count(count::Args),
+    /// Shaded renders, failure maps, heat maps, predicate maps (PNG).
+    Render(render::Args),
     /// The GPU adapters wgpu finds.
     GpuInfo,
     /// Turn fuzzer crash files into readable found cases (corpora/found/METHOD/).
@@ -67,6 +70,7 @@ pub fn main() -> ExitCode {
         Command::Scene(s) => scene::run(s),
         Command::Count(a) => count::run(a),
         Command::FuzzImport(a) => fuzz_import::run(a),
+        Command::Render(a) => render::run(a),
         Command::GpuInfo => {
             let found = crate::gpu::adapters();
             if found.is_empty() {

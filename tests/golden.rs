@@ -1,0 +1,163 @@
+//! Golden images (insta, stored in `golden/`): the exact per-pixel data and the PNGs of a bunny view and
+//! of every method's predicate map. A change in any method, the walk or the oracle shows up here as a
+//! changed picture; review with `cargo insta review`. Under CI=true a change fails without writing.
+
+use tetwalk::cases::{Case, answer, answers_gpu};
+use tetwalk::methods::METHODS;
+use tetwalk::render::{self, Image, exact_faces, face_image, predicate_grid};
+use tetwalk::scenes::tets::{Family, Target, through};
+
+fn settings() -> insta::Settings {
+    let mut s = insta::Settings::clone_current();
+    s.set_snapshot_path(concat!(env!("CARGO_MANIFEST_DIR"), "/golden"));
+    s.set_prepend_module_to_snapshot(false);
+    s
+}
+
+fn rows(width: u32, cells: impl Iterator<Item = String>) -> String {
+    let cells: Vec<String> = cells.collect();
+    cells
+        .chunks(width as usize)
+        .map(|r| r.join(" "))
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+#[test]
+fn bunny_view_is_unchanged() {
+    let mesh = tetwalk::scenes::load("bunny-quality").unwrap();
+    let methods: Vec<_> = METHODS.iter().filter(|m| m.name != "exact").collect();
+    let f = render::frame(&mesh, 3, 160, 64, 48, &methods, false).unwrap();
+    // Exact walk per pixel: h (hit a model face), b (hit the box), - (left), with the steps.
+    let exact = rows(
+        f.width,
+        f.exact.iter().zip(&f.shade).map(|(w, &(_, hull))| {
+            let k = match w.outcome {
+                tetwalk::walk::Outcome::Hit { .. } if hull => "b",
+                tetwalk::walk::Outcome::Hit { .. } => "h",
+                _ => "-",
+            };
+            format!("{k}{}", w.steps)
+        }),
+    );
+    let mut wrong = String::new();
+    for (name, w) in &f.wrong {
+        let bad: Vec<String> = w
+            .iter()
+            .enumerate()
+            .filter_map(|(i, k)| k.map(|k| format!("{i}:{k}")))
+            .collect();
+        wrong += &format!("{name}: {}\n", bad.join(" "));
+    }
+    settings().bind(|| {
+        insta::assert_snapshot!("bunny_view3_exact", exact);
+        insta::assert_snapshot!("bunny_view3_wrong", wrong);
+        insta::assert_binary_snapshot!("bunny_view3_shaded.png", f.shaded().png());
+        insta::assert_binary_snapshot!("bunny_view3_heat.png", f.heat().png());
+        let maps: Vec<Image> = (0..methods.len()).map(|i| f.failures(i)).collect();
+        insta::assert_binary_snapshot!("bunny_view3_failures.png", Image::sheet(&maps, 2).png());
+    });
+}
+
+fn predicate_case() -> Case {
+    let (tet, ray) = through(
+        Family::Sliver,
+        0.05,
+        Target::Edge,
+        &mut tetwalk::scenes::rng(7),
+    )
+    .unwrap();
+    Case {
+        tet,
+        org: ray.org,
+        dir: ray.dir,
+        entry: None,
+    }
+}
+
+const GRID: u32 = 48;
+
+fn faces_text(faces: &[Option<usize>]) -> String {
+    rows(
+        GRID,
+        faces
+            .iter()
+            .map(|f| f.map_or("-".into(), |f| f.to_string())),
+    )
+}
+
+#[test]
+fn predicate_maps_are_unchanged() {
+    let case = predicate_case();
+    let exact = predicate_grid(&case, GRID, &exact_faces).unwrap();
+    settings().bind(|| {
+        insta::assert_snapshot!("predicate_exact", faces_text(&exact));
+        for m in METHODS.iter().filter(|m| m.name != "exact") {
+            let mut sheet = vec![face_image(&exact, GRID)];
+            for fma in [false, true] {
+                let faces = predicate_grid(&case, GRID, &|cs| {
+                    Ok(cs.iter().map(|c| answer(c, m, fma)).collect())
+                })
+                .unwrap();
+                let tag = if fma { "fma" } else { "cpu" };
+                insta::assert_snapshot!(format!("predicate_{}_{tag}", m.name), faces_text(&faces));
+                sheet.push(face_image(&faces, GRID));
+            }
+            insta::assert_binary_snapshot!(
+                &format!("predicate_{}.png", m.name),
+                Image::sheet(&sheet, 2).png()
+            );
+        }
+    });
+}
+
+/// GPU predicate maps against the CPU's golden data, with a tolerance per adapter: none on llvmpipe
+/// (it does not contract), 10% of the pixels elsewhere. A failure writes the difference image to
+/// `target/golden-diff-<method>.png`.
+#[test]
+fn gpu_predicate_maps_are_within_tolerance() {
+    let gpu = match tetwalk::gpu::Gpu::new() {
+        Ok(g) => g,
+        Err(e) if tetwalk::gpu::required() => panic!("TETWALK_REQUIRE_GPU=1 but: {e}"),
+        Err(e) => {
+            return eprintln!(
+                "SKIPPED: no GPU ({e}); set TETWALK_REQUIRE_GPU=1 to make this a failure"
+            );
+        }
+    };
+    let tolerance = if gpu.describe().contains("llvmpipe") {
+        0
+    } else {
+        (GRID * GRID / 10) as usize
+    };
+    let case = predicate_case();
+    for m in METHODS.iter().filter(|m| m.name != "exact") {
+        let cpu = predicate_grid(&case, GRID, &|cs| {
+            Ok(cs.iter().map(|c| answer(c, m, false)).collect())
+        })
+        .unwrap();
+        let on_gpu = predicate_grid(&case, GRID, &|cs| answers_gpu(&gpu, cs, m)).unwrap();
+        let differ: Vec<bool> = cpu.iter().zip(&on_gpu).map(|(a, b)| a != b).collect();
+        let n = differ.iter().filter(|&&d| d).count();
+        if n > tolerance {
+            let mut diff = Image::new(GRID, GRID);
+            for (i, &d) in differ.iter().enumerate() {
+                diff.set(
+                    i as u32 % GRID,
+                    i as u32 / GRID,
+                    if d { [255, 0, 0] } else { [40, 40, 40] },
+                );
+            }
+            let path = concat!(env!("CARGO_MANIFEST_DIR"), "/target/golden-diff-").to_string()
+                + m.name
+                + ".png";
+            std::fs::write(&path, diff.png()).unwrap();
+            panic!(
+                "{} on {}: {n} pixels differ from the CPU (tolerance {tolerance}); see {path}",
+                m.name,
+                gpu.describe()
+            );
+        }
+    }
+}
