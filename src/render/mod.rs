@@ -211,12 +211,15 @@ impl Frame {
     }
 }
 
+/// Exit faces of a batch of cases, from whichever backend.
+pub type FacesOf = dyn Fn(&[Case]) -> Result<Vec<Option<usize>>, String> + Sync;
+
 /// A predicate map (after Kettner et al.'s classroom examples): the case's origin moved on a
 /// `size × size` grid of ulp steps in x and y around itself, each pixel the exit face `face_of` gives.
 pub fn predicate_grid(
     case: &Case,
     size: u32,
-    face_of: &(dyn Fn(&[Case]) -> Result<Vec<Option<usize>>, String> + Sync),
+    face_of: &FacesOf,
 ) -> Result<Vec<Option<usize>>, String> {
     let half = (size / 2) as i32;
     let cases: Vec<Case> = (0..size)
