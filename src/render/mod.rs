@@ -212,14 +212,14 @@ impl Frame {
 }
 
 /// Exit faces of a batch of cases, from whichever backend.
-pub type FacesOf = dyn Fn(&[Case]) -> Result<Vec<Option<usize>>, String> + Sync;
+pub type FacesOf<'a> = dyn Fn(&[Case]) -> Result<Vec<Option<usize>>, String> + Sync + 'a;
 
 /// A predicate map (after Kettner et al.'s classroom examples): the case's origin moved on a
 /// `size × size` grid of ulp steps in x and y around itself, each pixel the exit face `face_of` gives.
 pub fn predicate_grid(
     case: &Case,
     size: u32,
-    face_of: &FacesOf,
+    face_of: &FacesOf<'_>,
 ) -> Result<Vec<Option<usize>>, String> {
     let half = (size / 2) as i32;
     let cases: Vec<Case> = (0..size)
