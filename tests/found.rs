@@ -3,6 +3,8 @@
 //! other method that claims robustness; where there is a GPU adapter, the robust methods are replayed
 //! there too.
 
+mod common;
+
 use tetwalk::cases::{answers_gpu, classify, judged};
 use tetwalk::found::Finding;
 use tetwalk::methods::{METHODS, by_name};
@@ -54,14 +56,8 @@ fn found_cases_still_fail_for_their_method_and_pass_for_the_robust_ones() {
 
 #[test]
 fn found_cases_replay_on_the_gpu() {
-    let gpu = match tetwalk::gpu::Gpu::new() {
-        Ok(g) => g,
-        Err(e) if tetwalk::gpu::required() => panic!("TETWALK_REQUIRE_GPU=1 but: {e}"),
-        Err(e) => {
-            return eprintln!(
-                "SKIPPED: no GPU ({e}); set TETWALK_REQUIRE_GPU=1 to make this a failure"
-            );
-        }
+    let Some(gpu) = common::gpu_or_skip() else {
+        return;
     };
     let found = findings();
     for (name, f) in &found {

@@ -2,6 +2,8 @@
 //! of every method's predicate map. A change in any method, the walk or the oracle shows up here as a
 //! changed picture; review with `cargo insta review`. Under CI=true a change fails without writing.
 
+mod common;
+
 use tetwalk::cases::{Case, answer, answers_gpu};
 use tetwalk::methods::METHODS;
 use tetwalk::render::{self, Image, exact_faces, face_image, predicate_grid};
@@ -117,14 +119,8 @@ fn predicate_maps_are_unchanged() {
 /// `target/golden-diff-<method>.png`.
 #[test]
 fn gpu_predicate_maps_are_within_tolerance() {
-    let gpu = match tetwalk::gpu::Gpu::new() {
-        Ok(g) => g,
-        Err(e) if tetwalk::gpu::required() => panic!("TETWALK_REQUIRE_GPU=1 but: {e}"),
-        Err(e) => {
-            return eprintln!(
-                "SKIPPED: no GPU ({e}); set TETWALK_REQUIRE_GPU=1 to make this a failure"
-            );
-        }
+    let Some(gpu) = common::gpu_or_skip() else {
+        return;
     };
     let tolerance = if gpu.describe().contains("llvmpipe") {
         0

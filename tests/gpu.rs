@@ -1,6 +1,8 @@
 //! The WGSL methods and walk on whatever adapter there is. Without one these tests skip with a notice,
 //! unless TETWALK_REQUIRE_GPU=1 (as CI sets, with lavapipe installed), where they fail.
 
+mod common;
+
 use glam::Vec3;
 use tetwalk::cases::{Case, answer, answers_gpu, classify, judged};
 use tetwalk::exact::edge_margin;
@@ -11,20 +13,6 @@ use tetwalk::scenes::tets::{Family, Target, near, stabbing_ray, tet};
 use tetwalk::scenes::{self, Generated, rng};
 use tetwalk::walk::{default_max_steps, locate};
 
-fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(g) => {
-            println!("GPU: {}", g.describe());
-            Some(g)
-        }
-        Err(e) if tetwalk::gpu::required() => panic!("TETWALK_REQUIRE_GPU=1 but: {e}"),
-        Err(e) => {
-            eprintln!("SKIPPED: no GPU ({e}); set TETWALK_REQUIRE_GPU=1 to make this a failure");
-            None
-        }
-    }
-}
-
 /// llvmpipe and lavapipe compile without contracting multiply-adds: their answers equal the CPU's.
 fn contracts(g: &Gpu) -> bool {
     !g.describe().to_lowercase().contains("llvmpipe")
@@ -32,7 +20,9 @@ fn contracts(g: &Gpu) -> bool {
 
 #[test]
 fn every_gpu_method_is_exact_with_margin() {
-    let Some(g) = gpu() else { return };
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
     let mut r = rng(11);
     let mut cases = Vec::new();
     while cases.len() < 3000 {
@@ -68,7 +58,9 @@ fn every_gpu_method_is_exact_with_margin() {
 
 #[test]
 fn gpu_answers_equal_the_cpu_where_the_adapter_does_not_contract() {
-    let Some(g) = gpu() else { return };
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
     let mut r = rng(12);
     let cases: Vec<Case> = (0..4000)
         .filter_map(|i| {
@@ -108,7 +100,9 @@ fn gpu_answers_equal_the_cpu_where_the_adapter_does_not_contract() {
 
 #[test]
 fn gpu_walks_run_end_to_end_and_match_the_cpu_on_llvmpipe() {
-    let Some(g) = gpu() else { return };
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
     let llvmpipe = !contracts(&g);
     let mesh = scenes::generated_mesh(Generated::Jitter, 6, Vec3::ZERO, 4).unwrap();
     let rays = scenes::rays(Generated::Jitter, &mesh, Vec3::ZERO, 2000, 4);

@@ -95,3 +95,18 @@ pub fn lattice_case() -> impl Strategy<Value = (Tet, Ray)> {
         })
         .prop_map(|(t, o, d)| (t, Ray { org: o, dir: d }))
 }
+
+/// The GPU, or `None` with a printed notice; a failure instead when TETWALK_REQUIRE_GPU=1 (as in CI).
+pub fn gpu_or_skip() -> Option<tetwalk::gpu::Gpu> {
+    match tetwalk::gpu::Gpu::new() {
+        Ok(g) => {
+            println!("GPU: {}", g.describe());
+            Some(g)
+        }
+        Err(e) if tetwalk::gpu::required() => panic!("TETWALK_REQUIRE_GPU=1 but: {e}"),
+        Err(e) => {
+            eprintln!("SKIPPED: no GPU ({e}); set TETWALK_REQUIRE_GPU=1 to make this a failure");
+            None
+        }
+    }
+}
