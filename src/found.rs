@@ -124,6 +124,9 @@ pub struct ExitRecord {
     pub method: String,
     pub fma: bool,
     pub kind: String,
+    /// The method's wrong answer (the face it gave, none for no exit face), which replay holds it to.
+    #[serde(default)]
+    pub answer: Option<u8>,
 }
 
 /// A walk finding, flat.
@@ -141,6 +144,9 @@ pub struct WalkRecord {
 
 impl Finding {
     pub fn exit(case: &Case, f: Failure) -> Finding {
+        let answer = by_name(&f.method)
+            .and_then(|m| crate::cases::answer(case, m, f.fma))
+            .map(|x| x as u8);
         Finding::Exit(ExitRecord {
             tet: case.tet.map(|v| v.to_array()),
             org: case.org.to_array(),
@@ -149,6 +155,7 @@ impl Finding {
             method: f.method,
             fma: f.fma,
             kind: f.kind,
+            answer,
         })
     }
 
@@ -212,6 +219,12 @@ impl Finding {
             Finding::Walk(r) => (&mut r.method, &mut r.fma, &mut r.kind),
         };
         (*m, *fma, *kind) = (f.method, f.fma, f.kind);
+        if let Finding::Exit(r) = &mut out {
+            let case = self.case().expect("an exit finding has a case");
+            r.answer = by_name(&r.method)
+                .and_then(|m| crate::cases::answer(&case, m, r.fma))
+                .map(|x| x as u8);
+        }
         out
     }
 
@@ -228,7 +241,7 @@ impl Finding {
     /// This finding, and the same case filed for every method that claims robustness and fails on it
     /// too: a failure of a claim is a finding of its own.
     pub fn with_robust_failures(&self) -> Vec<Finding> {
-        let mut out = vec![self.clone()];
+        let mut out = vec![self.with_failure(self.failure())];
         let mine = self.failure().method;
         for m in METHODS
             .iter()

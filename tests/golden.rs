@@ -114,6 +114,50 @@ fn predicate_maps_are_unchanged() {
     });
 }
 
+/// Predicate maps with the entry face given, one for each entry face 0..3 (so every column of every
+/// method's face table is drawn), as text.
+#[test]
+fn predicate_maps_from_each_entry_face_are_unchanged() {
+    let mut r = tetwalk::scenes::rng(17);
+    let mut cases: Vec<Option<Case>> = vec![None; 4];
+    while cases.iter().any(Option::is_none) {
+        let (tet, ray) = through(Family::Well, 1.0, Target::Edge, &mut r).unwrap();
+        let c = tetwalk::exact::classify(&tet, &ray).unwrap();
+        // One exact entry face, with the origin behind it: the ray really enters there.
+        if c.entry.0.count_ones() == 1 {
+            let e = c.entry.first().unwrap();
+            if cases[e].is_none() {
+                cases[e] = Some(Case {
+                    tet,
+                    org: ray.org - ray.dir,
+                    dir: ray.dir,
+                    entry: Some(e as u8),
+                });
+            }
+        }
+    }
+    const SMALL: u32 = 24;
+    settings().bind(|| {
+        for m in METHODS.iter().filter(|m| m.name != "exact") {
+            let mut text = String::new();
+            for (e, case) in cases.iter().enumerate() {
+                let faces = predicate_grid(case.as_ref().unwrap(), SMALL, &|cs| {
+                    Ok(cs.iter().map(|c| answer(c, m, false)).collect())
+                })
+                .unwrap();
+                text += &format!("entry {e}\n");
+                text += &rows(
+                    SMALL,
+                    faces
+                        .iter()
+                        .map(|f| f.map_or("-".into(), |f| f.to_string())),
+                );
+            }
+            insta::assert_snapshot!(format!("predicate_entries_{}", m.name), text);
+        }
+    });
+}
+
 /// GPU predicate maps against the CPU's golden data, with a tolerance per adapter: none on llvmpipe
 /// (it does not contract), 10% of the pixels elsewhere. A failure writes the difference image to
 /// `target/golden-diff-<method>.png`.
