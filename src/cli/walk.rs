@@ -5,7 +5,7 @@ use crate::mesh::reorder::hilbert_sorted;
 use crate::methods::parse_list;
 use crate::scenes::{self, Generated};
 use crate::walk::layouts::{Kind, Source};
-use crate::walk::{Outcome, Walk, default_max_steps, locate, same_result};
+use crate::walk::{Walk, default_max_steps, locate, same_result};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::process::ExitCode;
@@ -44,16 +44,6 @@ struct Tally {
     wrong: u64,
     diverged: u64,
     steps: u64,
-}
-
-fn kind_index(o: &Outcome) -> usize {
-    match o {
-        Outcome::Hit { .. } => 0,
-        Outcome::LeftMesh { .. } => 1,
-        Outcome::NoExitFace { .. } => 2,
-        Outcome::Cycle { .. } => 3,
-        Outcome::StepLimit { .. } => 4,
-    }
 }
 
 pub fn run(a: Args) -> Result<ExitCode, String> {
@@ -103,7 +93,7 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
                         steps: w.steps as u64,
                         ..Tally::default()
                     };
-                    t.kinds[kind_index(&w.outcome)] = 1;
+                    t.kinds[w.outcome.index()] = 1;
                     t.wrong = !same_result(&mesh, ray, &w, &reference) as u64;
                     t.diverged = div.is_some() as u64;
                     t

@@ -1,7 +1,7 @@
 //! `aman20` and `aman20-scaled`: Aman, Demirci, Güdükbay (seed 003) §4: the tetrahedron projected onto
 //! a 2-D frame around the ray, Algorithm 1 exit selection from the one newly fetched vertex.
 
-use super::{Arith, ExitMethod};
+use super::{Arith, ExitMethod, leaves};
 use crate::tet::{FACE_VERTICES, Ray, Tet};
 use glam::{Vec2, Vec3};
 
@@ -56,7 +56,7 @@ pub fn start_exit_face<A: Arith>(p: &[Vec2; 4]) -> Option<usize> {
     (0..4).find(|&f| {
         let v = FACE_VERTICES[f];
         let d: [f32; 3] = std::array::from_fn(|k| det::<A>(p[v[k]], p[v[(k + 1) % 3]]));
-        d.iter().all(|&x| x >= 0.0) && d.iter().any(|&x| x != 0.0)
+        leaves(&d)
     })
 }
 

@@ -86,6 +86,13 @@ pub trait ExitMethod {
     fn exit_face<A: Arith>(tet: &Tet, ray: &Self::RayData, entry: Option<usize>) -> Option<usize>;
 }
 
+/// Whether a face is left, from the signs along its outward cycle (side products or projected
+/// determinants): all `≥ 0` and not all zero (Platis & Theoharis' test).
+#[inline(always)]
+pub(crate) fn leaves(s: &[f32; 3]) -> bool {
+    s.iter().all(|&x| x >= 0.0) && s.iter().any(|&x| x != 0.0)
+}
+
 /// A method's exit function with its arithmetic fixed, for callers that pick methods at run time.
 pub type ExitFn = fn(&Tet, &Ray, Option<usize>) -> Option<usize>;
 

@@ -1,7 +1,7 @@
 //! `plucker`: Lagae & Dutré 2008's third method (seed 000 §2.3.2), the permuted inner products of
 //! Platis & Theoharis 2003: six side products of the ray with the six edges.
 
-use super::{Arith, ExitMethod};
+use super::{Arith, ExitMethod, leaves};
 use crate::tet::{EDGES, FACE_VERTICES, Ray, Tet, edge_index};
 use glam::Vec3;
 
@@ -49,7 +49,7 @@ pub(super) fn exit_by_sides(sides: &[f32; 6]) -> Option<usize> {
             let (e, rev) = edge_index(v[k], v[(k + 1) % 3]);
             if rev { -sides[e] } else { sides[e] }
         });
-        s.iter().all(|&x| x >= 0.0) && s.iter().any(|&x| x != 0.0)
+        leaves(&s)
     })
 }
 

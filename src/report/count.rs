@@ -4,7 +4,7 @@
 use crate::mesh::Mesh;
 use crate::methods::{Method, by_name};
 use crate::tet::Ray;
-use crate::walk::{Outcome, Walk, default_max_steps, locate, same_result};
+use crate::walk::{Walk, default_max_steps, locate, same_result};
 use glam::{Mat3, Quat, Vec3};
 use rand::RngExt;
 use rayon::prelude::*;
@@ -67,13 +67,8 @@ pub fn judge(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> Option<usize
     if same_result(mesh, ray, w, reference) {
         return None;
     }
-    Some(match w.outcome {
-        Outcome::Hit { .. } => 0,
-        Outcome::LeftMesh { .. } => 1,
-        Outcome::NoExitFace { .. } => 2,
-        Outcome::Cycle { .. } => 3,
-        Outcome::StepLimit { .. } => 4,
-    })
+    // A wrong hit is a wrong face, a wrong miss a false miss: KINDS follows Outcome's order.
+    Some(w.outcome.index())
 }
 
 /// A pinhole camera at `eye` looking at `target`.

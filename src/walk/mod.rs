@@ -29,6 +29,17 @@ pub enum Outcome {
 }
 
 impl Outcome {
+    /// Position of the kind in table order: hit, left mesh, no exit face, cycle, step limit.
+    pub fn index(&self) -> usize {
+        match self {
+            Outcome::Hit { .. } => 0,
+            Outcome::LeftMesh { .. } => 1,
+            Outcome::NoExitFace { .. } => 2,
+            Outcome::Cycle { .. } => 3,
+            Outcome::StepLimit { .. } => 4,
+        }
+    }
+
     pub fn kind(&self) -> &'static str {
         match self {
             Outcome::Hit { .. } => "hit",
