@@ -6,7 +6,7 @@ use glam::Vec3;
 use std::hint::black_box;
 use tetwalk::exact::classify;
 use tetwalk::mesh::layout::Layout;
-use tetwalk::methods::METHODS;
+use tetwalk::registry::METHODS;
 use tetwalk::scenes::tets::{Family, stabbing_ray, tet};
 use tetwalk::scenes::{self, Generated, rng};
 use tetwalk::walk::layouts::{Kind, Source};

@@ -1,273 +1,367 @@
-//! Failures found by fuzzing, kept as readable JSON cases under `corpora/found/<method>/` and replayed
-//! by `cargo test`; and the checks the fuzz targets run, so that targets, replay and import agree.
+//! Found cases: failures kept as readable JSON lines under `corpora/found/<method>/` and replayed by
+//! `cargo test` — a case in the one case format ([`crate::cases::Subject`]) plus what failed on it:
+//! `"method"`, `"backend"`, `"kind"` (the wrong ending, [`OutcomeKind::wrong_key`]) and `"answer"` (the
+//! method's wrong exit face, or its wrong walk). Also the checks that the fuzz targets, import and
+//! replay share.
 
-use crate::cases::{Case, answer, classify};
-use crate::methods::{METHODS, Method, by_name};
+use crate::backend::{Backend, BackendError, BackendKind, CPU, CPU_FMA};
+use crate::cases::{CaseError, Subject, classify, object};
+use crate::choice::Choice;
+use crate::exact::hit::first_hit;
+use crate::registry::{METHODS, Method, UnknownMethod, by_name, reference};
 use crate::scenes::from_bytes::WalkCase;
-use crate::walk::{Outcome, default_max_steps, locate, same_result};
+use crate::tet::Case;
+use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, locate, same_result};
 use glam::Vec3;
+use serde_json::Value;
+
+/// Why a found case cannot be read or replayed.
+#[derive(Debug, thiserror::Error)]
+pub enum FoundError {
+    #[error(transparent)]
+    Case(#[from] CaseError),
+    #[error(transparent)]
+    Method(#[from] UnknownMethod),
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+    #[error("{field}: {why}")]
+    Field { field: &'static str, why: String },
+    #[error("the walk case's mesh could not be built: {0}")]
+    Mesh(String),
+    #[error("the walk case's origin is not inside its mesh: {0}")]
+    Outside(String),
+    #[error("TETWALK_FUZZ_METHOD: {0}")]
+    FuzzMethod(UnknownMethod),
+}
 
 /// Which methods a fuzz run holds to exactness, from `TETWALK_FUZZ_METHOD`: `robust` (the default:
-/// `exact` and every method whose paper claims robustness), or one method's name (with `exact`).
-pub fn required_methods() -> Result<Vec<&'static Method>, String> {
+/// the reference and every method whose paper claims robustness), or one method's name (with the
+/// reference).
+pub fn required_methods() -> Result<Vec<&'static Method>, FoundError> {
     let choice = std::env::var("TETWALK_FUZZ_METHOD").unwrap_or_else(|_| "robust".into());
     match choice.as_str() {
         "robust" => Ok(METHODS.iter().filter(|m| m.claims_robust).collect()),
         name => {
-            let m = by_name(name)
-                .ok_or_else(|| format!("TETWALK_FUZZ_METHOD: unknown method '{name}'"))?;
+            let m = by_name(name).map_err(FoundError::FuzzMethod)?;
             Ok(METHODS
                 .iter()
-                .filter(|x| x.name == "exact" || x.name == m.name)
+                .filter(|x| x.reference || x.name == m.name)
                 .collect())
         }
     }
 }
 
-/// A failure: which method, plain or `fma`, and what went wrong.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+/// The backends a fuzz run holds the required methods to: the CPU, plain and as a GPU compiles them.
+pub const FUZZ_BACKENDS: [&Backend; 2] = [&CPU, &CPU_FMA];
+
+/// A fuzz target's check of one decoded case: the found case, when a required method
+/// ([`required_methods`]) answers wrongly on a [`FUZZ_BACKENDS`] backend.
+pub fn fuzz_check(subject: Subject) -> Option<Record> {
+    let methods = required_methods().expect("TETWALK_FUZZ_METHOD names a method");
+    let failure = check(&subject, &methods, &FUZZ_BACKENDS).ok()??;
+    Some(Record {
+        subject,
+        failure: Some(failure),
+    })
+}
+
+/// What a method answered: an exit face (or none) for one tetrahedron, a walk for a walk case.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Answer {
+    Face(Option<u8>),
+    Walk(Outcome),
+}
+
+impl Answer {
+    /// The kind of ending this answer is (an exit face counts as a hit).
+    pub fn kind(&self) -> OutcomeKind {
+        match self {
+            Answer::Face(Some(_)) => OutcomeKind::Hit,
+            Answer::Face(None) => OutcomeKind::NoExitFace,
+            Answer::Walk(o) => o.kind(),
+        }
+    }
+
+    fn to_json(self) -> Value {
+        match self {
+            Answer::Face(f) => serde_json::json!(f),
+            Answer::Walk(o) => serde_json::to_value(o).unwrap_or(Value::Null),
+        }
+    }
+}
+
+/// A failure: which method, on which backend, what it answered, and so what kind of wrong it is.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Failure {
     pub method: String,
-    pub fma: bool,
-    /// `wrong_face` or `no_exit_face` for one tetrahedron; `wrong_hit`, `false_miss`, `no_exit_face`,
-    /// `cycle` or `step_limit` for a walk.
-    pub kind: String,
+    pub backend: BackendKind,
+    pub answer: Answer,
 }
 
-/// The first of `methods` (plain, then fma) whose exit face is not an exact exit face.
-pub fn check_exit(case: &Case, methods: &[&Method]) -> Option<Failure> {
-    let c = classify(case).ok()?;
-    if !c.meets() {
-        return None;
+impl Failure {
+    /// The kind of wrong ([`OutcomeKind::wrong_key`] is its name in files).
+    pub fn kind(&self) -> OutcomeKind {
+        self.answer.kind()
     }
-    for m in methods {
-        for fma in [false, true] {
-            match answer(case, m, fma) {
-                Some(f) if c.exit.contains(f) => {}
-                face => {
-                    let kind = if face.is_some() {
-                        "wrong_face"
-                    } else {
-                        "no_exit_face"
-                    };
-                    return Some(Failure {
-                        method: m.name.into(),
-                        fma,
-                        kind: kind.into(),
-                    });
-                }
-            }
+}
+
+/// One line of the case format, with what failed on it when it is a found case.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    pub subject: Subject,
+    pub failure: Option<Failure>,
+}
+
+/// The fields a found case adds to its case.
+const FAILURE_FIELDS: [&str; 4] = ["method", "backend", "kind", "answer"];
+
+impl Record {
+    /// Read a line: a case, or a found case.
+    pub fn parse(line: &str) -> Result<Record, FoundError> {
+        let mut obj = object(line)?;
+        let subject = Subject::take(&mut obj)?;
+        if let Some(k) = obj.keys().find(|k| !FAILURE_FIELDS.contains(&k.as_str())) {
+            return Err(CaseError::UnknownField(k.clone()).into());
         }
-    }
-    None
-}
-
-/// The first of `methods` (plain, then fma) whose walk does not end where it should: `exact` against the
-/// brute-force first hit, every other method against the `exact` walk.
-pub fn check_walk(w: &WalkCase, methods: &[&Method]) -> Option<Failure> {
-    let offset = Vec3::splat(w.offset);
-    let mesh = crate::scenes::generated_mesh(w.mesh, w.size, offset, 1).ok()?;
-    let ray = w.ray();
-    let start = locate(&mesh, ray.org, 0).ok()?;
-    let max = default_max_steps(&mesh);
-    let exact = by_name("exact").expect("registered");
-    let reference = exact.walk(false)(&mesh, &ray, start, max);
-    for m in methods {
-        for fma in [false, true] {
-            let got = m.walk(fma)(&mesh, &ray, start, max);
-            let right = if m.name == "exact" {
-                match (got.outcome, crate::exact::hit::first_hit(&mesh, &ray)) {
-                    (Outcome::LeftMesh { .. }, None) => true,
-                    (Outcome::Hit { tet, face }, Some((_, faces))) => {
-                        faces.contains(&(tet, face)) || same_result(&mesh, &ray, &got, &reference)
-                    }
-                    _ => false,
-                }
-            } else {
-                same_result(&mesh, &ray, &got, &reference)
-            };
-            if !right {
-                let kind = match got.outcome {
-                    Outcome::Hit { .. } => "wrong_hit",
-                    Outcome::LeftMesh { .. } => "false_miss",
-                    Outcome::NoExitFace { .. } => "no_exit_face",
-                    Outcome::Cycle { .. } => "cycle",
-                    Outcome::StepLimit { .. } => "step_limit",
-                };
-                return Some(Failure {
-                    method: m.name.into(),
-                    fma,
-                    kind: kind.into(),
-                });
-            }
+        if obj.is_empty() {
+            return Ok(Record {
+                subject,
+                failure: None,
+            });
         }
-    }
-    None
-}
-
-/// A found case as kept in `corpora/found/<method>/`, one JSON line: a one-tetrahedron case (the
-/// `tetwalk exit` format) or a walk case, with what failed.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-#[serde(untagged)]
-pub enum Finding {
-    Exit(ExitRecord),
-    Walk(WalkRecord),
-}
-
-/// A one-tetrahedron finding, flat.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ExitRecord {
-    pub tet: [[f32; 3]; 4],
-    pub org: [f32; 3],
-    pub dir: [f32; 3],
-    pub entry: Option<u8>,
-    pub method: String,
-    pub fma: bool,
-    pub kind: String,
-    /// The method's wrong answer (the face it gave, none for no exit face), which replay holds it to.
-    #[serde(default)]
-    pub answer: Option<u8>,
-}
-
-/// A walk finding, flat.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct WalkRecord {
-    pub mesh: crate::scenes::Generated,
-    pub size: u32,
-    pub offset: f32,
-    pub org: [f32; 3],
-    pub dir: [f32; 3],
-    pub method: String,
-    pub fma: bool,
-    pub kind: String,
-}
-
-impl Finding {
-    pub fn exit(case: &Case, f: Failure) -> Finding {
-        let answer = by_name(&f.method)
-            .and_then(|m| crate::cases::answer(case, m, f.fma))
-            .map(|x| x as u8);
-        Finding::Exit(ExitRecord {
-            tet: case.tet.map(|v| v.to_array()),
-            org: case.org.to_array(),
-            dir: case.dir.to_array(),
-            entry: case.entry,
-            method: f.method,
-            fma: f.fma,
-            kind: f.kind,
-            answer,
-        })
-    }
-
-    pub fn walk(w: &WalkCase, f: Failure) -> Finding {
-        Finding::Walk(WalkRecord {
-            mesh: w.mesh,
-            size: w.size,
-            offset: w.offset,
-            org: w.org,
-            dir: w.dir,
-            method: f.method,
-            fma: f.fma,
-            kind: f.kind,
-        })
-    }
-
-    /// Read a finding (a walk finding has `mesh`, a one-tetrahedron one `tet`).
-    pub fn from_json(text: &str) -> Result<Finding, String> {
-        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
-        if v.get("mesh").is_some() {
-            serde_json::from_value(v)
-                .map(Finding::Walk)
-                .map_err(|e| e.to_string())
-        } else {
-            serde_json::from_value(v)
-                .map(Finding::Exit)
-                .map_err(|e| e.to_string())
-        }
-    }
-
-    pub fn failure(&self) -> Failure {
-        let (method, fma, kind) = match self {
-            Finding::Exit(r) => (&r.method, r.fma, &r.kind),
-            Finding::Walk(r) => (&r.method, r.fma, &r.kind),
+        let mut field = |k: &'static str| {
+            obj.remove(k).ok_or(FoundError::Field {
+                field: k,
+                why: "missing (a found case has method, backend, kind and answer)".into(),
+            })
         };
-        Failure {
-            method: method.clone(),
-            fma,
-            kind: kind.clone(),
-        }
-    }
-
-    /// The one-tetrahedron case, for exit findings.
-    pub fn case(&self) -> Option<Case> {
-        match self {
-            Finding::Exit(r) => Some(Case {
-                tet: r.tet.map(Vec3::from),
-                org: Vec3::from(r.org),
-                dir: Vec3::from(r.dir),
-                entry: r.entry,
+        let bad = |field: &'static str, why: String| FoundError::Field { field, why };
+        let method = field("method")?;
+        let method = by_name(method.as_str().unwrap_or_default())?
+            .name
+            .to_string();
+        let backend = field("backend")?;
+        let backend = backend
+            .as_str()
+            .and_then(BackendKind::from_name)
+            .ok_or_else(|| bad("backend", format!("{backend} is not cpu, cpu-fma or gpu")))?;
+        let kind = field("kind")?;
+        let kind = kind
+            .as_str()
+            .and_then(OutcomeKind::from_wrong_key)
+            .ok_or_else(|| bad("kind", format!("{kind} is not a kind of wrong ending")))?;
+        let answer = field("answer")?;
+        let answer = match subject {
+            Subject::Exit(_) => Answer::Face(match &answer {
+                Value::Null => None,
+                v => Some(
+                    v.as_u64()
+                        .filter(|&f| f < 4)
+                        .ok_or_else(|| bad("answer", format!("{v} is not a face 0..3 or null")))?
+                        as u8,
+                ),
             }),
-            Finding::Walk(_) => None,
+            Subject::Walk(_) => Answer::Walk(
+                serde_json::from_value(answer).map_err(|e| bad("answer", e.to_string()))?,
+            ),
+        };
+        if answer.kind() != kind {
+            return Err(bad(
+                "kind",
+                format!(
+                    "'{}' does not match the answer, which is a {}",
+                    kind.wrong_key(),
+                    answer.kind().wrong()
+                ),
+            ));
         }
+        Ok(Record {
+            subject,
+            failure: Some(Failure {
+                method,
+                backend,
+                answer,
+            }),
+        })
     }
 
-    /// The same case filed for another failure.
-    pub fn with_failure(&self, f: Failure) -> Finding {
-        let mut out = self.clone();
-        let (m, fma, kind) = match &mut out {
-            Finding::Exit(r) => (&mut r.method, &mut r.fma, &mut r.kind),
-            Finding::Walk(r) => (&mut r.method, &mut r.fma, &mut r.kind),
-        };
-        (*m, *fma, *kind) = (f.method, f.fma, f.kind);
-        if let Finding::Exit(r) = &mut out {
-            let case = self.case().expect("an exit finding has a case");
-            r.answer = by_name(&r.method)
-                .and_then(|m| crate::cases::answer(&case, m, r.fma))
-                .map(|x| x as u8);
+    /// The line, as kept in `corpora/found/`.
+    pub fn to_json(&self) -> String {
+        let mut m = self.subject.to_json();
+        if let Some(f) = &self.failure {
+            m.insert("method".into(), f.method.clone().into());
+            m.insert("backend".into(), f.backend.name().into());
+            m.insert("kind".into(), f.kind().wrong_key().into());
+            m.insert("answer".into(), f.answer.to_json());
         }
-        out
+        Value::Object(m).to_string()
     }
 
     /// What identifies the case, whatever failed on it.
     pub fn key(&self) -> String {
-        let blank = Failure {
-            method: String::new(),
-            fma: false,
-            kind: String::new(),
-        };
-        serde_json::to_string(&self.with_failure(blank)).unwrap_or_default()
+        Value::Object(self.subject.to_json()).to_string()
+    }
+
+    /// The same case filed for another failure.
+    pub fn with_failure(&self, f: Failure) -> Record {
+        Record {
+            subject: self.subject,
+            failure: Some(f),
+        }
     }
 
     /// This finding, and the same case filed for every method that claims robustness and fails on it
-    /// too: a failure of a claim is a finding of its own.
-    pub fn with_robust_failures(&self) -> Vec<Finding> {
-        let mut out = vec![self.with_failure(self.failure())];
-        let mine = self.failure().method;
+    /// too (on the CPU, plain and as a GPU compiles it): a failure of a claim is a finding of its own.
+    pub fn with_robust_failures(&self) -> Result<Vec<Record>, FoundError> {
+        let mut out = vec![self.clone()];
+        let mine = self.failure.as_ref().map(|f| f.method.clone());
         for m in METHODS
             .iter()
-            .filter(|m| m.claims_robust && m.name != "exact" && m.name != mine)
+            .filter(|m| m.claims_robust && !m.reference && Some(m.name.to_string()) != mine)
         {
-            if let Some(f) = self.check(&[m]) {
+            if let Some(f) = check(&self.subject, &[m], &FUZZ_BACKENDS)? {
                 out.push(self.with_failure(f));
             }
         }
-        out
+        Ok(out)
     }
+}
 
-    /// Run the check again for `methods`.
-    pub fn check(&self, methods: &[&Method]) -> Option<Failure> {
-        match self {
-            Finding::Exit(_) => check_exit(&self.case()?, methods),
-            Finding::Walk(r) => {
-                let w = WalkCase {
-                    mesh: r.mesh,
-                    size: r.size,
-                    offset: r.offset,
-                    org: r.org,
-                    dir: r.dir,
-                };
-                check_walk(&w, methods)
+/// The first of `methods` (on each of `backends` in turn) that answers `subject` wrongly, with what it
+/// answered; `None` when all are right or the case cannot be judged (a line missing the tetrahedron).
+pub fn check(
+    subject: &Subject,
+    methods: &[&Method],
+    backends: &[&Backend],
+) -> Result<Option<Failure>, FoundError> {
+    match subject {
+        Subject::Exit(case) => check_exit(case, methods, backends),
+        Subject::Walk(w) => check_walk(w, methods, backends),
+    }
+}
+
+fn check_exit(
+    case: &Case,
+    methods: &[&Method],
+    backends: &[&Backend],
+) -> Result<Option<Failure>, FoundError> {
+    let c = classify(case)?;
+    if !c.meets() {
+        return Ok(None);
+    }
+    for m in methods {
+        for b in backends {
+            let face = b.exit_face(m, case)?;
+            if !face.is_some_and(|f| c.exit.contains(f)) {
+                return Ok(Some(Failure {
+                    method: m.name.into(),
+                    backend: b.for_method(m).kind(),
+                    answer: Answer::Face(face.map(|f| f as u8)),
+                }));
             }
         }
     }
+    Ok(None)
+}
+
+/// A walk case's mesh, start and ray.
+pub struct WalkSetup {
+    pub mesh: crate::mesh::Mesh,
+    pub start: u32,
+    pub max_steps: u32,
+}
+
+impl WalkSetup {
+    pub fn new(w: &WalkCase) -> Result<WalkSetup, FoundError> {
+        let mesh = crate::scenes::generated_mesh(w.mesh, w.size, Vec3::splat(w.offset), 1)
+            .map_err(|e| FoundError::Mesh(e.to_string()))?;
+        let start =
+            locate(&mesh, w.ray().org, 0).map_err(|e| FoundError::Outside(e.to_string()))?;
+        let max_steps = default_max_steps(&mesh);
+        Ok(WalkSetup {
+            mesh,
+            start,
+            max_steps,
+        })
+    }
+
+    /// `m`'s walk on `backend`.
+    pub fn walk(&self, m: &Method, backend: &Backend, w: &WalkCase) -> Result<Walk, FoundError> {
+        let on = backend.mesh(&self.mesh);
+        Ok(backend.walks(m, &on, &[w.ray()], self.start, self.max_steps)?[0])
+    }
+
+    /// Whether `got` ends rightly: the reference against the brute-force first hit, every other
+    /// method against the reference walk `exact`.
+    pub fn right(&self, m: &Method, w: &WalkCase, got: &Walk, exact: &Walk) -> bool {
+        let ray = w.ray();
+        if !m.reference {
+            return same_result(&self.mesh, &ray, got, exact);
+        }
+        match (got.outcome, first_hit(&self.mesh, &ray)) {
+            (Outcome::LeftMesh { .. }, None) => true,
+            (Outcome::Hit { tet, face }, Some((_, faces))) => {
+                faces.contains(&(tet, face)) || same_result(&self.mesh, &ray, got, exact)
+            }
+            _ => false,
+        }
+    }
+}
+
+fn check_walk(
+    w: &WalkCase,
+    methods: &[&Method],
+    backends: &[&Backend],
+) -> Result<Option<Failure>, FoundError> {
+    // A case whose mesh cannot be built or whose origin is outside it judges nothing.
+    let Ok(setup) = WalkSetup::new(w) else {
+        return Ok(None);
+    };
+    let exact = setup.walk(reference(), &CPU, w)?;
+    for m in methods {
+        for b in backends {
+            let got = setup.walk(m, b, w)?;
+            if !setup.right(m, w, &got, &exact) {
+                return Ok(Some(Failure {
+                    method: m.name.into(),
+                    backend: b.for_method(m).kind(),
+                    answer: Answer::Walk(got.outcome),
+                }));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// How a found case replays now.
+#[derive(Debug, PartialEq)]
+pub enum Replay {
+    /// Still wrong, with the recorded answer.
+    Holds,
+    /// Still wrong, but with another answer than the recorded one.
+    OtherAnswer(Answer),
+    /// The method is now right on it.
+    Right,
+    /// Recorded on a backend that cannot be opened here (why).
+    Skipped(String),
+}
+
+/// Replay a found case: its method on its backend, compared with the recorded answer.
+pub fn replay(record: &Record) -> Result<Replay, FoundError> {
+    let Some(f) = &record.failure else {
+        return Err(FoundError::Field {
+            field: "method",
+            why: "not a found case (it records no failure)".into(),
+        });
+    };
+    let m = by_name(&f.method)?;
+    let backend = match Backend::open(f.backend) {
+        Ok(b) => b,
+        Err(e) => return Ok(Replay::Skipped(e.to_string())),
+    };
+    Ok(match check(&record.subject, &[m], &[&backend])? {
+        None => Replay::Right,
+        Some(now) if now.answer == f.answer => Replay::Holds,
+        Some(now) => Replay::OtherAnswer(now.answer),
+    })
 }

@@ -1,14 +1,20 @@
 //! tetwalk: finds out, with proof, when ray traversal of tetrahedral meshes goes wrong in f32.
 //!
-//! Data flows one way: scene → mesh → rays → method → walk → outcome → report.
+//! Data flows one way, and so do the imports (tests/layering.rs checks it): geometry (`tet`, with the
+//! named value sets of `choice`) → `mesh` → oracle (`exact`) → `scenes` (generators, cameras) →
+//! `methods` → `walk` (outcomes, judging) → `registry` → the case format (`cases`) → `gpu` →
+//! `backend` → `found` → `report` → `render` → `cli`.
 
+pub mod backend;
 pub mod cases;
+pub mod choice;
 pub mod cli;
 pub mod exact;
 pub mod found;
 pub mod gpu;
 pub mod mesh;
 pub mod methods;
+pub mod registry;
 pub mod render;
 pub mod report;
 pub mod scenes;

@@ -12,6 +12,25 @@ pub struct Ray {
 /// Four vertices; face `i` is the face opposite vertex `i` (TetGen's convention).
 pub type Tet = [Vec3; 4];
 
+/// One exit-face case: a tetrahedron (either orientation), a ray, and the face the ray entered through
+/// (`None` in a starting tetrahedron). Its text form is in the `cases` module.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Case {
+    pub tet: Tet,
+    pub org: Vec3,
+    pub dir: Vec3,
+    pub entry: Option<u8>,
+}
+
+impl Case {
+    pub fn ray(&self) -> Ray {
+        Ray {
+            org: self.org,
+            dir: self.dir,
+        }
+    }
+}
+
 /// Vertices of face `i`, counterclockwise seen from outside a positively oriented tetrahedron,
 /// so that `orient3d(face..., v_i) > 0`.
 pub const FACE_VERTICES: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]];

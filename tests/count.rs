@@ -52,7 +52,7 @@ fn count_is_consistent_and_exact_is_never_wrong() {
         let methods = one["methods"].as_array().unwrap();
         assert_eq!(methods[0]["method"], "exact");
         assert_eq!(methods[0]["wrong"], serde_json::json!([0, 0, 0, 0, 0]));
-        assert_eq!(methods.len(), tetwalk::methods::METHODS.len());
+        assert_eq!(methods.len(), tetwalk::registry::METHODS.len());
         let reference_steps = methods[0]["steps"].as_u64().unwrap();
         assert!(
             reference_steps >= 3 * 40 * 30,

@@ -1,56 +1,126 @@
-//! Replays every case the fuzzers found (corpora/found/<method>/*.json): it must still fail for the
-//! method that failed — it documents that method's weakness — and must pass for `exact` and for every
-//! other method that claims robustness; where there is a GPU adapter, the robust methods are replayed
-//! there too.
+//! Replays every case the fuzzers found (corpora/found/<method>/*.json): each must still fail for the
+//! method that failed, on the backend it failed on, with the same recorded answer — it documents that
+//! method's weakness — and must pass for every other method that claims robustness unless that
+//! failure is filed too; where there is a GPU adapter, the robust methods are replayed there too.
+//! Every found file is also read by `tetwalk exit` as it is.
 
 mod common;
 
-use tetwalk::cases::{answers_gpu, classify, judged};
-use tetwalk::found::Finding;
-use tetwalk::methods::{METHODS, by_name};
+use tetwalk::backend::Backend;
+use tetwalk::cases::Subject;
+use tetwalk::found::{Answer, Record, Replay, check, replay};
+use tetwalk::registry::METHODS;
 
-fn findings() -> Vec<(String, Finding)> {
+fn findings() -> Vec<(String, Record)> {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/found");
     let mut out = Vec::new();
     for dir in std::fs::read_dir(root).unwrap().flatten() {
         for file in std::fs::read_dir(dir.path()).unwrap().flatten() {
             let text = std::fs::read_to_string(file.path()).unwrap();
-            let f = Finding::from_json(&text)
+            let r = Record::parse(text.trim())
                 .unwrap_or_else(|e| panic!("{}: {e}", file.path().display()));
-            out.push((file.path().display().to_string(), f));
+            out.push((file.path().display().to_string(), r));
         }
     }
+    out.sort_by(|a, b| a.0.cmp(&b.0));
     out
 }
 
+/// What is wrong with a found case's replay, if anything: it must fail again with its recorded answer.
+fn replay_problem(name: &str, r: &Record) -> Option<String> {
+    let f = r.failure.as_ref()?;
+    match replay(r).unwrap_or_else(|e| panic!("{name}: {e}")) {
+        Replay::Holds => None,
+        Replay::Skipped(why) => {
+            eprintln!("SKIPPED {name}: recorded on {:?}: {why}", f.backend);
+            None
+        }
+        Replay::Right => Some(format!("{name}: {} is now right here", f.method)),
+        Replay::OtherAnswer(a) => Some(format!(
+            "{name}: {} now answers {a:?}, not the recorded {:?}",
+            f.method, f.answer
+        )),
+    }
+}
+
 #[test]
-fn found_cases_still_fail_for_their_method_and_pass_for_the_robust_ones() {
+fn found_cases_fail_again_with_their_recorded_answer() {
     let found = findings();
     assert!(
-        found.len() >= 8,
+        found.len() >= 50,
         "the corpus of found cases is kept, not lost ({})",
         found.len()
     );
-    for (name, f) in &found {
-        let failed =
-            by_name(&f.failure().method).unwrap_or_else(|| panic!("{name}: unknown method"));
+    let problems: Vec<String> = found
+        .iter()
+        .filter_map(|(name, r)| replay_problem(name, r))
+        .collect();
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn changing_one_recorded_answer_fails_the_replay() {
+    let found = findings();
+    for want_walk in [false, true] {
+        let (name, r) = found
+            .iter()
+            .find(|(_, r)| matches!(r.subject, Subject::Walk(_)) == want_walk)
+            .expect("found cases of both shapes");
+        let mut changed = r.clone();
+        let f = changed.failure.as_mut().unwrap();
+        f.answer = match f.answer {
+            Answer::Face(x) => Answer::Face(Some(x.map_or(0, |x| (x + 1) % 4))),
+            Answer::Walk(o) => {
+                let (kind, tet, x) = o.parts();
+                Answer::Walk(tetwalk::walk::Outcome::from_parts(kind, tet + 1, x))
+            }
+        };
+        // Through the file format, as a hand edit would be.
+        let changed = Record::parse(&changed.to_json()).unwrap();
         assert!(
-            f.check(&[failed]).is_some(),
-            "{name}: no longer fails for {}",
-            failed.name
+            replay_problem(name, &changed).is_some(),
+            "{name}: a changed answer went unnoticed"
         );
-        // A method that claims robustness must be right here, unless its failure here is filed too.
+        assert!(replay_problem(name, r).is_none());
+    }
+}
+
+#[test]
+fn robust_methods_are_right_on_every_found_case_unless_their_failure_is_filed() {
+    let found = findings();
+    let backends = [&Backend::Cpu { fma: false }, &Backend::Cpu { fma: true }];
+    for (name, r) in &found {
+        let failed = &r.failure.as_ref().unwrap().method;
         for m in METHODS
             .iter()
-            .filter(|m| m.claims_robust && m.name != failed.name)
+            .filter(|m| m.claims_robust && m.name != failed)
         {
             let filed = found
                 .iter()
-                .any(|(_, g)| g.failure().method == m.name && g.key() == f.key());
+                .any(|(_, g)| g.failure.as_ref().unwrap().method == m.name && g.key() == r.key());
             if !filed {
-                assert_eq!(f.check(&[m]), None, "{name}: {} must be right here", m.name);
+                let now = check(&r.subject, &[m], &backends).unwrap();
+                assert_eq!(now, None, "{name}: {} must be right here", m.name);
             }
         }
+    }
+}
+
+#[test]
+fn every_found_file_is_read_by_tetwalk_exit_as_it_is() {
+    for (name, _) in findings() {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+            .args(["exit", "--method", "all", &name])
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(text.lines().count(), METHODS.len(), "{name}: {text}");
+        assert!(!text.contains("\"error\""), "{name}: {text}");
     }
 }
 
@@ -60,20 +130,17 @@ fn found_cases_replay_on_the_gpu() {
         return;
     };
     let found = findings();
-    for (name, f) in &found {
-        let Some(case) = f.case() else { continue };
-        let failure = f.failure();
-        let c = classify(&case).unwrap();
-        for m in METHODS.iter().filter(|m| m.name != "exact") {
-            let face = answers_gpu(&gpu, &[case], m).unwrap()[0];
-            let right = judged(&c, face).correct;
+    for (name, r) in &found {
+        let failed = &r.failure.as_ref().unwrap().method;
+        for m in METHODS.iter().filter(|m| !m.reference) {
+            let now = check(&r.subject, &[m], &[&gpu]).unwrap();
             let filed = found
                 .iter()
-                .any(|(_, g)| g.failure().method == m.name && g.key() == f.key());
-            if m.name == failure.method || filed {
-                println!("{name}: {} on {}: {:?}", m.name, gpu.describe(), right);
+                .any(|(_, g)| g.failure.as_ref().unwrap().method == m.name && g.key() == r.key());
+            if m.name == failed || filed {
+                println!("{name}: {} on {}: {:?}", m.name, gpu.describe(), now);
             } else if m.claims_robust {
-                assert_ne!(right, Some(false), "{name}: {} on the GPU", m.name);
+                assert_eq!(now, None, "{name}: {} on the GPU", m.name);
             }
         }
     }

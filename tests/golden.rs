@@ -4,17 +4,14 @@
 
 mod common;
 
-use tetwalk::cases::{Case, answer, answers_gpu};
-use tetwalk::methods::METHODS;
-use tetwalk::render::{self, Image, exact_faces, face_image, predicate_grid};
+use tetwalk::backend::Backend;
+use tetwalk::registry::{METHODS, reference};
+use tetwalk::render::{self, Image, face_image, predicate_grid};
+use tetwalk::scenes::camera::Views;
 use tetwalk::scenes::tets::{Family, Target, through};
+use tetwalk::tet::Case;
 
-fn settings() -> insta::Settings {
-    let mut s = insta::Settings::clone_current();
-    s.set_snapshot_path(concat!(env!("CARGO_MANIFEST_DIR"), "/golden"));
-    s.set_prepend_module_to_snapshot(false);
-    s
-}
+use common::settings;
 
 fn rows(width: u32, cells: impl Iterator<Item = String>) -> String {
     let cells: Vec<String> = cells.collect();
@@ -29,8 +26,15 @@ fn rows(width: u32, cells: impl Iterator<Item = String>) -> String {
 #[test]
 fn bunny_view_is_unchanged() {
     let mesh = tetwalk::scenes::load("bunny-quality").unwrap();
-    let methods: Vec<_> = METHODS.iter().filter(|m| m.name != "exact").collect();
-    let f = render::frame(&mesh, 3, 160, 64, 48, &methods, false).unwrap();
+    let methods: Vec<_> = METHODS.iter().filter(|m| !m.reference).collect();
+    let views = Views {
+        views: 160,
+        width: 64,
+        height: 48,
+        seed: 1,
+        fov_deg: Views::FOV_DEG,
+    };
+    let f = render::frame(&mesh, &views, 3, &methods, &Backend::Cpu { fma: false }).unwrap();
     // Exact walk per pixel: h (hit a model face), b (hit the box), - (left), with the steps.
     let exact = rows(
         f.width,
@@ -48,17 +52,20 @@ fn bunny_view_is_unchanged() {
         let bad: Vec<String> = w
             .iter()
             .enumerate()
-            .filter_map(|(i, k)| k.map(|k| format!("{i}:{k}")))
+            .filter_map(|(i, k)| k.map(|k| format!("{i}:{}", k.code())))
             .collect();
         wrong += &format!("{name}: {}\n", bad.join(" "));
     }
     settings().bind(|| {
         insta::assert_snapshot!("bunny_view3_exact", exact);
         insta::assert_snapshot!("bunny_view3_wrong", wrong);
-        insta::assert_binary_snapshot!("bunny_view3_shaded.png", f.shaded().png());
-        insta::assert_binary_snapshot!("bunny_view3_heat.png", f.heat().png());
+        insta::assert_binary_snapshot!("bunny_view3_shaded.png", f.shaded().png().unwrap());
+        insta::assert_binary_snapshot!("bunny_view3_heat.png", f.heat().png().unwrap());
         let maps: Vec<Image> = (0..methods.len()).map(|i| f.failures(i)).collect();
-        insta::assert_binary_snapshot!("bunny_view3_failures.png", Image::sheet(&maps, 2).png());
+        insta::assert_binary_snapshot!(
+            "bunny_view3_failures.png",
+            Image::sheet(&maps, 2).png().unwrap()
+        );
     });
 }
 
@@ -92,23 +99,21 @@ fn faces_text(faces: &[Option<usize>]) -> String {
 #[test]
 fn predicate_maps_are_unchanged() {
     let case = predicate_case();
-    let exact = predicate_grid(&case, GRID, &exact_faces).unwrap();
+    let cpu = Backend::Cpu { fma: false };
+    let exact = predicate_grid(&case, GRID, reference(), &cpu).unwrap();
     settings().bind(|| {
         insta::assert_snapshot!("predicate_exact", faces_text(&exact));
-        for m in METHODS.iter().filter(|m| m.name != "exact") {
+        for m in METHODS.iter().filter(|m| !m.reference) {
             let mut sheet = vec![face_image(&exact, GRID)];
             for fma in [false, true] {
-                let faces = predicate_grid(&case, GRID, &|cs| {
-                    Ok(cs.iter().map(|c| answer(c, m, fma)).collect())
-                })
-                .unwrap();
+                let faces = predicate_grid(&case, GRID, m, &Backend::Cpu { fma }).unwrap();
                 let tag = if fma { "fma" } else { "cpu" };
                 insta::assert_snapshot!(format!("predicate_{}_{tag}", m.name), faces_text(&faces));
                 sheet.push(face_image(&faces, GRID));
             }
             insta::assert_binary_snapshot!(
                 &format!("predicate_{}.png", m.name),
-                Image::sheet(&sheet, 2).png()
+                Image::sheet(&sheet, 2).png().unwrap()
             );
         }
     });
@@ -138,12 +143,15 @@ fn predicate_maps_from_each_entry_face_are_unchanged() {
     }
     const SMALL: u32 = 24;
     settings().bind(|| {
-        for m in METHODS.iter().filter(|m| m.name != "exact") {
+        for m in METHODS.iter().filter(|m| !m.reference) {
             let mut text = String::new();
             for (e, case) in cases.iter().enumerate() {
-                let faces = predicate_grid(case.as_ref().unwrap(), SMALL, &|cs| {
-                    Ok(cs.iter().map(|c| answer(c, m, false)).collect())
-                })
+                let faces = predicate_grid(
+                    case.as_ref().unwrap(),
+                    SMALL,
+                    m,
+                    &Backend::Cpu { fma: false },
+                )
                 .unwrap();
                 text += &format!("entry {e}\n");
                 text += &rows(
@@ -160,7 +168,7 @@ fn predicate_maps_from_each_entry_face_are_unchanged() {
 
 /// GPU predicate maps against the CPU's golden data, with a tolerance per adapter: none on llvmpipe
 /// (it does not contract), 10% of the pixels elsewhere. A failure writes the difference image to
-/// `target/golden-diff-<method>.png`.
+/// `tetwalk-golden-diff-<method>.png` in the temporary directory (which always exists).
 #[test]
 fn gpu_predicate_maps_are_within_tolerance() {
     let Some(gpu) = common::gpu_or_skip() else {
@@ -172,12 +180,9 @@ fn gpu_predicate_maps_are_within_tolerance() {
         (GRID * GRID / 10) as usize
     };
     let case = predicate_case();
-    for m in METHODS.iter().filter(|m| m.name != "exact") {
-        let cpu = predicate_grid(&case, GRID, &|cs| {
-            Ok(cs.iter().map(|c| answer(c, m, false)).collect())
-        })
-        .unwrap();
-        let on_gpu = predicate_grid(&case, GRID, &|cs| answers_gpu(&gpu, cs, m)).unwrap();
+    for m in METHODS.iter().filter(|m| !m.reference) {
+        let cpu = predicate_grid(&case, GRID, m, &Backend::Cpu { fma: false }).unwrap();
+        let on_gpu = predicate_grid(&case, GRID, m, &gpu).unwrap();
         let differ: Vec<bool> = cpu.iter().zip(&on_gpu).map(|(a, b)| a != b).collect();
         let n = differ.iter().filter(|&&d| d).count();
         if n > tolerance {
@@ -189,10 +194,9 @@ fn gpu_predicate_maps_are_within_tolerance() {
                     if d { [255, 0, 0] } else { [40, 40, 40] },
                 );
             }
-            let path = concat!(env!("CARGO_MANIFEST_DIR"), "/target/golden-diff-").to_string()
-                + m.name
-                + ".png";
-            std::fs::write(&path, diff.png()).unwrap();
+            let path = std::env::temp_dir().join(format!("tetwalk-golden-diff-{}.png", m.name));
+            let path = path.display();
+            std::fs::write(path.to_string(), diff.png().unwrap()).unwrap();
             panic!(
                 "{} on {}: {n} pixels differ from the CPU (tolerance {tolerance}); see {path}",
                 m.name,

@@ -1,21 +1,53 @@
-//! The WGSL methods and walk on whatever adapter there is. Without one these tests skip with a notice,
-//! unless TETWALK_REQUIRE_GPU=1 (as CI sets, with lavapipe installed), where they fail.
+//! The generated WGSL methods and walk on whatever adapter there is, through the backend seam. Without
+//! one these tests skip with a notice, unless TETWALK_REQUIRE_GPU=1 (as CI sets, with lavapipe
+//! installed), where they fail.
 
 mod common;
 
 use glam::Vec3;
-use tetwalk::cases::{Case, answer, answers_gpu, classify, judged};
+use tetwalk::backend::Backend;
+use tetwalk::cases::{classify, judged};
 use tetwalk::exact::edge_margin;
-use tetwalk::gpu::{GPU_METHODS, Gpu};
-use tetwalk::methods::by_name;
-use tetwalk::report::count::{Backend, Cpu, Gpu as GpuBackend};
+use tetwalk::registry::{Gpu as GpuSupport, METHODS, Method};
 use tetwalk::scenes::tets::{Family, Target, near, stabbing_ray, tet};
 use tetwalk::scenes::{self, Generated, rng};
+use tetwalk::tet::{Case, Ray};
 use tetwalk::walk::{default_max_steps, locate};
 
 /// llvmpipe and lavapipe compile without contracting multiply-adds: their answers equal the CPU's.
-fn contracts(g: &Gpu) -> bool {
+fn contracts(g: &Backend) -> bool {
     !g.describe().to_lowercase().contains("llvmpipe")
+}
+
+fn gpu_methods() -> impl Iterator<Item = &'static Method> {
+    METHODS
+        .iter()
+        .filter(|m| matches!(m.gpu, GpuSupport::Wgsl(_)))
+}
+
+/// Near-edge and near-vertex cases of every family; every other one carries its exact entry face.
+fn near_cases(seed: u64, n: usize) -> Vec<Case> {
+    let mut r = rng(seed);
+    (0..n)
+        .filter_map(|i| {
+            let target = if i % 2 == 0 {
+                Target::Edge
+            } else {
+                Target::Vertex
+            };
+            let (t, ray) = near(Family::ALL[i % 5], 1e-3, target, 4, &mut r)?;
+            let mut c = Case {
+                tet: t,
+                org: ray.org,
+                dir: ray.dir,
+                entry: None,
+            };
+            if (i / 2) % 2 == 0 {
+                c.entry = classify(&c).ok()?.entry.first().map(|f| f as u8);
+            }
+            Some(c)
+        })
+        .collect()
 }
 
 #[test]
@@ -44,56 +76,55 @@ fn every_gpu_method_is_exact_with_margin() {
         cases.push((c, x));
     }
     let plain: Vec<Case> = cases.iter().map(|(c, _)| *c).collect();
-    for name in GPU_METHODS {
-        let faces = answers_gpu(&g, &plain, by_name(name).unwrap()).unwrap();
+    for m in gpu_methods() {
+        let faces = g.exit_faces(m, &plain).unwrap();
         for ((c, x), f) in cases.iter().zip(faces) {
             assert_eq!(
                 judged(x, f).correct,
                 Some(true),
-                "{name} on the GPU: {f:?} for {c:?}"
+                "{} on the GPU: {f:?} for {c:?}",
+                m.name
             );
         }
     }
 }
 
 #[test]
-fn gpu_answers_equal_the_cpu_where_the_adapter_does_not_contract() {
+fn gpu_answers_equal_the_cpu_from_entry_faces_and_starts_where_the_adapter_does_not_contract() {
     let Some(g) = common::gpu_or_skip() else {
         return;
     };
-    let mut r = rng(12);
-    let cases: Vec<Case> = (0..4000)
-        .filter_map(|i| {
-            let (t, ray) = near(
-                Family::ALL[i % 5],
-                1e-3,
-                if i % 2 == 0 {
-                    Target::Edge
-                } else {
-                    Target::Vertex
-                },
-                4,
-                &mut r,
-            )?;
-            Some(Case {
-                tet: t,
-                org: ray.org,
-                dir: ray.dir,
-                entry: None,
-            })
-        })
-        .collect();
-    for name in GPU_METHODS {
-        let m = by_name(name).unwrap();
-        let gpu = answers_gpu(&g, &cases, m).unwrap();
-        let cpu: Vec<_> = cases.iter().map(|c| answer(c, m, false)).collect();
+    let cases = near_cases(12, 4000);
+    let with_entry = cases.iter().filter(|c| c.entry.is_some()).count();
+    assert!(
+        with_entry > 1000 && cases.len() - with_entry > 1000,
+        "both kinds of case: {with_entry} with an entry face of {}",
+        cases.len()
+    );
+    for m in gpu_methods() {
+        let gpu = g.exit_faces(m, &cases).unwrap();
+        let cpu = Backend::Cpu { fma: false }.exit_faces(m, &cases).unwrap();
         let differ = gpu.iter().zip(&cpu).filter(|(a, b)| a != b).count();
         println!(
-            "{name}: GPU and CPU differ on {differ} of {} near-edge/vertex cases",
+            "{}: GPU and CPU differ on {differ} of {} near-edge/vertex cases",
+            m.name,
             cases.len()
         );
         if !contracts(&g) {
-            assert_eq!(differ, 0, "{name}");
+            assert_eq!(differ, 0, "{}", m.name);
+        }
+    }
+}
+
+#[test]
+fn a_method_without_a_gpu_version_is_refused_on_the_gpu_with_its_reason() {
+    let Some(Backend::Gpu(g)) = common::gpu_or_skip() else {
+        return;
+    };
+    for m in METHODS {
+        if let GpuSupport::CpuOnly(why) = m.gpu {
+            let err = g.exit_faces(m, &[]).unwrap_err().to_string();
+            assert!(err.contains(why) && err.contains(m.name), "{err}");
         }
     }
 }
@@ -109,26 +140,23 @@ fn gpu_walks_run_end_to_end_and_match_the_cpu_on_llvmpipe() {
     let start = locate(&mesh, Vec3::splat(3.0), 0).unwrap();
     // Rays from one start: re-aim the generated ones from that tetrahedron's origin point.
     let org = Vec3::splat(3.0);
-    let rays: Vec<_> = rays
-        .iter()
-        .map(|r| tetwalk::tet::Ray { org, dir: r.dir })
-        .collect();
-    let backend = GpuBackend::new(g, &mesh);
+    let rays: Vec<_> = rays.iter().map(|r| Ray { org, dir: r.dir }).collect();
+    let on_gpu_mesh = g.mesh(&mesh);
+    let cpu = Backend::Cpu { fma: false };
+    let on_cpu_mesh = cpu.mesh(&mesh);
     let max = default_max_steps(&mesh);
-    for name in GPU_METHODS {
-        let m = by_name(name).unwrap();
-        let on_gpu = backend.walks(&mesh, m, &rays, start, max).unwrap();
-        let on_cpu = Cpu { fma: false }
-            .walks(&mesh, m, &rays, start, max)
-            .unwrap();
+    for m in gpu_methods() {
+        let on_gpu = g.walks(m, &on_gpu_mesh, &rays, start, max).unwrap();
+        let on_cpu = cpu.walks(m, &on_cpu_mesh, &rays, start, max).unwrap();
         assert_eq!(on_gpu.len(), rays.len());
         let differ = on_gpu.iter().zip(&on_cpu).filter(|(a, b)| a != b).count();
         println!(
-            "{name}: {differ} of {} walks differ between GPU and CPU",
+            "{}: {differ} of {} walks differ between GPU and CPU",
+            m.name,
             rays.len()
         );
         if llvmpipe {
-            assert_eq!(on_gpu, on_cpu, "{name}");
+            assert_eq!(on_gpu, on_cpu, "{}", m.name);
         }
         assert!(on_gpu.iter().all(|w| w.steps >= 1 && w.steps <= max));
     }

@@ -3,9 +3,9 @@
 
 use std::process::Command;
 use tetwalk::exact::hit::first_hit;
-use tetwalk::methods::by_name;
-use tetwalk::report::count::view;
+use tetwalk::registry::by_name;
 use tetwalk::report::scene_info::SceneInfo;
+use tetwalk::scenes::camera::view;
 use tetwalk::walk::{Outcome, default_max_steps, locate};
 
 const SCENES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/scenes");

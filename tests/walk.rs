@@ -6,7 +6,8 @@ mod common;
 use glam::Vec3;
 use tetwalk::exact::hit::{first_hit, line_triangle};
 use tetwalk::mesh::{Mesh, load_tetgen};
-use tetwalk::methods::{ExitMethod, Plain, by_name};
+use tetwalk::methods::{ExitMethod, Plain};
+use tetwalk::registry::by_name;
 use tetwalk::scenes::{self, Generated};
 use tetwalk::tet::{FACE_VERTICES, Ray, Tet, orientation};
 use tetwalk::walk::{Outcome, default_max_steps, locate, walk};
@@ -134,7 +135,7 @@ fn cycles_and_step_limits_are_typed_outcomes() {
     );
     assert!(w.steps < 10, "Brent's detection is prompt: {w:?}");
     let w = walk::<TurnBack, Plain>(&mesh, &ray, start, 1);
-    assert_eq!(w.outcome.kind(), "step_limit");
+    assert_eq!(w.outcome.kind(), tetwalk::walk::OutcomeKind::StepLimit);
 }
 
 #[test]

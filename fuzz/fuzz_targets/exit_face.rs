@@ -3,19 +3,16 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use tetwalk::found::{Finding, check_exit, required_methods};
+use tetwalk::cases::Subject;
+use tetwalk::found::fuzz_check;
 use tetwalk::scenes::from_bytes::exit_case;
 
 fuzz_target!(|data: &[u8]| {
-    let methods = required_methods().expect("TETWALK_FUZZ_METHOD");
     let mut u = arbitrary::Unstructured::new(data);
     let Ok(Some(case)) = exit_case(&mut u) else {
         return;
     };
-    if let Some(f) = check_exit(&case, &methods) {
-        panic!(
-            "{}",
-            serde_json::to_string(&Finding::exit(&case, f)).unwrap()
-        );
+    if let Some(found) = fuzz_check(Subject::Exit(case)) {
+        panic!("{}", found.to_json());
     }
 });

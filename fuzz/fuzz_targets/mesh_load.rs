@@ -1,4 +1,4 @@
-//! Arbitrary bytes as TetGen files and as a JSON case line: errors are fine, panics, hangs and
+//! Arbitrary bytes as TetGen files and as a JSON case line (a found case too): errors are fine, panics, hangs and
 //! unbounded allocations are not.
 #![no_main]
 
@@ -7,7 +7,7 @@ use tetwalk::mesh::{TetgenTexts, parse_tetgen};
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    let _ = tetwalk::cases::Case::parse(&text);
+    let _ = tetwalk::found::Record::parse(&text);
     // Four files separated by form feeds.
     let mut parts = text.split('\x0c');
     let (node, ele) = (parts.next().unwrap_or(""), parts.next().unwrap_or(""));

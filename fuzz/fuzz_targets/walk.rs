@@ -4,17 +4,14 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use tetwalk::found::{Finding, check_walk, required_methods};
+use tetwalk::cases::Subject;
+use tetwalk::found::fuzz_check;
 use tetwalk::scenes::from_bytes::walk_case;
 
 fuzz_target!(|data: &[u8]| {
-    let methods = required_methods().expect("TETWALK_FUZZ_METHOD");
     let mut u = arbitrary::Unstructured::new(data);
     let Ok(case) = walk_case(&mut u) else { return };
-    if let Some(f) = check_walk(&case, &methods) {
-        panic!(
-            "{}",
-            serde_json::to_string(&Finding::walk(&case, f)).unwrap()
-        );
+    if let Some(found) = fuzz_check(Subject::Walk(case)) {
+        panic!("{}", found.to_json());
     }
 });

@@ -1,6 +1,8 @@
 //! `tetwalk fuzz-import`: turn fuzzer artifacts into readable found cases under `corpora/found/`.
 
-use crate::found::{Finding, check_exit, check_walk, required_methods};
+use super::{JsonOut, Outcome};
+use crate::cases::Subject;
+use crate::found::{FUZZ_BACKENDS, Record, check, required_methods};
 use crate::scenes::from_bytes::{exit_case, walk_case};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -13,29 +15,44 @@ pub struct Args {
     /// Where found cases go (one folder per method).
     #[arg(long, default_value = "corpora/found")]
     out: PathBuf,
+    /// Also write the files filed as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
     /// Artifacts (crash files) written by `cargo fuzz`, or found cases (`.json`) to file again.
     artifacts: Vec<PathBuf>,
 }
 
-pub fn run(a: Args) -> Result<ExitCode, String> {
-    // The same methods the fuzz run held to exactness (TETWALK_FUZZ_METHOD).
+pub fn run(a: Args) -> Outcome {
+    // The same methods the fuzz run held to exactness (TETWALK_FUZZ_METHOD), on the CPU plain and
+    // as a GPU compiles them, as the fuzz targets do.
     let methods = required_methods()?;
+    let json = JsonOut::new(a.json.as_deref())?;
+    let mut filed = Vec::new();
     for path in &a.artifacts {
         let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let mut u = arbitrary::Unstructured::new(&bytes);
-        let finding = if path.extension().is_some_and(|e| e == "json") {
-            Some(Finding::from_json(&String::from_utf8_lossy(&bytes))?)
+        let subject = if path.extension().is_some_and(|e| e == "json") {
+            let text = String::from_utf8_lossy(&bytes);
+            Some(
+                Record::parse(text.trim())
+                    .map_err(|e| format!("{}: {e}", path.display()))?
+                    .subject,
+            )
         } else if a.target == "exit_face" {
-            exit_case(&mut u)
-                .ok()
-                .flatten()
-                .and_then(|c| check_exit(&c, &methods).map(|f| Finding::exit(&c, f)))
+            exit_case(&mut u).ok().flatten().map(Subject::Exit)
         } else {
-            walk_case(&mut u)
-                .ok()
-                .and_then(|c| check_walk(&c, &methods).map(|f| Finding::walk(&c, f)))
+            walk_case(&mut u).ok().map(Subject::Walk)
         };
-        let Some(finding) = finding else {
+        let found = match subject {
+            Some(s) => check(&s, &methods, &FUZZ_BACKENDS)
+                .map_err(|e| format!("{}: {e}", path.display()))?
+                .map(|f| Record {
+                    subject: s,
+                    failure: Some(f),
+                }),
+            None => None,
+        };
+        let Some(found) = found else {
             eprintln!(
                 "{}: does not fail (any more) for {:?}",
                 path.display(),
@@ -45,21 +62,31 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
         };
         let name = path.file_stem().and_then(|n| n.to_str()).unwrap_or("case");
         let stem = name.rsplit('-').next().unwrap_or(name);
-        for finding in finding.with_robust_failures() {
-            let f = finding.failure();
+        for record in found.with_robust_failures()? {
+            let f = record
+                .failure
+                .as_ref()
+                .expect("a found case records its failure");
             let dir = a.out.join(&f.method);
             std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
             let file = dir.join(format!(
                 "{}-{}-{}.json",
                 a.target,
-                f.kind,
+                f.kind().wrong_key(),
                 &stem[..stem.len().min(12)]
             ));
-            let text = serde_json::to_string(&finding).map_err(|e| e.to_string())?;
-            std::fs::write(&file, text + "\n").map_err(|e| format!("{}: {e}", file.display()))?;
-            let how = if f.fma { "fma" } else { "plain" };
-            println!("{}: {} {} ({how})", file.display(), f.method, f.kind);
+            std::fs::write(&file, record.to_json() + "\n")
+                .map_err(|e| format!("{}: {e}", file.display()))?;
+            println!(
+                "{}: {} {} ({})",
+                file.display(),
+                f.method,
+                f.kind().wrong(),
+                crate::choice::Choice::name(f.backend)
+            );
+            filed.push(file.display().to_string());
         }
     }
+    json.finish(&serde_json::json!({ "filed": filed }))?;
     Ok(ExitCode::SUCCESS)
 }

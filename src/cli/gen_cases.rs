@@ -1,15 +1,18 @@
 //! `tetwalk gen-cases`: generated (tetrahedron, ray) cases as JSON Lines, for `tetwalk exit`.
 
-use crate::cases::Case;
+use super::{JsonOut, Outcome, choice};
+use crate::cases::{Case, Subject};
 use crate::exact::classify;
 use crate::scenes::rng;
 use crate::scenes::tets::{self, Family, Target};
 use glam::Vec3;
 use std::io::Write;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// How the ray meets the tetrahedron.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Rays {
     /// Through two random face points.
     Stab,
@@ -25,8 +28,10 @@ pub enum Rays {
 
 #[derive(clap::Args)]
 pub struct Args {
-    #[arg(long, value_enum, default_value = "well")]
+    /// The tetrahedron family.
+    #[arg(long, value_parser = choice::<Family>(), default_value = "well")]
     family: Family,
+    /// How the ray meets the tetrahedron.
     #[arg(long, value_enum, default_value = "stab")]
     rays: Rays,
     /// In (0, 1]; smaller is flatter.
@@ -38,19 +43,46 @@ pub struct Args {
     /// Move each case this far from the origin along (1, 1, 1) (rounded to f32).
     #[arg(long, default_value_t = 0.0)]
     offset: f32,
+    /// Cases to write (at most 100,000,000).
     #[arg(long, default_value_t = 100)]
     count: usize,
+    /// Seed of the generator.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Give each case its exact entry face (the lowest one) when it has one.
     #[arg(long)]
     with_entry: bool,
+    /// Also write what was generated (settings and count) as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
-pub fn run(a: Args) -> Result<ExitCode, String> {
+#[derive(serde::Serialize)]
+struct Generated {
+    family: Family,
+    rays: Rays,
+    flatness: f32,
+    ulps: i32,
+    offset: f32,
+    seed: u64,
+    with_entry: bool,
+    written: usize,
+}
+
+pub fn run(a: Args) -> Outcome {
     if !(a.flatness > 0.0 && a.flatness <= 1.0) {
-        return Err(format!("--flatness {} is not in (0, 1]", a.flatness));
+        return Err(format!("--flatness {} is not in (0, 1]", a.flatness).into());
     }
+    if a.ulps < 1 {
+        return Err(format!("--ulps {} is not a number of ulps (1 or more)", a.ulps).into());
+    }
+    if a.count > 100_000_000 {
+        return Err(format!("--count {} is more than 100,000,000 cases", a.count).into());
+    }
+    if !a.offset.is_finite() {
+        return Err(format!("--offset {} is not finite", a.offset).into());
+    }
+    let out = JsonOut::new(a.json.as_deref())?;
     let mut r = rng(a.seed);
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     let mut written = 0;
@@ -87,15 +119,30 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
             dir: ray.dir,
             entry,
         };
-        let line = serde_json::to_string(&case).map_err(|e| e.to_string())?;
-        writeln!(w, "{line}").map_err(|e| e.to_string())?;
+        writeln!(
+            w,
+            "{}",
+            serde_json::Value::Object(Subject::Exit(case).to_json())
+        )?;
         written += 1;
     }
+    w.flush()?;
     if written < a.count {
         return Err(format!(
             "only {written} of {} cases could be generated with these settings",
             a.count
-        ));
+        )
+        .into());
     }
+    out.finish(&Generated {
+        family: a.family,
+        rays: a.rays,
+        flatness: a.flatness,
+        ulps: a.ulps,
+        offset: a.offset,
+        seed: a.seed,
+        with_entry: a.with_entry,
+        written,
+    })?;
     Ok(ExitCode::SUCCESS)
 }

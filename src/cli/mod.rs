@@ -1,4 +1,5 @@
-//! The `tetwalk` command line.
+//! The `tetwalk` command line: every command-line type lives here; each subcommand builds a report
+//! value, prints it, and can write it as JSON (`--json FILE`, checked writable before the run starts).
 
 mod count;
 mod exit;
@@ -9,8 +10,18 @@ mod scene;
 mod stress;
 mod walk;
 
+use crate::backend::{Backend, BackendKind};
+use crate::choice::Choice;
+use crate::registry::{Gpu, METHODS};
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand};
+use std::io::Write;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+/// Any error a command reports; rendered once, by [`main`].
+pub type Error = Box<dyn std::error::Error + Send + Sync>;
+type Outcome = Result<ExitCode, Error>;
 
 #[derive(Parser)]
 #[command(
@@ -25,9 +36,13 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// List the exit-face methods.
-    Methods,
-    /// Answer (tetrahedron, ray) cases from JSON Lines with each method, judged exactly.
+    /// List the methods: family, paper and algorithm, claims, GPU version.
+    Methods {
+        /// Also write the list as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Answer cases (or found cases) from JSON Lines with each method, judged exactly.
     Exit(exit::Args),
     /// Write generated (tetrahedron, ray) cases as JSON Lines.
     GenCases(gen_cases::Args),
@@ -40,7 +55,11 @@ enum Command {
     /// Shaded renders, failure maps, heat maps, predicate maps (PNG).
     Render(render::Args),
     /// The GPU adapters wgpu finds.
-    GpuInfo,
+    GpuInfo {
+        /// Also write the list as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Turn fuzzer crash files into readable found cases (corpora/found/METHOD/).
     FuzzImport(fuzz_import::Args),
     /// Build or describe scenes.
@@ -51,18 +70,7 @@ enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Methods => {
-            println!("| method | claims robust | implements |\n|---|---|---|");
-            for m in crate::methods::METHODS {
-                println!(
-                    "| {} | {} | {} |",
-                    m.name,
-                    if m.claims_robust { "yes" } else { "no" },
-                    m.source
-                );
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::Methods { json } => methods(json),
         Command::Exit(a) => exit::run(a),
         Command::GenCases(a) => gen_cases::run(a),
         Command::Walk(a) => walk::run(a),
@@ -71,23 +79,148 @@ pub fn main() -> ExitCode {
         Command::Count(a) => count::run(a),
         Command::FuzzImport(a) => fuzz_import::run(a),
         Command::Render(a) => render::run(a),
-        Command::GpuInfo => {
-            let found = crate::gpu::adapters();
-            if found.is_empty() {
-                println!(
-                    "no GPU adapter found (install a Vulkan driver, e.g. mesa-vulkan-drivers for lavapipe)"
-                );
-            }
-            for a in found {
-                println!("{a}");
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::GpuInfo { json } => gpu_info(json),
     };
     result.unwrap_or_else(|e| {
-        eprintln!("tetwalk: {e}");
+        let mut msg = e.to_string();
+        let mut src = e.source();
+        while let Some(s) = src {
+            let more = s.to_string();
+            if !msg.contains(&more) {
+                msg += &format!(": {more}");
+            }
+            src = s.source();
+        }
+        eprintln!("tetwalk: {msg}");
         ExitCode::from(2)
     })
+}
+
+fn methods(json: Option<PathBuf>) -> Outcome {
+    let out = JsonOut::new(json.as_deref())?;
+    #[derive(serde::Serialize)]
+    struct Row {
+        name: &'static str,
+        family: &'static str,
+        claims_robust: bool,
+        reference: bool,
+        gpu: String,
+        implements: &'static str,
+    }
+    let rows: Vec<Row> = METHODS
+        .iter()
+        .map(|m| Row {
+            name: m.name,
+            family: m.family.name(),
+            claims_robust: m.claims_robust,
+            reference: m.reference,
+            gpu: match m.gpu {
+                Gpu::Wgsl(_) => "yes".into(),
+                Gpu::CpuOnly(why) => format!("no: {why}"),
+            },
+            implements: m.source,
+        })
+        .collect();
+    println!("| method | family | claims robust | GPU | implements |\n|---|---|---|---|---|");
+    for r in &rows {
+        let yes = |b: bool| if b { "yes" } else { "no" };
+        let claims = if r.reference {
+            "reference".to_string()
+        } else {
+            yes(r.claims_robust).to_string()
+        };
+        println!(
+            "| {} | {} | {} | {} | {} |",
+            r.name, r.family, claims, r.gpu, r.implements
+        );
+    }
+    out.finish(&rows)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn gpu_info(json: Option<PathBuf>) -> Outcome {
+    let out = JsonOut::new(json.as_deref())?;
+    let found = crate::gpu::adapters();
+    if found.is_empty() {
+        println!(
+            "no GPU adapter found (install a Vulkan driver, e.g. mesa-vulkan-drivers for lavapipe)"
+        );
+    }
+    for a in &found {
+        println!("{a}");
+    }
+    out.finish(&serde_json::json!({ "adapters": found }))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A clap value parser for a [`Choice`]: its names are the possible values.
+fn choice<T: Choice>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(T::ALL.iter().map(|v| v.name()))
+        .map(|s| T::from_name(&s).expect("clap checked the name"))
+}
+
+/// `--backend`, shared by every command that runs methods.
+#[derive(clap::Args, Clone, Copy)]
+struct BackendArg {
+    /// Where the methods run: `cpu` (plain f32), `cpu-fma` (as a GPU compiles them: products
+    /// contracted to fused multiply-adds) or `gpu` (WGSL through wgpu; the `exact` reference stays on
+    /// the CPU).
+    #[arg(long, value_parser = choice::<BackendKind>(), default_value = "cpu")]
+    backend: BackendKind,
+    /// Not an option: the FMA choice is spelled `--backend cpu-fma`.
+    #[arg(long, hide = true)]
+    fma: bool,
+}
+
+impl BackendArg {
+    /// The backend asked for; the old `--fma` spelling is refused with the right one.
+    fn open(self) -> Result<Backend, Error> {
+        if self.fma {
+            return Err(format!(
+                "--fma is spelled --backend cpu-fma (asked for --backend {}; `gpu` runs whatever the GPU's compiler makes of the WGSL)",
+                self.backend.name()
+            )
+            .into());
+        }
+        let b = Backend::open(self.backend)?;
+        if let Backend::Gpu(_) = b {
+            eprintln!("tetwalk: {}", b.describe());
+        }
+        Ok(b)
+    }
+}
+
+/// Where a report's JSON goes: a temporary file beside the target, made when the command starts (so
+/// an unwritable place fails before any work) and renamed onto it when the report is complete (so
+/// nothing half-written is left).
+struct JsonOut(Option<(tempfile::NamedTempFile, PathBuf)>);
+
+impl JsonOut {
+    fn new(path: Option<&Path>) -> Result<JsonOut, Error> {
+        let Some(p) = path else {
+            return Ok(JsonOut(None));
+        };
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let tmp = tempfile::Builder::new()
+            .prefix(".tetwalk-")
+            .tempfile_in(dir)
+            .map_err(|e| format!("--json {}: cannot write there: {e}", p.display()))?;
+        Ok(JsonOut(Some((tmp, p.to_path_buf()))))
+    }
+
+    fn finish(self, value: &impl serde::Serialize) -> Result<(), Error> {
+        let Some((mut tmp, path)) = self.0 else {
+            return Ok(());
+        };
+        serde_json::to_writer_pretty(&mut tmp, value)?;
+        tmp.write_all(b"\n")?;
+        tmp.persist(&path)
+            .map_err(|e| format!("--json {}: {}", path.display(), e.error))?;
+        Ok(())
+    }
 }
 
 /// A progress bar on standard error (drawn only when it is a terminal and the work lasts).
@@ -103,9 +236,19 @@ fn progress(len: u64, unit: &str) -> indicatif::ProgressBar {
     bar
 }
 
-/// Write `value` as pretty JSON to `path`, when one is given.
-fn write_json(path: Option<&std::path::Path>, value: &impl serde::Serialize) -> Result<(), String> {
-    let Some(p) = path else { return Ok(()) };
-    let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
-    std::fs::write(p, text).map_err(|e| format!("{}: {e}", p.display()))
+/// Parse `WxH` (or `W` for a square when `square` is allowed), each side in 1..=`max`.
+fn size(text: &str, square: bool, max: u32) -> Result<(u32, u32), Error> {
+    let parse = |s: &str| s.trim().parse::<u32>().ok().filter(|&v| v >= 1 && v <= max);
+    let wh = match text.split_once('x') {
+        Some((w, h)) => parse(w).zip(parse(h)),
+        None if square => parse(text).map(|w| (w, w)),
+        None => None,
+    };
+    wh.ok_or_else(|| {
+        format!(
+            "--size {text} is not {}, each side 1..={max}",
+            if square { "W or WxH" } else { "WxH" }
+        )
+        .into()
+    })
 }

@@ -1,8 +1,11 @@
 //! `tetwalk render`: shaded renders, failure maps, heat maps and predicate maps as PNG.
 
+use super::{BackendArg, JsonOut, Outcome, choice};
+use crate::backend::{Backend, BackendKind};
 use crate::cases::Case;
-use crate::methods::parse_list;
+use crate::registry::{parse_list, reference};
 use crate::render::{self, Image};
+use crate::scenes::camera::Views;
 use crate::scenes::tets::{self, Family, Target};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -21,37 +24,58 @@ pub enum What {
 
 #[derive(clap::Args)]
 pub struct Args {
+    /// What to draw.
     #[arg(value_enum)]
     what: What,
+    /// A built-in scene or a TetGen stem (not for predicate maps).
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
-    /// Which of `--views` viewpoints (as `tetwalk count` places them).
+    /// Which of `--views` viewpoints, 0-based (placed as `tetwalk count` places them).
     #[arg(long, default_value_t = 0)]
     view: usize,
+    /// Viewpoints on the sphere around the model, as in `tetwalk count`.
     #[arg(long, default_value_t = 160)]
     views: usize,
     /// WxH for scenes; W for predicate maps (square).
     #[arg(long, default_value = "512x512")]
     size: String,
+    /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
     methods: String,
-    #[arg(long)]
-    fma: bool,
-    /// Predicate maps: the tetrahedron family and what the ray goes exactly through.
-    #[arg(long, value_enum, default_value = "well")]
+    /// Where the methods run, for scenes (predicate maps show cpu, cpu-fma and, when there is one,
+    /// gpu side by side).
+    #[command(flatten)]
+    backend: BackendArg,
+    /// Predicate maps: the tetrahedron family.
+    #[arg(long, value_parser = choice::<Family>(), default_value = "well")]
     family: Family,
+    /// Predicate maps: what the ray goes exactly through.
     #[arg(long, value_parser = ["edge", "vertex"], default_value = "edge")]
     through: String,
+    /// Seed: of the viewpoints (as `tetwalk count --seed`), or of the predicate map's case.
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Output PNG (per-method images are written beside it, suffixed with the method).
     #[arg(long, default_value = "tetwalk.png")]
     out: PathBuf,
+    /// Also write what was drawn (files, wrong rays per method) as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
-fn write(path: &Path, im: &Image) -> Result<(), String> {
-    std::fs::write(path, im.png()).map_err(|e| format!("{}: {e}", path.display()))?;
+#[derive(Default, serde::Serialize)]
+struct Drawn {
+    files: Vec<String>,
+    /// Failure maps: wrong rays per method.
+    wrong: Vec<(String, usize)>,
+    legend: String,
+}
+
+fn write(path: &Path, im: &Image, drawn: &mut Drawn) -> Result<(), super::Error> {
+    let png = im.png()?;
+    std::fs::write(path, png).map_err(|e| format!("{}: {e}", path.display()))?;
     println!("{} ({}x{})", path.display(), im.width, im.height);
+    drawn.files.push(path.display().to_string());
     Ok(())
 }
 
@@ -63,19 +87,14 @@ fn beside(out: &Path, suffix: &str) -> PathBuf {
     out.with_file_name(format!("{stem}-{suffix}.png"))
 }
 
-pub fn run(a: Args) -> Result<ExitCode, String> {
+pub fn run(a: Args) -> Outcome {
     let methods: Vec<_> = parse_list(&a.methods)?
         .into_iter()
-        .filter(|m| m.name != "exact")
+        .filter(|m| !m.reference)
         .collect();
-    let (w, h) = a
-        .size
-        .split_once('x')
-        .map_or(a.size.parse().ok().map(|w| (w, w)), |(w, h)| {
-            Some((w.parse().ok()?, h.parse().ok()?))
-        })
-        .filter(|&(w, h): &(u32, u32)| w > 0 && h > 0)
-        .ok_or_else(|| format!("--size {} is not WxH", a.size))?;
+    let json = JsonOut::new(a.json.as_deref())?;
+    let (w, h) = super::size(&a.size, true, 8192)?;
+    let mut drawn = Drawn::default();
     match a.what {
         What::Predicate => {
             let target = if a.through == "edge" {
@@ -91,50 +110,50 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
                 dir: ray.dir,
                 entry: None,
             };
+            let cpu = Backend::Cpu { fma: false };
             let exact =
-                render::face_image(&render::predicate_grid(&case, w, &render::exact_faces)?, w);
-            let gpu = crate::gpu::Gpu::new().ok();
+                render::face_image(&render::predicate_grid(&case, w, reference(), &cpu)?, w);
+            let mut backends = vec![cpu, Backend::Cpu { fma: true }];
+            let gpu = Backend::open(BackendKind::Gpu).ok();
+            let gpu_name = gpu.as_ref().map(|g| g.describe());
+            backends.extend(gpu);
             for m in &methods {
                 let mut row = vec![exact.clone()];
-                for fma in [false, true] {
-                    let faces = render::predicate_grid(&case, w, &|cs| {
-                        Ok(cs.iter().map(|c| crate::cases::answer(c, m, fma)).collect())
-                    })?;
+                for b in &backends {
+                    let faces = render::predicate_grid(&case, w, m, b)?;
                     row.push(render::face_image(&faces, w));
                 }
-                if let Some(g) = &gpu {
-                    let faces = render::predicate_grid(&case, w, &|cs| {
-                        crate::cases::answers_gpu(g, cs, m)
-                    })?;
-                    row.push(render::face_image(&faces, w));
-                }
-                write(&beside(&a.out, m.name), &Image::sheet(&row, 4))?;
+                write(&beside(&a.out, m.name), &Image::sheet(&row, 4), &mut drawn)?;
             }
             println!(
                 "each sheet: exact | cpu | cpu-fma{}; origin moved ±{} ulps in x (right) and y (up)",
-                gpu.as_ref()
-                    .map_or(String::new(), |g| format!(" | gpu ({})", g.describe())),
+                gpu_name.map_or(String::new(), |g| format!(" | {g}")),
                 w / 2
             );
         }
         what => {
+            let backend = a.backend.open()?;
             let mesh = crate::scenes::load(&a.scene)?;
-            let f = render::frame(&mesh, a.view, a.views.max(1), w, h, &methods, a.fma)?;
+            let views = Views {
+                views: a.views,
+                width: w,
+                height: h,
+                seed: a.seed,
+                fov_deg: Views::FOV_DEG,
+            };
+            let f = render::frame(&mesh, &views, a.view, &methods, &backend)?;
             match what {
-                What::Shaded => write(&a.out, &f.shaded())?,
-                What::Heat => write(&a.out, &f.heat())?,
+                What::Shaded => write(&a.out, &f.shaded(), &mut drawn)?,
+                What::Heat => write(&a.out, &f.heat(), &mut drawn)?,
                 _ => {
                     let maps: Vec<Image> = (0..methods.len()).map(|i| f.failures(i)).collect();
-                    for (m, im) in methods.iter().zip(&maps) {
-                        let wrong = f
-                            .wrong
-                            .iter()
-                            .find(|(n, _)| n == m.name)
-                            .map_or(0, |(_, v)| v.iter().flatten().count());
-                        write(&beside(&a.out, m.name), im)?;
-                        println!("  {}: {wrong} wrong rays", m.name);
+                    for ((name, wrong), im) in f.wrong.iter().zip(&maps) {
+                        let n = wrong.iter().flatten().count();
+                        write(&beside(&a.out, name), im, &mut drawn)?;
+                        println!("  {name}: {n} wrong rays");
+                        drawn.wrong.push((name.clone(), n));
                     }
-                    write(&a.out, &Image::sheet(&maps, 4))?;
+                    write(&a.out, &Image::sheet(&maps, 4), &mut drawn)?;
                     println!(
                         "sheet order: {}",
                         methods
@@ -147,6 +166,8 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
             }
         }
     }
-    print!("{}", render::legend());
+    drawn.legend = render::legend();
+    print!("{}", drawn.legend);
+    json.finish(&drawn)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -1,5 +1,6 @@
 //! `tetwalk scene build` and `tetwalk scene info`.
 
+use super::{JsonOut, Outcome};
 use crate::mesh::Mesh;
 use crate::report::scene_info::SceneInfo;
 use crate::scenes::build::build_scene;
@@ -12,6 +13,7 @@ use std::process::ExitCode;
 pub enum Scene {
     /// Tetrahedralize a closed model (OFF, OBJ or ASCII PLY) in a box with the installed TetGen.
     Build {
+        /// The closed model (.off, .obj or ASCII .ply).
         model: PathBuf,
         /// A quality CDT (-q1.414) instead of a pure one.
         #[arg(long)]
@@ -22,37 +24,46 @@ pub enum Scene {
         /// Output stem (writes OUT.node, OUT.ele, OUT.neigh, OUT.face); the model's stem by default.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Also write the built scene's info as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
     },
     /// Counts, memory per layout and flatness of a scene.
     Info {
         /// A built-in scene name or a TetGen stem.
         scene: String,
+        /// Also write the info as JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
     },
 }
 
-pub fn run(s: Scene) -> Result<ExitCode, String> {
+pub fn run(s: Scene) -> Outcome {
     match s {
         Scene::Build {
             model,
             quality,
             offset,
             out,
+            json,
         } => {
+            let json = JsonOut::new(json.as_deref())?;
             let m = Model::read(&model)?;
             let out = out.unwrap_or_else(|| model.with_extension(""));
             let mesh = build_scene(&m, quality, Vec3::splat(offset), &out)?;
             println!("{}: {} tetrahedra", out.display(), mesh.tets.len());
-            print!("{}", SceneInfo::of(&mesh).markdown());
+            let info = SceneInfo::of(&mesh);
+            print!("{}", info.markdown());
+            json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
         }
         Scene::Info { scene, json } => {
+            let json = JsonOut::new(json.as_deref())?;
             let mesh: Mesh = crate::scenes::load(&scene)?;
             let info = SceneInfo::of(&mesh);
             println!("scene {scene}\n");
             print!("{}", info.markdown());
-            super::write_json(json.as_deref(), &info)?;
+            json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
         }
     }

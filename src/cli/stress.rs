@@ -1,6 +1,9 @@
 //! `tetwalk stress`: the failure table over tetrahedron families and ray kinds.
 
-use crate::methods::parse_list;
+use super::{BackendArg, JsonOut, Outcome, choice};
+use crate::backend::BackendKind;
+use crate::choice::Choice;
+use crate::registry::parse_list;
 use crate::report::stress::{self, Row, Settings};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -10,18 +13,17 @@ pub struct Args {
     /// Cases per row.
     #[arg(long, default_value_t = 100_000)]
     cases: usize,
-    /// Rows (comma-separated); all by default.
-    #[arg(long, value_enum, value_delimiter = ',')]
+    /// Rows (comma-separated) [default: all of them].
+    #[arg(long, value_parser = choice::<Row>(), value_delimiter = ',')]
     families: Vec<Row>,
+    /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
     methods: String,
+    /// Seed of the generated cases.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    #[arg(long)]
-    fma: bool,
-    /// Where the methods run: `cpu` (with `--fma`, as a GPU compiles them) or `gpu`.
-    #[arg(long, value_parser = ["cpu", "gpu"], default_value = "cpu")]
-    backend: String,
+    #[command(flatten)]
+    backend: BackendArg,
     /// Instead of judging, count how often cpu, cpu-fma and gpu answer differently (needs a GPU).
     #[arg(long)]
     compare: bool,
@@ -36,11 +38,27 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
-pub fn run(a: Args) -> Result<ExitCode, String> {
+pub fn run(a: Args) -> Outcome {
     if !(a.flatness > 0.0 && a.flatness <= 1.0) {
-        return Err(format!("--flatness {} is not in (0, 1]", a.flatness));
+        return Err(format!("--flatness {} is not in (0, 1]", a.flatness).into());
+    }
+    if a.ulps < 1 {
+        return Err(format!("--ulps {} is not a number of ulps (1 or more)", a.ulps).into());
     }
     let methods = parse_list(&a.methods)?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let backend = if a.compare {
+        if a.backend.backend != BackendKind::Cpu {
+            return Err("--compare runs cpu, cpu-fma and gpu itself; leave out --backend".into());
+        }
+        BackendArg {
+            backend: BackendKind::Gpu,
+            ..a.backend
+        }
+        .open()?
+    } else {
+        a.backend.open()?
+    };
     let settings = Settings {
         cases: a.cases,
         rows: if a.families.is_empty() {
@@ -49,40 +67,20 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
             a.families
         },
         seed: a.seed,
-        backend: String::new(),
+        backend: backend.describe(),
         flatness: a.flatness,
-        ulps: a.ulps.max(1),
+        ulps: a.ulps,
     };
-    let gpu = if a.backend == "gpu" || a.compare {
-        Some(crate::gpu::Gpu::new().map_err(|e| e.to_string())?)
-    } else {
-        None
-    };
-    if let (true, Some(g)) = (a.compare, &gpu) {
-        let d = stress::compare(&settings, &methods, g)?;
+    if a.compare {
+        let d = stress::compare(&settings, &methods, &backend)?;
         print!("{}", d.markdown());
-        super::write_json(a.json.as_deref(), &d)?;
+        out.finish(&d)?;
         return Ok(ExitCode::SUCCESS);
     }
-    let (answers, backend) = match &gpu {
-        Some(g) => (stress::Answers::Gpu(g), format!("gpu: {}", g.describe())),
-        None => (
-            stress::Answers::Cpu { fma: a.fma },
-            if a.fma {
-                "cpu-fma (as a GPU compiles it)".into()
-            } else {
-                "cpu".into()
-            },
-        ),
-    };
-    let settings = Settings {
-        backend,
-        ..settings
-    };
     let bar = super::progress((settings.cases * settings.rows.len()) as u64, "cases");
-    let report = stress::run(&settings, &methods, &answers, &bar)?;
+    let report = stress::run(&settings, &methods, &backend, &|n| bar.inc(n))?;
     bar.finish_and_clear();
     print!("{}", report.markdown());
-    super::write_json(a.json.as_deref(), &report)?;
+    out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -1,18 +1,23 @@
 //! `tetwalk walk`: rays through a generated mesh, each method's walk judged step by step.
 
+use super::{BackendArg, JsonOut, Outcome, choice};
+use crate::backend::Backend;
+use crate::choice::Choice;
 use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
-use crate::methods::parse_list;
+use crate::registry::{parse_list, reference};
 use crate::scenes::{self, Generated};
 use crate::walk::layouts::{Kind, Source};
 use crate::walk::{Walk, default_max_steps, locate, same_result};
 use glam::Vec3;
 use rayon::prelude::*;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    #[arg(long, value_enum, default_value = "fan")]
+    /// The generated mesh.
+    #[arg(long, value_parser = choice::<Generated>(), default_value = "fan")]
     mesh: Generated,
     /// Grid cells per side, or 16·size tetrahedra in the fan.
     #[arg(long, default_value_t = 8)]
@@ -20,24 +25,34 @@ pub struct Args {
     /// Move the mesh and rays this far from the origin along (1, 1, 1); exact up to 2^20.
     #[arg(long, default_value_t = 0.0)]
     offset: f32,
+    /// Rays walked (half aimed exactly through vertices and edges).
     #[arg(long, default_value_t = 10000)]
     rays: usize,
+    /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
     methods: String,
-    #[arg(long)]
-    fma: bool,
+    /// Where the walks run: `cpu` or `cpu-fma` (every step is judged by the oracle on the CPU, so the
+    /// GPU has no place here; `count --backend gpu` walks on it).
+    #[command(flatten)]
+    backend: BackendArg,
+    /// Seed of the rays (and of the jittered grid).
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Walk the methods that can (aman20, aman20-scaled) over this compact layout instead of the plain
     /// mesh (their "diverged" column is then not measured).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = choice::<Kind>())]
     layout: Option<Kind>,
     /// Reorder points and tetrahedra along a Hilbert curve, by region, first (seed 003 §5).
     #[arg(long)]
     hilbert: bool,
+    /// Also write the table as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
 }
 
-#[derive(Default, Clone, Copy)]
+/// One method's walks: how they ended ([`OutcomeKind::ALL`] order), how many ended elsewhere than the
+/// `exact` walk, how many took a step outside the exact exit set, and the steps.
+#[derive(Default, Clone, Copy, serde::Serialize)]
 struct Tally {
     rays: u64,
     kinds: [u64; 5],
@@ -46,10 +61,38 @@ struct Tally {
     steps: u64,
 }
 
-pub fn run(a: Args) -> Result<ExitCode, String> {
+#[derive(serde::Serialize)]
+struct Row {
+    method: String,
+    layout: Option<Kind>,
+    #[serde(flatten)]
+    tally: Tally,
+}
+
+#[derive(serde::Serialize)]
+struct WalkReport {
+    mesh: Generated,
+    size: u32,
+    offset: f32,
+    tetrahedra: usize,
+    rays: usize,
+    outside: usize,
+    seed: u64,
+    backend: String,
+    methods: Vec<Row>,
+}
+
+pub fn run(a: Args) -> Outcome {
     let methods = parse_list(&a.methods)?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let fma = match a.backend.open()? {
+        Backend::Cpu { fma } => fma,
+        Backend::Gpu(_) => {
+            return Err("walk judges every step with the oracle on the CPU: use --backend cpu or cpu-fma (count --backend gpu walks on the GPU)".into());
+        }
+    };
     let offset = Vec3::splat(a.offset);
-    let mesh = scenes::generated_mesh(a.mesh, a.size, offset, a.seed).map_err(|e| e.to_string())?;
+    let mesh = scenes::generated_mesh(a.mesh, a.size, offset, a.seed)?;
     let mesh = if a.hilbert {
         hilbert_sorted(&mesh)
     } else {
@@ -58,7 +101,7 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
     let layout = a.layout.map(|_| Layout::build(&mesh));
     let rays = scenes::rays(a.mesh, &mesh, offset, a.rays, a.seed);
     let max = default_max_steps(&mesh);
-    let exact = crate::methods::by_name("exact").expect("registered");
+    let exact = reference();
     let per_ray: Vec<Option<Vec<Tally>>> = rays
         .par_iter()
         .map(|ray| {
@@ -67,7 +110,7 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
             let tallies = methods
                 .iter()
                 .map(|m| {
-                    let on_layout = a.layout.zip(layout.as_ref()).zip(m.layout_walk(a.fma));
+                    let on_layout = a.layout.zip(layout.as_ref()).zip(m.layout_walk(fma));
                     let (w, div) = match on_layout {
                         Some(((kind, layout), walk)) => {
                             let (end, steps) = walk(
@@ -86,14 +129,14 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
                                 None,
                             )
                         }
-                        None => m.walk_checked(a.fma)(&mesh, ray, start, max),
+                        None => m.walk_checked(fma)(&mesh, ray, start, max),
                     };
                     let mut t = Tally {
                         rays: 1,
                         steps: w.steps as u64,
                         ..Tally::default()
                     };
-                    t.kinds[w.outcome.index()] = 1;
+                    t.kinds[w.outcome.kind().code() as usize] = 1;
                     t.wrong = !same_result(&mesh, ray, &w, &reference) as u64;
                     t.diverged = div.is_some() as u64;
                     t
@@ -111,7 +154,7 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
         mesh.tets.len(),
         rays.len() - outside,
         a.seed,
-        if a.fma { "fma" } else { "plain f32" },
+        if fma { "fma" } else { "plain f32" },
         if outside > 0 {
             format!(", {outside} rays starting outside skipped")
         } else {
@@ -122,6 +165,17 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
         "| method | hit | left mesh | no exit face | cycle | step limit | wrong result | diverged | mean steps |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
+    let mut report = WalkReport {
+        mesh: a.mesh,
+        size: a.size,
+        offset: a.offset,
+        tetrahedra: mesh.tets.len(),
+        rays: rays.len() - outside,
+        outside,
+        seed: a.seed,
+        backend: a.backend.backend.name().into(),
+        methods: Vec::new(),
+    };
     for (i, m) in methods.iter().enumerate() {
         let mut s = Tally::default();
         for t in per_ray.iter().flatten() {
@@ -133,7 +187,7 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
             (0..5).for_each(|k| s.kinds[k] += t.kinds[k]);
         }
         let k = s.kinds;
-        let on_layout = a.layout.filter(|_| m.layout_walk(a.fma).is_some());
+        let on_layout = a.layout.filter(|_| m.layout_walk(fma).is_some());
         let name = on_layout.map_or(m.name.to_string(), |k| format!("{} ({k:?})", m.name));
         let diverged = if on_layout.is_some() {
             "-".to_string()
@@ -152,6 +206,12 @@ pub fn run(a: Args) -> Result<ExitCode, String> {
             diverged,
             s.steps as f64 / s.rays.max(1) as f64
         );
+        report.methods.push(Row {
+            method: m.name.into(),
+            layout: on_layout,
+            tally: s,
+        });
     }
+    out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -1,33 +1,19 @@
 //! The methods and the walk as WGSL compute shaders, run through `wgpu` on whatever adapter there is
-//! (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME` respected), headless. Buffer layouts are the `#[repr(C)]`
-//! types here, shared with the shader through `bytemuck`.
+//! (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME` respected), headless. The shader and its buffer layouts are
+//! generated from the Rust definitions ([`shader`]).
 
 use crate::mesh::Mesh;
+use crate::registry::{Gpu as GpuSupport, Method};
 use crate::tet::{Ray, Tet};
-use crate::walk::{Outcome, Walk};
+use crate::walk::{Outcome, OutcomeKind, Walk};
+use shader::{Ending, GROUP, Params};
+use std::collections::HashMap;
+use std::sync::Mutex;
 use wgpu::util::DeviceExt;
 
-/// The methods the shader implements, in the order of its `exit_face` switch (`exact` stays on the CPU).
-pub const GPU_METHODS: [&str; 8] = [
-    "ray-plane",
-    "halfspace",
-    "plucker",
-    "stp",
-    "ms06",
-    "maria17",
-    "aman20",
-    "aman20-scaled",
-];
+pub mod shader;
 
-/// The shader's id for a method, if it has one.
-pub fn method_id(name: &str) -> Option<u32> {
-    GPU_METHODS
-        .iter()
-        .position(|&m| m == name)
-        .map(|i| i as u32)
-}
-
-/// Why the GPU cannot be used.
+/// Why the GPU cannot be used, or what went wrong on it.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
     #[error(
@@ -36,42 +22,34 @@ pub enum GpuError {
     NoAdapter(String),
     #[error("the GPU device could not be opened: {0}")]
     Device(String),
-    #[error("method '{0}' has no GPU version (the GPU runs {GPU_METHODS:?})")]
-    NoGpuMethod(String),
+    #[error("the shader did not compile on this adapter: {0}")]
+    Shader(String),
+    #[error("method '{method}' has no GPU version: {why}")]
+    NoGpuMethod {
+        method: &'static str,
+        why: &'static str,
+    },
     #[error("reading results back from the GPU failed: {0}")]
     Readback(String),
+    #[error("the GPU wrote outcome code {0}, which no outcome kind has")]
+    BadOutcome(u32),
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    method: u32,
-    count: u32,
-    offset: u32,
-    max_steps: u32,
-    start: u32,
-    pad: [u32; 3],
-}
-
-/// One exit-face case as the shader reads it (a positively oriented tetrahedron).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GpuCase {
-    v: [[f32; 4]; 4],
-    org: [f32; 4],
-    dir: [f32; 4],
-    entry: i32,
-    pad: [i32; 3],
-}
-
-impl GpuCase {
-    pub fn new(tet: &Tet, ray: &Ray, entry: Option<usize>) -> GpuCase {
-        GpuCase {
-            v: tet.map(|p| p.extend(0.0).to_array()),
+impl shader::Case {
+    /// A case as the shader reads it.
+    pub fn new(tet: &Tet, ray: &Ray, entry: Option<usize>) -> shader::Case {
+        let [v0, v1, v2, v3] = tet.map(|p| p.extend(0.0).to_array());
+        shader::Case {
+            v0,
+            v1,
+            v2,
+            v3,
             org: ray.org.extend(0.0).to_array(),
             dir: ray.dir.extend(0.0).to_array(),
             entry: entry.map_or(-1, |e| e as i32),
-            pad: [0; 3],
+            pad0: 0,
+            pad1: 0,
+            pad2: 0,
         }
     }
 }
@@ -93,18 +71,15 @@ fn describe(i: &wgpu::AdapterInfo) -> String {
     )
 }
 
-/// A GPU with the two pipelines.
+/// A GPU with the shader module; each method's pipelines are compiled when first used.
 pub struct Gpu {
     device: wgpu::Device,
     queue: wgpu::Queue,
-    exit: wgpu::ComputePipeline,
-    walk: wgpu::ComputePipeline,
+    module: wgpu::ShaderModule,
+    pipelines: Mutex<HashMap<String, wgpu::ComputePipeline>>,
     info: wgpu::AdapterInfo,
     max_groups: u32,
 }
-
-/// Threads per workgroup in the shader.
-const GROUP: u32 = 64;
 
 impl Gpu {
     /// Open the adapter named by `WGPU_ADAPTER_NAME` (substring, any case), or the default one.
@@ -139,34 +114,58 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| GpuError::Device(e.to_string()))?;
-        // Shader or pipeline errors become a GpuError, not a panic.
+        // Shader errors become a GpuError, not a panic.
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("methods.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("methods.wgsl").into()),
+            label: Some("tetwalk.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(shader::COMMITTED.into()),
         });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: None,
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let (exit, walk) = (pipeline("exit_cases"), pipeline("walk_rays"));
         if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Device(e.to_string()));
+            return Err(GpuError::Shader(e.to_string()));
         }
         Ok(Gpu {
             max_groups: limits.max_compute_workgroups_per_dimension,
             device,
             queue,
-            exit,
-            walk,
+            module,
+            pipelines: Mutex::new(HashMap::new()),
             info,
         })
+    }
+
+    /// The pipeline of entry point `entry`, compiled once.
+    fn pipeline(&self, entry: &str) -> Result<wgpu::ComputePipeline, GpuError> {
+        let mut cache = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(p) = cache.get(entry) {
+            return Ok(p.clone());
+        }
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let p = self
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module: &self.module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Shader(format!("{entry}: {e}")));
+        }
+        cache.insert(entry.to_string(), p.clone());
+        Ok(p)
+    }
+
+    /// The entry points of `method`, or why it has none.
+    fn entry_points(method: &Method) -> Result<[String; 2], GpuError> {
+        match method.gpu {
+            GpuSupport::Wgsl(_) => Ok(shader::entry_points(method)),
+            GpuSupport::CpuOnly(why) => Err(GpuError::NoGpuMethod {
+                method: method.name,
+                why,
+            }),
+        }
     }
 
     /// Adapter, backend and driver, for reports.
@@ -193,11 +192,13 @@ impl Gpu {
     /// besides the parameters; returns the contents of the `out` buffer.
     fn dispatch(
         &self,
-        pipeline: &wgpu::ComputePipeline,
+        pipeline: &str,
         mut params: Params,
         bind: &[(u32, &wgpu::Buffer)],
         out: &wgpu::Buffer,
     ) -> Result<Vec<u8>, GpuError> {
+        let pipeline = self.pipeline(pipeline)?;
+        let pipeline = &pipeline;
         let total = params.count;
         let per = self.max_groups.saturating_mul(GROUP).max(GROUP);
         let mut offset = 0;
@@ -260,25 +261,23 @@ impl Gpu {
         Ok(bytes)
     }
 
-    /// Each case's exit face (`None` for no exit face) by method `method` (a [`GPU_METHODS`] name).
+    /// Each case's exit face (`None` for no exit face) by `method`.
     pub fn exit_faces(
         &self,
-        method: &str,
-        cases: &[GpuCase],
+        method: &Method,
+        cases: &[shader::Case],
     ) -> Result<Vec<Option<usize>>, GpuError> {
-        let id = method_id(method).ok_or_else(|| GpuError::NoGpuMethod(method.into()))?;
+        let [exit, _] = Self::entry_points(method)?;
         let input = self.storage(bytemuck::cast_slice(cases));
         let out = self.storage(&vec![0u8; 4 * cases.len()]);
         let params = Params {
-            method: id,
             count: cases.len() as u32,
             offset: 0,
             max_steps: 0,
             start: 0,
-            pad: [0; 3],
         };
-        let bytes = self.dispatch(&self.exit, params, &[(1, &input), (2, &out)], &out)?;
-        let faces: &[i32] = bytemuck::cast_slice(&bytes);
+        let bytes = self.dispatch(&exit, params, &[(1, &input), (2, &out)], &out)?;
+        let faces: Vec<i32> = bytemuck::pod_collect_to_vec(&bytes);
         Ok(faces[..cases.len()]
             .iter()
             .map(|&f| (f >= 0).then_some(f as usize))
@@ -311,26 +310,24 @@ impl Gpu {
     /// Walk every ray from tetrahedron `start` with `method` on the GPU.
     pub fn walks(
         &self,
-        method: &str,
+        method: &Method,
         mesh: &GpuMesh,
         rays: &[Ray],
         start: u32,
         max_steps: u32,
     ) -> Result<Vec<Walk>, GpuError> {
-        let id = method_id(method).ok_or_else(|| GpuError::NoGpuMethod(method.into()))?;
+        let [_, walk] = Self::entry_points(method)?;
         let r: Vec<[f32; 4]> = rays
             .iter()
             .flat_map(|r| [r.org.extend(0.0).to_array(), r.dir.extend(0.0).to_array()])
             .collect();
         let input = self.storage(bytemuck::cast_slice(&r));
-        let out = self.storage(&vec![0u8; 16 * rays.len()]);
+        let out = self.storage(&vec![0u8; std::mem::size_of::<Ending>() * rays.len()]);
         let params = Params {
-            method: id,
             count: rays.len() as u32,
             offset: 0,
             max_steps,
             start,
-            pad: [0; 3],
         };
         let bind = [
             (3, &input),
@@ -340,21 +337,18 @@ impl Gpu {
             (7, &mesh.info),
             (8, &out),
         ];
-        let bytes = self.dispatch(&self.walk, params, &bind, &out)?;
-        let o: &[[u32; 4]] = bytemuck::cast_slice(&bytes);
-        Ok(o[..rays.len()]
+        let bytes = self.dispatch(&walk, params, &bind, &out)?;
+        let endings: Vec<Ending> = bytemuck::pod_collect_to_vec(&bytes);
+        endings[..rays.len()]
             .iter()
-            .map(|&[kind, tet, x, steps]| {
-                let outcome = match kind {
-                    0 => Outcome::Hit { tet, face: x as u8 },
-                    1 => Outcome::LeftMesh { tet, face: x as u8 },
-                    2 => Outcome::NoExitFace { tet },
-                    3 => Outcome::Cycle { tet, period: x },
-                    _ => Outcome::StepLimit { tet },
-                };
-                Walk { outcome, steps }
+            .map(|e| {
+                let kind = OutcomeKind::from_code(e.kind).ok_or(GpuError::BadOutcome(e.kind))?;
+                Ok(Walk {
+                    outcome: Outcome::from_parts(kind, e.tet, e.x),
+                    steps: e.steps,
+                })
             })
-            .collect())
+            .collect()
     }
 }
 

@@ -6,10 +6,10 @@ use crate::tet::{Ray, Tet};
 use glam::Vec3;
 
 /// Table 2: vertices of face `F_i` counterclockwise from inside; `Λ_j` runs from vertex `j` to `V_i`.
-const FACE_VERTICES: [[usize; 3]; 4] = [[3, 1, 2], [2, 0, 3], [3, 0, 1], [1, 0, 2]];
+pub const FACE_VERTICES: [[usize; 3]; 4] = [[3, 1, 2], [2, 0, 3], [3, 0, 1], [1, 0, 2]];
 
 /// Table 1: exit face from the entry face (column) and the local identifier in {0, 1, 2}.
-const GET_FACE: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
+pub const GET_FACE: [[usize; 3]; 4] = [[1, 2, 3], [0, 3, 2], [0, 1, 3], [0, 2, 1]];
 
 /// The ray as Plücker line `{u : v}`: direction `u = d` and moment `v = o × d`, computed once.
 #[derive(Clone, Copy, Debug)]

@@ -1,14 +1,31 @@
 //! Pictures: shaded renders, per-method failure maps, traversal heat maps and predicate maps, from
 //! integer per-pixel data (which the golden tests snapshot) to deterministic PNGs.
 
-use crate::cases::{Case, answer, classify};
+use crate::backend::{Backend, BackendError};
+use crate::cases::Case;
 use crate::mesh::{HULL, Mesh, bounds};
-use crate::methods::{Method, by_name};
-use crate::report::count::{judge, view};
+use crate::registry::{Method, reference};
+use crate::scenes::camera::Views;
 use crate::scenes::tets::ulps;
-use crate::tet::Ray;
-use crate::walk::{Outcome, Walk, default_max_steps, locate};
+use crate::walk::{LocateError, Outcome, OutcomeKind, Walk, default_max_steps, judge, locate};
 use rayon::prelude::*;
+
+/// Why a picture could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+    #[error("view {view}'s camera is not inside the mesh: {why}")]
+    Outside { view: usize, why: LocateError },
+    #[error("view {view} does not exist: there are {views} views (0..{views})")]
+    NoSuchView { view: usize, views: usize },
+    #[error("an image of {width}x{height} pixels cannot be written as PNG: {why}")]
+    Png {
+        width: u32,
+        height: u32,
+        why: String,
+    },
+}
 
 /// An RGB image.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,29 +75,27 @@ impl Image {
         out
     }
 
-    /// PNG bytes, with the encoder's settings pinned so the bytes are the same on every run.
-    pub fn png(&self) -> Vec<u8> {
+    /// PNG bytes, with the encoder's settings pinned so the bytes are the same on every run; an error
+    /// for an image PNG cannot hold (no pixels).
+    pub fn png(&self) -> Result<Vec<u8>, RenderError> {
+        let fail = |e: png::EncodingError| RenderError::Png {
+            width: self.width,
+            height: self.height,
+            why: e.to_string(),
+        };
         let mut out = Vec::new();
         let mut enc = png::Encoder::new(&mut out, self.width, self.height);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
         enc.set_compression(png::Compression::Balanced);
         enc.set_filter(png::Filter::NoFilter);
-        let mut w = enc.write_header().expect("in-memory PNG header");
-        w.write_image_data(&self.rgb).expect("in-memory PNG data");
-        w.finish().expect("in-memory PNG end");
-        out
+        let mut w = enc.write_header().map_err(fail)?;
+        w.write_image_data(&self.rgb).map_err(fail)?;
+        w.finish().map_err(fail)?;
+        Ok(out)
     }
 }
 
-/// Colours of the failure kinds (wrong face, false miss, no exit face, cycle, step limit).
-pub const KIND_COLOURS: [[u8; 3]; 5] = [
-    [230, 30, 30],
-    [250, 200, 0],
-    [30, 120, 255],
-    [200, 0, 200],
-    [0, 200, 200],
-];
 /// Colours of faces 0..3 in predicate maps; black for no exit face.
 pub const FACE_COLOURS: [[u8; 3]; 4] =
     [[228, 26, 28], [55, 126, 184], [77, 175, 74], [255, 127, 0]];
@@ -92,53 +107,46 @@ pub struct Frame {
     pub height: u32,
     /// The exact walk of every pixel.
     pub exact: Vec<Walk>,
-    /// Per method, per pixel: the kind of wrong (index into [`crate::report::count::KINDS`]) or none.
-    pub wrong: Vec<(String, Vec<Option<usize>>)>,
+    /// Per method, per pixel: the kind of wrong ending, or none.
+    pub wrong: Vec<(String, Vec<Option<OutcomeKind>>)>,
     /// Shading of the exact hit: `|n · d|` in 0..=255, and whether it is a box (hull) face.
     pub shade: Vec<(u8, bool)>,
 }
 
-/// Render view `view` of `views` (as `tetwalk count` places them) with the exact walk and `methods`.
+/// Render view `index` of `views` (placed as `tetwalk count` places them) with the exact walk and
+/// `methods` on `backend`.
 pub fn frame(
     mesh: &Mesh,
-    view_index: usize,
-    views: usize,
-    width: u32,
-    height: u32,
+    views: &Views,
+    index: usize,
     methods: &[&Method],
-    fma: bool,
-) -> Result<Frame, String> {
+    backend: &Backend,
+) -> Result<Frame, RenderError> {
+    if index >= views.views {
+        return Err(RenderError::NoSuchView {
+            view: index,
+            views: views.views,
+        });
+    }
     let (lo, hi) = bounds(&mesh.points);
-    let cam = view(
-        lo,
-        hi,
-        view_index,
-        views,
-        1,
-        40.0,
-        width as f32 / height as f32,
-    );
-    let start = locate(mesh, cam.eye, 0).map_err(|e| e.to_string())?;
+    let cam = views.camera(lo, hi, index);
+    let start =
+        locate(mesh, cam.eye, 0).map_err(|why| RenderError::Outside { view: index, why })?;
     let max = default_max_steps(mesh);
-    let rays: Vec<Ray> = (0..height)
-        .flat_map(|y| (0..width).map(move |x| cam.ray(x, y, width, height)))
-        .collect();
-    let exact_m = by_name("exact").expect("registered");
-    let exact: Vec<Walk> = rays
-        .par_iter()
-        .map(|r| exact_m.walk(false)(mesh, r, start, max))
-        .collect();
-    let wrong = methods
-        .iter()
-        .map(|m| {
-            let w: Vec<Option<usize>> = rays
-                .par_iter()
-                .zip(&exact)
-                .map(|(r, re)| judge(mesh, r, &m.walk(fma)(mesh, r, start, max), re))
-                .collect();
-            (m.name.to_string(), w)
-        })
-        .collect();
+    let rays = views.rays(&cam);
+    let on = backend.mesh(mesh);
+    let exact = backend.walks(reference(), &on, &rays, start, max)?;
+    let mut wrong = Vec::new();
+    for m in methods {
+        let walks = backend.walks(m, &on, &rays, start, max)?;
+        let w: Vec<Option<OutcomeKind>> = rays
+            .par_iter()
+            .zip(&walks)
+            .zip(&exact)
+            .map(|((r, w), re)| judge(mesh, r, w, re))
+            .collect();
+        wrong.push((m.name.to_string(), w));
+    }
     let shade = rays
         .iter()
         .zip(&exact)
@@ -155,8 +163,8 @@ pub fn frame(
         })
         .collect();
     Ok(Frame {
-        width,
-        height,
+        width: views.width,
+        height: views.height,
         exact,
         wrong,
         shade,
@@ -179,16 +187,12 @@ impl Frame {
         im
     }
 
-    /// The shaded render with `method`'s wrong rays coloured by kind ([`KIND_COLOURS`]).
+    /// The shaded render with `method`'s wrong rays coloured by kind ([`OutcomeKind::colour`]).
     pub fn failures(&self, method: usize) -> Image {
         let mut im = self.shaded();
         for (i, k) in self.wrong[method].1.iter().enumerate() {
             if let Some(k) = k {
-                im.set(
-                    i as u32 % self.width,
-                    i as u32 / self.width,
-                    KIND_COLOURS[*k],
-                );
+                im.set(i as u32 % self.width, i as u32 / self.width, k.colour());
             }
         }
         im
@@ -211,16 +215,15 @@ impl Frame {
     }
 }
 
-/// Exit faces of a batch of cases, from whichever backend.
-pub type FacesOf<'a> = dyn Fn(&[Case]) -> Result<Vec<Option<usize>>, String> + Sync + 'a;
-
 /// A predicate map (after Kettner et al.'s classroom examples): the case's origin moved on a
-/// `size × size` grid of ulp steps in x and y around itself, each pixel the exit face `face_of` gives.
+/// `size × size` grid of ulp steps in x and y around itself, each pixel the exit face `method` gives on
+/// `backend` (the reference gives the exact one, ties broken as it breaks them).
 pub fn predicate_grid(
     case: &Case,
     size: u32,
-    face_of: &FacesOf<'_>,
-) -> Result<Vec<Option<usize>>, String> {
+    method: &Method,
+    backend: &Backend,
+) -> Result<Vec<Option<usize>>, RenderError> {
     let half = (size / 2) as i32;
     let cases: Vec<Case> = (0..size)
         .flat_map(|y| (0..size).map(move |x| (x, y)))
@@ -231,16 +234,7 @@ pub fn predicate_grid(
             c
         })
         .collect();
-    face_of(&cases)
-}
-
-/// The exact exit face of every grid case (ties broken as the `exact` method does).
-pub fn exact_faces(cases: &[Case]) -> Result<Vec<Option<usize>>, String> {
-    let m = by_name("exact").expect("registered");
-    Ok(cases
-        .par_iter()
-        .map(|c| classify(c).ok().and_then(|_| answer(c, m, false)))
-        .collect())
+    Ok(backend.exit_faces(method, &cases)?)
 }
 
 /// A grid of faces as an image ([`FACE_COLOURS`], black for none).
@@ -258,10 +252,9 @@ pub fn face_image(faces: &[Option<usize>], size: u32) -> Image {
 
 /// The legend, as text beside the images.
 pub fn legend() -> String {
-    let kinds = crate::report::count::KINDS;
     let mut s = String::from("failure maps: ");
-    for (k, c) in kinds.iter().zip(KIND_COLOURS) {
-        s += &format!("{k} rgb{c:?}; ");
+    for k in OutcomeKind::ALL {
+        s += &format!("{} rgb{:?}; ", k.wrong(), k.colour());
     }
     s += "\npredicate maps: ";
     for (f, c) in FACE_COLOURS.iter().enumerate() {

@@ -1,8 +1,10 @@
 //! `tetwalk stress`: wrong exit faces and "no exit face" per million cases, per method and family.
 
-use crate::cases::{Case, answer, classify, judged};
+use crate::backend::{Backend, BackendError};
+use crate::cases::{Case, classify, judged};
+use crate::choice::Choice;
 use crate::exact::Classification;
-use crate::methods::Method;
+use crate::registry::Method;
 use crate::scenes::rng;
 use crate::scenes::tets::{self, Family, Target};
 use crate::tet::{Ray, Tet};
@@ -11,7 +13,7 @@ use rand::RngExt;
 use rayon::prelude::*;
 
 /// The rows of the stress table: a tetrahedron family with stabbing rays, or a way of aiming rays.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Row {
     Well,
@@ -31,27 +33,18 @@ pub enum Row {
     ThroughVertex,
 }
 
-impl Row {
-    pub const ALL: [Row; 10] = [
-        Row::Well,
-        Row::Sliver,
-        Row::Cap,
-        Row::Needle,
-        Row::Wedge,
-        Row::FarOffset,
-        Row::NearEdge,
-        Row::NearVertex,
-        Row::ThroughEdge,
-        Row::ThroughVertex,
-    ];
-
-    fn name(self) -> String {
-        serde_json::to_value(self)
-            .ok()
-            .and_then(|v| v.as_str().map(String::from))
-            .unwrap_or_default()
-    }
-}
+crate::choice!(Row {
+    Well => "well",
+    Sliver => "sliver",
+    Cap => "cap",
+    Needle => "needle",
+    Wedge => "wedge",
+    FarOffset => "far-offset",
+    NearEdge => "near-edge",
+    NearVertex => "near-vertex",
+    ThroughEdge => "through-edge",
+    ThroughVertex => "through-vertex",
+});
 
 /// Settings of a stress run.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -138,24 +131,6 @@ fn case(row: Row, s: &Settings, i: usize) -> Option<(Tet, Ray)> {
     }
 }
 
-/// Where a stress run's methods answer.
-pub enum Answers<'a> {
-    /// On the CPU, plain or as a GPU compiles it.
-    Cpu { fma: bool },
-    /// On a GPU (`exact` stays on the CPU).
-    Gpu(&'a crate::gpu::Gpu),
-}
-
-impl Answers<'_> {
-    fn faces(&self, cases: &[Case], m: &Method) -> Result<Vec<Option<usize>>, String> {
-        match self {
-            Answers::Gpu(g) if m.name != "exact" => crate::cases::answers_gpu(g, cases, m),
-            Answers::Gpu(_) => Ok(cases.par_iter().map(|c| answer(c, m, false)).collect()),
-            Answers::Cpu { fma } => Ok(cases.par_iter().map(|c| answer(c, m, *fma)).collect()),
-        }
-    }
-}
-
 /// Generated cases of a row with their exact classification (lines that miss included). Even-numbered
 /// cases carry the exact entry face (as a walk would have it), odd ones none (a starting tetrahedron).
 fn row_cases(row: Row, s: &Settings) -> (Vec<(Case, Classification)>, crate::exact::Counts) {
@@ -196,13 +171,14 @@ fn row_cases(row: Row, s: &Settings) -> (Vec<(Case, Classification)>, crate::exa
         )
 }
 
-/// Run every method on `cases` cases of every row where `answers` says, judging each answer exactly.
+/// Run every method on `cases` cases of every row on `backend`, judging each answer exactly; `tick`
+/// is told how many cases each row held.
 pub fn run(
     s: &Settings,
     methods: &[&Method],
-    answers: &Answers,
-    progress: &indicatif::ProgressBar,
-) -> Result<StressReport, String> {
+    backend: &Backend,
+    tick: &(dyn Fn(u64) + Sync),
+) -> Result<StressReport, BackendError> {
     let mut rows = Vec::new();
     let mut oracle = crate::exact::Counts::default();
     for &row in &s.rows {
@@ -211,7 +187,7 @@ pub fn run(
         let plain: Vec<Case> = cases.iter().map(|(c, _)| *c).collect();
         let mut tallies = Vec::new();
         for m in methods {
-            let faces = answers.faces(&plain, m)?;
+            let faces = backend.exit_faces(m, &plain)?;
             let mut t = Tally::default();
             for ((_, x), f) in cases.iter().zip(faces) {
                 let j = judged(x, f);
@@ -221,7 +197,7 @@ pub fn run(
             }
             tallies.push(t);
         }
-        progress.inc(s.cases as u64);
+        tick(s.cases as u64);
         rows.push(RowReport { row, tallies });
     }
     Ok(StressReport {
@@ -242,20 +218,20 @@ pub struct Disagreements {
     pub gpu: String,
 }
 
-/// The same generated cases on the CPU, the CPU as a GPU compiles it, and the GPU.
+/// The same generated cases on the CPU, the CPU as a GPU compiles it, and `gpu`.
 pub fn compare(
     s: &Settings,
     methods: &[&Method],
-    gpu: &crate::gpu::Gpu,
-) -> Result<Disagreements, String> {
+    gpu: &Backend,
+) -> Result<Disagreements, BackendError> {
     let mut rows = Vec::new();
     for &row in &s.rows {
         let plain: Vec<Case> = row_cases(row, s).0.into_iter().map(|(c, _)| c).collect();
         let mut per = Vec::new();
-        for m in methods.iter().filter(|m| m.name != "exact") {
-            let a = Answers::Cpu { fma: false }.faces(&plain, m)?;
-            let b = Answers::Cpu { fma: true }.faces(&plain, m)?;
-            let c = Answers::Gpu(gpu).faces(&plain, m)?;
+        for m in methods.iter().filter(|m| !m.reference) {
+            let a = Backend::Cpu { fma: false }.exit_faces(m, &plain)?;
+            let b = Backend::Cpu { fma: true }.exit_faces(m, &plain)?;
+            let c = gpu.exit_faces(m, &plain)?;
             let diff = |x: &[Option<usize>], y: &[Option<usize>]| {
                 x.iter().zip(y).filter(|(p, q)| p != q).count() as u64
             };
@@ -266,7 +242,7 @@ pub fn compare(
     Ok(Disagreements {
         methods: methods
             .iter()
-            .filter(|m| m.name != "exact")
+            .filter(|m| !m.reference)
             .map(|m| m.name.to_string())
             .collect(),
         rows,

@@ -3,8 +3,7 @@
 //! moved by a few ulps, and everything optionally far from the origin.
 
 use super::tets::ulps;
-use crate::cases::Case;
-use crate::tet::{EDGES, Ray, orientation};
+use crate::tet::{Case, EDGES, Ray, orientation};
 use arbitrary::{Result, Unstructured};
 use glam::Vec3;
 

@@ -2,6 +2,7 @@
 //! them, and small meshes that trap walks.
 
 pub mod build;
+pub mod camera;
 pub mod from_bytes;
 pub mod meshes;
 pub mod model;
@@ -15,15 +16,14 @@ pub fn rng(seed: u64) -> Rng {
     rand::SeedableRng::seed_from_u64(seed)
 }
 
+use crate::choice::Choice;
 use crate::mesh::{Mesh, MeshError};
 use crate::tet::Ray;
 use glam::Vec3;
 use rand::RngExt;
 
 /// The generated meshes, by name.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Generated {
     /// Kuhn-subdivided `n³` cube grid; the inner box's faces constrained.
@@ -33,6 +33,8 @@ pub enum Generated {
     /// `16·n` thin tetrahedra around one edge; the lower hull constrained.
     Fan,
 }
+
+crate::choice!(Generated { Kuhn => "kuhn", Jitter => "jitter", Fan => "fan" });
 
 /// The scenes shipped in `corpora/scenes/`, by name.
 pub const BUILT_IN: [&str; 4] = [
@@ -45,12 +47,7 @@ pub const BUILT_IN: [&str; 4] = [
 /// A scene by name: a built-in one (`corpora/scenes/NAME`), a generated one (`kuhn`, `jitter`, `fan`,
 /// each with a `-far` variant moved by 2^16), or the stem or any file of TetGen output.
 pub fn load(name: &str) -> Result<Mesh, String> {
-    let kind = |b: &str| match b {
-        "kuhn" => Some(Generated::Kuhn),
-        "jitter" => Some(Generated::Jitter),
-        "fan" => Some(Generated::Fan),
-        _ => None,
-    };
+    let kind = Generated::from_name;
     let generated = match name.strip_suffix("-far").and_then(kind) {
         Some(k) => Some((k, Vec3::splat(65536.0))),
         None => kind(name).map(|k| (k, Vec3::ZERO)),

@@ -7,7 +7,7 @@ use glam::{Mat3, Quat, Vec3};
 use rand::RngExt;
 
 /// Shape families (Cheng et al.'s taxonomy of badly shaped tetrahedra), plus the well-shaped one.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Family {
     /// Near-regular.
@@ -21,6 +21,8 @@ pub enum Family {
     /// One short edge.
     Wedge,
 }
+
+crate::choice!(Family { Well => "well", Sliver => "sliver", Cap => "cap", Needle => "needle", Wedge => "wedge" });
 
 impl Family {
     pub const ALL: [Family; 5] = [

@@ -2,7 +2,7 @@
 //! fetched and projected per tetrahedron, decoded from the xor-sum; the next tetrahedron decoded by
 //! GETNEXTTET32/20/16.
 
-use super::Brent;
+use super::{Brent, OutcomeKind};
 use crate::mesh::layout::{BOUNDARY, Layout, STOP, next_tet16, next_tet20, next_tet32, rank};
 use crate::mesh::{HULL, Mesh};
 use crate::methods::aman20::{Frame, get_exit_face, start_exit_face};
@@ -11,12 +11,15 @@ use crate::tet::{FACE_VERTICES, Ray};
 use glam::Vec3;
 
 /// Which layout to walk.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Kind {
     Tet32,
     Tet20,
     Tet16,
 }
+
+crate::choice!(Kind { Tet32 => "tet32", Tet20 => "tet20", Tet16 => "tet16" });
 
 /// The source tetrahedron of §3: the walk's start, with complete vertex and neighbour information.
 #[derive(Clone, Copy, Debug)]
@@ -41,40 +44,25 @@ impl Source {
 }
 
 /// How a layout walk ended. Tet20 and Tet16 keep no vertex order, so a face is named by the vertex it is
-/// across (`across`), not by its index.
+/// across (`x` for hit and left mesh), not by its index; `x` is the period of a cycle, else 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum LayoutOutcome {
-    Hit { tet: u32, across: u32 },
-    LeftMesh { tet: u32, across: u32 },
-    NoExitFace { tet: u32 },
-    Cycle { tet: u32, period: u32 },
-    StepLimit { tet: u32 },
+pub struct LayoutOutcome {
+    pub kind: OutcomeKind,
+    pub tet: u32,
+    pub x: u32,
 }
 
 impl LayoutOutcome {
     /// The outcome with faces named by index in the plain mesh's tetrahedra, as [`super::walk`] gives it.
     pub fn to_outcome(&self, mesh: &Mesh) -> super::Outcome {
-        use super::Outcome as O;
-        let face = |t: u32, v: u32| {
-            mesh.tets[t as usize]
+        let x = match self.kind {
+            OutcomeKind::Hit | OutcomeKind::LeftMesh => mesh.tets[self.tet as usize]
                 .iter()
-                .position(|&x| x == v)
-                .unwrap_or(4) as u8
+                .position(|&v| v == self.x)
+                .unwrap_or(4) as u32,
+            _ => self.x,
         };
-        match *self {
-            LayoutOutcome::Hit { tet, across } => O::Hit {
-                tet,
-                face: face(tet, across),
-            },
-            LayoutOutcome::LeftMesh { tet, across } => O::LeftMesh {
-                tet,
-                face: face(tet, across),
-            },
-            LayoutOutcome::NoExitFace { tet } => O::NoExitFace { tet },
-            LayoutOutcome::Cycle { tet, period } => O::Cycle { tet, period },
-            LayoutOutcome::StepLimit { tet } => O::StepLimit { tet },
-        }
+        super::Outcome::from_parts(self.kind, self.tet, x)
     }
 }
 
@@ -105,11 +93,12 @@ where
     M::RayData: Frame,
     A: Arith,
 {
+    let end = |kind, tet, x| LayoutOutcome { kind, tet, x };
     let frame = M::prepare::<A>(ray);
     let project = |i: u32| frame.project::<A>(points[i as usize]);
     let p4 = source.vertices.map(project);
     let Some(f) = start_exit_face::<A>(&p4) else {
-        return (LayoutOutcome::NoExitFace { tet: source.tet }, 1);
+        return (end(OutcomeKind::NoExitFace, source.tet, 0), 1);
     };
     // The exit face's outward cycle is the order Algorithm 1 expects for the entry face of the next one.
     let mut idx = FACE_VERTICES[f].map(|k| source.vertices[k]);
@@ -121,18 +110,18 @@ where
     let mut steps = 1;
     loop {
         if next & STOP != 0 {
-            let end = if next == STOP | BOUNDARY {
-                LayoutOutcome::LeftMesh { tet, across }
+            let kind = if next == STOP | BOUNDARY {
+                OutcomeKind::LeftMesh
             } else {
-                LayoutOutcome::Hit { tet, across }
+                OutcomeKind::Hit
             };
-            return (end, steps);
+            return (end(kind, tet, across), steps);
         }
         if let Some(period) = brent.step((tet, across)) {
-            return (LayoutOutcome::Cycle { tet: next, period }, steps);
+            return (end(OutcomeKind::Cycle, next, period), steps);
         }
         if steps >= max_steps {
-            return (LayoutOutcome::StepLimit { tet: next }, steps);
+            return (end(OutcomeKind::StepLimit, next, 0), steps);
         }
         let prev = tet;
         tet = next;

@@ -11,9 +11,156 @@ use crate::mesh::{HULL, Mesh};
 use crate::methods::{Arith, ExitMethod};
 use crate::tet::Ray;
 
+/// How a walk ended, without its data: the one vocabulary of outcome kinds, used by the CPU walk, the
+/// layout walks, the GPU (its codes are generated from [`OutcomeKind::code`]), the count, the renders
+/// and found cases. Its serde form is [`OutcomeKind::name`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum OutcomeKind {
+    Hit,
+    LeftMesh,
+    NoExitFace,
+    Cycle,
+    StepLimit,
+}
+
+/// What the vocabulary says of one kind.
+struct KindRow {
+    kind: OutcomeKind,
+    /// Its name and serde form.
+    name: &'static str,
+    /// What it is called when the walk should have ended otherwise.
+    wrong: &'static str,
+    /// The same, as a key.
+    wrong_key: &'static str,
+    /// The WGSL constant holding its code.
+    wgsl: &'static str,
+    /// Its colour in failure maps.
+    colour: [u8; 3],
+}
+
+const KIND_TABLE: [KindRow; 5] = [
+    KindRow {
+        kind: OutcomeKind::Hit,
+        name: "hit",
+        wrong: "wrong face",
+        wrong_key: "wrong_face",
+        wgsl: "HIT",
+        colour: [230, 30, 30],
+    },
+    KindRow {
+        kind: OutcomeKind::LeftMesh,
+        name: "left_mesh",
+        wrong: "false miss",
+        wrong_key: "false_miss",
+        wgsl: "LEFT_MESH",
+        colour: [250, 200, 0],
+    },
+    KindRow {
+        kind: OutcomeKind::NoExitFace,
+        name: "no_exit_face",
+        wrong: "no exit face",
+        wrong_key: "no_exit_face",
+        wgsl: "NO_EXIT_FACE",
+        colour: [30, 120, 255],
+    },
+    KindRow {
+        kind: OutcomeKind::Cycle,
+        name: "cycle",
+        wrong: "cycle",
+        wrong_key: "cycle",
+        wgsl: "CYCLE",
+        colour: [200, 0, 200],
+    },
+    KindRow {
+        kind: OutcomeKind::StepLimit,
+        name: "step_limit",
+        wrong: "step limit",
+        wrong_key: "step_limit",
+        wgsl: "STEP_LIMIT",
+        colour: [0, 200, 200],
+    },
+];
+
+impl OutcomeKind {
+    /// Every kind, in table order (its [`OutcomeKind::code`]).
+    pub const ALL: [OutcomeKind; 5] = [
+        OutcomeKind::Hit,
+        OutcomeKind::LeftMesh,
+        OutcomeKind::NoExitFace,
+        OutcomeKind::Cycle,
+        OutcomeKind::StepLimit,
+    ];
+
+    fn row(self) -> &'static KindRow {
+        &KIND_TABLE[self as usize]
+    }
+
+    /// `hit`, `left_mesh`, `no_exit_face`, `cycle`, `step_limit`.
+    pub fn name(self) -> &'static str {
+        self.row().name
+    }
+
+    /// What this ending is when it is wrong: wrong face, false miss, no exit face, cycle, step limit.
+    pub fn wrong(self) -> &'static str {
+        self.row().wrong
+    }
+
+    /// [`OutcomeKind::wrong`] as a key (found cases, JSON): `wrong_face`, `false_miss`, ….
+    pub fn wrong_key(self) -> &'static str {
+        self.row().wrong_key
+    }
+
+    /// The kind whose [`OutcomeKind::wrong_key`] is `key`.
+    pub fn from_wrong_key(key: &str) -> Option<OutcomeKind> {
+        KIND_TABLE
+            .iter()
+            .find(|r| r.wrong_key == key)
+            .map(|r| r.kind)
+    }
+
+    /// The kind called `name`.
+    pub fn from_name(name: &str) -> Option<OutcomeKind> {
+        KIND_TABLE.iter().find(|r| r.name == name).map(|r| r.kind)
+    }
+
+    /// The code the GPU writes, and position in tables.
+    pub fn code(self) -> u32 {
+        self as u32
+    }
+
+    /// The kind with GPU code `code`; `None` for a code no kind has.
+    pub fn from_code(code: u32) -> Option<OutcomeKind> {
+        Self::ALL.get(code as usize).copied()
+    }
+
+    /// The WGSL constant holding [`OutcomeKind::code`].
+    pub fn wgsl_name(self) -> &'static str {
+        self.row().wgsl
+    }
+
+    /// Its colour in failure maps.
+    pub fn colour(self) -> [u8; 3] {
+        self.row().colour
+    }
+}
+
+impl serde::Serialize for OutcomeKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for OutcomeKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        OutcomeKind::from_name(&s)
+            .ok_or_else(|| serde::de::Error::custom(format!("unknown outcome kind '{s}'")))
+    }
+}
+
 /// How a walk ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Outcome {
     /// Stopped on constrained face `face` of `tet`.
     Hit { tet: u32, face: u8 },
@@ -29,30 +176,35 @@ pub enum Outcome {
 }
 
 impl Outcome {
-    /// Position of the kind in table order: hit, left mesh, no exit face, cycle, step limit.
-    pub fn index(&self) -> usize {
-        match self {
-            Outcome::Hit { .. } => 0,
-            Outcome::LeftMesh { .. } => 1,
-            Outcome::NoExitFace { .. } => 2,
-            Outcome::Cycle { .. } => 3,
-            Outcome::StepLimit { .. } => 4,
+    pub fn kind(&self) -> OutcomeKind {
+        self.parts().0
+    }
+
+    /// Kind, tetrahedron, and the face (hit, left mesh) or period (cycle), else 0: the GPU's record.
+    pub fn parts(&self) -> (OutcomeKind, u32, u32) {
+        match *self {
+            Outcome::Hit { tet, face } => (OutcomeKind::Hit, tet, face as u32),
+            Outcome::LeftMesh { tet, face } => (OutcomeKind::LeftMesh, tet, face as u32),
+            Outcome::NoExitFace { tet } => (OutcomeKind::NoExitFace, tet, 0),
+            Outcome::Cycle { tet, period } => (OutcomeKind::Cycle, tet, period),
+            Outcome::StepLimit { tet } => (OutcomeKind::StepLimit, tet, 0),
         }
     }
 
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Outcome::Hit { .. } => "hit",
-            Outcome::LeftMesh { .. } => "left_mesh",
-            Outcome::NoExitFace { .. } => "no_exit_face",
-            Outcome::Cycle { .. } => "cycle",
-            Outcome::StepLimit { .. } => "step_limit",
+    /// The outcome from its [`Outcome::parts`].
+    pub fn from_parts(kind: OutcomeKind, tet: u32, x: u32) -> Outcome {
+        match kind {
+            OutcomeKind::Hit => Outcome::Hit { tet, face: x as u8 },
+            OutcomeKind::LeftMesh => Outcome::LeftMesh { tet, face: x as u8 },
+            OutcomeKind::NoExitFace => Outcome::NoExitFace { tet },
+            OutcomeKind::Cycle => Outcome::Cycle { tet, period: x },
+            OutcomeKind::StepLimit => Outcome::StepLimit { tet },
         }
     }
 }
 
 /// A walk's outcome and the number of tetrahedra it traversed (exit faces asked for).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Walk {
     pub outcome: Outcome,
     pub steps: u32,
@@ -192,6 +344,11 @@ pub fn same_result(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> bool {
         }
         _ => false,
     }
+}
+
+/// Which kind of wrong `w` is (the kind of its ending), or `None` when it is right ([`same_result`]).
+pub fn judge(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> Option<OutcomeKind> {
+    (!same_result(mesh, ray, w, reference)).then(|| w.outcome.kind())
 }
 
 /// Brent's cycle detection over a walk's states (tetrahedron and entry face).

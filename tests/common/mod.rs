@@ -5,9 +5,13 @@
 use glam::Vec3;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, FileFailurePersistence};
+use tetwalk::backend::{Backend, BackendKind};
+use tetwalk::cases::{Judged, judged};
+use tetwalk::exact::Classification;
+use tetwalk::registry::Method;
 use tetwalk::scenes::rng;
 use tetwalk::scenes::tets::{self, Family, Target};
-use tetwalk::tet::{Ray, Tet};
+use tetwalk::tet::{Case, Ray, Tet};
 
 /// Proptest configuration persisting failures under `corpora/proptest/<name>.txt`.
 pub fn config(name: &'static str, cases: u32) -> Config {
@@ -96,9 +100,10 @@ pub fn lattice_case() -> impl Strategy<Value = (Tet, Ray)> {
         .prop_map(|(t, o, d)| (t, Ray { org: o, dir: d }))
 }
 
-/// The GPU, or `None` with a printed notice; a failure instead when TETWALK_REQUIRE_GPU=1 (as in CI).
-pub fn gpu_or_skip() -> Option<tetwalk::gpu::Gpu> {
-    match tetwalk::gpu::Gpu::new() {
+/// The GPU backend, or `None` with a printed notice; a failure instead when TETWALK_REQUIRE_GPU=1 (as
+/// in CI).
+pub fn gpu_or_skip() -> Option<Backend> {
+    match Backend::open(BackendKind::Gpu) {
         Ok(g) => {
             println!("GPU: {}", g.describe());
             Some(g)
@@ -109,4 +114,17 @@ pub fn gpu_or_skip() -> Option<tetwalk::gpu::Gpu> {
             None
         }
     }
+}
+
+/// `m`'s answer on a case on the CPU (plain or `fma`), judged against its classification.
+pub fn judge(case: &Case, c: &Classification, m: &Method, fma: bool) -> Judged {
+    judged(c, Backend::Cpu { fma }.exit_face(m, case).unwrap())
+}
+
+/// insta settings storing snapshots in `golden/`.
+pub fn settings() -> insta::Settings {
+    let mut s = insta::Settings::clone_current();
+    s.set_snapshot_path(concat!(env!("CARGO_MANIFEST_DIR"), "/golden"));
+    s.set_prepend_module_to_snapshot(false);
+    s
 }

@@ -1,0 +1,162 @@
+//! The backend seam: where a method's exit faces and walks are computed — the CPU in plain f32, the CPU
+//! as a GPU compiles it (fused multiply-adds, see [`crate::methods`]), or a GPU through wgpu. Every
+//! command, the fuzz targets and the tests ask for answers here. The reference method runs on the CPU
+//! whatever the backend (it has no GPU version), and reports say so.
+
+use crate::cases::{Case, normalized};
+use crate::choice::Choice;
+use crate::gpu::{self, GpuError, GpuMesh};
+use crate::mesh::Mesh;
+use crate::registry::Method;
+use crate::tet::Ray;
+use crate::walk::Walk;
+use rayon::prelude::*;
+
+/// Which backend: the one spelling used by every command (`--backend`), found cases and reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BackendKind {
+    /// The CPU, every product and sum rounded as written.
+    Cpu,
+    /// The CPU as a GPU compiler may compile the method: `a·b + c` contracted to fused multiply-adds.
+    CpuFma,
+    /// A GPU through wgpu (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME`).
+    Gpu,
+}
+
+crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", Gpu => "gpu" });
+
+/// Why a backend cannot give an answer.
+#[derive(Debug, thiserror::Error)]
+pub enum BackendError {
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error("the GPU holds another mesh than the one walked")]
+    OtherMesh,
+}
+
+/// The CPU in plain f32, where the reference runs.
+pub static CPU: Backend = Backend::Cpu { fma: false };
+/// The CPU as a GPU compiles the methods.
+pub static CPU_FMA: Backend = Backend::Cpu { fma: true };
+
+/// A backend, opened.
+pub enum Backend {
+    Cpu { fma: bool },
+    Gpu(Box<gpu::Gpu>),
+}
+
+/// A mesh where a backend walks it (uploaded once to a GPU).
+pub struct MeshOn<'a> {
+    pub mesh: &'a Mesh,
+    gpu: Option<GpuMesh>,
+}
+
+impl Backend {
+    /// Open a backend (a GPU backend opens the adapter).
+    pub fn open(kind: BackendKind) -> Result<Backend, BackendError> {
+        Ok(match kind {
+            BackendKind::Cpu => Backend::Cpu { fma: false },
+            BackendKind::CpuFma => Backend::Cpu { fma: true },
+            BackendKind::Gpu => Backend::Gpu(Box::new(gpu::Gpu::new()?)),
+        })
+    }
+
+    pub fn kind(&self) -> BackendKind {
+        match self {
+            Backend::Cpu { fma: false } => BackendKind::Cpu,
+            Backend::Cpu { fma: true } => BackendKind::CpuFma,
+            Backend::Gpu(_) => BackendKind::Gpu,
+        }
+    }
+
+    /// The backend's name, with the adapter and driver for a GPU.
+    pub fn describe(&self) -> String {
+        match self {
+            Backend::Gpu(g) => format!("gpu: {}", g.describe()),
+            b => b.kind().name().to_string(),
+        }
+    }
+
+    /// Where `method` runs on this backend: here, or on the plain CPU for the reference.
+    pub fn for_method(&self, method: &Method) -> &Backend {
+        if method.reference { &CPU } else { self }
+    }
+
+    /// `method`'s exit face for each case, in the case's own numbering.
+    pub fn exit_faces(
+        &self,
+        method: &Method,
+        cases: &[Case],
+    ) -> Result<Vec<Option<usize>>, BackendError> {
+        match self.for_method(method) {
+            Backend::Cpu { fma } => {
+                let exit = method.exit(*fma);
+                Ok(cases
+                    .par_iter()
+                    .map(|c| {
+                        let (tet, entry, map) = normalized(c);
+                        exit(&tet, &c.ray(), entry).map(|f| map[f])
+                    })
+                    .collect())
+            }
+            Backend::Gpu(g) => {
+                let prepared: Vec<_> = cases.iter().map(normalized).collect();
+                let input: Vec<_> = cases
+                    .iter()
+                    .zip(&prepared)
+                    .map(|(c, (tet, entry, _))| gpu::shader::Case::new(tet, &c.ray(), *entry))
+                    .collect();
+                let faces = g.exit_faces(method, &input)?;
+                Ok(faces
+                    .into_iter()
+                    .zip(&prepared)
+                    .map(|(f, (_, _, map))| f.map(|f| map[f]))
+                    .collect())
+            }
+        }
+    }
+
+    /// `method`'s exit face for one case.
+    pub fn exit_face(&self, method: &Method, case: &Case) -> Result<Option<usize>, BackendError> {
+        Ok(self.exit_faces(method, std::slice::from_ref(case))?[0])
+    }
+
+    /// Make `mesh` ready to walk here (a GPU gets it uploaded).
+    pub fn mesh<'a>(&self, mesh: &'a Mesh) -> MeshOn<'a> {
+        MeshOn {
+            mesh,
+            gpu: match self {
+                Backend::Gpu(g) => Some(g.upload(mesh)),
+                Backend::Cpu { .. } => None,
+            },
+        }
+    }
+
+    /// `method`'s walk of every ray from tetrahedron `start` (which holds every origin).
+    pub fn walks(
+        &self,
+        method: &Method,
+        mesh: &MeshOn,
+        rays: &[Ray],
+        start: u32,
+        max_steps: u32,
+    ) -> Result<Vec<Walk>, BackendError> {
+        match self.for_method(method) {
+            Backend::Cpu { fma } => {
+                let walk = method.walk(*fma);
+                Ok(rays
+                    .par_iter()
+                    .map(|r| walk(mesh.mesh, r, start, max_steps))
+                    .collect())
+            }
+            Backend::Gpu(g) => {
+                let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
+                if uploaded.tetrahedra != mesh.mesh.tets.len() {
+                    return Err(BackendError::OtherMesh);
+                }
+                Ok(g.walks(method, uploaded, rays, start, max_steps)?)
+            }
+        }
+    }
+}

@@ -1,0 +1,245 @@
+//! The WGSL module, generated from the Rust definitions: the buffer structs shared with the host, the
+//! outcome codes, the face tables, and one exit entry point and one walk entry point per registered
+//! method, around each method's hand-written WGSL (`src/methods/NAME.wgsl`). The result is committed as
+//! `src/gpu/tetwalk.wgsl` for reading; a test fails when it is stale (`TETWALK_BLESS=1` rewrites it).
+
+use crate::mesh::HULL;
+use crate::registry::{Gpu, METHODS, Method};
+use crate::tet::{EDGES, FACE_VERTICES, edge_index};
+use crate::walk::OutcomeKind;
+use std::fmt::Write;
+
+/// Threads per workgroup.
+pub const GROUP: u32 = 64;
+
+/// A `#[repr(C)]` struct shared with the shader: the Rust type and its WGSL declaration from one list.
+macro_rules! shared_struct {
+    ($(#[$meta:meta])* $name:ident { $($(#[$fm:meta])* $field:ident: $rust:ty => $wgsl:literal),* $(,)? }) => {
+        $(#[$meta])*
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+        pub struct $name { $($(#[$fm])* pub $field: $rust),* }
+
+        impl $name {
+            /// The WGSL declaration of this struct.
+            pub const WGSL: &'static str = concat!(
+                "struct ", stringify!($name), " {\n",
+                $("    ", stringify!($field), ": ", $wgsl, ",\n",)*
+                "}\n"
+            );
+        }
+    };
+}
+
+shared_struct! {
+    /// The uniform parameters of a dispatch.
+    Params {
+        count: u32 => "u32",
+        offset: u32 => "u32",
+        max_steps: u32 => "u32",
+        start: u32 => "u32",
+    }
+}
+
+shared_struct! {
+    /// One exit-face case as the shader reads it (a positively oriented tetrahedron; `entry` -1 for
+    /// none).
+    Case {
+        v0: [f32; 4] => "vec4f",
+        v1: [f32; 4] => "vec4f",
+        v2: [f32; 4] => "vec4f",
+        v3: [f32; 4] => "vec4f",
+        org: [f32; 4] => "vec4f",
+        dir: [f32; 4] => "vec4f",
+        entry: i32 => "i32",
+        pad0: i32 => "i32",
+        pad1: i32 => "i32",
+        pad2: i32 => "i32",
+    }
+}
+
+shared_struct! {
+    /// One walk's ending as the shader writes it: [`OutcomeKind::code`], tetrahedron, face or period
+    /// ([`crate::walk::Outcome::parts`]), steps.
+    Ending {
+        kind: u32 => "u32",
+        tet: u32 => "u32",
+        x: u32 => "u32",
+        steps: u32 => "u32",
+    }
+}
+
+/// The entry points of a method: `exit_IDENT` over cases, `walk_IDENT` over rays through a mesh.
+pub fn entry_points(m: &Method) -> [String; 2] {
+    let id = m.ident();
+    [format!("exit_{id}"), format!("walk_{id}")]
+}
+
+/// A `switch` function returning `ty` values from a table.
+fn table<const N: usize>(name: &str, ty: &str, rows: &[[usize; N]]) -> String {
+    let mut s = format!("fn {name}(i: u32) -> {ty} {{\n    switch i {{\n");
+    for (i, r) in rows.iter().enumerate() {
+        let vals: Vec<String> = r.iter().map(|v| format!("{v}u")).collect();
+        let case = if i + 1 == rows.len() {
+            "default".to_string()
+        } else {
+            format!("case {i}u")
+        };
+        let _ = writeln!(s, "        {case}: {{ return {ty}({}); }}", vals.join(", "));
+    }
+    s + "    }\n}\n"
+}
+
+const BINDINGS: &str = "\
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> cases: array<Case>;
+@group(0) @binding(2) var<storage, read_write> faces: array<i32>;
+// The walk: rays (org, dir), mesh points, tetrahedra, neighbours, mirror faces and constrained bits.
+@group(0) @binding(3) var<storage, read> rays: array<vec4f>;
+@group(0) @binding(4) var<storage, read> points: array<vec4f>;
+@group(0) @binding(5) var<storage, read> tets: array<vec4u>;
+@group(0) @binding(6) var<storage, read> neighbors: array<vec4u>;
+// Bits 0-7: mirror face of each face (2 bits each); bits 8-11: constrained faces.
+@group(0) @binding(7) var<storage, read> faceinfo: array<u32>;
+@group(0) @binding(8) var<storage, read_write> endings: array<Ending>;
+";
+
+/// The entry points of one method (`IDENT` replaced by its identifier): the exit face of each case,
+/// and the bounded walk of each ray with Brent's cycle detection on (tetrahedron, entry face), as
+/// `crate::walk::walk` does, the ray prepared once.
+const ENTRY_POINTS: &str = "\
+@compute @workgroup_size(GROUP)
+fn exit_IDENT(@builtin(global_invocation_id) gid: vec3u) {
+    if gid.x >= params.count {
+        return;
+    }
+    let i = gid.x + params.offset;
+    let c = cases[i];
+    var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
+    faces[i] = IDENT_exit(&t, IDENT_prepare(c.org.xyz, c.dir.xyz), c.entry);
+}
+
+@compute @workgroup_size(GROUP)
+fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u) {
+    if gid.x >= params.count {
+        return;
+    }
+    let i = gid.x + params.offset;
+    let r = IDENT_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
+    var tet = params.start;
+    var entry = NONE;
+    var saved_tet = tet;
+    var saved_entry = entry;
+    var power = 1u;
+    var lam = 0u;
+    for (var steps = 1u; steps <= params.max_steps; steps++) {
+        let vi = tets[tet];
+        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let f = IDENT_exit(&t, r, entry);
+        if f < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
+            return;
+        }
+        let fu = u32(f);
+        let info = faceinfo[tet];
+        if ((info >> (8u + fu)) & 1u) == 1u {
+            endings[i] = Ending(HIT, tet, fu, steps);
+            return;
+        }
+        let next = neighbors[tet][fu];
+        if next == HULL {
+            endings[i] = Ending(LEFT_MESH, tet, fu, steps);
+            return;
+        }
+        entry = i32((info >> (2u * fu)) & 3u);
+        tet = next;
+        lam += 1u;
+        if tet == saved_tet && entry == saved_entry {
+            endings[i] = Ending(CYCLE, tet, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_entry = entry;
+            power = power * 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+}
+";
+
+/// The whole WGSL module.
+pub fn generate() -> String {
+    let mut s = String::from(
+        "// GENERATED by tetwalk::gpu::shader::generate() from the Rust definitions (src/gpu/shader.rs,\n\
+         // src/registry.rs, src/gpu/common.wgsl, src/methods/*.wgsl). Do not edit: run\n\
+         // `TETWALK_BLESS=1 cargo test --release --test gpu_shader` to rewrite it.\n\n",
+    );
+    let _ = writeln!(s, "const GROUP: u32 = {GROUP}u;");
+    s += "const NONE: i32 = -1;\n";
+    let _ = writeln!(s, "const HULL: u32 = {HULL:#x}u;");
+    s += "\n// Outcome kinds (tetwalk::walk::OutcomeKind).\n";
+    for k in OutcomeKind::ALL {
+        let _ = writeln!(s, "const {}: u32 = {}u;", k.wgsl_name(), k.code());
+    }
+    s += "\n";
+    s += Params::WGSL;
+    s += "\n";
+    s += Case::WGSL;
+    s += "\n";
+    s += Ending::WGSL;
+    s += "\n";
+    s += BINDINGS;
+    s += "\n// Face i's vertices, counterclockwise seen from outside (tetwalk::tet::FACE_VERTICES).\n";
+    s += &table("face_vertices", "vec3u", &FACE_VERTICES);
+    s += "\n// The six edges (tetwalk::tet::EDGES).\n";
+    s += &table("edge_points", "vec2u", &EDGES);
+    s += "\n// Index in EDGES of the edge lo -> hi (tetwalk::tet::edge_index).\n";
+    s += "fn edge_index(lo: u32, hi: u32) -> i32 {\n    switch lo * 4u + hi {\n";
+    for [a, b] in EDGES {
+        let _ = writeln!(
+            s,
+            "        case {}u: {{ return {}; }}",
+            a * 4 + b,
+            edge_index(a, b).0
+        );
+    }
+    s += "        default: { return -1; }\n    }\n}\n";
+    s += "\n// Maria et al. 2017 Table 2 (tetwalk::methods::maria17::FACE_VERTICES).\n";
+    s += &table(
+        "maria17_face_vertices",
+        "vec3u",
+        &crate::methods::maria17::FACE_VERTICES,
+    );
+    s += "\n// Maria et al. 2017 Table 1 (tetwalk::methods::maria17::GET_FACE).\n";
+    s += &table(
+        "maria17_get_face",
+        "vec3u",
+        &crate::methods::maria17::GET_FACE,
+    );
+    s += "\n";
+    s += include_str!("common.wgsl");
+    let mut included: Vec<&str> = Vec::new();
+    for m in METHODS {
+        if let Gpu::Wgsl(sources) = m.gpu {
+            for src in sources {
+                if !included.contains(src) {
+                    included.push(src);
+                    s += "\n";
+                    s += src;
+                }
+            }
+        }
+    }
+    for m in METHODS {
+        if let Gpu::Wgsl(_) = m.gpu {
+            let _ = write!(s, "\n// ---- {} ----\n\n", m.name);
+            s += &ENTRY_POINTS.replace("IDENT", &m.ident());
+        }
+    }
+    s
+}
+
+/// The committed module, which [`generate`] must reproduce.
+pub const COMMITTED: &str = include_str!("tetwalk.wgsl");

@@ -1,0 +1,105 @@
+//! Pinhole cameras and the viewpoints of `tetwalk count` and `tetwalk render` (seed 000 §4: viewpoints
+//! around the model, one primary ray per pixel).
+
+use crate::tet::Ray;
+use glam::{Mat3, Quat, Vec3};
+use rand::RngExt;
+
+/// A pinhole camera at `eye` looking at `target`.
+#[derive(Clone, Copy, Debug)]
+pub struct Camera {
+    pub eye: Vec3,
+    forward: Vec3,
+    right: Vec3,
+    up: Vec3,
+}
+
+impl Camera {
+    pub fn look_at(eye: Vec3, target: Vec3, fov_deg: f32, aspect: f32) -> Camera {
+        let forward = (target - eye).normalize();
+        let up0 = if forward.y.abs() > 0.99 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        let right = forward.cross(up0).normalize();
+        let up = right.cross(forward);
+        let h = (fov_deg.to_radians() * 0.5).tan();
+        Camera {
+            eye,
+            forward,
+            right: right * h * aspect,
+            up: up * h,
+        }
+    }
+
+    /// The primary ray through the centre of pixel `(x, y)`, in f32.
+    pub fn ray(&self, x: u32, y: u32, w: u32, h: u32) -> Ray {
+        let sx = 2.0 * (x as f32 + 0.5) / w as f32 - 1.0;
+        let sy = 1.0 - 2.0 * (y as f32 + 0.5) / h as f32;
+        Ray {
+            org: self.eye,
+            dir: self.forward + self.right * sx + self.up * sy,
+        }
+    }
+}
+
+/// View `i` of `n`: Fibonacci points on a sphere (rotated by the seed) at twice the model's radius from
+/// its centre, looking at it. The model is taken to fill the middle third of the mesh's bounding box, as
+/// [`crate::scenes::build::boxed`] makes it.
+pub fn view(
+    mesh_lo: Vec3,
+    mesh_hi: Vec3,
+    i: usize,
+    n: usize,
+    seed: u64,
+    fov: f32,
+    aspect: f32,
+) -> Camera {
+    let mut r = crate::scenes::rng(seed);
+    let q = Quat::from_xyzw(
+        r.random_range(-1.0..1.0),
+        r.random_range(-1.0..1.0),
+        r.random_range(-1.0..1.0),
+        1.0,
+    );
+    let rot = Mat3::from_quat(q.normalize());
+    let c = (mesh_lo + mesh_hi) * 0.5;
+    let radius = (mesh_hi - mesh_lo).min_element() / 6.0;
+    let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
+    let rho = (1.0 - y * y).max(0.0).sqrt();
+    let phi = i as f32 * std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let dir = rot * Vec3::new(rho * phi.cos(), y, rho * phi.sin());
+    Camera::look_at(c + dir * (2.0 * radius), c, fov, aspect)
+}
+
+/// The viewpoints of a count or a render: `views` views of `width × height` pixels around a mesh,
+/// placed by `seed` ([`view`]), with a vertical field of view of `fov_deg`.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Views {
+    pub views: usize,
+    pub width: u32,
+    pub height: u32,
+    pub seed: u64,
+    /// Vertical field of view, degrees.
+    pub fov_deg: f32,
+}
+
+impl Views {
+    /// The vertical field of view of every count and render.
+    pub const FOV_DEG: f32 = 40.0;
+
+    /// View `i`'s camera around the points bounded by `lo` and `hi`.
+    pub fn camera(&self, lo: Vec3, hi: Vec3, i: usize) -> Camera {
+        let aspect = self.width as f32 / self.height as f32;
+        view(lo, hi, i, self.views, self.seed, self.fov_deg, aspect)
+    }
+
+    /// One primary ray per pixel, row by row.
+    pub fn rays(&self, cam: &Camera) -> Vec<Ray> {
+        let (w, h) = (self.width, self.height);
+        (0..h)
+            .flat_map(|y| (0..w).map(move |x| cam.ray(x, y, w, h)))
+            .collect()
+    }
+}
