@@ -1,6 +1,7 @@
 //! Building a scene from a closed model: the model in a box, tetrahedralized by the installed TetGen
 //! (Si 2015) as a constrained Delaunay tetrahedralization, with every point exactly an f32.
 
+use super::SceneError;
 use super::model::Model;
 use crate::mesh::{Mesh, load_tetgen};
 use glam::Vec3;
@@ -61,7 +62,7 @@ fn smesh(m: &Model) -> String {
 }
 
 /// Run `tetgen ARGS scene.smesh` in `dir`: its status and everything it printed.
-fn tetgen(dir: &Path, args: &str) -> Result<(std::process::ExitStatus, String), String> {
+fn tetgen(dir: &Path, args: &str) -> Result<(std::process::ExitStatus, String), SceneError> {
     let out = Command::new("tetgen")
         .arg(args)
         .arg("scene.smesh")
@@ -69,9 +70,9 @@ fn tetgen(dir: &Path, args: &str) -> Result<(std::process::ExitStatus, String), 
         .output()
         .map_err(|e| {
             if e.kind() == std::io::ErrorKind::NotFound {
-                "tetgen is not installed (Debian: apt-get install tetgen)".to_string()
+                SceneError::NoTetgen
             } else {
-                format!("cannot run tetgen: {e}")
+                SceneError::io(Path::new("tetgen"))(e)
             }
         })?;
     Ok((
@@ -81,24 +82,27 @@ fn tetgen(dir: &Path, args: &str) -> Result<(std::process::ExitStatus, String), 
 }
 
 /// Run TetGen; when it fails, run its self-intersection check (`-d`) to say why.
-fn run_tetgen(dir: &Path, args: &str) -> Result<(), String> {
+fn run_tetgen(dir: &Path, args: &str) -> Result<(), SceneError> {
     let (status, text) = tetgen(dir, args)?;
     if status.success() && dir.join("scene.1.ele").exists() && !text.contains("terminate") {
         return Ok(());
     }
     let (_, check) = tetgen(dir, "-d")?;
     if let Some(line) = check.lines().find(|l| l.contains("intersecting")) {
-        return Err(format!(
-            "the model intersects itself: tetgen -d says \"{}\"",
-            line.trim_matches(|c| c == '!' || c == ' ')
+        return Err(SceneError::SelfIntersecting(
+            line.trim_matches(|c| c == '!' || c == ' ').to_string(),
         ));
     }
-    Err(format!("tetgen {args} failed ({status}):\n{}", text.trim()))
+    Err(SceneError::Tetgen {
+        args: args.to_string(),
+        status: status.to_string(),
+        output: text.trim().to_string(),
+    })
 }
 
 /// Coordinates of TetGen's `.node` that are not exactly f32 values (Steiner points), rounded.
-fn inexact_points(node: &Path) -> Result<(Vec<[f64; 3]>, usize), String> {
-    let text = std::fs::read_to_string(node).map_err(|e| e.to_string())?;
+fn inexact_points(node: &Path) -> Result<(Vec<[f64; 3]>, usize), SceneError> {
+    let text = std::fs::read_to_string(node).map_err(SceneError::io(node))?;
     let mut all = Vec::new();
     for line in text.lines().skip(1) {
         let w: Vec<f64> = line
@@ -122,11 +126,17 @@ fn inexact_points(node: &Path) -> Result<(Vec<[f64; 3]>, usize), String> {
 /// Build a scene from `model` and write it as TetGen files `out.{node,ele,neigh,face}`. Where TetGen
 /// adds points (quality refinement) whose coordinates are not f32 values, they are rounded to f32 and
 /// TetGen is run again inserting them (`-i`), so that the mesh is valid for its f32 coordinates exactly.
-pub fn build_scene(model: &Model, quality: bool, offset: Vec3, out: &Path) -> Result<Mesh, String> {
+pub fn build_scene(
+    model: &Model,
+    quality: bool,
+    offset: Vec3,
+    out: &Path,
+) -> Result<Mesh, SceneError> {
     model.check_closed()?;
     let m = boxed(model, offset);
-    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    std::fs::write(dir.path().join("scene.smesh"), smesh(&m)).map_err(|e| e.to_string())?;
+    let dir = tempfile::tempdir().map_err(SceneError::io(Path::new("temporary directory")))?;
+    let smesh_path = dir.path().join("scene.smesh");
+    std::fs::write(&smesh_path, smesh(&m)).map_err(SceneError::io(&smesh_path))?;
     run_tetgen(dir.path(), switches(quality))?;
     for _ in 0..3 {
         let (all, inexact) = inexact_points(&dir.path().join("scene.1.node"))?;
@@ -141,17 +151,16 @@ pub fn build_scene(model: &Model, quality: bool, offset: Vec3, out: &Path) -> Re
         for (i, p) in extra.iter().enumerate() {
             let _ = writeln!(s, "{i} {:?} {:?} {:?}", p[0], p[1], p[2]);
         }
-        std::fs::write(dir.path().join("scene.a.node"), s).map_err(|e| e.to_string())?;
+        let node = dir.path().join("scene.a.node");
+        std::fs::write(&node, s).map_err(SceneError::io(&node))?;
         run_tetgen(dir.path(), "-pzAnYiQ")?;
     }
     for ext in ["node", "ele", "neigh", "face"] {
         let mut to = out.as_os_str().to_owned();
         to.push(format!(".{ext}"));
-        std::fs::copy(
-            dir.path().join(format!("scene.1.{ext}")),
-            PathBuf::from(&to),
-        )
-        .map_err(|e| format!("{}: {e}", PathBuf::from(to).display()))?;
+        let to = PathBuf::from(to);
+        std::fs::copy(dir.path().join(format!("scene.1.{ext}")), &to)
+            .map_err(SceneError::io(&to))?;
     }
-    load_tetgen(out).map_err(|e| e.to_string())
+    Ok(load_tetgen(out)?)
 }

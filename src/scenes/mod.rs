@@ -22,6 +22,43 @@ use crate::tet::Ray;
 use glam::Vec3;
 use rand::RngExt;
 
+/// Why a scene cannot be read, built or loaded; each says where.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// A model file that cannot be read or parsed: `place` is the file, and the line where known.
+    #[error("{place}: {why}")]
+    Model { place: String, why: String },
+    #[error("the model is not closed: edge ({a}, {b}) {what}")]
+    NotClosed { a: u32, b: u32, what: &'static str },
+    #[error("tetgen is not installed (Debian: apt-get install tetgen)")]
+    NoTetgen,
+    #[error("the model intersects itself: tetgen -d says \"{0}\"")]
+    SelfIntersecting(String),
+    #[error("tetgen {args} failed ({status}):\n{output}")]
+    Tetgen {
+        args: String,
+        status: String,
+        output: String,
+    },
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+}
+
+impl SceneError {
+    /// An I/O error at `path`.
+    pub fn io(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> SceneError + '_ {
+        move |source| SceneError::Io {
+            path: path.display().to_string(),
+            source,
+        }
+    }
+}
+
 /// The generated meshes, by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -46,14 +83,14 @@ pub const BUILT_IN: [&str; 4] = [
 
 /// A scene by name: a built-in one (`corpora/scenes/NAME`), a generated one (`kuhn`, `jitter`, `fan`,
 /// each with a `-far` variant moved by 2^16), or the stem or any file of TetGen output.
-pub fn load(name: &str) -> Result<Mesh, String> {
+pub fn load(name: &str) -> Result<Mesh, MeshError> {
     let kind = Generated::from_name;
     let generated = match name.strip_suffix("-far").and_then(kind) {
         Some(k) => Some((k, Vec3::splat(65536.0))),
         None => kind(name).map(|k| (k, Vec3::ZERO)),
     };
     if let Some((k, offset)) = generated {
-        return generated_mesh(k, 8, offset, 1).map_err(|e| e.to_string());
+        return generated_mesh(k, 8, offset, 1);
     }
     let path = if BUILT_IN.contains(&name) {
         std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -62,7 +99,7 @@ pub fn load(name: &str) -> Result<Mesh, String> {
     } else {
         std::path::PathBuf::from(name)
     };
-    crate::mesh::load_tetgen(&path).map_err(|e| e.to_string())
+    crate::mesh::load_tetgen(&path)
 }
 
 /// A generated mesh of `size`, moved by `offset` (exactly, for offsets up to 2^20).

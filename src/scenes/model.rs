@@ -1,5 +1,6 @@
 //! Closed triangle models read from OFF, OBJ or ASCII PLY, every coordinate rounded to f32.
 
+use super::SceneError;
 use glam::Vec3;
 use std::collections::HashMap;
 use std::path::Path;
@@ -11,15 +12,25 @@ pub struct Model {
     pub triangles: Vec<[u32; 3]>,
 }
 
-fn err(path: &Path, line: usize, what: impl std::fmt::Display) -> String {
-    format!("{} line {line}: {what}", path.display())
+fn err(path: &Path, line: usize, what: impl std::fmt::Display) -> SceneError {
+    SceneError::Model {
+        place: format!("{} line {line}", path.display()),
+        why: what.to_string(),
+    }
+}
+
+fn whole(path: &Path, what: impl std::fmt::Display) -> SceneError {
+    SceneError::Model {
+        place: path.display().to_string(),
+        why: what.to_string(),
+    }
 }
 
 impl Model {
     /// Read a model by its extension (`.off`, `.obj`, `.ply`); polygons are fanned into triangles.
-    pub fn read(path: &Path) -> Result<Model, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    pub fn read(path: &Path) -> Result<Model, SceneError> {
+        let text =
+            std::fs::read_to_string(path).map_err(|e| whole(path, format!("cannot read: {e}")))?;
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -30,20 +41,17 @@ impl Model {
             "obj" => read_obj(path, &text)?,
             "ply" => read_ply(path, &text)?,
             _ => {
-                return Err(format!(
-                    "{}: unknown model format (off, obj or ply)",
-                    path.display()
-                ));
+                return Err(whole(path, "unknown model format (off, obj or ply)"));
             }
         };
         if m.triangles.is_empty() {
-            return Err(format!("{}: no triangles", path.display()));
+            return Err(whole(path, "no triangles"));
         }
         Ok(m)
     }
 
     /// Every edge must be used by exactly two triangles, once in each direction.
-    pub fn check_closed(&self) -> Result<(), String> {
+    pub fn check_closed(&self) -> Result<(), SceneError> {
         let mut uses: HashMap<(u32, u32), i32> = HashMap::new();
         for t in &self.triangles {
             for k in 0..3 {
@@ -57,7 +65,7 @@ impl Model {
             } else {
                 "is not shared by exactly two consistently oriented triangles"
             };
-            return Err(format!("the model is not closed: edge ({a}, {b}) {what}"));
+            return Err(SceneError::NotClosed { a: *a, b: *b, what });
         }
         Ok(())
     }
@@ -69,7 +77,7 @@ fn push_polygon(
     n: usize,
     path: &Path,
     line: usize,
-) -> Result<(), String> {
+) -> Result<(), SceneError> {
     if poly.len() < 3 {
         return Err(err(path, line, "a face needs three vertices"));
     }
@@ -82,7 +90,7 @@ fn push_polygon(
     Ok(())
 }
 
-fn point(path: &Path, line: usize, xs: &[&str]) -> Result<Vec3, String> {
+fn point(path: &Path, line: usize, xs: &[&str]) -> Result<Vec3, SceneError> {
     let p: Result<Vec<f32>, _> = xs.iter().take(3).map(|x| x.parse::<f32>()).collect();
     match p {
         Ok(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok(Vec3::new(v[0], v[1], v[2])),
@@ -107,7 +115,7 @@ fn lines(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
         .filter(|(_, w)| !w.is_empty())
 }
 
-fn read_off(path: &Path, text: &str) -> Result<Model, String> {
+fn read_off(path: &Path, text: &str) -> Result<Model, SceneError> {
     let mut it = lines(text);
     let (l, head) = it.next().ok_or_else(|| err(path, 1, "empty file"))?;
     let mut counts = if head[0] == "OFF" {
@@ -151,7 +159,7 @@ fn read_off(path: &Path, text: &str) -> Result<Model, String> {
     Ok(m)
 }
 
-fn read_obj(path: &Path, text: &str) -> Result<Model, String> {
+fn read_obj(path: &Path, text: &str) -> Result<Model, SceneError> {
     let mut m = Model::default();
     let mut faces = Vec::new();
     for (l, w) in lines(text) {
@@ -184,7 +192,7 @@ fn read_obj(path: &Path, text: &str) -> Result<Model, String> {
     Ok(m)
 }
 
-fn read_ply(path: &Path, text: &str) -> Result<Model, String> {
+fn read_ply(path: &Path, text: &str) -> Result<Model, SceneError> {
     let mut it = lines(text);
     let (mut nv, mut nf) = (0usize, 0usize);
     let mut header_end = 0;
