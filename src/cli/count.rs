@@ -43,6 +43,9 @@ pub fn run(a: Args) -> Outcome {
     let out = JsonOut::new(a.json.as_deref())?;
     let paper = a.preset.is_some();
     let views = a.views.unwrap_or(if paper { 1282 } else { 160 });
+    if views == 0 {
+        return Err("--views 0: a count needs at least one view".into());
+    }
     let size = a
         .size
         .unwrap_or_else(|| if paper { "1024x1024" } else { "256x256" }.into());

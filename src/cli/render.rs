@@ -94,6 +94,13 @@ pub fn run(a: Args) -> Outcome {
         .collect();
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = super::size(&a.size, true, 8192)?;
+    if methods.is_empty() && matches!(a.what, What::Failures | What::Predicate) {
+        return Err(format!(
+            "--methods {}: nothing to draw, the reference is what the methods are drawn against",
+            a.methods
+        )
+        .into());
+    }
     let mut drawn = Drawn::default();
     match a.what {
         What::Predicate => {
