@@ -25,7 +25,7 @@ fn rows(width: u32, cells: impl Iterator<Item = String>) -> String {
 
 #[test]
 fn bunny_view_is_unchanged() {
-    let mesh = tetwalk::scenes::load("bunny-quality").unwrap();
+    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
     let methods: Vec<_> = METHODS.iter().filter(|m| !m.reference).collect();
     let views = Views {
         views: 160,

@@ -13,8 +13,12 @@ pub struct Args {
     /// their -far), or a TetGen stem.
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
-    /// Viewpoints on a sphere around the model [default: 160, or 1282 with --preset paper].
+    /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one): every ray then
+    /// leaves the mesh.
     #[arg(long)]
+    no_faces: bool,
+    /// Viewpoints on a sphere around the model [default: 160, or 1282 with --preset paper].
+    #[arg(long, allow_negative_numbers = true)]
     views: Option<usize>,
     /// Image size, WxH [default: 256x256, or 1024x1024 with --preset paper].
     #[arg(long)]
@@ -25,7 +29,7 @@ pub struct Args {
     #[command(flatten)]
     backend: BackendArg,
     /// Seed of the viewpoints' rotation (`render` places views the same way for the same seed).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
     /// `paper`: seed 000's 1,282 views of 1024x1024.
     #[arg(long, value_parser = ["paper"])]
@@ -49,9 +53,13 @@ pub fn run(a: Args) -> Outcome {
     let size = a
         .size
         .unwrap_or_else(|| if paper { "1024x1024" } else { "256x256" }.into());
-    let (width, height) = super::size(&size, false, 16384)?;
+    let (width, height) = super::size(&size, false, 65536)?;
+    super::fits(
+        &format!("--size {width}x{height}"),
+        width as u128 * height as u128 * super::BYTES_PER_PIXEL,
+    )?;
     let backend = a.backend.open()?;
-    let mesh = crate::scenes::load(&a.scene)?;
+    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let settings = Settings {
         scene: a.scene,
         views: Views {

@@ -35,19 +35,19 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "stab")]
     rays: Rays,
     /// In (0, 1]; smaller is flatter.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     flatness: f32,
     /// Largest ulp offset for the near-* rays.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
     /// Move each case this far from the origin along (1, 1, 1) (rounded to f32).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
     offset: f32,
     /// Cases to write (at most 100,000,000).
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 100)]
     count: usize,
     /// Seed of the generator.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
     /// Give each case its exact entry face (the lowest one) when it has one.
     #[arg(long)]

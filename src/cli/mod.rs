@@ -68,6 +68,7 @@ enum Command {
 }
 
 pub fn main() -> ExitCode {
+    quiet_mesa();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Methods { json } => methods(json),
@@ -94,6 +95,23 @@ pub fn main() -> ExitCode {
         eprintln!("tetwalk: {msg}");
         ExitCode::from(2)
     })
+}
+
+/// Mesa's drivers print "XDG_RUNTIME_DIR is invalid or not set" at every adapter query when the
+/// variable is missing (as in CI and containers): give them a private directory of their own.
+fn quiet_mesa() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
+        return;
+    }
+    let dir = std::env::temp_dir().join("tetwalk-xdg-runtime");
+    let made = std::fs::create_dir_all(&dir).and_then(|_| {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700))
+    });
+    if made.is_ok() {
+        // SAFETY: called first thing in main, before any thread exists.
+        unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
+    }
 }
 
 fn methods(json: Option<PathBuf>) -> Outcome {
@@ -234,6 +252,35 @@ fn progress(len: u64, unit: &str) -> indicatif::ProgressBar {
         bar.set_style(st);
     }
     bar
+}
+
+/// Most memory a command may plan to hold at once; larger runs are refused with the figure they need.
+const MEMORY_BUDGET: u64 = 8 << 30;
+
+/// Refuse `what` when it would need more than [`MEMORY_BUDGET`] bytes.
+fn fits(what: &str, bytes: u128) -> Result<(), Error> {
+    if bytes > MEMORY_BUDGET as u128 {
+        return Err(format!(
+            "{what} would need about {:.1} GiB of memory; tetwalk plans at most {} GiB at once",
+            bytes as f64 / (1u64 << 30) as f64,
+            MEMORY_BUDGET >> 30
+        )
+        .into());
+    }
+    Ok(())
+}
+
+/// Bytes per primary ray of one view while it is walked and judged (ray, reference and method walks,
+/// verdicts).
+const BYTES_PER_PIXEL: u128 = 96;
+
+/// Whether a scene must have constrained faces (`--no-faces` says it need not).
+fn faces(no_faces: bool) -> crate::mesh::Faces {
+    if no_faces {
+        crate::mesh::Faces::Optional
+    } else {
+        crate::mesh::Faces::Required
+    }
 }
 
 /// Parse `WxH` (or `W` for a square when `square` is allowed), each side in 1..=`max`.

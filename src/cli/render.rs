@@ -30,11 +30,14 @@ pub struct Args {
     /// A built-in scene or a TetGen stem (not for predicate maps).
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
+    /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one).
+    #[arg(long)]
+    no_faces: bool,
     /// Which of `--views` viewpoints, 0-based (placed as `tetwalk count` places them).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0)]
     view: usize,
     /// Viewpoints on the sphere around the model, as in `tetwalk count`.
-    #[arg(long, default_value_t = 160)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 160)]
     views: usize,
     /// WxH for scenes; W for predicate maps (square).
     #[arg(long, default_value = "512x512")]
@@ -53,7 +56,7 @@ pub struct Args {
     #[arg(long, value_parser = ["edge", "vertex"], default_value = "edge")]
     through: String,
     /// Seed: of the viewpoints (as `tetwalk count --seed`), or of the predicate map's case.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
     /// Output PNG (per-method images are written beside it, suffixed with the method).
     #[arg(long, default_value = "tetwalk.png")]
@@ -93,7 +96,11 @@ pub fn run(a: Args) -> Outcome {
         .filter(|m| !m.reference)
         .collect();
     let json = JsonOut::new(a.json.as_deref())?;
-    let (w, h) = super::size(&a.size, true, 8192)?;
+    let (w, h) = super::size(&a.size, true, 65536)?;
+    super::fits(
+        &format!("--size {w}x{h}"),
+        w as u128 * h as u128 * (super::BYTES_PER_PIXEL + methods.len() as u128),
+    )?;
     if methods.is_empty() && matches!(a.what, What::Failures | What::Predicate) {
         return Err(format!(
             "--methods {}: nothing to draw, the reference is what the methods are drawn against",
@@ -140,7 +147,7 @@ pub fn run(a: Args) -> Outcome {
         }
         what => {
             let backend = a.backend.open()?;
-            let mesh = crate::scenes::load(&a.scene)?;
+            let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
             let views = Views {
                 views: a.views,
                 width: w,

@@ -19,11 +19,14 @@ pub enum Scene {
         #[arg(long)]
         quality: bool,
         /// Move the model this far along (1, 1, 1) first (rounded to f32).
-        #[arg(long, default_value_t = 0.0)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
         offset: f32,
         /// Output stem (writes OUT.node, OUT.ele, OUT.neigh, OUT.face); the model's stem by default.
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Stop TetGen after this many seconds (each run).
+        #[arg(long, allow_negative_numbers = true, default_value_t = 600.0)]
+        tetgen_seconds: f64,
         /// Also write the built scene's info as JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -32,6 +35,9 @@ pub enum Scene {
     Info {
         /// A built-in scene name or a TetGen stem.
         scene: String,
+        /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one).
+        #[arg(long)]
+        no_faces: bool,
         /// Also write the info as JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -45,21 +51,35 @@ pub fn run(s: Scene) -> Outcome {
             quality,
             offset,
             out,
+            tetgen_seconds,
             json,
         } => {
+            if !(tetgen_seconds > 0.0 && tetgen_seconds <= 1e6) {
+                return Err(format!("--tetgen-seconds {tetgen_seconds} is not in (0, 1e6]").into());
+            }
             let json = JsonOut::new(json.as_deref())?;
             let m = Model::read(&model)?;
             let out = out.unwrap_or_else(|| model.with_extension(""));
-            let mesh = build_scene(&m, quality, Vec3::splat(offset), &out)?;
+            let mesh = build_scene(
+                &m,
+                quality,
+                Vec3::splat(offset),
+                &out,
+                std::time::Duration::from_secs_f64(tetgen_seconds),
+            )?;
             println!("{}: {} tetrahedra", out.display(), mesh.tets.len());
             let info = SceneInfo::of(&mesh);
             print!("{}", info.markdown());
             json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
         }
-        Scene::Info { scene, json } => {
+        Scene::Info {
+            scene,
+            no_faces,
+            json,
+        } => {
             let json = JsonOut::new(json.as_deref())?;
-            let mesh: Mesh = crate::scenes::load(&scene)?;
+            let mesh: Mesh = crate::scenes::load(&scene, super::faces(no_faces))?;
             let info = SceneInfo::of(&mesh);
             println!("scene {scene}\n");
             print!("{}", info.markdown());

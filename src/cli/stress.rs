@@ -11,7 +11,7 @@ use std::process::ExitCode;
 #[derive(clap::Args)]
 pub struct Args {
     /// Cases per row.
-    #[arg(long, default_value_t = 100_000)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 100_000)]
     cases: usize,
     /// Rows (comma-separated) [default: all of them].
     #[arg(long, value_parser = choice::<Row>(), value_delimiter = ',')]
@@ -20,7 +20,7 @@ pub struct Args {
     #[arg(long, default_value = "all")]
     methods: String,
     /// Seed of the generated cases.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
     #[command(flatten)]
     backend: BackendArg,
@@ -28,10 +28,10 @@ pub struct Args {
     #[arg(long)]
     compare: bool,
     /// Flatness of the degenerate families, in (0, 1].
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1e-3)]
     flatness: f32,
     /// Largest ulp offset of the near-edge and near-vertex rows.
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
     /// Also write the report as JSON here.
     #[arg(long)]
@@ -46,6 +46,11 @@ pub fn run(a: Args) -> Outcome {
         return Err(format!("--ulps {} is not a number of ulps (1 or more)", a.ulps).into());
     }
     let methods = parse_list(&a.methods)?;
+    if a.cases == 0 {
+        return Err("--cases 0: a stress run needs at least one case per row".into());
+    }
+    // A row's cases, their classifications and one method's answers are held at once.
+    super::fits(&format!("--cases {}", a.cases), a.cases as u128 * 112)?;
     let out = JsonOut::new(a.json.as_deref())?;
     let backend = if a.compare {
         if a.backend.backend != BackendKind::Cpu {

@@ -20,13 +20,13 @@ pub struct Args {
     #[arg(long, value_parser = choice::<Generated>(), default_value = "fan")]
     mesh: Generated,
     /// Grid cells per side, or 16·size tetrahedra in the fan.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 8)]
     size: u32,
     /// Move the mesh and rays this far from the origin along (1, 1, 1); exact up to 2^20.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
     offset: f32,
     /// Rays walked (half aimed exactly through vertices and edges).
-    #[arg(long, default_value_t = 10000)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10000)]
     rays: usize,
     /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
@@ -36,7 +36,7 @@ pub struct Args {
     #[command(flatten)]
     backend: BackendArg,
     /// Seed of the rays (and of the jittered grid).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
     /// Walk the methods that can (aman20, aman20-scaled) over this compact layout instead of the plain
     /// mesh (their "diverged" column is then not measured).
@@ -84,6 +84,11 @@ struct WalkReport {
 
 pub fn run(a: Args) -> Outcome {
     let methods = parse_list(&a.methods)?;
+    // Every ray keeps one tally per method until the table is made.
+    super::fits(
+        &format!("--rays {}", a.rays),
+        a.rays as u128 * (32 + 64 * methods.len() as u128),
+    )?;
     let out = JsonOut::new(a.json.as_deref())?;
     let fma = match a.backend.open()? {
         Backend::Cpu { fma } => fma,

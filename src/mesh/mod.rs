@@ -5,7 +5,7 @@ pub mod layout;
 pub mod reorder;
 mod tetgen;
 
-pub use tetgen::{TetgenTexts, load_tetgen, parse_tetgen};
+pub use tetgen::{Faces, TetgenTexts, load_tetgen, load_tetgen_with, parse_tetgen};
 
 use crate::tet::{FACE_VERTICES, Tet, orientation};
 use glam::Vec3;

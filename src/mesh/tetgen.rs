@@ -107,10 +107,25 @@ impl Table {
     }
 }
 
+/// Whether a mesh must have constrained faces (a scene's surfaces, from `.face`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Faces {
+    /// A missing or empty `.face` is an error: a scene without surfaces is a mistake unless asked for.
+    Required,
+    /// Asked for explicitly: a missing `.face` means no constrained faces.
+    Optional,
+}
+
+/// Load a TetGen mesh from `stem.node`, `stem.ele` and `stem.face` (its constrained faces, which must
+/// be there and not empty), with `stem.neigh` when present.
+pub fn load_tetgen(path: &Path) -> Result<Mesh, MeshError> {
+    load_tetgen_with(path, Faces::Required)
+}
+
 /// Load a TetGen mesh from `stem.node` and `stem.ele`, with `stem.neigh` and `stem.face` when present
 /// (neighbours are derived from shared faces without `.neigh`; every `.face` entry is constrained).
 /// `path` may be the stem or any of the four files. Coordinates are rounded to the nearest f32.
-pub fn load_tetgen(path: &Path) -> Result<Mesh, MeshError> {
+pub fn load_tetgen_with(path: &Path, faces: Faces) -> Result<Mesh, MeshError> {
     let stem = match path.extension().and_then(|e| e.to_str()) {
         Some("node" | "ele" | "neigh" | "face") => path.with_extension(""),
         _ => path.to_path_buf(),
@@ -129,6 +144,28 @@ pub fn load_tetgen(path: &Path) -> Result<Mesh, MeshError> {
     };
     let (node, ele) = (Table::read(&file("node"))?, Table::read(&file("ele"))?);
     let (neigh, face) = (optional("neigh")?, optional("face")?);
+    if faces == Faces::Required {
+        // The header, the first line that is not a comment, starts with the number of faces.
+        let count = |t: &str| {
+            t.lines()
+                .map(|l| l.split('#').next().unwrap_or("").trim())
+                .find(|l| !l.is_empty())
+                .and_then(|l| l.split_whitespace().next()?.parse::<u64>().ok())
+        };
+        let why = match &face {
+            None => Some("missing"),
+            Some(t) if count(t).is_none_or(|n| n == 0) => Some("holds no faces"),
+            _ => None,
+        };
+        if let Some(why) = why {
+            return Err(MeshError {
+                place: file("face").display().to_string(),
+                what: format!(
+                    "{why}: a scene's constrained faces (its surfaces) come from it; to walk a mesh without surfaces, ask for it (--no-faces)"
+                ),
+            });
+        }
+    }
     parse_tetgen(
         &stem,
         &TetgenTexts {

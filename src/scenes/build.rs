@@ -7,7 +7,8 @@ use crate::mesh::{Mesh, load_tetgen};
 use glam::Vec3;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 /// TetGen switches: a pure CDT keeping every input triangle as one face (`-pzAnYQ`), or a quality CDT
 /// (`-pzAnYq1.414Q`).
@@ -15,13 +16,44 @@ pub fn switches(quality: bool) -> &'static str {
     if quality { "-pzAnYq1.414Q" } else { "-pzAnYQ" }
 }
 
-/// The model moved by `offset` (rounded to f32), in an axis-aligned box three times its half-diagonal
-/// away from its centre on every side: the points and triangles TetGen gets, box corners last.
-pub fn boxed(model: &Model, offset: Vec3) -> Model {
+/// Largest coordinate magnitude a scene may have: TetGen's predicates square and cube coordinate
+/// differences in f64, so stay far below its range (and the box needs room beyond the model).
+pub const MAX_COORDINATE: f64 = 1e30;
+
+/// The model moved by `offset` (each point rounded to f32 once), in an axis-aligned box three times its
+/// half-diagonal away from its centre on every side: the points and triangles TetGen gets, box corners
+/// last. Refused when the moved model or its box cannot be represented: a coordinate not finite or
+/// beyond [`MAX_COORDINATE`], or a box that f32 cannot place strictly around the model.
+pub fn boxed(model: &Model, offset: Vec3) -> Result<Model, SceneError> {
+    let bad = |why: String| SceneError::Unrepresentable(why);
+    if !offset.is_finite() {
+        return Err(bad(format!("the offset {offset} is not finite")));
+    }
     let points: Vec<Vec3> = model.points.iter().map(|&p| p + offset).collect();
+    if let Some((i, p)) = points
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !p.is_finite() || p.abs().max_element() as f64 > MAX_COORDINATE)
+    {
+        return Err(bad(format!(
+            "point {i} moved by the offset is {p}: coordinates must be finite and at most {MAX_COORDINATE:e} in magnitude"
+        )));
+    }
     let (lo, hi) = crate::mesh::bounds(&points);
-    let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
-    let (blo, bhi) = (c - Vec3::splat(3.0 * r), c + Vec3::splat(3.0 * r));
+    // In f64: a tiny model's half-diagonal underflows in f32.
+    let (lo64, hi64) = (lo.as_dvec3(), hi.as_dvec3());
+    let (c, r) = ((lo64 + hi64) * 0.5, (hi64 - lo64).length() * 0.5);
+    let (blo, bhi) = ((c - 3.0 * r).as_vec3(), (c + 3.0 * r).as_vec3());
+    let placed = blo.cmplt(lo).all()
+        && bhi.cmpgt(hi).all()
+        && blo.is_finite()
+        && bhi.is_finite()
+        && bhi.abs().max(blo.abs()).max_element() as f64 <= MAX_COORDINATE;
+    if !placed {
+        return Err(bad(format!(
+            "f32 cannot place a box strictly around the model (bounds {lo} to {hi}; box {blo} to {bhi}): it is too small for its position, or too large"
+        )));
+    }
     let base = points.len() as u32;
     let mut out = Model {
         points,
@@ -45,7 +77,7 @@ pub fn boxed(model: &Model, offset: Vec3) -> Model {
         out.triangles.push([base + a, base + b, base + c]);
         out.triangles.push([base + a, base + c, base + d]);
     }
-    out
+    Ok(out)
 }
 
 fn smesh(m: &Model) -> String {
@@ -61,13 +93,23 @@ fn smesh(m: &Model) -> String {
     s + "0\n0\n"
 }
 
-/// Run `tetgen ARGS scene.smesh` in `dir`: its status and everything it printed.
-fn tetgen(dir: &Path, args: &str) -> Result<(std::process::ExitStatus, String), SceneError> {
-    let out = Command::new("tetgen")
+/// Run `tetgen ARGS scene.smesh` in `dir`, killed after `limit`: its status and everything it printed.
+fn tetgen(
+    dir: &Path,
+    args: &str,
+    limit: Duration,
+) -> Result<(std::process::ExitStatus, String), SceneError> {
+    let log = dir.join("tetgen.log");
+    let file = std::fs::File::create(&log).map_err(SceneError::io(&log))?;
+    let err = file.try_clone().map_err(SceneError::io(&log))?;
+    let mut child = Command::new("tetgen")
         .arg(args)
         .arg("scene.smesh")
         .current_dir(dir)
-        .output()
+        .stdin(Stdio::null())
+        .stdout(file)
+        .stderr(err)
+        .spawn()
         .map_err(|e| {
             if e.kind() == std::io::ErrorKind::NotFound {
                 SceneError::NoTetgen
@@ -75,19 +117,35 @@ fn tetgen(dir: &Path, args: &str) -> Result<(std::process::ExitStatus, String), 
                 SceneError::io(Path::new("tetgen"))(e)
             }
         })?;
-    Ok((
-        out.status,
-        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr),
-    ))
+    let start = Instant::now();
+    let status = loop {
+        if let Some(st) = child
+            .try_wait()
+            .map_err(SceneError::io(Path::new("tetgen")))?
+        {
+            break st;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(SceneError::TetgenTimeout {
+                args: args.to_string(),
+                seconds: limit.as_secs_f64(),
+            });
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let text = std::fs::read(&log).map_err(SceneError::io(&log))?;
+    Ok((status, String::from_utf8_lossy(&text).to_string()))
 }
 
 /// Run TetGen; when it fails, run its self-intersection check (`-d`) to say why.
-fn run_tetgen(dir: &Path, args: &str) -> Result<(), SceneError> {
-    let (status, text) = tetgen(dir, args)?;
+fn run_tetgen(dir: &Path, args: &str, limit: Duration) -> Result<(), SceneError> {
+    let (status, text) = tetgen(dir, args, limit)?;
     if status.success() && dir.join("scene.1.ele").exists() && !text.contains("terminate") {
         return Ok(());
     }
-    let (_, check) = tetgen(dir, "-d")?;
+    let (_, check) = tetgen(dir, "-d", limit)?;
     if let Some(line) = check.lines().find(|l| l.contains("intersecting")) {
         return Err(SceneError::SelfIntersecting(
             line.trim_matches(|c| c == '!' || c == ' ').to_string(),
@@ -123,44 +181,68 @@ fn inexact_points(node: &Path) -> Result<(Vec<[f64; 3]>, usize), SceneError> {
     Ok((all, inexact))
 }
 
+/// Rounds of rounding TetGen's added points to f32 and running it again with them before giving up.
+const ROUNDS: usize = 6;
+
 /// Build a scene from `model` and write it as TetGen files `out.{node,ele,neigh,face}`. Where TetGen
-/// adds points (quality refinement) whose coordinates are not f32 values, they are rounded to f32 and
-/// TetGen is run again inserting them (`-i`), so that the mesh is valid for its f32 coordinates exactly.
+/// adds points (Steiner points) whose coordinates are not f32 values, they are rounded to f32, added to
+/// its input as points, and TetGen is run again, until every point is exactly an f32; the mesh is loaded and
+/// checked before anything is written. Fails, writing nothing, when that does not happen within a few
+/// rounds, or TetGen fails or runs past `limit`.
 pub fn build_scene(
     model: &Model,
     quality: bool,
     offset: Vec3,
     out: &Path,
+    limit: Duration,
 ) -> Result<Mesh, SceneError> {
     model.check_closed()?;
-    let m = boxed(model, offset);
+    let m = boxed(model, offset)?;
     let dir = tempfile::tempdir().map_err(SceneError::io(Path::new("temporary directory")))?;
     let smesh_path = dir.path().join("scene.smesh");
     std::fs::write(&smesh_path, smesh(&m)).map_err(SceneError::io(&smesh_path))?;
-    run_tetgen(dir.path(), switches(quality))?;
-    for _ in 0..3 {
+    run_tetgen(dir.path(), switches(quality), limit)?;
+    let mut rounds = 0;
+    loop {
         let (all, inexact) = inexact_points(&dir.path().join("scene.1.node"))?;
         if inexact == 0 {
             break;
         }
-        let extra: Vec<_> = all[m.points.len()..]
-            .iter()
-            .map(|p| p.map(|x| x as f32 as f64))
-            .collect();
-        let mut s = format!("{} 3 0 0\n", extra.len());
-        for (i, p) in extra.iter().enumerate() {
-            let _ = writeln!(s, "{i} {:?} {:?} {:?}", p[0], p[1], p[2]);
+        if rounds == ROUNDS {
+            return Err(SceneError::InexactPoints { inexact, rounds });
         }
-        let node = dir.path().join("scene.a.node");
-        std::fs::write(&node, s).map_err(SceneError::io(&node))?;
-        run_tetgen(dir.path(), "-pzAnYiQ")?;
+        rounds += 1;
+        // Every point TetGen added, rounded to f32, each once, made points of the input itself (which
+        // TetGen tetrahedralizes before it recovers the boundary), and TetGen run again.
+        let mut with = m.clone();
+        for p in &all[m.points.len()..] {
+            let q = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
+            if !with.points.contains(&q) {
+                with.points.push(q);
+            }
+        }
+        std::fs::write(&smesh_path, smesh(&with)).map_err(SceneError::io(&smesh_path))?;
+        run_tetgen(dir.path(), switches(quality), limit)?;
     }
+    // Checked where it was made; only a mesh that loads is written.
+    let mesh = load_tetgen(&dir.path().join("scene.1"))?;
+    let mut staged = Vec::new();
     for ext in ["node", "ele", "neigh", "face"] {
         let mut to = out.as_os_str().to_owned();
         to.push(format!(".{ext}"));
         let to = PathBuf::from(to);
-        std::fs::copy(dir.path().join(format!("scene.1.{ext}")), &to)
-            .map_err(SceneError::io(&to))?;
+        let parent = match to.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let mut tmp = tempfile::NamedTempFile::new_in(&parent).map_err(SceneError::io(&to))?;
+        let from = dir.path().join(format!("scene.1.{ext}"));
+        let mut src = std::fs::File::open(&from).map_err(SceneError::io(&from))?;
+        std::io::copy(&mut src, &mut tmp).map_err(SceneError::io(&to))?;
+        staged.push((tmp, to));
     }
-    Ok(load_tetgen(out)?)
+    for (tmp, to) in staged {
+        tmp.persist(&to).map_err(|e| SceneError::io(&to)(e.error))?;
+    }
+    Ok(mesh)
 }

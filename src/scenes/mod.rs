@@ -34,6 +34,14 @@ pub enum SceneError {
     NoTetgen,
     #[error("the model intersects itself: tetgen -d says \"{0}\"")]
     SelfIntersecting(String),
+    #[error("the scene cannot be represented: {0}")]
+    Unrepresentable(String),
+    #[error("tetgen {args} ran past its time limit of {seconds} s and was stopped")]
+    TetgenTimeout { args: String, seconds: f64 },
+    #[error(
+        "{inexact} point(s) TetGen added are still not f32 values after {rounds} rounds of rounding them and running it again with them; nothing was written"
+    )]
+    InexactPoints { inexact: usize, rounds: usize },
     #[error("tetgen {args} failed ({status}):\n{output}")]
     Tetgen {
         args: String,
@@ -83,7 +91,7 @@ pub const BUILT_IN: [&str; 4] = [
 
 /// A scene by name: a built-in one (`corpora/scenes/NAME`), a generated one (`kuhn`, `jitter`, `fan`,
 /// each with a `-far` variant moved by 2^16), or the stem or any file of TetGen output.
-pub fn load(name: &str) -> Result<Mesh, MeshError> {
+pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
     let kind = Generated::from_name;
     let generated = match name.strip_suffix("-far").and_then(kind) {
         Some(k) => Some((k, Vec3::splat(65536.0))),
@@ -99,8 +107,13 @@ pub fn load(name: &str) -> Result<Mesh, MeshError> {
     } else {
         std::path::PathBuf::from(name)
     };
-    crate::mesh::load_tetgen(&path)
+    crate::mesh::load_tetgen_with(&path, faces)
 }
+
+/// Most tetrahedra a generated mesh may have (about 3 GiB while it is built).
+pub const MAX_GENERATED_TETS: u64 = 1 << 25;
+/// Bytes a tetrahedron takes while a mesh is built and walked, roughly.
+const BYTES_PER_TET: u64 = 96;
 
 /// A generated mesh of `size`, moved by `offset` (exactly, for offsets up to 2^20).
 pub fn generated_mesh(
@@ -109,10 +122,27 @@ pub fn generated_mesh(
     offset: Vec3,
     seed: u64,
 ) -> Result<Mesh, MeshError> {
+    let tets = match kind {
+        Generated::Kuhn | Generated::Jitter => 6 * (size as u64).pow(3),
+        Generated::Fan => 16 * size as u64,
+    };
+    if size == 0 || tets > MAX_GENERATED_TETS {
+        return Err(MeshError {
+            place: format!("{} mesh of size {size}", kind.name()),
+            what: if size == 0 {
+                "the size must be 1 or more".into()
+            } else {
+                format!(
+                    "{tets} tetrahedra would need about {:.1} GiB; at most {MAX_GENERATED_TETS} are made",
+                    (tets * BYTES_PER_TET) as f64 / (1u64 << 30) as f64
+                )
+            },
+        });
+    }
     let raw = match kind {
         Generated::Kuhn => meshes::kuhn_grid(size),
         Generated::Jitter => meshes::jittered_grid(size, 0.15, &mut rng(seed)),
-        Generated::Fan => meshes::edge_fan(16 * size.max(1), 8.0),
+        Generated::Fan => meshes::edge_fan(16 * size, 8.0),
     };
     let mesh = Mesh::build(raw)?;
     if offset == Vec3::ZERO {

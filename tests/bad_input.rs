@@ -1,0 +1,269 @@
+//! Bad input, as a user can type it: each gets a clear error naming what is wrong (or a right answer),
+//! never a panic, an abort, a hang or a silent default, and leaves no file behind.
+
+use std::io::Write;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Run tetwalk; a run still going after a minute is killed and fails the test as a hang.
+fn tetwalk(args: &[&str], stdin: &[u8]) -> (i32, String, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(stdin).unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(60) {
+            child.kill().unwrap();
+            panic!("tetwalk {args:?} hung");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let out = child.wait_with_output().unwrap();
+    let text = |b: Vec<u8>| String::from_utf8_lossy(&b).to_string();
+    (
+        out.status.code().unwrap_or(-1),
+        text(out.stdout),
+        text(out.stderr),
+    )
+}
+
+/// `args` must fail (status 1 or 2) with a message holding every one of `says`, and no panic.
+fn refused(args: &[&str], says: &[&str]) {
+    let (code, _, err) = tetwalk(args, b"");
+    assert!(
+        code == 1 || code == 2,
+        "tetwalk {args:?}: status {code}, {err}"
+    );
+    assert!(
+        !err.contains("panicked"),
+        "tetwalk {args:?} panicked: {err}"
+    );
+    for s in says {
+        assert!(err.contains(s), "tetwalk {args:?}: {err:?} lacks {s:?}");
+    }
+}
+
+#[test]
+fn impossible_sizes_and_counts_are_refused_with_the_figure_they_need() {
+    refused(
+        &["walk", "--mesh", "kuhn", "--size", "100000"],
+        &["tetrahedra", "GiB"],
+    );
+    refused(&["walk", "--size", "0"], &["size must be 1 or more"]);
+    refused(
+        &["count", "--size", "16384x16384"],
+        &["GiB", "--size 16384x16384"],
+    );
+    refused(
+        &["count", "--size", "100000x100000"],
+        &["--size 100000x100000"],
+    );
+    refused(&["stress", "--cases", "1000000000000"], &["GiB", "--cases"]);
+    refused(&["stress", "--cases", "0"], &["--cases 0"]);
+    refused(&["walk", "--rays", "100000000000"], &["GiB", "--rays"]);
+    refused(&["render", "shaded", "--size", "20000x20000"], &["GiB"]);
+}
+
+#[test]
+fn silent_defaults_and_empty_runs_are_errors() {
+    refused(&["stress", "--ulps", "0"], &["--ulps 0"]);
+    refused(&["gen-cases", "--ulps", "0"], &["--ulps 0"]);
+    refused(&["count", "--views", "0"], &["--views 0"]);
+    refused(
+        &["render", "shaded", "--view", "200", "--size", "8x8"],
+        &["view 200", "160 views"],
+    );
+    refused(
+        &[
+            "render",
+            "failures",
+            "--methods",
+            "exact",
+            "--size",
+            "16x16",
+        ],
+        &["nothing to draw"],
+    );
+    refused(&["count", "--views", "-1"], &["-1"]);
+    refused(
+        &["exit", "--fma", "--backend", "cpu"],
+        &["--backend cpu-fma"],
+    );
+    refused(
+        &["count", "--methods", "maria18"],
+        &["unknown method 'maria18'"],
+    );
+}
+
+#[test]
+fn a_scene_without_its_constrained_faces_is_refused_unless_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data");
+    for e in ["node", "ele", "neigh", "face"] {
+        std::fs::copy(
+            Path::new(data).join(format!("twobox.1.{e}")),
+            dir.path().join(format!("m.{e}")),
+        )
+        .unwrap();
+    }
+    let stem = dir.path().join("m");
+    let (code, out, err) = tetwalk(
+        &[
+            "count",
+            "--scene",
+            stem.to_str().unwrap(),
+            "--views",
+            "3",
+            "--size",
+            "4x4",
+        ],
+        b"",
+    );
+    // With its faces the scene is counted; without the .face file, or with an empty one, refused.
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("3 views"), "{out}");
+    std::fs::remove_file(stem.with_extension("face")).unwrap();
+    refused(
+        &[
+            "count",
+            "--scene",
+            stem.to_str().unwrap(),
+            "--views",
+            "3",
+            "--size",
+            "4x4",
+        ],
+        &["m.face", "missing", "--no-faces"],
+    );
+    std::fs::write(stem.with_extension("face"), "0 1\n").unwrap();
+    refused(
+        &[
+            "count",
+            "--scene",
+            stem.to_str().unwrap(),
+            "--views",
+            "3",
+            "--size",
+            "4x4",
+        ],
+        &["m.face", "holds no faces"],
+    );
+    let (code, _, err) = tetwalk(
+        &["scene", "info", stem.to_str().unwrap(), "--no-faces"],
+        b"",
+    );
+    assert_eq!(
+        code, 0,
+        "asked for explicitly, a mesh without faces loads: {err}"
+    );
+}
+
+#[test]
+fn exit_answers_a_stream_line_by_line_and_names_bad_lines() {
+    let good = br#"{"tet":[[0,0,0],[0,1,0],[1,0,0],[0,0,1]],"org":[0.1,0.1,-1],"dir":[0,0,1]}"#;
+    let mut input = b"\xff\xfe not utf-8\n".to_vec();
+    input.extend_from_slice(good);
+    input.push(b'\n');
+    input.extend(std::iter::repeat_n(b'x', 2 << 20));
+    input.push(b'\n');
+    input.extend_from_slice(good);
+    input.push(b'\n');
+    let (code, out, err) = tetwalk(&["exit", "--method", "maria17"], &input);
+    assert_eq!(code, 1, "{err}");
+    let lines: Vec<serde_json::Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 4, "{out}");
+    assert_eq!(lines[0]["line"], 1);
+    assert!(lines[0]["error"].as_str().unwrap().contains("UTF-8"));
+    assert_eq!(lines[1]["correct"], true);
+    assert!(lines[2]["error"].as_str().unwrap().contains("longer than"));
+    assert_eq!(lines[3]["line"], 4);
+    assert_eq!(lines[3]["correct"], true);
+}
+
+#[test]
+fn an_exit_stream_gets_answers_before_it_ends() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args(["exit", "--method", "maria17"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    stdin
+        .write_all(
+            b"{\"tet\":[[0,0,0],[0,1,0],[1,0,0],[0,0,1]],\"org\":[0.1,0.1,-1],\"dir\":[0,0,1]}\n",
+        )
+        .unwrap();
+    stdin.flush().unwrap();
+    // The input stays open; the answer must come anyway.
+    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    std::io::BufRead::read_line(&mut stdout, &mut line).unwrap();
+    assert!(line.contains("\"correct\":true"), "{line}");
+    drop(stdin);
+    assert!(child.wait().unwrap().success());
+}
+
+#[test]
+fn scene_build_refuses_what_cannot_be_represented_and_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = dir.path().join("cube.off");
+    let mut text = String::from("OFF\n8 12 0\n");
+    for k in 0..8 {
+        text += &format!("{} {} {}\n", k & 1, (k >> 1) & 1, (k >> 2) & 1);
+    }
+    for [a, b, c] in [
+        [0, 3, 1],
+        [0, 2, 3],
+        [4, 5, 7],
+        [4, 7, 6],
+        [0, 1, 5],
+        [0, 5, 4],
+        [2, 6, 7],
+        [2, 7, 3],
+        [0, 4, 6],
+        [0, 6, 2],
+        [1, 3, 7],
+        [1, 7, 5],
+    ] {
+        text += &format!("3 {a} {b} {c}\n");
+    }
+    std::fs::write(&cube, text).unwrap();
+    let c = cube.to_str().unwrap();
+    let out = dir.path().join("out");
+    let o = out.to_str().unwrap();
+    for (offset, says) in [
+        ("inf", "not finite"),
+        ("nan", "not finite"),
+        ("1e35", "1e30"),
+    ] {
+        refused(
+            &["scene", "build", c, "--offset", offset, "--out", o],
+            &[says],
+        );
+    }
+    let files = || std::fs::read_dir(dir.path()).unwrap().count();
+    assert_eq!(files(), 1, "nothing but the model is left");
+    // The unit cube moved by 3: every point of the built scene is an f32, and it loads.
+    let (code, _, err) = tetwalk(&["scene", "build", c, "--offset", "3", "--out", o], b"");
+    if code == 0 {
+        let mesh = tetwalk::mesh::load_tetgen(&out).unwrap();
+        assert!(mesh.tets.len() > 12);
+    } else {
+        assert!(
+            !err.contains("panicked") && err.contains("nothing was written"),
+            "{err}"
+        );
+        assert_eq!(files(), 1, "a failed build leaves nothing");
+    }
+}
