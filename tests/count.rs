@@ -51,7 +51,10 @@ fn count_is_consistent_and_exact_is_never_wrong() {
         assert_eq!(one["rays"], 3 * 40 * 30);
         let methods = one["methods"].as_array().unwrap();
         assert_eq!(methods[0]["method"], "exact");
-        assert_eq!(methods[0]["wrong"], serde_json::json!([0, 0, 0, 0, 0]));
+        assert_eq!(
+            methods[0]["wrong"],
+            serde_json::json!({"wrong_face": 0, "false_miss": 0, "no_exit_face": 0, "cycle": 0, "step_limit": 0})
+        );
         assert_eq!(methods.len(), tetwalk::registry::METHODS.len());
         let reference_steps = methods[0]["steps"].as_u64().unwrap();
         assert!(
@@ -61,11 +64,15 @@ fn count_is_consistent_and_exact_is_never_wrong() {
         for m in methods {
             // Table rows are the JSON divided by the views: wrong rays = sum of the kinds.
             let kinds: Vec<u64> = m["wrong"]
-                .as_array()
+                .as_object()
                 .unwrap()
-                .iter()
+                .values()
                 .map(|k| k.as_u64().unwrap())
                 .collect();
+            assert_eq!(
+                m["wrong_total"].as_u64().unwrap(),
+                kinds.iter().sum::<u64>()
+            );
             let row = table
                 .lines()
                 .find(|l| l.starts_with(&format!("| {} |", m["method"].as_str().unwrap())))
@@ -86,4 +93,123 @@ fn count_is_consistent_and_exact_is_never_wrong() {
             );
         }
     }
+}
+
+/// The count's judge and tallies with known answers: one right walk and one walk of every wrong kind,
+/// made by hand beside the `exact` walk of a ray through a Kuhn grid, each counted under its kind; a
+/// wrong face touching the right one is adjacent, one far away is elsewhere.
+#[test]
+fn the_count_judges_and_tallies_every_kind_as_it_is() {
+    use glam::Vec3;
+    use tetwalk::backend::BackendKind;
+    use tetwalk::registry::{by_name, reference};
+    use tetwalk::report::count::{MethodCount, wrong_rays};
+    use tetwalk::report::wrong::{Class, Seen};
+    use tetwalk::scenes::{Generated, generated_mesh};
+    use tetwalk::tet::Ray;
+    use tetwalk::walk::{Outcome, OutcomeKind, Walk, default_max_steps, locate};
+
+    let mesh = generated_mesh(Generated::Kuhn, 6, Vec3::ZERO, 1).unwrap();
+    let org = Vec3::new(0.4, 0.45, 0.3);
+    let ray = Ray {
+        org,
+        dir: Vec3::new(1.0, 0.9, 0.8),
+    };
+    let start = locate(&mesh, org, 0).unwrap();
+    let max = default_max_steps(&mesh);
+    let exact = reference().walk(false)(&mesh, &ray, start, max);
+    let Outcome::Hit { tet, face } = exact.outcome else {
+        panic!("the ray hits the inner box: {exact:?}");
+    };
+    let right_face = mesh.face(tet, face as usize);
+    // Constrained faces sharing a vertex with the right one, and sharing none.
+    let constrained: Vec<(u32, u8)> = (0..mesh.tets.len() as u32)
+        .flat_map(|t| (0..4).map(move |f| (t, f as u8)))
+        .filter(|&(t, f)| mesh.is_constrained(t, f as usize))
+        .collect();
+    let shares = |(t, f): (u32, u8)| {
+        mesh.face(t, f as usize)
+            .iter()
+            .any(|v| right_face.contains(v))
+    };
+    let near = *constrained
+        .iter()
+        .find(|&&c| shares(c) && mesh.face(c.0, c.1 as usize) != right_face)
+        .unwrap();
+    let far = *constrained.iter().find(|&&c| !shares(c)).unwrap();
+    let walk = |outcome| Walk { outcome, steps: 7 };
+    let walks = [
+        exact,
+        walk(Outcome::Hit {
+            tet: near.0,
+            face: near.1,
+        }),
+        walk(Outcome::Hit {
+            tet: far.0,
+            face: far.1,
+        }),
+        walk(Outcome::LeftMesh { tet: 0, face: 0 }),
+        walk(Outcome::NoExitFace { tet }),
+        walk(Outcome::Cycle { tet, period: 3 }),
+        walk(Outcome::StepLimit { tet }),
+    ];
+    let rays = vec![ray; walks.len()];
+    let reference = vec![exact; walks.len()];
+    let seen = Seen {
+        scene: "kuhn",
+        view: 0,
+        pixel: [0, 0],
+        method: by_name("maria17").unwrap(),
+        backend: BackendKind::Cpu,
+    };
+    let wrong = wrong_rays(&mesh, &seen, 7, &rays, &walks, &reference, start, max);
+    let kinds: Vec<_> = wrong.iter().map(|w| w.kind().unwrap()).collect();
+    use OutcomeKind::*;
+    assert_eq!(
+        kinds,
+        [Hit, Hit, LeftMesh, NoExitFace, Cycle, StepLimit],
+        "the right walk is not counted; every other one is, under its kind"
+    );
+    assert_eq!(wrong[0].class, Some(Class::Adjacent));
+    assert_eq!(wrong[1].class, Some(Class::Elsewhere));
+    assert!(wrong[2..].iter().all(|w| w.class.is_none()));
+    assert_eq!(wrong[0].pixel, [1, 0]);
+    assert_eq!(wrong[0].exact.vertices, Some(right_face));
+    let mut total = MethodCount::default();
+    for w in &wrong {
+        total.add(w.kind().unwrap(), w.class);
+    }
+    total.finish(2, 14);
+    assert_eq!(total.wrong.0, [2, 1, 1, 1, 1]);
+    assert_eq!(
+        (total.wrong_face_adjacent, total.wrong_face_elsewhere),
+        (1, 1)
+    );
+    assert_eq!(total.wrong_total, 6);
+    assert_eq!(total.per_image.wrong, 3.0);
+}
+
+/// The stress table's tally with known answers: a wrong face, a wrong "no exit face", a right answer
+/// and a line that misses, each where it belongs.
+#[test]
+fn the_stress_tally_counts_each_answer_where_it_belongs() {
+    use tetwalk::cases::Judged;
+    use tetwalk::report::stress::Tally;
+    let j = |face: Option<u8>, correct: Option<bool>| Judged {
+        face,
+        exact_exit: vec![],
+        exact_entry: vec![],
+        correct,
+    };
+    let mut t = Tally::default();
+    for x in [
+        j(Some(1), Some(false)),
+        j(None, Some(false)),
+        j(None, Some(false)),
+        j(Some(2), Some(true)),
+        j(Some(0), None),
+    ] {
+        t.add(&x);
+    }
+    assert_eq!((t.judged, t.wrong_face, t.no_exit_face), (4, 1, 2));
 }

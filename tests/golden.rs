@@ -205,3 +205,37 @@ fn gpu_predicate_maps_are_within_tolerance() {
         }
     }
 }
+
+/// A failure map with every kind of wrong ray on it (a frame made by hand), so that every kind's
+/// colour and marker is held by a golden image; its legend names exactly the kinds drawn.
+#[test]
+fn a_failure_map_with_every_kind_is_unchanged() {
+    use tetwalk::walk::{Outcome, OutcomeKind, Walk};
+    let (w, h) = (64u32, 48u32);
+    let n = (w * h) as usize;
+    let mut wrong = vec![None; n];
+    for (k, kind) in OutcomeKind::ALL.iter().enumerate() {
+        wrong[(10 + 8 * k as u32 + w * (12 + 6 * k as u32)) as usize] = Some(*kind);
+    }
+    let f = render::Frame {
+        width: w,
+        height: h,
+        exact: (0..n)
+            .map(|i| Walk {
+                outcome: Outcome::LeftMesh { tet: 0, face: 0 },
+                steps: 1 + (i as u32 % w) / 4,
+            })
+            .collect(),
+        wrong: vec![("every-kind".into(), wrong)],
+        shade: (0..n).map(|i| ((60 + i % 150) as u8, i % 7 == 0)).collect(),
+    };
+    let legend = render::failure_legend(&OutcomeKind::ALL);
+    for k in OutcomeKind::ALL {
+        assert!(legend.contains(k.wrong()), "{legend}");
+    }
+    assert!(!render::failure_legend(&[OutcomeKind::Cycle]).contains("wrong face"));
+    settings().bind(|| {
+        insta::assert_binary_snapshot!("every_kind_failures.png", f.failures(0).png().unwrap());
+        insta::assert_binary_snapshot!("every_kind_heat.png", f.heat().png().unwrap());
+    });
+}

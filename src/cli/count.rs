@@ -3,7 +3,9 @@
 use super::{BackendArg, JsonOut, Outcome};
 use crate::registry::parse_list;
 use crate::report::count::{self, Settings};
+use crate::report::wrong::WrongRay;
 use crate::scenes::camera::Views;
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -37,6 +39,10 @@ pub struct Args {
     /// Also write the report as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
+    /// Write every wrong ray here, one JSON line each (view, pixel, the ray, where the method and the
+    /// `exact` walk stopped, the first wrong step, the distance from the edge); `tetwalk replay` reads it.
+    #[arg(long)]
+    dump: Option<PathBuf>,
 }
 
 pub fn run(a: Args) -> Outcome {
@@ -45,6 +51,11 @@ pub fn run(a: Args) -> Outcome {
         .filter(|m| !m.reference)
         .collect();
     let out = JsonOut::new(a.json.as_deref())?;
+    let mut dump = a
+        .dump
+        .as_deref()
+        .map(|p| super::Staged::new("--dump", p))
+        .transpose()?;
     let paper = a.preset.is_some();
     let views = a.views.unwrap_or(if paper { 1282 } else { 160 });
     if views == 0 {
@@ -71,8 +82,25 @@ pub fn run(a: Args) -> Outcome {
         },
     };
     let bar = super::progress(views as u64, "views");
-    let report = count::run(&mesh, &settings, &methods, &backend, &|| bar.inc(1))?;
+    let mut write = |w: &WrongRay| -> std::io::Result<()> {
+        if let Some(d) = dump.as_mut() {
+            serde_json::to_writer(d.writer(), w)?;
+            d.writer().write_all(b"\n")?;
+        }
+        Ok(())
+    };
+    let report = count::run(
+        &mesh,
+        &settings,
+        &methods,
+        &backend,
+        &|| bar.inc(1),
+        Some(&mut write),
+    )?;
     bar.finish_and_clear();
+    if let Some(d) = dump {
+        d.finish()?;
+    }
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)

@@ -6,6 +6,7 @@ mod exit;
 mod fuzz_import;
 mod gen_cases;
 mod render;
+mod replay;
 mod scene;
 mod stress;
 mod walk;
@@ -54,6 +55,8 @@ enum Command {
     Count(count::Args),
     /// Shaded renders, failure maps, heat maps, predicate maps (PNG).
     Render(render::Args),
+    /// Walk the wrong rays of a `count --dump` again: does each still fail the same way?
+    Replay(replay::Args),
     /// The GPU adapters wgpu finds.
     GpuInfo {
         /// Also write the list as JSON here.
@@ -80,6 +83,7 @@ pub fn main() -> ExitCode {
         Command::Count(a) => count::run(a),
         Command::FuzzImport(a) => fuzz_import::run(a),
         Command::Render(a) => render::run(a),
+        Command::Replay(a) => replay::run(a),
         Command::GpuInfo { json } => gpu_info(json),
     };
     result.unwrap_or_else(|e| {
@@ -208,16 +212,16 @@ impl BackendArg {
     }
 }
 
-/// Where a report's JSON goes: a temporary file beside the target, made when the command starts (so
-/// an unwritable place fails before any work) and renamed onto it when the report is complete (so
-/// nothing half-written is left).
-struct JsonOut(Option<(tempfile::NamedTempFile, PathBuf)>);
+/// A file written under a temporary name beside its target, made when the command starts (so an
+/// unwritable place fails before any work) and renamed onto the target when it is complete (so nothing
+/// half-written is left).
+struct Staged {
+    tmp: tempfile::NamedTempFile,
+    path: PathBuf,
+}
 
-impl JsonOut {
-    fn new(path: Option<&Path>) -> Result<JsonOut, Error> {
-        let Some(p) = path else {
-            return Ok(JsonOut(None));
-        };
+impl Staged {
+    fn new(flag: &str, p: &Path) -> Result<Staged, Error> {
         let dir = match p.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
@@ -225,19 +229,40 @@ impl JsonOut {
         let tmp = tempfile::Builder::new()
             .prefix(".tetwalk-")
             .tempfile_in(dir)
-            .map_err(|e| format!("--json {}: cannot write there: {e}", p.display()))?;
-        Ok(JsonOut(Some((tmp, p.to_path_buf()))))
+            .map_err(|e| format!("{flag} {}: cannot write there: {e}", p.display()))?;
+        Ok(Staged {
+            tmp,
+            path: p.to_path_buf(),
+        })
+    }
+
+    fn writer(&mut self) -> &mut std::fs::File {
+        self.tmp.as_file_mut()
+    }
+
+    fn finish(self) -> Result<(), Error> {
+        self.tmp
+            .persist(&self.path)
+            .map_err(|e| format!("{}: {}", self.path.display(), e.error))?;
+        Ok(())
+    }
+}
+
+/// Where a report's JSON goes (`--json FILE`), staged.
+struct JsonOut(Option<Staged>);
+
+impl JsonOut {
+    fn new(path: Option<&Path>) -> Result<JsonOut, Error> {
+        Ok(JsonOut(path.map(|p| Staged::new("--json", p)).transpose()?))
     }
 
     fn finish(self, value: &impl serde::Serialize) -> Result<(), Error> {
-        let Some((mut tmp, path)) = self.0 else {
+        let Some(mut staged) = self.0 else {
             return Ok(());
         };
-        serde_json::to_writer_pretty(&mut tmp, value)?;
-        tmp.write_all(b"\n")?;
-        tmp.persist(&path)
-            .map_err(|e| format!("--json {}: {}", path.display(), e.error))?;
-        Ok(())
+        serde_json::to_writer_pretty(staged.writer(), value)?;
+        staged.writer().write_all(b"\n")?;
+        staged.finish()
     }
 }
 

@@ -139,6 +139,7 @@ pub fn run(a: Args) -> Outcome {
                 }
                 write(&beside(&a.out, m.name), &Image::sheet(&row, 4), &mut drawn)?;
             }
+            drawn.legend = render::predicate_legend();
             println!(
                 "each sheet: exact | cpu | cpu-fma{}; origin moved ±{} ulps in x (right) and y (up)",
                 gpu_name.map_or(String::new(), |g| format!(" | {g}")),
@@ -158,7 +159,10 @@ pub fn run(a: Args) -> Outcome {
             let f = render::frame(&mesh, &views, a.view, &methods, &backend)?;
             match what {
                 What::Shaded => write(&a.out, &f.shaded(), &mut drawn)?,
-                What::Heat => write(&a.out, &f.heat(), &mut drawn)?,
+                What::Heat => {
+                    write(&a.out, &f.heat(), &mut drawn)?;
+                    drawn.legend = render::HEAT_LEGEND.into();
+                }
                 _ => {
                     let maps: Vec<Image> = (0..methods.len()).map(|i| f.failures(i)).collect();
                     for ((name, wrong), im) in f.wrong.iter().zip(&maps) {
@@ -168,6 +172,13 @@ pub fn run(a: Args) -> Outcome {
                         drawn.wrong.push((name.clone(), n));
                     }
                     write(&a.out, &Image::sheet(&maps, 4), &mut drawn)?;
+                    let kinds: Vec<_> = f
+                        .wrong
+                        .iter()
+                        .flat_map(|(_, w)| w.iter().flatten())
+                        .copied()
+                        .collect();
+                    drawn.legend = render::failure_legend(&kinds);
                     println!(
                         "sheet order: {}",
                         methods
@@ -180,7 +191,6 @@ pub fn run(a: Args) -> Outcome {
             }
         }
     }
-    drawn.legend = render::legend();
     print!("{}", drawn.legend);
     json.finish(&drawn)?;
     Ok(ExitCode::SUCCESS)

@@ -1,6 +1,8 @@
 //! Pictures: shaded renders, per-method failure maps, traversal heat maps and predicate maps, from
 //! integer per-pixel data (which the golden tests snapshot) to deterministic PNGs.
 
+pub mod text;
+
 use crate::backend::{Backend, BackendError};
 use crate::cases::Case;
 use crate::mesh::{HULL, Mesh, bounds};
@@ -47,6 +49,18 @@ impl Image {
     pub fn set(&mut self, x: u32, y: u32, c: [u8; 3]) {
         let i = ((y * self.width + x) * 3) as usize;
         self.rgb[i..i + 3].copy_from_slice(&c);
+    }
+
+    /// [`Image::set`], doing nothing outside the image.
+    pub fn set_clipped(&mut self, x: u32, y: u32, c: [u8; 3]) {
+        if x < self.width && y < self.height {
+            self.set(x, y, c);
+        }
+    }
+
+    /// A scale for markers and labels: 1 up to 256 pixels on the short side, then one more per 256.
+    pub fn scale(&self) -> u32 {
+        (self.width.min(self.height) / 256).max(1)
     }
 
     /// Images side by side, `gap` pixels of white between them.
@@ -187,30 +201,101 @@ impl Frame {
         im
     }
 
-    /// The shaded render with `method`'s wrong rays coloured by kind ([`OutcomeKind::colour`]).
+    /// The shaded render, dimmed, with each of `method`'s wrong rays marked by a ring in the colour of
+    /// its kind ([`OutcomeKind::colour`]), large enough to see at the image's size; the method's name
+    /// and its count of wrong rays in the top-left corner, and a legend of the kinds drawn at the
+    /// bottom.
     pub fn failures(&self, method: usize) -> Image {
         let mut im = self.shaded();
-        for (i, k) in self.wrong[method].1.iter().enumerate() {
-            if let Some(k) = k {
-                im.set(i as u32 % self.width, i as u32 / self.width, k.colour());
+        for v in &mut im.rgb {
+            *v = (*v as u32 * 2 / 5) as u8;
+        }
+        let scale = im.scale();
+        let r = (self.width.min(self.height) / 40).max(3) as i64;
+        let (name, wrong) = &self.wrong[method];
+        for (i, k) in wrong.iter().enumerate() {
+            let Some(k) = k else { continue };
+            let (cx, cy) = (
+                (i as u32 % self.width) as i64,
+                (i as u32 / self.width) as i64,
+            );
+            for dy in -r - 1..=r + 1 {
+                for dx in -r - 1..=r + 1 {
+                    let d2 = dx * dx + dy * dy;
+                    let ring = d2 <= (r + 1) * (r + 1) && d2 >= (r - 1) * (r - 1);
+                    if ring || d2 == 0 {
+                        let (x, y) = (cx + dx, cy + dy);
+                        if x >= 0 && y >= 0 {
+                            im.set_clipped(x as u32, y as u32, k.colour());
+                        }
+                    }
+                }
+            }
+        }
+        let n = wrong.iter().flatten().count();
+        text::label(
+            &mut im,
+            0,
+            0,
+            &format!("{name}: {n} wrong"),
+            scale,
+            [255, 255, 255],
+        );
+        let mut x = 0;
+        let y = self.height.saturating_sub(text::line_height(scale));
+        for k in OutcomeKind::ALL {
+            if wrong.contains(&Some(k)) {
+                text::label(&mut im, x, y, k.wrong(), scale, k.colour());
+                x += text::width(k.wrong(), scale) + 4 * scale;
             }
         }
         im
     }
 
-    /// Tetrahedra traversed per pixel by the exact walk, black (few) to yellow (most).
+    /// Tetrahedra traversed per pixel by the exact walk, black (few) to yellow (most), with a colour
+    /// scale on the right labelled with the fewest and the most.
     pub fn heat(&self) -> Image {
-        let mut im = Image::new(self.width, self.height);
-        let most = self.exact.iter().map(|w| w.steps).max().unwrap_or(1).max(1) as f32;
-        for (i, w) in self.exact.iter().enumerate() {
-            let t = (w.steps as f32 / most).sqrt();
-            let c = [
-                (255.0 * t.min(1.0)) as u8,
+        let steps = self.exact.iter().map(|w| w.steps);
+        let (fewest, most) = (
+            steps.clone().min().unwrap_or(0),
+            steps.max().unwrap_or(1).max(1),
+        );
+        let colour = |t: f32| {
+            let t = t.clamp(0.0, 1.0).sqrt();
+            [
+                (255.0 * t) as u8,
                 (255.0 * (t * t)) as u8,
                 (120.0 * (1.0 - t)) as u8,
-            ];
-            im.set(i as u32 % self.width, i as u32 / self.width, c);
+            ]
+        };
+        let probe = Image::new(self.width, self.height);
+        let scale = probe.scale();
+        let labels = [most.to_string(), fewest.to_string()];
+        let label_w = labels
+            .iter()
+            .map(|l| text::width(l, scale))
+            .max()
+            .unwrap_or(0);
+        let bar = 6 * scale;
+        let mut im = Image::new(self.width + bar + label_w + 6 * scale, self.height);
+        for (i, w) in self.exact.iter().enumerate() {
+            im.set(
+                i as u32 % self.width,
+                i as u32 / self.width,
+                colour(w.steps as f32 / most as f32),
+            );
         }
+        let x0 = self.width + 2 * scale;
+        for y in 0..self.height {
+            let t = 1.0 - y as f32 / (self.height.max(2) - 1) as f32;
+            for x in x0..x0 + bar {
+                im.set(x, y, colour(t));
+            }
+        }
+        let lx = x0 + bar + scale;
+        text::label(&mut im, lx, 0, &labels[0], scale, [255, 255, 255]);
+        let bottom = self.height.saturating_sub(text::line_height(scale));
+        text::label(&mut im, lx, bottom, &labels[1], scale, [255, 255, 255]);
         im
     }
 }
@@ -250,15 +335,29 @@ pub fn face_image(faces: &[Option<usize>], size: u32) -> Image {
     im
 }
 
-/// The legend, as text beside the images.
-pub fn legend() -> String {
-    let mut s = String::from("failure maps: ");
-    for k in OutcomeKind::ALL {
-        s += &format!("{} rgb{:?}; ", k.wrong(), k.colour());
+/// The failure maps' legend, naming only the kinds in `drawn`.
+pub fn failure_legend(drawn: &[OutcomeKind]) -> String {
+    let mut s = String::from("failure maps (rings over the dimmed view): ");
+    if drawn.is_empty() {
+        s += "no wrong ray";
     }
-    s += "\npredicate maps: ";
-    for (f, c) in FACE_COLOURS.iter().enumerate() {
-        s += &format!("face {f} rgb{c:?}; ");
-    }
-    s + "no exit face black\nheat maps: tetrahedra traversed, black (few) to yellow (most)\n"
+    let kinds: Vec<String> = OutcomeKind::ALL
+        .iter()
+        .filter(|k| drawn.contains(k))
+        .map(|k| format!("{} rgb{:?}", k.wrong(), k.colour()))
+        .collect();
+    s + &kinds.join("; ") + "\n"
 }
+
+/// The predicate maps' legend.
+pub fn predicate_legend() -> String {
+    let faces: Vec<String> = FACE_COLOURS
+        .iter()
+        .enumerate()
+        .map(|(f, c)| format!("face {f} rgb{c:?}"))
+        .collect();
+    format!("predicate maps: {}; no exit face black\n", faces.join("; "))
+}
+
+/// The heat maps' legend.
+pub const HEAT_LEGEND: &str = "heat maps: tetrahedra traversed by the exact walk, black (few) to yellow (most); the scale on the right is labelled with the fewest and the most\n";

@@ -3,3 +3,4 @@
 pub mod count;
 pub mod scene_info;
 pub mod stress;
+pub mod wrong;

@@ -1,7 +1,7 @@
 //! `tetwalk stress`: wrong exit faces and "no exit face" per million cases, per method and family.
 
 use crate::backend::{Backend, BackendError};
-use crate::cases::{Case, classify, judged};
+use crate::cases::{Case, Judged, classify, judged};
 use crate::choice::Choice;
 use crate::exact::Classification;
 use crate::registry::Method;
@@ -70,6 +70,14 @@ pub struct Tally {
 }
 
 impl Tally {
+    /// Count one judged answer: a line that misses the tetrahedron is not judged; a wrong answer is a
+    /// wrong face, or "no exit face" when the method gave none.
+    pub fn add(&mut self, j: &Judged) {
+        self.judged += j.correct.is_some() as u64;
+        self.wrong_face += (j.correct == Some(false) && j.face.is_some()) as u64;
+        self.no_exit_face += (j.correct == Some(false) && j.face.is_none()) as u64;
+    }
+
     pub fn per_million(n: u64, of: u64) -> f64 {
         if of == 0 {
             0.0
@@ -190,10 +198,7 @@ pub fn run(
             let faces = backend.exit_faces(m, &plain)?;
             let mut t = Tally::default();
             for ((_, x), f) in cases.iter().zip(faces) {
-                let j = judged(x, f);
-                t.judged += j.correct.is_some() as u64;
-                t.wrong_face += (j.correct == Some(false) && j.face.is_some()) as u64;
-                t.no_exit_face += (j.correct == Some(false) && j.face.is_none()) as u64;
+                t.add(&judged(x, f));
             }
             tallies.push(t);
         }

@@ -211,15 +211,17 @@ pub struct Walk {
 }
 
 /// The first step of a checked walk at which the method's face was not an exact exit face.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Divergence {
     /// 1-based step.
     pub step: u32,
     pub tet: u32,
+    /// The face the walk entered `tet` through (none in the starting tetrahedron).
+    pub entry: Option<u8>,
     /// What the method answered.
     pub face: Option<u8>,
     /// The exact exit faces there (empty when the line misses that tetrahedron).
-    pub exact_exit: [bool; 4],
+    pub exact_exit: Vec<u8>,
 }
 
 /// A walk specialised to one method and arithmetic: `(mesh, ray, start tetrahedron, max_steps)`.
@@ -261,7 +263,7 @@ pub fn walk_checked<M: ExitMethod, A: Arith>(
 ) -> (Walk, Option<Divergence>) {
     let mut first = None;
     let mut step = 0;
-    let w = walk_observed::<M, A>(mesh, ray, start, max_steps, |tet, _entry, face| {
+    let w = walk_observed::<M, A>(mesh, ray, start, max_steps, |tet, entry, face| {
         step += 1;
         if first.is_some() {
             return;
@@ -271,8 +273,9 @@ pub fn walk_checked<M: ExitMethod, A: Arith>(
             first = Some(Divergence {
                 step,
                 tet,
+                entry: entry.map(|e| e as u8),
                 face: face.map(|f| f as u8),
-                exact_exit: std::array::from_fn(|f| exit.contains(f)),
+                exact_exit: exit.iter().map(|f| f as u8).collect(),
             });
         }
     });

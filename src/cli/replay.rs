@@ -1,0 +1,105 @@
+//! `tetwalk replay`: walk the wrong rays of a `count --dump` again and say whether each still fails
+//! the same way (the same method on the same backend stopping at the same place, and still wrong).
+
+use super::{JsonOut, Outcome};
+use crate::backend::{Backend, BackendKind};
+use crate::mesh::Mesh;
+use crate::registry::{by_name, reference};
+use crate::report::wrong::WrongRay;
+use crate::walk::{default_max_steps, judge, locate};
+use std::collections::HashMap;
+use std::io::{BufRead, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// A dump written by `tetwalk count --dump`.
+    file: PathBuf,
+    /// The dump's scene has no constrained faces (it was counted with --no-faces).
+    #[arg(long)]
+    no_faces: bool,
+    /// Also write the summary (lines, still failing the same way, changed, skipped) as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+}
+
+#[derive(Default, serde::Serialize)]
+struct Summary {
+    lines: u64,
+    same: u64,
+    changed: u64,
+    skipped: u64,
+}
+
+pub fn run(a: Args) -> Outcome {
+    let out = JsonOut::new(a.json.as_deref())?;
+    let file = std::fs::File::open(&a.file).map_err(|e| format!("{}: {e}", a.file.display()))?;
+    let mut scenes: HashMap<String, Mesh> = HashMap::new();
+    let mut backends: HashMap<BackendKind, Result<Backend, String>> = HashMap::new();
+    let mut summary = Summary::default();
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    for (n, line) in std::io::BufReader::new(file).lines().enumerate() {
+        let n = n + 1;
+        let place = |e: &dyn std::fmt::Display| format!("{} line {n}: {e}", a.file.display());
+        let line = line.map_err(|e| place(&e))?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        summary.lines += 1;
+        let d: WrongRay = serde_json::from_str(&line).map_err(|e| place(&e))?;
+        let m = by_name(&d.method).map_err(|e| place(&e))?;
+        if !scenes.contains_key(&d.scene) {
+            let mesh =
+                crate::scenes::load(&d.scene, super::faces(a.no_faces)).map_err(|e| place(&e))?;
+            scenes.insert(d.scene.clone(), mesh);
+        }
+        let mesh = &scenes[&d.scene];
+        let backend = backends
+            .entry(d.backend)
+            .or_insert_with(|| Backend::open(d.backend).map_err(|e| e.to_string()));
+        let backend = match backend {
+            Ok(b) => b,
+            Err(why) => {
+                summary.skipped += 1;
+                eprintln!(
+                    "tetwalk replay: line {n} skipped: recorded on {:?}: {why}",
+                    d.backend
+                );
+                continue;
+            }
+        };
+        let ray = d.ray();
+        let start = locate(mesh, ray.org, 0).map_err(|e| place(&e))?;
+        let max = default_max_steps(mesh);
+        let on = backend.mesh(mesh);
+        let now = backend.walks(m, &on, &[ray], start, max)?[0];
+        let exact = backend.walks(reference(), &on, &[ray], start, max)?[0];
+        let still_wrong = judge(mesh, &ray, &now, &exact).is_some();
+        let same = still_wrong && now.outcome == d.stopped.outcome;
+        if same {
+            summary.same += 1;
+        } else {
+            summary.changed += 1;
+        }
+        let v = serde_json::json!({
+            "line": n, "method": m.name, "backend": backend.describe(), "still_wrong": still_wrong,
+            "same": same, "now": now.outcome, "recorded": d.stopped.outcome,
+        });
+        writeln!(w, "{v}")?;
+    }
+    w.flush()?;
+    out.finish(&summary)?;
+    if summary.lines == 0 {
+        return Err(format!("{}: no wrong ray to replay", a.file.display()).into());
+    }
+    eprintln!(
+        "tetwalk replay: {} of {} wrong rays fail again the same way ({} changed, {} skipped)",
+        summary.same, summary.lines, summary.changed, summary.skipped
+    );
+    Ok(if summary.changed > 0 {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
