@@ -239,3 +239,29 @@ fn a_failure_map_with_every_kind_is_unchanged() {
         insta::assert_binary_snapshot!("every_kind_heat.png", f.heat().png().unwrap());
     });
 }
+
+/// A small fixed stress run with known answers, every number pinned (`golden/stress_small.snap`):
+/// wrong faces and "no exit face" each reached, `exact` never wrong.
+#[test]
+fn a_small_stress_table_is_unchanged() {
+    use tetwalk::choice::Choice;
+    use tetwalk::report::stress::{self, Row, Settings};
+    let s = Settings {
+        cases: 1500,
+        rows: Row::ALL.to_vec(),
+        seed: 5,
+        backend: "cpu".into(),
+        flatness: 1e-3,
+        ulps: 4,
+    };
+    let methods: Vec<_> = METHODS.iter().collect();
+    let report = stress::run(&s, &methods, &Backend::Cpu { fma: false }, &|_| {}).unwrap();
+    let all = report.rows.iter().flat_map(|r| &r.tallies);
+    assert!(all.clone().any(|t| t.wrong_face > 0));
+    assert!(all.clone().any(|t| t.no_exit_face > 0));
+    assert!(
+        all.filter(|t| t.method == "exact")
+            .all(|t| t.wrong_face == 0 && t.no_exit_face == 0)
+    );
+    settings().bind(|| insta::assert_snapshot!("stress_small", report.markdown()));
+}

@@ -61,8 +61,9 @@ pub struct Settings {
 }
 
 /// Counts for one method on one row.
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct Tally {
+    pub method: String,
     /// Cases whose line meets the tetrahedron (the others are not judged).
     pub judged: u64,
     pub wrong_face: u64,
@@ -196,7 +197,10 @@ pub fn run(
         let mut tallies = Vec::new();
         for m in methods {
             let faces = backend.exit_faces(m, &plain)?;
-            let mut t = Tally::default();
+            let mut t = Tally {
+                method: m.name.to_string(),
+                ..Tally::default()
+            };
             for ((_, x), f) in cases.iter().zip(faces) {
                 t.add(&judged(x, f));
             }
@@ -213,13 +217,30 @@ pub fn run(
     })
 }
 
+/// One row of the comparison: per method, how many of the row's cases each pair of backends answers
+/// differently.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct CompareRow {
+    pub row: Row,
+    pub cases: usize,
+    pub methods: Vec<Pairs>,
+}
+
+/// Cases one method answers differently on each pair of backends.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Pairs {
+    pub method: String,
+    pub cpu_vs_cpu_fma: u64,
+    pub cpu_vs_gpu: u64,
+    pub cpu_fma_vs_gpu: u64,
+}
+
 /// How often two backends answer differently, per row and method: cpu vs cpu-fma, cpu vs gpu, cpu-fma
 /// vs gpu (the comparison mode).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Disagreements {
     pub methods: Vec<String>,
-    /// Per row: per method, the three pair counts, out of `cases` cases.
-    pub rows: Vec<(Row, usize, Vec<[u64; 3]>)>,
+    pub rows: Vec<CompareRow>,
     pub gpu: String,
 }
 
@@ -240,9 +261,18 @@ pub fn compare(
             let diff = |x: &[Option<usize>], y: &[Option<usize>]| {
                 x.iter().zip(y).filter(|(p, q)| p != q).count() as u64
             };
-            per.push([diff(&a, &b), diff(&a, &c), diff(&b, &c)]);
+            per.push(Pairs {
+                method: m.name.to_string(),
+                cpu_vs_cpu_fma: diff(&a, &b),
+                cpu_vs_gpu: diff(&a, &c),
+                cpu_fma_vs_gpu: diff(&b, &c),
+            });
         }
-        rows.push((row, plain.len(), per));
+        rows.push(CompareRow {
+            row,
+            cases: plain.len(),
+            methods: per,
+        });
     }
     Ok(Disagreements {
         methods: methods
@@ -266,10 +296,17 @@ impl Disagreements {
             self.methods.join(" | "),
             "---|".repeat(self.methods.len())
         );
-        for (row, n, per) in &self.rows {
-            let cells: Vec<String> = per
+        for r in &self.rows {
+            let (row, n) = (r.row, r.cases);
+            let cells: Vec<String> = r
+                .methods
                 .iter()
-                .map(|[a, b, c]| format!("{a} / {b} / {c}"))
+                .map(|p| {
+                    format!(
+                        "{} / {} / {}",
+                        p.cpu_vs_cpu_fma, p.cpu_vs_gpu, p.cpu_fma_vs_gpu
+                    )
+                })
                 .collect();
             out += &format!("| {} | {n} | {} |\n", row.name(), cells.join(" | "));
         }

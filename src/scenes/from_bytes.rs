@@ -108,11 +108,17 @@ pub fn walk_case(u: &mut Unstructured) -> Result<WalkCase> {
         super::Generated::Jitter,
     ])?;
     let size = u.int_in_range(1..=4)?;
+    // The grids need three cells a side (a constrained inner box); smaller sizes meant three.
+    let size = if mesh == super::Generated::Fan {
+        size
+    } else {
+        size.max(3)
+    };
     let off = *u.choose(&[0.0, 0.0, 65536.0, 1.0e6])?;
     let extent = if mesh == super::Generated::Fan {
         2.0
     } else {
-        (size.max(3)) as f32
+        size as f32
     };
     let mut d = |lo: f32, hi: f32| -> Result<f32> {
         Ok(lo + (hi - lo) * f32::from(u.int_in_range::<u8>(1..=255)?) / 256.0)

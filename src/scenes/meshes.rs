@@ -18,9 +18,9 @@ const KUHN: [[usize; 4]; 6] = [
 ];
 
 /// An `n³` grid of unit cubes with integer corners, each split into Kuhn's six tetrahedra. The faces on
-/// the boundary of the inner box `[1, n-1]³` are constrained (an object to hit); needs `n ≥ 3`.
+/// the boundary of the inner box `[1, n-1]³` are constrained (an object to hit); `n ≥ 3`
+/// ([`super::generated_mesh`] refuses less).
 pub fn kuhn_grid(n: u32) -> RawMesh {
-    let n = n.max(3);
     let id = |x: u32, y: u32, z: u32| x + (n + 1) * (y + (n + 1) * z);
     let mut points = Vec::new();
     for z in 0..=n {
@@ -89,7 +89,7 @@ pub fn kuhn_grid(n: u32) -> RawMesh {
 /// steps of 1/16 so that translating it by up to 2^20 stays exact.
 pub fn jittered_grid(n: u32, amount: f32, rng: &mut Rng) -> RawMesh {
     let mut m = kuhn_grid(n);
-    let top = n.max(3) as f32;
+    let top = n as f32;
     let k = (amount.clamp(0.0, 0.15) * 16.0).floor() as i32;
     for p in &mut m.points {
         let on_hull = (0..3).any(|a| p[a] == 0.0 || p[a] == top);

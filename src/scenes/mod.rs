@@ -126,11 +126,15 @@ pub fn generated_mesh(
         Generated::Kuhn | Generated::Jitter => 6 * (size as u64).pow(3),
         Generated::Fan => 16 * size as u64,
     };
-    if size == 0 || tets > MAX_GENERATED_TETS {
+    let least = match kind {
+        Generated::Kuhn | Generated::Jitter => 3,
+        Generated::Fan => 1,
+    };
+    if size < least || tets > MAX_GENERATED_TETS {
         return Err(MeshError {
             place: format!("{} mesh of size {size}", kind.name()),
-            what: if size == 0 {
-                "the size must be 1 or more".into()
+            what: if size < least {
+                format!("the size must be {least} or more")
             } else {
                 format!(
                     "{tets} tetrahedra would need about {:.1} GiB; at most {MAX_GENERATED_TETS} are made",
@@ -146,10 +150,12 @@ pub fn generated_mesh(
     };
     let mesh = Mesh::build(raw)?;
     if offset == Vec3::ZERO {
-        Ok(mesh)
-    } else {
-        mesh.translated(offset)
+        return Ok(mesh);
     }
+    mesh.translated(offset).map_err(|e| MeshError {
+        place: format!("{} mesh of size {size} moved by {offset}", kind.name()),
+        what: format!("{e}: f32 cannot hold the mesh there (exact up to offsets of 2^20)"),
+    })
 }
 
 /// Rays for a generated mesh: origins inside it, half with random directions and half aimed exactly
