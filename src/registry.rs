@@ -4,8 +4,8 @@
 
 use crate::methods::aman20::Frame;
 use crate::methods::{
-    Aman20, Aman20Scaled, Arith, Exact, ExitMethod, Fused, HalfSpace, Maria17, Ms06, Plain,
-    Plucker, RayPlane, Stp,
+    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Fused, HalfSpace, Maria17, Ms06,
+    Plain, Plucker, Query, RayPlane, Stp, time_queries,
 };
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{self, LayoutWalkFn};
@@ -63,12 +63,18 @@ pub struct Method {
     /// Whether it is the reference every other method is judged against (it is never judged itself,
     /// and runs on the CPU whatever the backend).
     pub reference: bool,
+    /// Whether a paper publishes it (the others are tetwalk's own: the reference and `certified`).
+    pub published: bool,
     pub gpu: Gpu,
     exit: [ExitFn; 2],
     walk: [WalkFn; 2],
     checked: [CheckedWalkFn; 2],
     layout_walk: Option<[LayoutWalkFn; 2]>,
+    time_queries: TimeQueriesFn,
 }
+
+/// [`crate::methods::time_queries`] for one method, plain f32.
+pub type TimeQueriesFn = fn(&[Tet], &[Query], usize) -> (f64, usize);
 
 impl Method {
     const fn of<M: ExitMethod>(
@@ -83,6 +89,7 @@ impl Method {
             source,
             claims_robust,
             reference: false,
+            published: true,
             gpu,
             exit: [exit_fn::<M, Plain>, exit_fn::<M, Fused>],
             walk: [walk::walk::<M, Plain>, walk::walk::<M, Fused>],
@@ -91,6 +98,7 @@ impl Method {
                 walk::walk_checked::<M, Fused>,
             ],
             layout_walk: None,
+            time_queries: time_queries::<M, Plain>,
         }
     }
 
@@ -128,6 +136,11 @@ impl Method {
         self.layout_walk.map(|w| w[fma as usize])
     }
 
+    /// Time this method's exit-face search over a batch of queries (benchmarks; seed 000 Table 5).
+    pub fn time_queries(&self) -> TimeQueriesFn {
+        self.time_queries
+    }
+
     /// The walk that judges every step with the oracle ([`walk::walk_checked`]).
     pub fn walk_checked(&self, fma: bool) -> CheckedWalkFn {
         self.checked[fma as usize]
@@ -138,6 +151,7 @@ impl Method {
 pub static METHODS: &[Method] = &[
     Method {
         reference: true,
+        published: false,
         ..Method::of::<Exact>(
             "exact",
             "exact oracle with Simulation of Simplicity tie-breaking (reference)",
@@ -191,6 +205,17 @@ pub static METHODS: &[Method] = &[
         "Aman, Demirci, Güdükbay §4.1: specialised scaled basis (eqs. 1-3), Algorithm 1; walks Tet32/20/16",
         Gpu::Wgsl(&[AMAN20, AMAN20_SCALED]),
     ),
+    Method {
+        published: false,
+        ..Method::of::<Certified>(
+            "certified",
+            "tetwalk: Maria et al.'s Algorithm 1 (Platis & Theoharis' six signs in the starting tetrahedron) with each side product's sign certified by an f32 error bound (Shewchuk's o3derrboundA), else decided exactly with exact's tie-breaking",
+            true,
+            Gpu::CpuOnly(
+                "the exact stage needs arbitrary-precision arithmetic; a GPU version that flags unsettled steps for the CPU is not written yet",
+            ),
+        )
+    },
 ];
 
 /// A method name that is not registered.

@@ -80,7 +80,8 @@ proptest! {
 
 /// Every method's wrong answers over the degenerate families, flatness and ray kinds, pinned in
 /// `golden/degenerate_families_table.snap`: a change in any method's arithmetic or face tables changes
-/// a count. Beside it: `exact` is never wrong, and every published method fails somewhere.
+/// a count. Beside it: tetwalk's own methods (`exact`, `certified`) are never wrong, and every published
+/// method fails somewhere.
 #[test]
 fn degenerate_families_failures_are_measured() {
     let kinds = [
@@ -129,10 +130,31 @@ fn degenerate_families_failures_are_measured() {
                 }
             }
         }
-        if !m.reference {
+        if m.published {
             assert!(wrong_anywhere > 0, "{} never failed here", m.name);
+        } else {
+            assert_eq!(wrong_anywhere, 0, "{} is never wrong", m.name);
         }
     }
     print!("{table}");
     common::settings().bind(|| insta::assert_snapshot!("degenerate_families_table", table));
+}
+
+proptest! {
+    #![proptest_config(config("certified_correct", 3000))]
+    /// `certified` is right on every case of every family, lattice ties included, from every exact entry
+    /// face (not only the one the tie-breaking picks) and from none, plain and as a GPU compiles it.
+    #[test]
+    fn certified_is_correct_on_every_case(case in prop_oneof![any_case(), lattice_case()], fma: bool) {
+        let (t, ray) = case;
+        let c = classify(&t, &ray).unwrap();
+        let m = by_name("certified").unwrap();
+        let entries: Vec<Option<u8>> =
+            std::iter::once(None).chain(c.entry.iter().map(|f| Some(f as u8))).collect();
+        for entry in entries {
+            let case = Case { tet: t, org: ray.org, dir: ray.dir, entry };
+            let j = judge(&case, &c, m, fma);
+            prop_assert_ne!(j.correct, Some(false), "entry {:?}: answered {:?}, exact exits {:?}", entry, j.face, j.exact_exit);
+        }
+    }
 }

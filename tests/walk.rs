@@ -155,3 +155,51 @@ fn locating_a_mesh_vertex_picks_one_tetrahedron_holding_it() {
     }
     assert!(locate(&mesh, Vec3::splat(-1.0), 5).is_err());
 }
+
+/// `certified` walks end where the `exact` walks end, step for step (the same tetrahedra, the same
+/// number of steps), on every generated mesh near and far, rays through vertices and edges included;
+/// `maria17` does not, and cycles on the Kuhn grid.
+#[test]
+fn certified_walks_follow_the_exact_walks() {
+    let exact = by_name("exact").unwrap();
+    let certified = by_name("certified").unwrap();
+    let maria17 = by_name("maria17").unwrap();
+    let mut maria17_cycles = 0;
+    for kind in [Generated::Kuhn, Generated::Jitter, Generated::Fan] {
+        for offset in [Vec3::ZERO, Vec3::splat(65536.0)] {
+            let mesh = scenes::generated_mesh(kind, 8, offset, 1).unwrap();
+            let max = default_max_steps(&mesh);
+            for fma in [false, true] {
+                for ray in scenes::rays(kind, &mesh, offset, 3000, 7) {
+                    let Ok(start) = locate(&mesh, ray.org, 0) else {
+                        continue;
+                    };
+                    let want = exact.walk(false)(&mesh, &ray, start, max);
+                    let got = certified.walk(fma)(&mesh, &ray, start, max);
+                    assert_eq!(got, want, "{kind:?} offset {offset} fma {fma}: {ray:?}");
+                    maria17_cycles += matches!(
+                        maria17.walk(false)(&mesh, &ray, start, max).outcome,
+                        Outcome::Cycle { .. }
+                    ) as usize;
+                }
+            }
+        }
+    }
+    assert!(maria17_cycles > 0, "the same rays make maria17 cycle");
+    // The ray: maria17 passes through the vertex (5, 6, 6) and loops with period 6.
+    let mesh = scenes::generated_mesh(Generated::Kuhn, 8, Vec3::ZERO, 1).unwrap();
+    let ray = Ray {
+        org: Vec3::new(4.875, 5.75, 6.25),
+        dir: Vec3::new(1.0, 2.0, -2.0),
+    };
+    let start = locate(&mesh, ray.org, 0).unwrap();
+    let max = default_max_steps(&mesh);
+    assert!(matches!(
+        maria17.walk(false)(&mesh, &ray, start, max).outcome,
+        Outcome::Cycle { period: 6, .. }
+    ));
+    assert_eq!(
+        certified.walk(false)(&mesh, &ray, start, max),
+        exact.walk(false)(&mesh, &ray, start, max)
+    );
+}

@@ -4,7 +4,7 @@
 pub mod clip;
 pub mod hit;
 mod rational;
-mod sign;
+pub mod sign;
 
 pub use sign::{Counts, counts};
 

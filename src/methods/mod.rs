@@ -9,6 +9,7 @@
 //! wherever a method calls [`Arith::mad`]. Nothing else is contracted.
 
 pub mod aman20;
+pub mod certified;
 mod exact;
 mod halfspace;
 pub mod maria17;
@@ -18,6 +19,7 @@ mod ray_plane;
 mod stp;
 
 pub use aman20::{Aman20, Aman20Scaled};
+pub use certified::Certified;
 pub use exact::Exact;
 pub use halfspace::HalfSpace;
 pub use maria17::Maria17;
@@ -90,4 +92,33 @@ pub trait ExitMethod {
 #[inline(always)]
 pub(crate) fn leaves(s: &[f32; 3]) -> bool {
     s.iter().all(|&x| x >= 0.0) && s.iter().any(|&x| x != 0.0)
+}
+
+/// One exit-face query of a batch: a tetrahedron (by index), a ray, and its entry face.
+pub type Query = (u32, Ray, Option<usize>);
+
+/// Time `M`'s exit-face search over `queries` (seed 000 Table 5's measure): the per-ray data prepared
+/// first, once per ray and untimed, then every query answered in one loop, statically dispatched; the
+/// best of `repeats` runs in seconds, and a checksum of the answers.
+pub fn time_queries<M: ExitMethod, A: Arith>(
+    tets: &[Tet],
+    queries: &[Query],
+    repeats: usize,
+) -> (f64, usize) {
+    let prepared: Vec<(u32, M::RayData, Option<usize>)> = queries
+        .iter()
+        .map(|(t, r, e)| (*t, M::prepare::<A>(r), *e))
+        .collect();
+    let mut best = f64::INFINITY;
+    let mut sum = 0;
+    for _ in 0..repeats.max(1) {
+        let t0 = std::time::Instant::now();
+        sum = 0;
+        for (t, data, e) in &prepared {
+            let tet = &tets[*t as usize];
+            sum += M::exit_face::<A>(std::hint::black_box(tet), data, *e).map_or(4, |f| f);
+        }
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    (best, std::hint::black_box(sum))
 }
