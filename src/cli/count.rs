@@ -1,7 +1,7 @@
 //! `tetwalk count`: wrong rays per image, per method, on a scene.
 
 use super::{BackendArg, JsonOut, Outcome};
-use crate::registry::parse_list;
+use crate::registry::{by_name, parse_list};
 use crate::report::count::{self, Settings};
 use crate::report::wrong::WrongRay;
 use crate::scenes::camera::Views;
@@ -10,7 +10,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct Args {
+    #[command(subcommand)]
+    merge: Option<Merge>,
     /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, kuhn, jitter, fan and
     /// their -far), or a TetGen stem.
     #[arg(long, default_value = "bunny-quality")]
@@ -25,9 +28,17 @@ pub struct Args {
     /// Image size, WxH [default: 256x256, or 1024x1024 with --preset paper].
     #[arg(long)]
     size: Option<String>,
-    /// Methods to judge (comma-separated, or all); `exact` is the reference and always runs.
+    /// Methods to judge (comma-separated, or all); the reference always runs.
     #[arg(long, default_value = "all")]
     methods: String,
+    /// The walk every method is judged against: `exact`, or `certified` (proven to end where `exact`
+    /// ends, step for step, and several times faster).
+    #[arg(long, value_parser = ["exact", "certified"], default_value = "certified")]
+    reference: String,
+    /// Re-judge about this many rays, chosen by the seed, with the full `exact` walk; a disagreement
+    /// with the reference is an error that stops the count.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1000)]
+    audit: u64,
     #[command(flatten)]
     backend: BackendArg,
     /// Seed of the viewpoints' rotation (`render` places views the same way for the same seed).
@@ -36,6 +47,10 @@ pub struct Args {
     /// `paper`: seed 000's 1,282 views of 1024x1024.
     #[arg(long, value_parser = ["paper"])]
     preset: Option<String>,
+    /// Count only views `v` with `v % N == I` (`I/N`, 0-based): one of N disjoint slices, whose reports
+    /// `tetwalk count merge` adds up to the whole count's exactly.
+    #[arg(long, default_value = "0/1")]
+    shard: String,
     /// Also write the report as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -45,10 +60,52 @@ pub struct Args {
     dump: Option<PathBuf>,
 }
 
+#[derive(clap::Subcommand)]
+enum Merge {
+    /// Add up the JSON reports of a sharded count (`--shard I/N`, every I once) into one.
+    Merge {
+        /// The shards' reports (`count --shard I/N --json FILE`).
+        #[arg(required = true)]
+        reports: Vec<PathBuf>,
+        /// Also write the merged report as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+}
+
+fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Outcome {
+    let out = JsonOut::new(json)?;
+    let mut read = Vec::new();
+    for p in reports {
+        let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let r: count::CountReport =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
+        read.push(r);
+    }
+    let merged = count::CountReport::merge(&read)?;
+    print!("{}", merged.markdown());
+    out.finish(&merged)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `I/N` with `I < N`.
+fn shard(text: &str) -> Result<count::Shard, super::Error> {
+    text.split_once('/')
+        .and_then(|(i, n)| Some((i.trim().parse().ok()?, n.trim().parse().ok()?)))
+        .filter(|&(i, n)| n >= 1 && i < n)
+        .map(|(index, count)| count::Shard { index, count })
+        .ok_or_else(|| format!("--shard {text} is not I/N with 0 <= I < N").into())
+}
+
 pub fn run(a: Args) -> Outcome {
+    if let Some(Merge::Merge { reports, json }) = &a.merge {
+        return merge(reports, json.as_deref());
+    }
+    let shard = shard(&a.shard)?;
+    let reference = by_name(&a.reference)?;
     let methods: Vec<_> = parse_list(&a.methods)?
         .into_iter()
-        .filter(|m| !m.reference)
+        .filter(|m| !m.reference && m.name != reference.name)
         .collect();
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = a
@@ -80,6 +137,9 @@ pub fn run(a: Args) -> Outcome {
             seed: a.seed,
             fov_deg: Views::FOV_DEG,
         },
+        reference: reference.name.to_string(),
+        audit: a.audit,
+        shard,
     };
     let bar = super::progress(views as u64, "views");
     let mut write = |w: &WrongRay| -> std::io::Result<()> {

@@ -3,7 +3,7 @@
 
 use crate::backend::{Backend, BackendError};
 use crate::mesh::Mesh;
-use crate::registry::{Method, reference};
+use crate::registry::{Method, by_name, reference};
 use crate::report::wrong::{Class, Seen, WrongRay};
 use crate::scenes::camera::Views;
 use crate::tet::Ray;
@@ -12,11 +12,33 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// What is counted, and how the rays are made.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Settings {
     pub scene: String,
-    #[serde(flatten)]
     pub views: Views,
+    /// The walk every method is judged against: `exact`, or `certified` (which ends where `exact` ends,
+    /// faster).
+    pub reference: String,
+    /// Rays re-judged with the full `exact` walk (chosen by the seed, about this many): the reference
+    /// must agree on each.
+    pub audit: u64,
+    /// Which slice of the views this run counts: views `v` with `v % count == index`.
+    pub shard: Shard,
+}
+
+/// One of `count` disjoint slices of the views (`--shard INDEX/COUNT`); `0/1` is all of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    pub const ALL: Shard = Shard { index: 0, count: 1 };
+
+    pub fn holds(self, view: usize) -> bool {
+        view % self.count == self.index
+    }
 }
 
 /// Why a count could not be made.
@@ -24,8 +46,20 @@ pub struct Settings {
 pub enum CountError {
     #[error(transparent)]
     Backend(#[from] BackendError),
+    #[error(transparent)]
+    NoReference(#[from] crate::registry::UnknownMethod),
     #[error("writing the dump: {0}")]
     Dump(std::io::Error),
+    #[error(
+        "audit: the reference {reference} and the exact walk disagree on view {view} pixel {pixel:?}: {got:?} against {want:?}"
+    )]
+    Audit {
+        reference: String,
+        view: usize,
+        pixel: [u32; 2],
+        got: Walk,
+        want: Walk,
+    },
     #[error(
         "no view could be counted: none of the {0} camera positions lies inside the mesh (a scene needs the box around the model that `tetwalk scene build` adds)"
     )]
@@ -36,6 +70,20 @@ pub enum CountError {
 /// [`OutcomeKind::wrong_key`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PerKind<T>(pub [T; 5]);
+
+impl<'de, T: serde::Deserialize<'de> + Default + Copy> serde::Deserialize<'de> for PerKind<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let m = std::collections::BTreeMap::<String, T>::deserialize(d)?;
+        let mut out = [T::default(); 5];
+        for (k, v) in m {
+            let kind = OutcomeKind::from_wrong_key(&k).ok_or_else(|| {
+                serde::de::Error::custom(format!("unknown kind of wrong ray '{k}'"))
+            })?;
+            out[kind.code() as usize] = v;
+        }
+        Ok(PerKind(out))
+    }
+}
 
 impl<T: serde::Serialize> serde::Serialize for PerKind<T> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
@@ -49,7 +97,7 @@ impl<T: serde::Serialize> serde::Serialize for PerKind<T> {
 }
 
 /// One method's numbers per image: the totals over the views counted.
-#[derive(Clone, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct PerImage {
     pub wrong: f64,
     pub by_kind: PerKind<f64>,
@@ -60,7 +108,7 @@ pub struct PerImage {
 }
 
 /// One method's totals over all views.
-#[derive(Clone, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct MethodCount {
     pub method: String,
     /// Wrong rays, summed over views.
@@ -144,9 +192,11 @@ impl MethodCount {
     }
 }
 
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct CountReport {
     pub settings: Settings,
+    /// Rays the audit re-judged with the full `exact` walk, all in agreement.
+    pub audited: u64,
     /// The backend the methods ran on (the `exact` reference always runs on the CPU).
     pub backend: String,
     pub tetrahedra: usize,
@@ -155,6 +205,15 @@ pub struct CountReport {
     pub views_counted: usize,
     /// The `exact` walk, first, then every method.
     pub methods: Vec<MethodCount>,
+}
+
+/// Whether ray `index` (counted over all views) is audited: about `audit` of `total`, chosen by `seed`.
+fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
+    let mut z = seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^= z >> 31;
+    (z % total.max(1)) < audit
 }
 
 /// Where each wrong ray goes besides the tallies (`count --dump`).
@@ -170,8 +229,10 @@ pub fn run(
     tick: &(dyn Fn() + Sync),
     mut sink: Option<&mut Sink>,
 ) -> Result<CountReport, CountError> {
-    let exact = reference();
+    let exact = by_name(&s.reference)?;
+    let full = reference();
     let max = default_max_steps(mesh);
+    let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
     let (lo, hi) = crate::mesh::bounds(&mesh.points);
     let on = backend.mesh(mesh);
     let mut totals: Vec<MethodCount> = std::iter::once(exact)
@@ -181,9 +242,9 @@ pub fn run(
             ..Default::default()
         })
         .collect();
-    let (mut rays_counted, mut views_counted) = (0u64, 0usize);
+    let (mut rays_counted, mut views_counted, mut audits) = (0u64, 0usize, 0u64);
     let mut start = 0;
-    for v in 0..s.views.views {
+    for v in (0..s.views.views).filter(|&v| s.shard.holds(v)) {
         let cam = s.views.camera(lo, hi, v);
         tick();
         let Ok(located) = locate(mesh, cam.eye, start) else {
@@ -197,6 +258,26 @@ pub fn run(
         let reference = backend.walks(exact, &on, &rays, located, max)?;
         totals[0].seconds += t0.elapsed().as_secs_f64();
         totals[0].steps += reference.iter().map(|w| w.steps as u64).sum::<u64>();
+        if s.audit > 0 {
+            let first = v as u64 * rays.len() as u64;
+            let picked: Vec<usize> = (0..rays.len())
+                .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))
+                .collect();
+            let picked_rays: Vec<Ray> = picked.iter().map(|&i| rays[i]).collect();
+            let want = backend.walks(full, &on, &picked_rays, located, max)?;
+            audits += picked.len() as u64;
+            for (&i, w) in picked.iter().zip(&want) {
+                if reference[i] != *w {
+                    return Err(CountError::Audit {
+                        reference: exact.name.to_string(),
+                        view: v,
+                        pixel: [i as u32 % s.views.width, i as u32 / s.views.width],
+                        got: reference[i],
+                        want: *w,
+                    });
+                }
+            }
+        }
         for (m, total) in methods.iter().zip(&mut totals[1..]) {
             let t0 = Instant::now();
             let walks = backend.walks(m, &on, &rays, located, max)?;
@@ -236,6 +317,7 @@ pub fn run(
     }
     Ok(CountReport {
         settings: s.clone(),
+        audited: audits,
         backend: backend.describe(),
         tetrahedra: mesh.tets.len(),
         rays: rays_counted,
@@ -250,14 +332,23 @@ impl CountReport {
     pub fn markdown(&self) -> String {
         let s = &self.settings.views;
         let mut out = format!(
-            "scene {} ({} tetrahedra), {} views of {}x{}, backend {}, seed {}; per image, averaged over views\n\n",
+            "scene {} ({} tetrahedra), {} views of {}x{}, backend {}, seed {}, reference {}{}; per image, averaged over views\n\n",
             self.settings.scene,
             self.tetrahedra,
             self.views_counted,
             s.width,
             s.height,
             self.backend,
-            s.seed
+            s.seed,
+            self.settings.reference,
+            if self.audited > 0 {
+                format!(
+                    " (audited against exact on {} rays, all agreeing)",
+                    self.audited
+                )
+            } else {
+                String::new()
+            }
         );
         out += &format!(
             "| method | wrong rays | {} | wrong face adjacent | wrong face elsewhere | Φ (tetrahedra) | Mrays/s |\n",
@@ -291,5 +382,79 @@ impl CountReport {
                 .join(", ")
         );
         out
+    }
+}
+
+/// Why sharded reports cannot be merged.
+#[derive(Debug, thiserror::Error)]
+pub enum MergeError {
+    #[error("nothing to merge")]
+    Empty,
+    #[error("report {0} was counted with other settings than the first ({1})")]
+    Settings(usize, String),
+    #[error("report {0} judged other methods than the first")]
+    Methods(usize),
+    #[error("the shards do not cover the views once each: have {have:?} of {count}")]
+    Shards { have: Vec<usize>, count: usize },
+}
+
+impl CountReport {
+    /// Add up the reports of the shards of one count (`count --shard I/N`, every `I` once) into the
+    /// report of the whole count: the same totals as an unsharded run, exactly.
+    pub fn merge(reports: &[CountReport]) -> Result<CountReport, MergeError> {
+        let first = reports.first().ok_or(MergeError::Empty)?;
+        let count = first.settings.shard.count;
+        let mut have: Vec<usize> = Vec::new();
+        for (i, r) in reports.iter().enumerate() {
+            let same = Settings {
+                shard: first.settings.shard,
+                ..r.settings.clone()
+            };
+            if same != first.settings
+                || r.backend != first.backend
+                || r.tetrahedra != first.tetrahedra
+            {
+                return Err(MergeError::Settings(
+                    i,
+                    format!("{:?} on {}", r.settings, r.backend),
+                ));
+            }
+            let names = |r: &CountReport| {
+                r.methods
+                    .iter()
+                    .map(|m| m.method.clone())
+                    .collect::<Vec<_>>()
+            };
+            if names(r) != names(first) {
+                return Err(MergeError::Methods(i));
+            }
+            if r.settings.shard.count != count {
+                return Err(MergeError::Settings(i, format!("{:?}", r.settings.shard)));
+            }
+            have.push(r.settings.shard.index);
+        }
+        have.sort_unstable();
+        if have != (0..count).collect::<Vec<_>>() {
+            return Err(MergeError::Shards { have, count });
+        }
+        let mut out = first.clone();
+        out.settings.shard = Shard::ALL;
+        for r in &reports[1..] {
+            out.rays += r.rays;
+            out.views_counted += r.views_counted;
+            out.audited += r.audited;
+            for (t, m) in out.methods.iter_mut().zip(&r.methods) {
+                t.wrong_total += m.wrong_total;
+                (0..5).for_each(|k| t.wrong.0[k] += m.wrong.0[k]);
+                t.wrong_face_adjacent += m.wrong_face_adjacent;
+                t.wrong_face_elsewhere += m.wrong_face_elsewhere;
+                t.steps += m.steps;
+                t.seconds += m.seconds;
+            }
+        }
+        for t in &mut out.methods {
+            t.finish(out.views_counted, out.rays);
+        }
+        Ok(out)
     }
 }

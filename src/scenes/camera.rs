@@ -75,7 +75,7 @@ pub fn view(
 
 /// The viewpoints of a count or a render: `views` views of `width × height` pixels around a mesh,
 /// placed by `seed` ([`view`]), with a vertical field of view of `fov_deg`.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Views {
     pub views: usize,
     pub width: u32,
