@@ -108,10 +108,16 @@ impl Backend {
                     .map(|(c, (tet, entry, _))| gpu::shader::Case::new(tet, &c.ray(), *entry))
                     .collect();
                 let faces = g.exit_faces(method, &input)?;
+                // What the GPU could not settle, the CPU answers.
+                let exit = method.exit(false);
                 Ok(faces
                     .into_iter()
                     .zip(&prepared)
-                    .map(|(f, (_, _, map))| f.map(|f| map[f]))
+                    .zip(cases)
+                    .map(|((f, (tet, entry, map)), c)| match f {
+                        gpu::shader::UNSETTLED => exit(tet, &c.ray(), *entry).map(|f| map[f]),
+                        f => usize::try_from(f).ok().map(|f| map[f]),
+                    })
                     .collect())
             }
         }
@@ -155,7 +161,14 @@ impl Backend {
                 if uploaded.tetrahedra != mesh.mesh.tets.len() {
                     return Err(BackendError::OtherMesh);
                 }
-                Ok(g.walks(method, uploaded, rays, start, max_steps)?)
+                let walks = g.walks(method, uploaded, rays, start, max_steps)?;
+                // Flagged rays (a step the GPU could not settle) are walked on the CPU.
+                let walk = method.walk(false);
+                Ok(walks
+                    .into_par_iter()
+                    .zip(rays)
+                    .map(|(w, r)| w.unwrap_or_else(|| walk(mesh.mesh, r, start, max_steps)))
+                    .collect())
             }
         }
     }

@@ -44,6 +44,7 @@ const MS06: &str = include_str!("methods/ms06.wgsl");
 const MARIA17: &str = include_str!("methods/maria17.wgsl");
 const AMAN20: &str = include_str!("methods/aman20.wgsl");
 const AMAN20_SCALED: &str = include_str!("methods/aman20_scaled.wgsl");
+const CERTIFIED: &str = include_str!("methods/certified.wgsl");
 
 /// A method's exit function with its arithmetic fixed, for callers that pick methods at run time.
 pub type ExitFn = fn(&Tet, &Ray, Option<usize>) -> Option<usize>;
@@ -211,9 +212,8 @@ pub static METHODS: &[Method] = &[
             "certified",
             "tetwalk: Maria et al.'s Algorithm 1 (Platis & Theoharis' six signs in the starting tetrahedron) with each side product's sign certified by an f32 error bound (Shewchuk's o3derrboundA), else decided exactly with exact's tie-breaking",
             true,
-            Gpu::CpuOnly(
-                "the exact stage needs arbitrary-precision arithmetic; a GPU version that flags unsettled steps for the CPU is not written yet",
-            ),
+            // The f32 stage; what it cannot settle, the CPU finishes exactly.
+            Gpu::Wgsl(&[CERTIFIED]),
         )
     },
 ];

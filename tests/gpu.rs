@@ -1,4 +1,5 @@
-//! The generated WGSL methods and walk on whatever adapter there is, through the backend seam. Without
+//! The generated WGSL methods and walk on whatever adapter there is, through the backend seam; on
+//! llvmpipe every method equals the CPU, and `certified` equals it on every adapter. Without
 //! one these tests skip with a notice, unless TETWALK_REQUIRE_GPU=1 (as CI sets, with lavapipe
 //! installed), where they fail.
 
@@ -110,7 +111,8 @@ fn gpu_answers_equal_the_cpu_from_entry_faces_and_starts_where_the_adapter_does_
             m.name,
             cases.len()
         );
-        if !contracts(&g) {
+        // tetwalk's own method is exact on every adapter: what the GPU cannot settle, the CPU does.
+        if !contracts(&g) || !m.published {
             assert_eq!(differ, 0, "{}", m.name);
         }
     }
@@ -155,7 +157,7 @@ fn gpu_walks_run_end_to_end_and_match_the_cpu_on_llvmpipe() {
             m.name,
             rays.len()
         );
-        if llvmpipe {
+        if llvmpipe || !m.published {
             assert_eq!(on_gpu, on_cpu, "{}", m.name);
         }
         assert!(on_gpu.iter().all(|w| w.steps >= 1 && w.steps <= max));

@@ -13,6 +13,9 @@ use wgpu::util::DeviceExt;
 
 pub mod shader;
 
+/// What the shader writes for "no exit face".
+pub const NONE: i32 = -1;
+
 /// Why the GPU cannot be used, or what went wrong on it.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
@@ -261,12 +264,13 @@ impl Gpu {
         Ok(bytes)
     }
 
-    /// Each case's exit face (`None` for no exit face) by `method`.
+    /// Each case's answer by `method`, as the shader writes it: a face, [`NONE`] for no exit face, or
+    /// [`shader::UNSETTLED`] for a case the CPU must answer.
     pub fn exit_faces(
         &self,
         method: &Method,
         cases: &[shader::Case],
-    ) -> Result<Vec<Option<usize>>, GpuError> {
+    ) -> Result<Vec<i32>, GpuError> {
         let [exit, _] = Self::entry_points(method)?;
         let input = self.storage(bytemuck::cast_slice(cases));
         let out = self.storage(&vec![0u8; 4 * cases.len()]);
@@ -277,11 +281,9 @@ impl Gpu {
             start: 0,
         };
         let bytes = self.dispatch(&exit, params, &[(1, &input), (2, &out)], &out)?;
-        let faces: Vec<i32> = bytemuck::pod_collect_to_vec(&bytes);
-        Ok(faces[..cases.len()]
-            .iter()
-            .map(|&f| (f >= 0).then_some(f as usize))
-            .collect())
+        let mut faces: Vec<i32> = bytemuck::pod_collect_to_vec(&bytes);
+        faces.truncate(cases.len());
+        Ok(faces)
     }
 
     /// Upload a mesh for [`Gpu::walks`].
@@ -307,7 +309,8 @@ impl Gpu {
         }
     }
 
-    /// Walk every ray from tetrahedron `start` with `method` on the GPU.
+    /// Walk every ray from tetrahedron `start` with `method` on the GPU; `None` for a ray the method
+    /// flagged (a step its f32 stage could not settle), which the CPU must walk.
     pub fn walks(
         &self,
         method: &Method,
@@ -315,7 +318,7 @@ impl Gpu {
         rays: &[Ray],
         start: u32,
         max_steps: u32,
-    ) -> Result<Vec<Walk>, GpuError> {
+    ) -> Result<Vec<Option<Walk>>, GpuError> {
         let [_, walk] = Self::entry_points(method)?;
         let r: Vec<[f32; 4]> = rays
             .iter()
@@ -342,11 +345,14 @@ impl Gpu {
         endings[..rays.len()]
             .iter()
             .map(|e| {
+                if e.kind == shader::FLAGGED {
+                    return Ok(None);
+                }
                 let kind = OutcomeKind::from_code(e.kind).ok_or(GpuError::BadOutcome(e.kind))?;
-                Ok(Walk {
+                Ok(Some(Walk {
                     outcome: Outcome::from_parts(kind, e.tet, e.x),
                     steps: e.steps,
-                })
+                }))
             })
             .collect()
     }

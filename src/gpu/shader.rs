@@ -12,6 +12,13 @@ use std::fmt::Write;
 /// Threads per workgroup.
 pub const GROUP: u32 = 64;
 
+/// What a method's WGSL answers when its f32 stage cannot settle a case (`certified`): the CPU then
+/// answers it.
+pub const UNSETTLED: i32 = -2;
+
+/// The walk code of a ray a method flagged ([`UNSETTLED`] at some step); the CPU walks it.
+pub const FLAGGED: u32 = 255;
+
 /// A `#[repr(C)]` struct shared with the shader: the Rust type and its WGSL declaration from one list.
 macro_rules! shared_struct {
     ($(#[$meta:meta])* $name:ident { $($(#[$fm:meta])* $field:ident: $rust:ty => $wgsl:literal),* $(,)? }) => {
@@ -136,6 +143,10 @@ fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = IDENT_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;
@@ -178,6 +189,14 @@ pub fn generate() -> String {
     );
     let _ = writeln!(s, "const GROUP: u32 = {GROUP}u;");
     s += "const NONE: i32 = -1;\n";
+    let _ = writeln!(s, "const UNSETTLED: i32 = {UNSETTLED};");
+    let _ = writeln!(s, "const FLAGGED: u32 = {FLAGGED}u;");
+    let _ = writeln!(
+        s,
+        "// tetwalk::methods::certified::{{O3DERRBOUND_A, UNDERFLOW}}, exactly.\nconst O3DERRBOUND_A: f32 = {:e}f;\nconst CERTIFIED_UNDERFLOW: f32 = {:e}f;",
+        crate::methods::certified::O3DERRBOUND_A,
+        crate::methods::certified::UNDERFLOW
+    );
     let _ = writeln!(s, "const HULL: u32 = {HULL:#x}u;");
     s += "\n// Outcome kinds (tetwalk::walk::OutcomeKind).\n";
     for k in OutcomeKind::ALL {

@@ -4,6 +4,11 @@
 
 const GROUP: u32 = 64u;
 const NONE: i32 = -1;
+const UNSETTLED: i32 = -2;
+const FLAGGED: u32 = 255u;
+// tetwalk::methods::certified::{O3DERRBOUND_A, UNDERFLOW}, exactly.
+const O3DERRBOUND_A: f32 = 4.172327e-7f;
+const CERTIFIED_UNDERFLOW: f32 = 7.523164e-37f;
 const HULL: u32 = 0xffffffffu;
 
 // Outcome kinds (tetwalk::walk::OutcomeKind).
@@ -472,6 +477,109 @@ fn aman20_scaled_exit(t: ptr<function, array<vec3f, 4>>, r: ScaledFrame, entry: 
     return exit_2d(&p, entry);
 }
 
+// certified (tetwalk's own), the f32 stage of src/methods/certified.rs: Maria et al.'s Algorithm 1 (all
+// six signs in the starting tetrahedron) with each side product's sign certified by Shewchuk's
+// o3derrboundA (O3DERRBOUND_A and CERTIFIED_UNDERFLOW are generated from the Rust constants). A sign the
+// bound cannot settle, or a subnormal input (which a GPU may flush to zero), returns UNSETTLED, and the
+// CPU finishes that case or ray exactly.
+
+struct CertifiedRay {
+    o: vec3f,
+    d: vec3f,
+    underflow: f32,
+}
+
+// A nonzero magnitude below f32's normal range.
+fn subnormal(v: vec3f) -> bool {
+    return any(abs(v) < vec3f(1.17549435e-38f) & v != vec3f(0.0));
+}
+
+fn certified_prepare(o: vec3f, d: vec3f) -> CertifiedRay {
+    var underflow = CERTIFIED_UNDERFLOW * (1.0 + max(max(abs(d.x), abs(d.y)), abs(d.z)));
+    if subnormal(o) || subnormal(d) {
+        // Nothing can be settled: every step goes to the CPU.
+        underflow = 3.40282347e38f;
+    }
+    return CertifiedRay(o, d, underflow);
+}
+
+// Side products with edges ending at b: det[a - o, b - o, d] = (a - b) · ((b - o) × d).
+struct Apex {
+    b: vec3f,
+    w: vec3f,
+    m: vec3f,
+}
+
+fn apex(b: vec3f, r: CertifiedRay) -> Apex {
+    let q = b - r.o;
+    let d = r.d;
+    let x1 = q.y * d.z;
+    let x2 = q.z * d.y;
+    let y1 = q.z * d.x;
+    let y2 = q.x * d.z;
+    let z1 = q.x * d.y;
+    let z2 = q.y * d.x;
+    return Apex(b, vec3f(x1 - x2, y1 - y2, z1 - z2), vec3f(abs(x1) + abs(x2), abs(y1) + abs(y2), abs(z1) + abs(z2)));
+}
+
+// +1 or -1 when the bound settles the sign, else 0.
+fn certified_side(p: Apex, a: vec3f, r: CertifiedRay) -> i32 {
+    let e = a - p.b;
+    let det = e.x * p.w.x + e.y * p.w.y + e.z * p.w.z;
+    let permanent = abs(e.x) * p.m.x + abs(e.y) * p.m.y + abs(e.z) * p.m.z;
+    let bound = O3DERRBOUND_A * permanent + r.underflow;
+    if abs(det) > bound {
+        return select(-1, 1, det > 0.0);
+    }
+    return 0;
+}
+
+fn certified_exit(t: ptr<function, array<vec3f, 4>>, r: CertifiedRay, entry: i32) -> i32 {
+    for (var k = 0u; k < 4u; k++) {
+        if subnormal((*t)[k]) {
+            return UNSETTLED;
+        }
+    }
+    if entry >= 0 {
+        let e = u32(entry);
+        let p = apex((*t)[e], r);
+        let lambda = maria17_face_vertices(e);
+        let s2 = certified_side(p, (*t)[lambda.z], r);
+        if s2 == 0 {
+            return UNSETTLED;
+        }
+        var id = select(0u, 1u, s2 > 0);
+        let s = certified_side(p, (*t)[lambda[id]], r);
+        if s == 0 {
+            return UNSETTLED;
+        }
+        id = id + select(0u, 1u, s < 0);
+        return i32(maria17_get_face(e)[id]);
+    }
+    var s: array<f32, 6>;
+    for (var k = 0u; k < 6u; k++) {
+        let ab = edge_points(k);
+        let sign = certified_side(apex((*t)[ab.y], r), (*t)[ab.x], r);
+        if sign == 0 {
+            return UNSETTLED;
+        }
+        s[k] = f32(sign);
+    }
+    for (var f = 0u; f < 4u; f++) {
+        let v = face_vertices(f);
+        var x: vec3f;
+        for (var k = 0u; k < 3u; k++) {
+            let e = edge_of(v[k], v[(k + 1u) % 3u]);
+            x[k] = f32(e.y) * s[e.x];
+        }
+        if leaves(x) {
+            return i32(f);
+        }
+    }
+    // The perturbed line passes beside the tetrahedron: the CPU answers as exact does.
+    return UNSETTLED;
+}
+
 // ---- ray-plane ----
 
 @compute @workgroup_size(GROUP)
@@ -502,6 +610,10 @@ fn walk_ray_plane(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = ray_plane_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;
@@ -564,6 +676,10 @@ fn walk_halfspace(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = halfspace_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;
@@ -626,6 +742,10 @@ fn walk_plucker(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = plucker_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;
@@ -688,6 +808,10 @@ fn walk_stp(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = stp_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;
@@ -750,6 +874,10 @@ fn walk_ms06(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = ms06_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;
@@ -812,6 +940,10 @@ fn walk_maria17(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = maria17_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;
@@ -874,6 +1006,10 @@ fn walk_aman20(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = aman20_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;
@@ -936,6 +1072,76 @@ fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u) {
         let vi = tets[tet];
         var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
         let f = aman20_scaled_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
+        if f < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
+            return;
+        }
+        let fu = u32(f);
+        let info = faceinfo[tet];
+        if ((info >> (8u + fu)) & 1u) == 1u {
+            endings[i] = Ending(HIT, tet, fu, steps);
+            return;
+        }
+        let next = neighbors[tet][fu];
+        if next == HULL {
+            endings[i] = Ending(LEFT_MESH, tet, fu, steps);
+            return;
+        }
+        entry = i32((info >> (2u * fu)) & 3u);
+        tet = next;
+        lam += 1u;
+        if tet == saved_tet && entry == saved_entry {
+            endings[i] = Ending(CYCLE, tet, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_entry = entry;
+            power = power * 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+}
+
+// ---- certified ----
+
+@compute @workgroup_size(GROUP)
+fn exit_certified(@builtin(global_invocation_id) gid: vec3u) {
+    if gid.x >= params.count {
+        return;
+    }
+    let i = gid.x + params.offset;
+    let c = cases[i];
+    var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
+    faces[i] = certified_exit(&t, certified_prepare(c.org.xyz, c.dir.xyz), c.entry);
+}
+
+@compute @workgroup_size(GROUP)
+fn walk_certified(@builtin(global_invocation_id) gid: vec3u) {
+    if gid.x >= params.count {
+        return;
+    }
+    let i = gid.x + params.offset;
+    let r = certified_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
+    var tet = params.start;
+    var entry = NONE;
+    var saved_tet = tet;
+    var saved_entry = entry;
+    var power = 1u;
+    var lam = 0u;
+    for (var steps = 1u; steps <= params.max_steps; steps++) {
+        let vi = tets[tet];
+        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let f = certified_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
         if f < 0 {
             endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
             return;

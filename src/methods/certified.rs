@@ -24,7 +24,7 @@ pub const O3DERRBOUND_A: f32 = (7.0 + 56.0 * EPS) * EPS;
 /// The absolute error underflow can add, per unit of `1 + max |d|`: the six products of the minors and
 /// the three by `d` may each lose up to 2^-149 where they fall below f32's normal range; 2^-120 covers
 /// them with room and is itself a normal number (arithmetic on subnormal constants is slow on x86).
-const UNDERFLOW: f32 = 1.0 / (1u128 << 120) as f32;
+pub const UNDERFLOW: f32 = 1.0 / (1u128 << 120) as f32;
 
 thread_local! {
     static EXACT_SIGNS: Cell<u64> = const { Cell::new(0) };
