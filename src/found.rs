@@ -34,13 +34,16 @@ pub enum FoundError {
     FuzzMethod(UnknownMethod),
 }
 
-/// Which methods a fuzz run holds to exactness, from `TETWALK_FUZZ_METHOD`: `robust` (the default:
-/// the reference and every method whose paper claims robustness), or one method's name (with the
-/// reference).
+/// Which methods a fuzz run holds to exactness, from `TETWALK_FUZZ_METHOD`: `robust` (every method
+/// that claims robustness: the reference, `certified`, and the published ones whose papers claim it),
+/// `ours` (tetwalk's own, which must never fail), or one method's name (with the reference). Unset, the
+/// default compiled in with `TETWALK_FUZZ_DEFAULT` (ClusterFuzzLite's build uses `ours`), else `robust`.
 pub fn required_methods() -> Result<Vec<&'static Method>, FoundError> {
-    let choice = std::env::var("TETWALK_FUZZ_METHOD").unwrap_or_else(|_| "robust".into());
+    let default = option_env!("TETWALK_FUZZ_DEFAULT").unwrap_or("robust");
+    let choice = std::env::var("TETWALK_FUZZ_METHOD").unwrap_or_else(|_| default.into());
     match choice.as_str() {
         "robust" => Ok(METHODS.iter().filter(|m| m.claims_robust).collect()),
+        "ours" => Ok(METHODS.iter().filter(|m| !m.published).collect()),
         name => {
             let m = by_name(name).map_err(FoundError::FuzzMethod)?;
             Ok(METHODS
@@ -266,15 +269,14 @@ fn check_exit(
 
 /// A walk case's mesh, start and ray.
 pub struct WalkSetup {
-    pub mesh: crate::mesh::Mesh,
+    pub mesh: std::sync::Arc<crate::mesh::Mesh>,
     pub start: u32,
     pub max_steps: u32,
 }
 
 impl WalkSetup {
     pub fn new(w: &WalkCase) -> Result<WalkSetup, FoundError> {
-        let mesh = crate::scenes::generated_mesh(w.mesh, w.size, Vec3::splat(w.offset), 1)
-            .map_err(|e| FoundError::Mesh(e.to_string()))?;
+        let mesh = generated(w)?;
         let start =
             locate(&mesh, w.ray().org, 0).map_err(|e| FoundError::Outside(e.to_string()))?;
         let max_steps = default_max_steps(&mesh);
@@ -308,6 +310,42 @@ impl WalkSetup {
     }
 }
 
+/// A generated mesh's key (kind, size, offset bits) and the mesh.
+type CachedMesh = (
+    (crate::scenes::Generated, u32, u32),
+    std::sync::Arc<crate::mesh::Mesh>,
+);
+
+thread_local! {
+    /// Generated meshes by (kind, size, offset): walk cases (fuzz inputs above all) use few of them.
+    static MESHES: std::cell::RefCell<Vec<CachedMesh>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// A walk case's mesh, built once per thread and kept (the last 64).
+fn generated(w: &WalkCase) -> Result<std::sync::Arc<crate::mesh::Mesh>, FoundError> {
+    let key = (w.mesh, w.size, w.offset.to_bits());
+    if let Some(m) = MESHES.with(|c| {
+        c.borrow()
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map(|(_, m)| m.clone())
+    }) {
+        return Ok(m);
+    }
+    let mesh = std::sync::Arc::new(
+        crate::scenes::generated_mesh(w.mesh, w.size, Vec3::splat(w.offset), 1)
+            .map_err(|e| FoundError::Mesh(e.to_string()))?,
+    );
+    MESHES.with(|c| {
+        let mut c = c.borrow_mut();
+        if c.len() == 64 {
+            c.remove(0);
+        }
+        c.push((key, mesh.clone()));
+    });
+    Ok(mesh)
+}
+
 fn check_walk(
     w: &WalkCase,
     methods: &[&Method],
@@ -318,9 +356,20 @@ fn check_walk(
         return Ok(None);
     };
     let exact = setup.walk(reference(), &CPU, w)?;
+    let mut done = Vec::new();
     for m in methods {
         for b in backends {
-            let got = setup.walk(m, b, w)?;
+            // The reference runs on the CPU whatever the backend: walk it once.
+            let key = (m.name, b.for_method(m).kind());
+            if done.contains(&key) {
+                continue;
+            }
+            done.push(key);
+            let got = if m.reference {
+                exact
+            } else {
+                setup.walk(m, b, w)?
+            };
             if !setup.right(m, w, &got, &exact) {
                 return Ok(Some(Failure {
                     method: m.name.into(),

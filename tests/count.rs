@@ -3,6 +3,16 @@
 
 use std::process::Command;
 
+/// Per method: name, wrong rays by kind, and steps — what must not depend on threads or shards.
+fn strip(v: &serde_json::Value) -> Vec<(serde_json::Value, serde_json::Value, serde_json::Value)> {
+    v["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| (m["method"].clone(), m["wrong"].clone(), m["steps"].clone()))
+        .collect()
+}
+
 fn count(threads: &str, json: &std::path::Path, scene: &str) -> (String, serde_json::Value) {
     let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
         .args([
@@ -34,14 +44,6 @@ fn count_is_consistent_and_the_reference_is_never_wrong() {
     for scene in ["jitter", "kuhn-far"] {
         let (table, one) = count("1", &dir.path().join("one.json"), scene);
         let (_, two) = count("2", &dir.path().join("two.json"), scene);
-        let strip = |v: &serde_json::Value| {
-            v["methods"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|m| (m["method"].clone(), m["wrong"].clone(), m["steps"].clone()))
-                .collect::<Vec<_>>()
-        };
         assert_eq!(
             strip(&one),
             strip(&two),
@@ -263,14 +265,6 @@ fn sharded_counts_merge_to_the_whole_count() {
     for k in ["rays", "views_counted", "audited"] {
         assert_eq!(w[k], m[k], "{k}");
     }
-    let strip = |v: &serde_json::Value| {
-        v["methods"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|m| (m["method"].clone(), m["wrong"].clone(), m["steps"].clone()))
-            .collect::<Vec<_>>()
-    };
     assert_eq!(strip(&w), strip(&m));
     // Missing a shard is an error.
     let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
