@@ -38,14 +38,28 @@ pub const FACE_VERTICES: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0,
 /// The six edges `(i, j)`, `i < j`.
 pub const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
 
+/// [`edge_index`] for every pair of distinct vertices, computed once from [`EDGES`].
+const EDGE_OF: [[(usize, bool); 4]; 4] = {
+    let mut t = [[(usize::MAX, false); 4]; 4];
+    let mut e = 0;
+    while e < 6 {
+        let [a, b] = EDGES[e];
+        t[a][b] = (e, false);
+        t[b][a] = (e, true);
+        e += 1;
+    }
+    t
+};
+
 /// Index into [`EDGES`] of the edge joining `i` and `j`, with `true` when it runs `j → i`.
+#[inline(always)]
 pub fn edge_index(i: usize, j: usize) -> (usize, bool) {
-    let (lo, hi, rev) = if i < j { (i, j, false) } else { (j, i, true) };
-    let e = EDGES.iter().position(|&[a, b]| a == lo && b == hi);
-    (
-        e.expect("i and j are distinct vertices of a tetrahedron"),
-        rev,
-    )
+    let r = EDGE_OF[i][j];
+    assert!(
+        r.0 < 6,
+        "{i} and {j} are distinct vertices of a tetrahedron"
+    );
+    r
 }
 
 /// Face permutation applied by [`normalize`] when it swaps vertices 0 and 1.

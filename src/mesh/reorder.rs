@@ -70,7 +70,7 @@ pub fn hilbert_sorted(mesh: &Mesh) -> Mesh {
         new_tet[o as usize] = n as u32;
     }
     let remap_tet = |x: u32| if x == HULL { HULL } else { new_tet[x as usize] };
-    Mesh {
+    let mut out = Mesh {
         points: point_order
             .iter()
             .map(|&o| mesh.points[o as usize])
@@ -89,5 +89,14 @@ pub fn hilbert_sorted(mesh: &Mesh) -> Mesh {
             .map(|&o| mesh.constrained[o as usize])
             .collect(),
         flipped: mesh.flipped,
-    }
+        cells: Vec::new(),
+    };
+    out.cells = crate::mesh::cells(
+        &out.points,
+        &out.tets,
+        &out.neighbors,
+        &out.mirror,
+        &out.constrained,
+    );
+    out
 }

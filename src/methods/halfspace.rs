@@ -21,7 +21,8 @@ impl ExitMethod for HalfSpace {
     }
 
     fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, _entry: Option<usize>) -> Option<usize> {
-        let planes: [_; 4] = std::array::from_fn(|f| face_plane::<A>(tet, f, ray.dir));
+        let plane = |f| face_plane::<A>(tet, f, ray.dir);
+        let planes = [plane(0), plane(1), plane(2), plane(3)];
         let leaving = |f: usize| planes[f].1 > 0.0;
         let candidates = (0..4).filter(|&f| leaving(f)).count();
         if candidates == 1 {

@@ -112,8 +112,8 @@ pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
 
 /// Most tetrahedra a generated mesh may have (about 3 GiB while it is built).
 pub const MAX_GENERATED_TETS: u64 = 1 << 25;
-/// Bytes a tetrahedron takes while a mesh is built and walked, roughly.
-const BYTES_PER_TET: u64 = 96;
+/// Bytes a tetrahedron takes while a mesh is built and walked, roughly (its cell included).
+const BYTES_PER_TET: u64 = 176;
 
 /// A generated mesh of `size`, moved by `offset` (exactly, for offsets up to 2^20).
 pub fn generated_mesh(

@@ -296,20 +296,21 @@ fn walk_observed<M: ExitMethod, A: Arith>(
     let (mut tet, mut entry) = (start, None);
     let mut brent = Brent::new((tet, entry));
     for steps in 1..=max_steps {
-        let face = M::exit_face::<A>(&mesh.tet(tet), &data, entry);
+        let cell = &mesh.cells[tet as usize];
+        let face = M::exit_face::<A>(&cell.v, &data, entry);
         observe(tet, entry, face);
         let end = |outcome| Walk { outcome, steps };
         let Some(f) = face else {
             return end(Outcome::NoExitFace { tet });
         };
-        if mesh.is_constrained(tet, f) {
+        if cell.constrained & (1 << f) != 0 {
             return end(Outcome::Hit { tet, face: f as u8 });
         }
-        let next = mesh.neighbors[tet as usize][f];
+        let next = cell.neighbors[f];
         if next == HULL {
             return end(Outcome::LeftMesh { tet, face: f as u8 });
         }
-        entry = Some(mesh.mirror[tet as usize][f] as usize);
+        entry = Some(cell.mirror[f] as usize);
         tet = next;
         if let Some(period) = brent.step((tet, entry)) {
             return end(Outcome::Cycle { tet, period });
