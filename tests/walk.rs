@@ -203,3 +203,63 @@ fn certified_walks_follow_the_exact_walks() {
         exact.walk(false)(&mesh, &ray, start, max)
     );
 }
+
+/// The `exact` walk, which decides only the two signs of Maria et al.'s tree from the entry face,
+/// takes the same steps as one that classifies every tetrahedron completely (all ten signs,
+/// `perturbed_exit`), on every generated mesh near and far, ties included, and on the bunny.
+#[test]
+fn the_fast_exact_walk_equals_the_complete_one() {
+    struct Complete;
+    impl ExitMethod for Complete {
+        type RayData = Ray;
+        fn prepare<A: tetwalk::methods::Arith>(ray: &Ray) -> Ray {
+            *ray
+        }
+        fn exit_face<A: tetwalk::methods::Arith>(
+            tet: &Tet,
+            ray: &Ray,
+            _entry: Option<usize>,
+        ) -> Option<usize> {
+            let (face, c) = tetwalk::exact::perturbed_exit(tet, ray).ok()?;
+            face.or(c.exit.first())
+        }
+    }
+    let exact = by_name("exact").unwrap();
+    let mut meshes: Vec<(Mesh, Vec<Ray>)> = Vec::new();
+    for kind in [Generated::Kuhn, Generated::Jitter, Generated::Fan] {
+        for offset in [Vec3::ZERO, Vec3::splat(65536.0)] {
+            let mesh = scenes::generated_mesh(kind, 8, offset, 1).unwrap();
+            let rays = scenes::rays(kind, &mesh, offset, 2000, 9);
+            meshes.push((mesh, rays));
+        }
+    }
+    let bunny = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let (lo, hi) = tetwalk::mesh::bounds(&bunny.points);
+    let views = tetwalk::scenes::camera::Views {
+        views: 4,
+        width: 48,
+        height: 48,
+        seed: 1,
+        fov_deg: tetwalk::scenes::camera::Views::FOV_DEG,
+    };
+    let rays: Vec<Ray> = (0..4)
+        .flat_map(|v| views.rays(&views.camera(lo, hi, v)))
+        .collect();
+    meshes.push((bunny, rays));
+    let mut walked = 0;
+    for (mesh, rays) in &meshes {
+        let max = default_max_steps(mesh);
+        for ray in rays {
+            let Ok(start) = locate(mesh, ray.org, 0) else {
+                continue;
+            };
+            assert_eq!(
+                exact.walk(false)(mesh, ray, start, max),
+                walk::<Complete, Plain>(mesh, ray, start, max),
+                "{ray:?}"
+            );
+            walked += 1;
+        }
+    }
+    assert!(walked > 20_000, "{walked}");
+}

@@ -105,13 +105,24 @@ impl Apex {
 #[inline(always)]
 fn algorithm_1(tet: &Tet, r: &CertifiedRay, e: usize) -> Option<usize> {
     let apex = Apex::new(tet[e], r);
+    decision_tree(tet, e, |a| apex.side(a, r))
+}
+
+/// Maria et al.'s Algorithm 1 (Tables 1 and 2) from entry face `e`, given the sign of
+/// `det[V_k - o, V_f - o, d]` for a vertex `V_k` of the entry face; `None` at a zero sign (a tie).
+#[inline(always)]
+pub(super) fn decision_tree(
+    tet: &Tet,
+    e: usize,
+    mut sign: impl FnMut(Vec3) -> i8,
+) -> Option<usize> {
     let lambda = FACE_VERTICES[e];
-    let s = apex.side(tet[lambda[2]], r);
+    let s = sign(tet[lambda[2]]);
     if s == 0 {
         return None;
     }
     let id = (s > 0) as usize;
-    let s = apex.side(tet[lambda[id]], r);
+    let s = sign(tet[lambda[id]]);
     if s == 0 {
         return None;
     }

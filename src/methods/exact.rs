@@ -1,11 +1,16 @@
 //! `exact`: the oracle as a method, ties broken by symbolic perturbation so walks always progress.
 
+use super::certified::decision_tree;
 use super::{Arith, ExitMethod};
 use crate::exact::perturbed_exit;
+use crate::exact::sign::sign_det;
 use crate::tet::{Ray, Tet};
 
 /// The exact exit face ([`crate::exact::perturbed_exit`]); where only the unperturbed line touches the
-/// tetrahedron (a graze along an edge or vertex), the lowest exact exit face.
+/// tetrahedron (a graze along an edge or vertex), the lowest exact exit face. Knowing the entry face,
+/// it decides only the two signs Maria et al.'s decision tree needs, each exactly (f64 filter, then
+/// exact arithmetic), and all ten only at a tie or in the starting tetrahedron: the same face, since
+/// away from ties the exit face of a line entering through `e` is what the tree says.
 pub struct Exact;
 
 impl ExitMethod for Exact {
@@ -15,8 +20,15 @@ impl ExitMethod for Exact {
         *ray
     }
 
-    fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, _entry: Option<usize>) -> Option<usize> {
-        let (face, c) = perturbed_exit(tet, ray).ok()?;
-        face.or(c.exit.first())
+    fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, entry: Option<usize>) -> Option<usize> {
+        let side = |a| sign_det(a, ray.org, tet[entry.unwrap_or(0)], ray.org, ray.dir);
+        let finite = ray.org.is_finite() && ray.dir.is_finite();
+        entry
+            .filter(|_| finite)
+            .and_then(|e| decision_tree(tet, e, side))
+            .or_else(|| {
+                let (face, c) = perturbed_exit(tet, ray).ok()?;
+                face.or(c.exit.first())
+            })
     }
 }
