@@ -35,6 +35,19 @@ pub enum BackendError {
     OtherMesh,
 }
 
+/// Fewer items than this are answered on the calling thread: handing a few to the thread pool costs
+/// more than answering them (fuzz targets ask one at a time).
+const PARALLEL_FROM: usize = 256;
+
+/// `f` over `items`, in parallel when there are many.
+fn map_all<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> Vec<U> {
+    if items.len() < PARALLEL_FROM {
+        items.iter().map(f).collect()
+    } else {
+        items.par_iter().map(f).collect()
+    }
+}
+
 /// The CPU in plain f32, where the reference runs.
 pub static CPU: Backend = Backend::Cpu { fma: false };
 /// The CPU as a GPU compiles the methods.
@@ -92,13 +105,10 @@ impl Backend {
         match self.for_method(method) {
             Backend::Cpu { fma } => {
                 let exit = method.exit(*fma);
-                Ok(cases
-                    .par_iter()
-                    .map(|c| {
-                        let (tet, entry, map) = normalized(c);
-                        exit(&tet, &c.ray(), entry).map(|f| map[f])
-                    })
-                    .collect())
+                Ok(map_all(cases, |c| {
+                    let (tet, entry, map) = normalized(c);
+                    exit(&tet, &c.ray(), entry).map(|f| map[f])
+                }))
             }
             Backend::Gpu(g) => {
                 let prepared: Vec<_> = cases.iter().map(normalized).collect();
@@ -151,10 +161,7 @@ impl Backend {
         match self.for_method(method) {
             Backend::Cpu { fma } => {
                 let walk = method.walk(*fma);
-                Ok(rays
-                    .par_iter()
-                    .map(|r| walk(mesh.mesh, r, start, max_steps))
-                    .collect())
+                Ok(map_all(rays, |r| walk(mesh.mesh, r, start, max_steps)))
             }
             Backend::Gpu(g) => {
                 let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
