@@ -89,47 +89,23 @@ fn a_scene_without_its_constrained_faces_is_refused_unless_asked_for() {
         .unwrap();
     }
     let stem = dir.path().join("m");
-    let (code, out, err) = tetwalk(
-        &[
-            "count",
-            "--scene",
-            stem.to_str().unwrap(),
-            "--views",
-            "3",
-            "--size",
-            "4x4",
-        ],
-        b"",
-    );
+    let count = [
+        "count",
+        "--scene",
+        stem.to_str().unwrap(),
+        "--views",
+        "3",
+        "--size",
+        "4x4",
+    ];
+    let (code, out, err) = tetwalk(&count, b"");
     // With its faces the scene is counted; without the .face file, or with an empty one, refused.
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("3 views"), "{out}");
     std::fs::remove_file(stem.with_extension("face")).unwrap();
-    refused(
-        &[
-            "count",
-            "--scene",
-            stem.to_str().unwrap(),
-            "--views",
-            "3",
-            "--size",
-            "4x4",
-        ],
-        &["m.face", "missing", "--no-faces"],
-    );
+    refused(&count, &["m.face", "missing", "--no-faces"]);
     std::fs::write(stem.with_extension("face"), "0 1\n").unwrap();
-    refused(
-        &[
-            "count",
-            "--scene",
-            stem.to_str().unwrap(),
-            "--views",
-            "3",
-            "--size",
-            "4x4",
-        ],
-        &["m.face", "holds no faces"],
-    );
+    refused(&count, &["m.face", "holds no faces"]);
     let (code, _, err) = tetwalk(
         &["scene", "info", stem.to_str().unwrap(), "--no-faces"],
         b"",
