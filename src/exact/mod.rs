@@ -87,7 +87,7 @@ fn check(tet: &Tet, ray: &Ray) -> Result<i8, ExactError> {
 
 fn signs(tet: &Tet, ray: &Ray) -> Result<Signs, ExactError> {
     let s = check(tet, ray)?;
-    let side = EDGES.map(|[a, b]| sign::sign_det(tet[a], ray.org, tet[b], ray.org, ray.dir));
+    let side = EDGES.map(|[a, b]| side(tet[a], tet[b], ray));
     // Faces of a negatively oriented tetrahedron wind inwards: flip so that `normal` is outward.
     let normal =
         FACE_VERTICES.map(|[a, b, c]| s * sign::sign_det(tet[b], tet[a], tet[c], tet[a], ray.dir));
@@ -187,10 +187,16 @@ fn perturbed_side_of_zero(a: Vec3, b: Vec3, ray: &Ray) -> i8 {
     perturbed_zero(b, a, ray.dir)
 }
 
+/// Sign of the side product of the ray with edge `a → b`, `det[a - o, b - o, d]`, exactly (0 when the
+/// line meets the edge's line or is parallel to it). Inputs must be finite.
+pub fn side(a: Vec3, b: Vec3, ray: &Ray) -> i8 {
+    sign::sign_det(a, ray.org, b, ray.org, ray.dir)
+}
+
 /// Sign of the side product of the ray with edge `a → b`, `det[a - o, b - o, d]`, under the perturbation
 /// of [`perturbed_exit`]. Inputs must be finite.
 pub fn perturbed_side(a: Vec3, b: Vec3, ray: &Ray) -> i8 {
-    match sign::sign_det(a, ray.org, b, ray.org, ray.dir) {
+    match side(a, b, ray) {
         0 => perturbed_side_of_zero(a, b, ray),
         s => s,
     }

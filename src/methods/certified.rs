@@ -7,7 +7,6 @@
 use super::maria17::{FACE_VERTICES, GET_FACE};
 use super::plucker::exit_by_sides;
 use super::{Arith, Exact, ExitMethod};
-use crate::exact::sign::sign_det;
 use crate::tet::{EDGES, Ray, Tet};
 use glam::Vec3;
 use std::cell::Cell;
@@ -41,7 +40,7 @@ pub fn exact_signs() -> u64 {
 #[inline(never)]
 fn exact_side(a: Vec3, b: Vec3, ray: &Ray) -> i8 {
     EXACT_SIGNS.with(|c| c.set(c.get() + 1));
-    sign_det(a, ray.org, b, ray.org, ray.dir)
+    crate::exact::side(a, b, ray)
 }
 
 /// The ray, prepared once: origin, direction, and the underflow term of the error bound.

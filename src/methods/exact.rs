@@ -2,8 +2,7 @@
 
 use super::certified::decision_tree;
 use super::{Arith, ExitMethod};
-use crate::exact::perturbed_exit;
-use crate::exact::sign::sign_det;
+use crate::exact::{perturbed_exit, side};
 use crate::tet::{Ray, Tet};
 
 /// The exact exit face ([`crate::exact::perturbed_exit`]); where only the unperturbed line touches the
@@ -21,11 +20,10 @@ impl ExitMethod for Exact {
     }
 
     fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, entry: Option<usize>) -> Option<usize> {
-        let side = |a| sign_det(a, ray.org, tet[entry.unwrap_or(0)], ray.org, ray.dir);
         let finite = ray.org.is_finite() && ray.dir.is_finite();
         entry
             .filter(|_| finite)
-            .and_then(|e| decision_tree(tet, e, side))
+            .and_then(|e| decision_tree(tet, e, |a| side(a, tet[e], ray)))
             .or_else(|| {
                 let (face, c) = perturbed_exit(tet, ray).ok()?;
                 face.or(c.exit.first())

@@ -9,7 +9,7 @@ use crate::mesh::Mesh;
 use crate::registry::Method;
 use crate::tet::Ray;
 use crate::walk::{Divergence, Outcome, OutcomeKind, Walk};
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use rug::Rational;
 
 /// Where a walk stopped.
@@ -45,70 +45,68 @@ pub enum Class {
     Elsewhere,
 }
 
-/// The constrained faces' triangles (as sorted vertex ids) holding the point where the ray crosses
-/// `(tet, face)`, the `exact` walk's hit: that one, and where the point lies on its boundary, every
-/// other constrained triangle through it.
-fn triangles_at(mesh: &Mesh, ray: &Ray, tet: u32, face: u8) -> (Option<Rational>, Vec<[u32; 3]>) {
-    let tri = |t: u32, f: usize| mesh.face(t, f).map(|i| mesh.points[i as usize]);
-    let Some(c) = line_triangle(tri(tet, face as usize), ray) else {
-        return (None, vec![mesh.face(tet, face as usize)]);
-    };
-    let mut out = vec![mesh.face(tet, face as usize)];
-    if c.on_boundary {
-        for t in 0..mesh.tets.len() as u32 {
-            for f in 0..4 {
-                if mesh.is_constrained(t, f)
-                    && line_triangle(tri(t, f), ray).is_some_and(|x| x.t == c.t)
-                {
-                    out.push(mesh.face(t, f));
+/// Where the ray crosses the face the `exact` walk stopped on: the parameter `t` (none when the line
+/// does not cross it, as where only the perturbed ray does), and the constrained triangles holding that
+/// point (as vertex ids): that face, and where the point lies on its boundary, every other one through
+/// it, found by trying them all.
+struct ExactHit {
+    t: Option<Rational>,
+    holding: Vec<[u32; 3]>,
+}
+
+impl ExactHit {
+    fn of(mesh: &Mesh, ray: &Ray, tet: u32, face: u8) -> ExactHit {
+        let tri = |t: u32, f: usize| mesh.face(t, f).map(|i| mesh.points[i as usize]);
+        let mut holding = vec![mesh.face(tet, face as usize)];
+        let Some(c) = line_triangle(tri(tet, face as usize), ray) else {
+            return ExactHit { t: None, holding };
+        };
+        if c.on_boundary {
+            for t in 0..mesh.tets.len() as u32 {
+                for f in 0..4 {
+                    if mesh.is_constrained(t, f)
+                        && line_triangle(tri(t, f), ray).is_some_and(|x| x.t == c.t)
+                    {
+                        holding.push(mesh.face(t, f));
+                    }
                 }
             }
         }
+        ExactHit {
+            t: Some(c.t),
+            holding,
+        }
     }
-    (Some(c.t), out)
-}
 
-/// Whether a wrong face (`w` a hit) is adjacent to the exact hit or elsewhere.
-pub fn class(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> Option<Class> {
-    let Outcome::Hit { tet, face } = w.outcome else {
-        return None;
-    };
-    let mine = mesh.face(tet, face as usize);
-    let Outcome::Hit { tet: rt, face: rf } = reference.outcome else {
-        return Some(Class::Elsewhere);
-    };
-    let (_, holding) = triangles_at(mesh, ray, rt, rf);
-    let touches = holding.iter().any(|t| t.iter().any(|v| mine.contains(v)));
-    Some(if touches {
-        Class::Adjacent
-    } else {
-        Class::Elsewhere
-    })
-}
+    /// Whether a wrong face `mine` is adjacent to the exact hit or elsewhere.
+    fn class(&self, mine: [u32; 3]) -> Class {
+        let touches = self
+            .holding
+            .iter()
+            .any(|t| t.iter().any(|v| mine.contains(v)));
+        if touches {
+            Class::Adjacent
+        } else {
+            Class::Elsewhere
+        }
+    }
 
-/// Distance of the exact hit point (the `exact` walk's crossing) from the nearest edge of the method's
-/// triangle, in f32 ulps at the point's magnitude; `None` unless both walks hit.
-pub fn ulps_from_edge(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> Option<f64> {
-    let (Outcome::Hit { tet, face }, Outcome::Hit { tet: rt, face: rf }) =
-        (w.outcome, reference.outcome)
-    else {
-        return None;
-    };
-    let (t, _) = triangles_at(mesh, ray, rt, rf);
-    let t = t?.to_f64();
-    let p = ray.org.as_dvec3() + ray.dir.as_dvec3() * t;
-    let v = mesh
-        .face(tet, face as usize)
-        .map(|i| mesh.points[i as usize].as_dvec3());
-    let seg = |a: DVec3, b: DVec3| {
-        let ab = b - a;
-        let s = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
-        (a + ab * s - p).length()
-    };
-    let d = seg(v[0], v[1]).min(seg(v[1], v[2])).min(seg(v[2], v[0]));
-    let scale = p.abs().max_element().max(f32::MIN_POSITIVE as f64);
-    let ulp = 2f64.powi(scale.log2().floor() as i32 - 23);
-    Some(d / ulp)
+    /// Distance of the exact hit point from the nearest edge of the triangle `v`, in f32 ulps at the
+    /// point's magnitude.
+    fn ulps_from_edge(&self, ray: &Ray, v: [Vec3; 3]) -> Option<f64> {
+        let t = self.t.as_ref()?.to_f64();
+        let p = ray.org.as_dvec3() + ray.dir.as_dvec3() * t;
+        let v = v.map(|x| x.as_dvec3());
+        let seg = |a: DVec3, b: DVec3| {
+            let ab = b - a;
+            let s = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+            (a + ab * s - p).length()
+        };
+        let d = seg(v[0], v[1]).min(seg(v[1], v[2])).min(seg(v[2], v[0]));
+        let scale = p.abs().max_element().max(f32::MIN_POSITIVE as f64);
+        let ulp = 2f64.powi(scale.log2().floor() as i32 - 23);
+        Some(d / ulp)
+    }
 }
 
 /// One wrong ray, as `count --dump` writes it (one JSON line) and `tetwalk replay` reads it.
@@ -167,6 +165,21 @@ impl WrongRay {
                 seen.method.walk_checked(fma)(mesh, ray, start, max_steps).1
             }
         };
+        // For a wrong face: adjacent or elsewhere, and how far from its edge the exact hit lies (the
+        // exact hit found once, since on a boundary that means trying every constrained face).
+        let (class, ulps_from_edge) = match (w.outcome, reference.outcome) {
+            (Outcome::Hit { tet, face }, Outcome::Hit { tet: rt, face: rf }) => {
+                let hit = ExactHit::of(mesh, ray, rt, rf);
+                let mine = mesh.face(tet, face as usize);
+                (
+                    Some(hit.class(mine)),
+                    hit.ulps_from_edge(ray, mine.map(|i| mesh.points[i as usize])),
+                )
+            }
+            // No exact hit point: the `exact` walk left the mesh.
+            (Outcome::Hit { .. }, _) => (Some(Class::Elsewhere), None),
+            _ => (None, None),
+        };
         WrongRay {
             scene: seen.scene.to_string(),
             view: seen.view,
@@ -176,12 +189,12 @@ impl WrongRay {
             method: seen.method.name.to_string(),
             backend: seen.backend,
             kind: w.outcome.kind().wrong_key().to_string(),
-            class: class(mesh, ray, w, reference),
+            class,
             stopped: Stop::of(mesh, w),
             steps: w.steps,
             exact: Stop::of(mesh, reference),
             divergence,
-            ulps_from_edge: ulps_from_edge(mesh, ray, w, reference),
+            ulps_from_edge,
         }
     }
 
