@@ -4,19 +4,21 @@
 # readable case under corpora/found/<method>/ (replayed by `cargo test`), and a table printed: executions,
 # time to first failure, failures by kind. Usage: fuzz/campaign.sh [SECONDS] [METHODS...]
 set -uo pipefail
+# No sanitizer: the fuzzed code is safe Rust (AddressSanitizer finds nothing there, and its allocation
+# tracking made the walk target 7.5x slower: 800 against 6,060 executions per second).
 cd "$(dirname "$0")/.."
 secs=${1:-600}
 shift || true
 others=${*:-ray-plane halfspace plucker stp ms06 aman20 aman20-scaled}
 cargo build --release --quiet
-cargo +nightly fuzz build -O >/dev/null
+cargo +nightly fuzz build -O -s none >/dev/null
 log=$(mktemp -d)
 printf '| target | methods held exact | executions | seconds to first failure | found |\n|---|---|---|---|---|\n' > "$log/table"
 run() { # target selection
     local target=$1 sel=$2 out="$log/$1-$2" start end execs found kinds
     mkdir -p "corpora/$target" "$out"
     start=$(date +%s.%N)
-    TETWALK_FUZZ_METHOD=$sel cargo +nightly fuzz run -O "$target" "corpora/$target" -- \
+    TETWALK_FUZZ_METHOD=$sel cargo +nightly fuzz run -O -s none "$target" "corpora/$target" -- \
         -max_total_time="$secs" -print_final_stats=1 -artifact_prefix="$out/" >"$out/log" 2>&1
     end=$(date +%s.%N)
     execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$out/log" | grep -o '[0-9]*$' || echo "?")
@@ -27,7 +29,7 @@ run() { # target selection
                 echo "BUG: a reader panicked or hung on $c" | tee -a "$out/found"
                 continue
             fi
-            TETWALK_FUZZ_METHOD=$sel cargo +nightly fuzz tmin -O "$target" "$c" -- -runs=5000 >/dev/null 2>&1
+            TETWALK_FUZZ_METHOD=$sel cargo +nightly fuzz tmin -O -s none "$target" "$c" -- -runs=5000 >/dev/null 2>&1
             m="fuzz/artifacts/$target/minimized-from-${c##*crash-}"
             [ -f "$m" ] || m=$c
             TETWALK_FUZZ_METHOD=$sel ./target/release/tetwalk fuzz-import --target "$target" "$m" >>"$out/found"

@@ -160,8 +160,14 @@ impl Backend {
     ) -> Result<Vec<Walk>, BackendError> {
         match self.for_method(method) {
             Backend::Cpu { fma } => {
-                let walk = method.walk(*fma);
-                Ok(map_all(rays, |r| walk(mesh.mesh, r, start, max_steps)))
+                let walks = method.walks(*fma);
+                if rays.len() < PARALLEL_FROM {
+                    return Ok(walks(mesh.mesh, rays, start, max_steps));
+                }
+                Ok(rays
+                    .par_chunks(PARALLEL_FROM)
+                    .flat_map_iter(|chunk| walks(mesh.mesh, chunk, start, max_steps))
+                    .collect())
             }
             Backend::Gpu(g) => {
                 let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;

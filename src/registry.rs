@@ -9,7 +9,7 @@ use crate::methods::{
 };
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{self, LayoutWalkFn};
-use crate::walk::{self, CheckedWalkFn, WalkFn};
+use crate::walk::{self, CheckedWalkFn, WalkFn, WalksFn};
 
 /// What kind of traversal step a method answers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -69,6 +69,7 @@ pub struct Method {
     pub gpu: Gpu,
     exit: [ExitFn; 2],
     walk: [WalkFn; 2],
+    walks: [WalksFn; 2],
     checked: [CheckedWalkFn; 2],
     layout_walk: Option<[LayoutWalkFn; 2]>,
     time_queries: TimeQueriesFn,
@@ -94,6 +95,7 @@ impl Method {
             gpu,
             exit: [exit_fn::<M, Plain>, exit_fn::<M, Fused>],
             walk: [walk::walk::<M, Plain>, walk::walk::<M, Fused>],
+            walks: [walk::walks::<M, Plain>, walk::walks::<M, Fused>],
             checked: [
                 walk::walk_checked::<M, Plain>,
                 walk::walk_checked::<M, Fused>,
@@ -130,6 +132,11 @@ impl Method {
     /// The walk specialised to this method, plain or with `fma`.
     pub fn walk(&self, fma: bool) -> WalkFn {
         self.walk[fma as usize]
+    }
+
+    /// The walk of many rays from one start, interleaved on one thread ([`walk::walks`]).
+    pub fn walks(&self, fma: bool) -> WalksFn {
+        self.walks[fma as usize]
     }
 
     /// The walk over Tet32/Tet20/Tet16, for the methods that have one (seed 003 Algorithms 2-7).

@@ -263,3 +263,46 @@ fn the_fast_exact_walk_equals_the_complete_one() {
     }
     assert!(walked > 20_000, "{walked}");
 }
+
+/// Every method's interleaved walks of a batch of rays from one start (what backends and the count
+/// use) end exactly as its walks one at a time, plain and fused, with cycles (maria17 on lattice rays
+/// of the Kuhn grid) and step limits among them.
+#[test]
+fn interleaved_walks_equal_walks_one_at_a_time() {
+    let mesh = scenes::generated_mesh(Generated::Kuhn, 8, Vec3::ZERO, 1).unwrap();
+    let org = Vec3::new(4.875, 5.75, 6.25);
+    let start = locate(&mesh, org, 0).unwrap();
+    // Rays from one origin through lattice points (ties) and generic directions.
+    let mut rays: Vec<Ray> = scenes::rays(Generated::Kuhn, &mesh, Vec3::ZERO, 600, 3)
+        .into_iter()
+        .map(|r| Ray { org, dir: r.dir })
+        .collect();
+    rays.push(Ray {
+        org,
+        dir: Vec3::new(1.0, 2.0, -2.0),
+    });
+    let mut kinds = std::collections::BTreeSet::new();
+    for m in tetwalk::registry::METHODS {
+        for fma in [false, true] {
+            for max in [default_max_steps(&mesh), 7] {
+                let together = m.walks(fma)(&mesh, &rays, start, max);
+                for (ray, got) in rays.iter().zip(&together) {
+                    assert_eq!(
+                        *got,
+                        m.walk(fma)(&mesh, ray, start, max),
+                        "{} {ray:?}",
+                        m.name
+                    );
+                    kinds.insert(got.outcome.kind());
+                }
+            }
+        }
+    }
+    for k in [
+        tetwalk::walk::OutcomeKind::Cycle,
+        tetwalk::walk::OutcomeKind::StepLimit,
+        tetwalk::walk::OutcomeKind::Hit,
+    ] {
+        assert!(kinds.contains(&k), "no walk ended {k:?}: {kinds:?}");
+    }
+}

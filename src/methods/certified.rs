@@ -154,6 +154,7 @@ pub struct Certified;
 
 impl ExitMethod for Certified {
     type RayData = CertifiedRay;
+    const LANES: usize = 4;
 
     fn prepare<A: Arith>(ray: &Ray) -> CertifiedRay {
         CertifiedRay {

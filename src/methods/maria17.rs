@@ -48,6 +48,7 @@ fn exit_tetra<A: Arith>(tet: &Tet, ray: &Plucker, entry: usize) -> usize {
 
 impl ExitMethod for Maria17 {
     type RayData = Plucker;
+    const LANES: usize = 4;
 
     fn prepare<A: Arith>(ray: &Ray) -> Plucker {
         Plucker {

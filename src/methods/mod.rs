@@ -80,6 +80,10 @@ impl Arith for Fused {
 pub trait ExitMethod {
     /// What the method precomputes once per ray (e.g. the Plücker moment).
     type RayData: Copy + Send + Sync;
+    /// Walks one thread advances in turn (in the walk module's `walks`, which caps it): several where the decision has no sign-dependent branch, so the
+    /// walks' latencies overlap; one where it branches on signs, which one coherent walk predicts well
+    /// and interleaved walks do not.
+    const LANES: usize = 1;
     fn prepare<A: Arith>(ray: &Ray) -> Self::RayData;
     /// The face (0..4, opposite that vertex) through which the ray leaves the positively oriented
     /// tetrahedron, knowing the face it entered through (`None` in the starting tetrahedron); `None`

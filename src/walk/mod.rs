@@ -226,6 +226,8 @@ pub struct Divergence {
 
 /// A walk specialised to one method and arithmetic: `(mesh, ray, start tetrahedron, max_steps)`.
 pub type WalkFn = fn(&Mesh, &Ray, u32, u32) -> Walk;
+/// The same over many rays from one start ([`walks`]).
+pub type WalksFn = fn(&Mesh, &[Ray], u32, u32) -> Vec<Walk>;
 /// The same, checking every step against the oracle.
 pub type CheckedWalkFn = fn(&Mesh, &Ray, u32, u32) -> (Walk, Option<Divergence>);
 
@@ -283,7 +285,6 @@ pub fn walk_checked<M: ExitMethod, A: Arith>(
 }
 
 /// The walk loop; `observe(tet, entry, face)` sees every step (a no-op closure compiles away).
-/// Cycle detection is Brent's: one state comparison per step, no allocation.
 #[inline(always)]
 fn walk_observed<M: ExitMethod, A: Arith>(
     mesh: &Mesh,
@@ -292,14 +293,105 @@ fn walk_observed<M: ExitMethod, A: Arith>(
     max_steps: u32,
     mut observe: impl FnMut(u32, Option<usize>, Option<usize>),
 ) -> Walk {
-    let data = M::prepare::<A>(ray);
-    let (mut tet, mut entry) = (start, None);
-    let mut brent = Brent::new((tet, entry));
-    for steps in 1..=max_steps {
+    let mut walker = Walker::<M>::new::<A>(ray, start);
+    loop {
+        if let Some(w) = walker.step::<A>(mesh, max_steps, &mut observe) {
+            return w;
+        }
+    }
+}
+
+/// The most walks in flight at once on one thread ([`walks`]).
+pub const MAX_LANES: usize = 4;
+
+/// [`walk`] of every ray, [`ExitMethod::LANES`] at a time, interleaved: a walk step waits on the
+/// tetrahedron it reads and on the face it computes, so one thread advances several independent walks
+/// in turn (each ends exactly as [`walk`] would end it).
+pub fn walks<M: ExitMethod, A: Arith>(
+    mesh: &Mesh,
+    rays: &[Ray],
+    start: u32,
+    max_steps: u32,
+) -> Vec<Walk> {
+    if M::LANES <= 1 {
+        return rays
+            .iter()
+            .map(|r| walk::<M, A>(mesh, r, start, max_steps))
+            .collect();
+    }
+    let mut out = vec![
+        Walk {
+            outcome: Outcome::StepLimit { tet: start },
+            steps: 0,
+        };
+        rays.len()
+    ];
+    let mut pending = rays.iter().enumerate();
+    let mut lanes: [Option<(usize, Walker<M>)>; MAX_LANES] = std::array::from_fn(|_| None);
+    let lanes = &mut lanes[..M::LANES.clamp(1, MAX_LANES)];
+    for lane in lanes.iter_mut() {
+        *lane = pending.next().map(|(i, r)| (i, Walker::new::<A>(r, start)));
+    }
+    let mut observe = |_, _, _| {};
+    while lanes.iter().any(Option::is_some) {
+        for lane in lanes.iter_mut() {
+            if let Some((i, walker)) = lane
+                && let Some(w) = walker.step::<A>(mesh, max_steps, &mut observe)
+            {
+                out[*i] = w;
+                *lane = pending.next().map(|(i, r)| (i, Walker::new::<A>(r, start)));
+            }
+        }
+    }
+    out
+}
+
+/// One walk in progress: Brent's cycle detection, one state comparison per step, no allocation.
+struct Walker<M: ExitMethod> {
+    data: M::RayData,
+    tet: u32,
+    entry: Option<usize>,
+    steps: u32,
+    brent: Brent<(u32, Option<usize>)>,
+}
+
+impl<M: ExitMethod> Walker<M> {
+    #[inline(always)]
+    fn new<A: Arith>(ray: &Ray, start: u32) -> Self {
+        Walker {
+            data: M::prepare::<A>(ray),
+            tet: start,
+            entry: None,
+            steps: 0,
+            brent: Brent::new((start, None)),
+        }
+    }
+
+    /// One step (none once `max_steps` are taken); the walk when it ends.
+    #[inline(always)]
+    fn step<A: Arith>(
+        &mut self,
+        mesh: &Mesh,
+        max_steps: u32,
+        observe: &mut impl FnMut(u32, Option<usize>, Option<usize>),
+    ) -> Option<Walk> {
+        let tet = self.tet;
+        if self.steps >= max_steps {
+            return Some(Walk {
+                outcome: Outcome::StepLimit { tet },
+                steps: max_steps,
+            });
+        }
+        self.steps += 1;
         let cell = &mesh.cells[tet as usize];
-        let face = M::exit_face::<A>(&cell.v, &data, entry);
-        observe(tet, entry, face);
-        let end = |outcome| Walk { outcome, steps };
+        let face = M::exit_face::<A>(&cell.v, &self.data, self.entry);
+        observe(tet, self.entry, face);
+        let end = |outcome| {
+            Some(Walk {
+                outcome,
+                steps: self.steps,
+            })
+        };
         let Some(f) = face else {
             return end(Outcome::NoExitFace { tet });
         };
@@ -310,15 +402,12 @@ fn walk_observed<M: ExitMethod, A: Arith>(
         if next == HULL {
             return end(Outcome::LeftMesh { tet, face: f as u8 });
         }
-        entry = Some(cell.mirror[f] as usize);
-        tet = next;
-        if let Some(period) = brent.step((tet, entry)) {
-            return end(Outcome::Cycle { tet, period });
+        self.entry = Some(cell.mirror[f] as usize);
+        self.tet = next;
+        if let Some(period) = self.brent.step((next, self.entry)) {
+            return end(Outcome::Cycle { tet: next, period });
         }
-    }
-    Walk {
-        outcome: Outcome::StepLimit { tet },
-        steps: max_steps,
+        None
     }
 }
 
