@@ -91,6 +91,11 @@ impl Backend {
         }
     }
 
+    /// Whether walks here report a kernel time (a GPU with timestamp queries).
+    pub fn measures_kernels(&self) -> bool {
+        matches!(self, Backend::Gpu(g) if g.measures_kernels())
+    }
+
     /// Where `method` runs on this backend: here, or on the plain CPU for the reference.
     pub fn for_method(&self, method: &Method) -> &Backend {
         if method.reference { &CPU } else { self }
@@ -158,31 +163,65 @@ impl Backend {
         start: u32,
         max_steps: u32,
     ) -> Result<Vec<Walk>, BackendError> {
+        let rays: Vec<(Ray, u32)> = rays.iter().map(|r| (*r, start)).collect();
+        Ok(self.walks_from(method, mesh, &rays, max_steps)?.walks)
+    }
+
+    /// `method`'s walk of every ray from its own starting tetrahedron, with the GPU's kernel time
+    /// where it measures one.
+    pub fn walks_from(
+        &self,
+        method: &Method,
+        mesh: &MeshOn,
+        rays: &[(Ray, u32)],
+        max_steps: u32,
+    ) -> Result<Walked, BackendError> {
         match self.for_method(method) {
             Backend::Cpu { fma } => {
                 let walks = method.walks(*fma);
-                if rays.len() < PARALLEL_FROM {
-                    return Ok(walks(mesh.mesh, rays, start, max_steps));
-                }
-                Ok(rays
-                    .par_chunks(PARALLEL_FROM)
-                    .flat_map_iter(|chunk| walks(mesh.mesh, chunk, start, max_steps))
-                    .collect())
+                Ok(Walked {
+                    walks: if rays.len() < PARALLEL_FROM {
+                        walks(mesh.mesh, rays, max_steps)
+                    } else {
+                        rays.par_chunks(PARALLEL_FROM)
+                            .flat_map_iter(|chunk| walks(mesh.mesh, chunk, max_steps))
+                            .collect()
+                    },
+                    kernel_seconds: None,
+                    flagged: 0,
+                })
             }
             Backend::Gpu(g) => {
                 let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 if uploaded.tetrahedra != mesh.mesh.tets.len() {
                     return Err(BackendError::OtherMesh);
                 }
-                let walks = g.walks(method, uploaded, rays, start, max_steps)?;
+                let done = g.walks(method, uploaded, rays, max_steps)?;
+                let flagged = done.items.par_iter().filter(|e| e.walk().is_none()).count();
                 // Flagged rays (a step the GPU could not settle) are walked on the CPU.
                 let walk = method.walk(false);
-                Ok(walks
-                    .into_par_iter()
-                    .zip(rays)
-                    .map(|(w, r)| w.unwrap_or_else(|| walk(mesh.mesh, r, start, max_steps)))
-                    .collect())
+                Ok(Walked {
+                    walks: done
+                        .items
+                        .par_iter()
+                        .zip(rays)
+                        .map(|(e, (r, start))| {
+                            e.walk()
+                                .unwrap_or_else(|| walk(mesh.mesh, r, *start, max_steps))
+                        })
+                        .collect(),
+                    kernel_seconds: done.kernel_seconds,
+                    flagged,
+                })
             }
         }
     }
+}
+
+/// Walks from a backend: the GPU's kernel time where it measures one, and how many rays the GPU
+/// flagged for the CPU to walk.
+pub struct Walked {
+    pub walks: Vec<Walk>,
+    pub kernel_seconds: Option<f64>,
+    pub flagged: usize,
 }

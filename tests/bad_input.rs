@@ -44,6 +44,11 @@ fn impossible_sizes_and_counts_are_refused_with_the_figure_they_need() {
     refused(&["stress", "--cases", "0"], &["--cases 0"]);
     refused(&["walk", "--rays", "100000000000"], &["GiB", "--rays"]);
     refused(&["render", "shaded", "--size", "20000x20000"], &["GiB"]);
+    refused(
+        &["bench", "--size", "65536x65536"],
+        &["GiB", "--size 65536x65536"],
+    );
+    refused(&["bench", "--batch", "0"], &["--batch 0"]);
 }
 
 #[test]
@@ -51,6 +56,8 @@ fn silent_defaults_and_empty_runs_are_errors() {
     refused(&["stress", "--ulps", "0"], &["--ulps 0"]);
     refused(&["gen-cases", "--ulps", "0"], &["--ulps 0"]);
     refused(&["count", "--views", "0"], &["--views 0"]);
+    refused(&["bench", "--views", "0"], &["--views 0"]);
+    refused(&["bench", "--backend", "cpu,tpu"], &["'tpu'", "cpu-fma"]);
     refused(
         &["render", "shaded", "--view", "200", "--size", "8x8"],
         &["view 200", "160 views"],

@@ -266,3 +266,54 @@ fn asking_for_a_gpu_that_is_not_there_fails_clearly() {
         "{err}"
     );
 }
+
+/// `bench` times every method on each backend over the same rays: every row walks every ray of the
+/// views inside the mesh, CPU rows have no kernel time, and `certified` (whose walks equal `exact`'s
+/// wherever it runs) traverses the same tetrahedra plain and fused.
+#[test]
+fn bench_times_each_method_on_each_backend_over_the_same_rays() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("bench.json");
+    let (code, out, err) = tetwalk(
+        &[
+            "bench",
+            "--scene",
+            "kuhn",
+            "--views",
+            "3",
+            "--size",
+            "32x32",
+            "--backend",
+            "cpu,cpu-fma",
+            "--methods",
+            "maria17,certified",
+            "--json",
+            json.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("| certified | cpu-fma |"), "{out}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let timed = r["views_timed"].as_u64().unwrap();
+    assert!(timed >= 1);
+    let rows = r["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    for row in rows {
+        assert_eq!(row["rays"].as_u64(), Some(timed * 32 * 32), "{row}");
+        assert!(
+            row["tetrahedra"].as_u64().unwrap() >= timed * 32 * 32,
+            "{row}"
+        );
+        assert!(row["kernel_seconds"].is_null(), "{row}");
+        assert!(row["seconds"].as_f64().unwrap() > 0.0, "{row}");
+    }
+    let steps = |backend: &str| {
+        rows.iter()
+            .find(|x| x["method"] == "certified" && x["backend"] == backend)
+            .unwrap()["tetrahedra"]
+            .as_u64()
+    };
+    assert_eq!(steps("cpu"), steps("cpu-fma"));
+}

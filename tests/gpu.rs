@@ -138,18 +138,26 @@ fn gpu_walks_run_end_to_end_and_match_the_cpu_on_llvmpipe() {
     };
     let llvmpipe = !contracts(&g);
     let mesh = scenes::generated_mesh(Generated::Jitter, 6, Vec3::ZERO, 4).unwrap();
-    let rays = scenes::rays(Generated::Jitter, &mesh, Vec3::ZERO, 2000, 4);
-    let start = locate(&mesh, Vec3::splat(3.0), 0).unwrap();
-    // Rays from one start: re-aim the generated ones from that tetrahedron's origin point.
-    let org = Vec3::splat(3.0);
-    let rays: Vec<_> = rays.iter().map(|r| Ray { org, dir: r.dir }).collect();
+    // Each ray from the tetrahedron holding its origin, as one batch.
+    let rays: Vec<(Ray, u32)> = scenes::rays(Generated::Jitter, &mesh, Vec3::ZERO, 2000, 4)
+        .into_iter()
+        .filter_map(|r| Some((r, locate(&mesh, r.org, 0).ok()?)))
+        .collect();
+    assert!(rays.len() > 1500);
     let on_gpu_mesh = g.mesh(&mesh);
     let cpu = Backend::Cpu { fma: false };
     let on_cpu_mesh = cpu.mesh(&mesh);
     let max = default_max_steps(&mesh);
     for m in gpu_methods() {
-        let on_gpu = g.walks(m, &on_gpu_mesh, &rays, start, max).unwrap();
-        let on_cpu = cpu.walks(m, &on_cpu_mesh, &rays, start, max).unwrap();
+        let on_gpu = g.walks_from(m, &on_gpu_mesh, &rays, max).unwrap();
+        let on_cpu = cpu.walks_from(m, &on_cpu_mesh, &rays, max).unwrap().walks;
+        if g.kind() == tetwalk::backend::BackendKind::Gpu
+            && let Backend::Gpu(gpu) = &g
+            && gpu.measures_kernels()
+        {
+            assert!(on_gpu.kernel_seconds.is_some_and(|s| s > 0.0), "{}", m.name);
+        }
+        let on_gpu = on_gpu.walks;
         assert_eq!(on_gpu.len(), rays.len());
         let differ = on_gpu.iter().zip(&on_cpu).filter(|(a, b)| a != b).count();
         println!(
@@ -162,4 +170,44 @@ fn gpu_walks_run_end_to_end_and_match_the_cpu_on_llvmpipe() {
         }
         assert!(on_gpu.iter().all(|w| w.steps >= 1 && w.steps <= max));
     }
+}
+
+/// `bench` on the GPU beside the CPU, over the same rays of several views in one batch (each ray
+/// from its own view's starting tetrahedron): every ray is walked, the kernel time is reported when the
+/// adapter measures one, and `certified` traverses exactly the tetrahedra it traverses on the CPU
+/// (its flagged rays finished there).
+#[test]
+fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
+    let measures = g.measures_kernels();
+    let mesh = scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
+    let views = tetwalk::scenes::camera::Views {
+        views: 4,
+        width: 24,
+        height: 24,
+        seed: 1,
+        fov_deg: tetwalk::scenes::camera::Views::FOV_DEG,
+    };
+    let certified = tetwalk::registry::by_name("certified").unwrap();
+    let backends = [Backend::Cpu { fma: false }, g];
+    let r = tetwalk::report::bench::run(
+        "kuhn",
+        &mesh,
+        &views,
+        &[certified],
+        &backends,
+        1 << 20,
+        &|| {},
+    )
+    .unwrap();
+    assert!(r.views_timed >= 2, "several views in one batch");
+    let [cpu, gpu] = [&r.rows[0], &r.rows[1]];
+    assert_eq!(gpu.backend, "gpu");
+    assert_eq!(gpu.rays, cpu.rays);
+    assert_eq!(gpu.rays, r.views_timed as u64 * 24 * 24);
+    assert_eq!(gpu.tetrahedra, cpu.tetrahedra);
+    assert_eq!(gpu.kernel_seconds.is_some(), measures);
+    assert!(cpu.kernel_seconds.is_none());
 }

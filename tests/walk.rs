@@ -285,7 +285,8 @@ fn interleaved_walks_equal_walks_one_at_a_time() {
     for m in tetwalk::registry::METHODS {
         for fma in [false, true] {
             for max in [default_max_steps(&mesh), 7] {
-                let together = m.walks(fma)(&mesh, &rays, start, max);
+                let batch: Vec<(Ray, u32)> = rays.iter().map(|r| (*r, start)).collect();
+                let together = m.walks(fma)(&mesh, &batch, max);
                 for (ray, got) in rays.iter().zip(&together) {
                     assert_eq!(
                         *got,

@@ -1,6 +1,7 @@
 //! The `tetwalk` command line: every command-line type lives here; each subcommand builds a report
 //! value, prints it, and can write it as JSON (`--json FILE`, checked writable before the run starts).
 
+mod bench;
 mod count;
 mod exit;
 mod fuzz_import;
@@ -53,6 +54,9 @@ enum Command {
     Stress(stress::Args),
     /// Wrong rays per image, per method, on a scene (seed 000 Table 4), judged exactly.
     Count(count::Args),
+    /// Walk speed: rays and tetrahedra per second per method and backend, end to end and (on a GPU
+    /// with timestamp queries) kernel alone.
+    Bench(bench::Args),
     /// Shaded renders, failure maps, heat maps, predicate maps (PNG).
     Render(render::Args),
     /// Walk the wrong rays of a `count --dump` again: does each still fail the same way?
@@ -81,6 +85,7 @@ pub fn main() -> ExitCode {
         Command::Stress(a) => stress::run(a),
         Command::Scene(s) => scene::run(s),
         Command::Count(a) => count::run(a),
+        Command::Bench(a) => bench::run(a),
         Command::FuzzImport(a) => fuzz_import::run(a),
         Command::Render(a) => render::run(a),
         Command::Replay(a) => replay::run(a),

@@ -6,6 +6,7 @@ use crate::mesh::Mesh;
 use crate::registry::{Gpu as GpuSupport, Method};
 use crate::tet::{Ray, Tet};
 use crate::walk::{Outcome, OutcomeKind, Walk};
+use rayon::prelude::*;
 use shader::{Ending, GROUP, Params};
 use std::collections::HashMap;
 use std::sync::Mutex;
@@ -74,7 +75,8 @@ fn describe(i: &wgpu::AdapterInfo) -> String {
     )
 }
 
-/// A GPU with the shader module; each method's pipelines are compiled when first used.
+/// A GPU with the shader module; each method's pipelines are compiled when first used, and the
+/// buffers a dispatch needs are kept and grown, never made anew per call.
 pub struct Gpu {
     device: wgpu::Device,
     queue: wgpu::Queue,
@@ -82,6 +84,23 @@ pub struct Gpu {
     pipelines: Mutex<HashMap<String, wgpu::ComputePipeline>>,
     info: wgpu::AdapterInfo,
     max_groups: u32,
+    /// The largest buffer one binding may see.
+    max_binding: u64,
+    /// Timestamp queries, where the adapter has them: kernel time apart from transfers.
+    timestamps: Option<wgpu::QuerySet>,
+    scratch: Mutex<HashMap<&'static str, wgpu::Buffer>>,
+}
+
+/// Items made and staged at once by one task of an upload.
+const UPLOAD_RUN: usize = 1 << 16;
+
+/// Bytes of the two timestamps of a pass.
+const TIMESTAMP_BYTES: u64 = 2 * 8;
+
+/// What a dispatch returns: its output and, where the adapter measures it, its kernel time.
+pub struct Dispatched<T> {
+    pub items: Vec<T>,
+    pub kernel_seconds: Option<f64>,
 }
 
 impl Gpu {
@@ -106,14 +125,18 @@ impl Gpu {
             .map_err(|e| GpuError::NoAdapter(format!(": {e}")))?,
         };
         let info = adapter.get_info();
-        let limits = wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits());
+        let has = adapter.limits();
         let limits = wgpu::Limits {
             max_storage_buffers_per_shader_stage: 8,
-            ..limits
+            max_storage_buffer_binding_size: has.max_storage_buffer_binding_size,
+            max_buffer_size: has.max_buffer_size,
+            ..wgpu::Limits::downlevel_defaults().using_resolution(has)
         };
+        let features = adapter.features() & wgpu::Features::TIMESTAMP_QUERY;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("tetwalk"),
             required_limits: limits.clone(),
+            required_features: features,
             ..Default::default()
         }))
         .map_err(|e| GpuError::Device(e.to_string()))?;
@@ -126,13 +149,25 @@ impl Gpu {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(e.to_string()));
         }
+        let timestamps = features.contains(wgpu::Features::TIMESTAMP_QUERY).then(|| {
+            device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("kernel time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            })
+        });
         Ok(Gpu {
             max_groups: limits.max_compute_workgroups_per_dimension,
+            max_binding: limits
+                .max_storage_buffer_binding_size
+                .min(limits.max_buffer_size),
             device,
             queue,
             module,
             pipelines: Mutex::new(HashMap::new()),
             info,
+            timestamps,
+            scratch: Mutex::new(HashMap::new()),
         })
     }
 
@@ -176,6 +211,17 @@ impl Gpu {
         describe(&self.info)
     }
 
+    /// Whether kernel times are measured (the adapter has timestamp queries).
+    pub fn measures_kernels(&self) -> bool {
+        self.timestamps.is_some()
+    }
+
+    /// The most items of `item_bytes` each one binding can hold.
+    fn max_items(&self, item_bytes: usize) -> usize {
+        (self.max_binding / item_bytes as u64).max(1) as usize
+    }
+
+    /// A buffer made once with `data` (a mesh).
     fn storage(&self, data: &[u8]) -> wgpu::Buffer {
         // Zero-length bindings are not allowed: pad empty inputs.
         let data = if data.is_empty() {
@@ -187,68 +233,162 @@ impl Gpu {
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: None,
                 contents: data,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                usage: wgpu::BufferUsages::STORAGE,
             })
     }
 
-    /// Run `pipeline` over `count` items in batches the adapter allows; `bind` lists (binding, buffer)
-    /// besides the parameters; returns the contents of the `out` buffer.
-    fn dispatch(
+    /// The kept buffer `name`, grown (to a power of two) when smaller than `size`.
+    fn scratch(
         &self,
-        pipeline: &str,
-        mut params: Params,
-        bind: &[(u32, &wgpu::Buffer)],
-        out: &wgpu::Buffer,
-    ) -> Result<Vec<u8>, GpuError> {
-        let pipeline = self.pipeline(pipeline)?;
-        let pipeline = &pipeline;
-        let total = params.count;
-        let per = self.max_groups.saturating_mul(GROUP).max(GROUP);
-        let mut offset = 0;
-        while offset < total {
-            params.offset = offset;
-            params.count = (total - offset).min(per);
-            let uniform = self
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: None,
-                    contents: bytemuck::bytes_of(&params),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
-            let mut entries = vec![wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            }];
-            entries.extend(bind.iter().map(|(b, buf)| wgpu::BindGroupEntry {
-                binding: *b,
-                resource: buf.as_entire_binding(),
-            }));
-            let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: None,
-                layout: &pipeline.get_bind_group_layout(0),
-                entries: &entries,
-            });
-            let mut enc = self.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = enc.begin_compute_pass(&Default::default());
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &group, &[]);
-                pass.dispatch_workgroups(params.count.div_ceil(GROUP), 1, 1);
-            }
-            self.queue.submit([enc.finish()]);
-            offset += params.count;
+        kept: &mut HashMap<&'static str, wgpu::Buffer>,
+        name: &'static str,
+        size: u64,
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        let size = size.max(16).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        if let Some(b) = kept.get(name)
+            && b.size() >= size
+        {
+            return b.clone();
         }
-        let read = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size: out.size(),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        let b = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(name),
+            size: size.next_power_of_two().min(self.max_binding.max(size)),
+            usage,
             mapped_at_creation: false,
         });
+        kept.insert(name, b.clone());
+        b
+    }
+
+    /// Run `entry` over `count` items in one dispatch: item `i` of the input, `input(i)`, is made in
+    /// parallel and uploaded to binding `input_at`, `mesh`
+    /// lists (binding, buffer) made beforehand, and each output item of binding `out_at` is read
+    /// back through `output` (in parallel, straight from the mapped buffer), with the kernel time where
+    /// the adapter measures it.
+    #[allow(clippy::too_many_arguments)]
+    fn dispatch<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
+        &self,
+        entry: &str,
+        count: usize,
+        max_steps: u32,
+        (input_at, input): (u32, &(dyn Fn(usize) -> I + Sync)),
+        mesh: &[(u32, &wgpu::Buffer)],
+        out_at: u32,
+    ) -> Result<Dispatched<T>, GpuError> {
+        let pipeline = self.pipeline(entry)?;
+        if count == 0 {
+            return Ok(Dispatched {
+                items: Vec::new(),
+                kernel_seconds: Some(0.0),
+            });
+        }
+        let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
+        let (in_size, out_size) = (std::mem::size_of::<I>(), std::mem::size_of::<T>());
+        let in_bytes = (count * in_size) as u64;
+        let out_bytes = (count * out_size) as u64;
+        let uniform = self.scratch(
+            &mut kept,
+            "params",
+            16,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
+        let input_buf = self.scratch(
+            &mut kept,
+            "input",
+            in_bytes,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        );
+        let out = self.scratch(
+            &mut kept,
+            "output",
+            out_bytes,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        );
+        let read = self.scratch(
+            &mut kept,
+            "readback",
+            out_bytes + TIMESTAMP_BYTES,
+            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        );
+        let params = Params {
+            count: count as u32,
+            max_steps,
+            pad0: 0,
+            pad1: 0,
+        };
+        self.queue
+            .write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
+        // Made and staged in parallel, in runs of [`UPLOAD_RUN`] items (each `write_buffer` copies
+        // its run into staging memory of its own).
+        (0..count.div_ceil(UPLOAD_RUN))
+            .into_par_iter()
+            .for_each(|run| {
+                let first = run * UPLOAD_RUN;
+                let items: Vec<I> = (first..count.min(first + UPLOAD_RUN)).map(input).collect();
+                self.queue.write_buffer(
+                    &input_buf,
+                    (first * in_size) as u64,
+                    bytemuck::cast_slice(&items),
+                );
+            });
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: input_at,
+                resource: input_buf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: out_at,
+                resource: out.as_entire_binding(),
+            },
+        ];
+        entries.extend(mesh.iter().map(|(b, buf)| wgpu::BindGroupEntry {
+            binding: *b,
+            resource: buf.as_entire_binding(),
+        }));
+        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        // Items fill rows of at most `max_groups` workgroups; the shader numbers them across rows.
+        let groups = (count as u32).div_ceil(GROUP);
+        let x = groups.min(self.max_groups);
         let mut enc = self.device.create_command_encoder(&Default::default());
-        enc.copy_buffer_to_buffer(out, 0, &read, 0, out.size());
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(entry),
+                timestamp_writes: self.timestamps.as_ref().map(|query_set| {
+                    wgpu::ComputePassTimestampWrites {
+                        query_set,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    }
+                }),
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+        }
+        if let Some(q) = &self.timestamps {
+            let resolved = self.scratch(
+                &mut kept,
+                "timestamps",
+                TIMESTAMP_BYTES,
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            );
+            enc.resolve_query_set(q, 0..2, &resolved, 0);
+            enc.copy_buffer_to_buffer(&resolved, 0, &read, out_bytes, TIMESTAMP_BYTES);
+        }
+        enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes);
         self.queue.submit([enc.finish()]);
         let (tx, rx) = std::sync::mpsc::channel();
-        read.map_async(wgpu::MapMode::Read, .., move |r| {
+        let span = 0..out_bytes + TIMESTAMP_BYTES;
+        read.map_async(wgpu::MapMode::Read, span.clone(), move |r| {
             let _ = tx.send(r);
         });
         self.device
@@ -257,11 +397,28 @@ impl Gpu {
         rx.recv()
             .map_err(|e| GpuError::Readback(e.to_string()))?
             .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let bytes = read
-            .get_mapped_range(..)
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .to_vec();
-        Ok(bytes)
+        let (items, kernel_seconds) = {
+            let bytes = read
+                .get_mapped_range(span)
+                .map_err(|e| GpuError::Readback(e.to_string()))?;
+            let (items, stamps) = bytes.split_at(out_bytes as usize);
+            let stamps: [u64; 2] = bytemuck::pod_read_unaligned(stamps);
+            let period = f64::from(self.queue.get_timestamp_period());
+            (
+                items
+                    .par_chunks(out_size)
+                    .map(bytemuck::pod_read_unaligned)
+                    .collect(),
+                self.timestamps
+                    .as_ref()
+                    .map(|_| stamps[1].saturating_sub(stamps[0]) as f64 * period * 1e-9),
+            )
+        };
+        read.unmap();
+        Ok(Dispatched {
+            items,
+            kernel_seconds,
+        })
     }
 
     /// Each case's answer by `method`, as the shader writes it: a face, [`NONE`] for no exit face, or
@@ -272,97 +429,118 @@ impl Gpu {
         cases: &[shader::Case],
     ) -> Result<Vec<i32>, GpuError> {
         let [exit, _] = Self::entry_points(method)?;
-        let input = self.storage(bytemuck::cast_slice(cases));
-        let out = self.storage(&vec![0u8; 4 * cases.len()]);
-        let params = Params {
-            count: cases.len() as u32,
-            offset: 0,
-            max_steps: 0,
-            start: 0,
-        };
-        let bytes = self.dispatch(&exit, params, &[(1, &input), (2, &out)], &out)?;
-        let mut faces: Vec<i32> = bytemuck::pod_collect_to_vec(&bytes);
-        faces.truncate(cases.len());
+        let mut faces = Vec::with_capacity(cases.len());
+        for chunk in cases.chunks(self.max_items(std::mem::size_of::<shader::Case>())) {
+            let d = self.dispatch::<_, i32>(&exit, chunk.len(), 0, (1, &|i| chunk[i]), &[], 2)?;
+            faces.extend(d.items);
+        }
         Ok(faces)
     }
 
     /// Upload a mesh for [`Gpu::walks`].
     pub fn upload(&self, mesh: &Mesh) -> GpuMesh {
-        let points: Vec<[f32; 4]> = mesh
-            .points
+        let cells: Vec<shader::Cell> = mesh
+            .cells
             .iter()
-            .map(|p| p.extend(0.0).to_array())
+            .map(|c| {
+                let [v0, v1, v2, v3] = c.v.map(|p| p.to_array());
+                let [n0, n1, n2, n3] = c.neighbors;
+                shader::Cell {
+                    v0,
+                    n0,
+                    v1,
+                    n1,
+                    v2,
+                    n2,
+                    v3,
+                    n3,
+                }
+            })
             .collect();
-        let info: Vec<u32> = (0..mesh.tets.len())
-            .map(|t| {
-                let m = mesh.mirror[t];
-                let mirror = (0..4).fold(0u32, |acc, f| acc | ((m[f] as u32 & 3) << (2 * f)));
-                mirror | (mesh.constrained[t] as u32) << 8
+        let info: Vec<u32> = mesh
+            .cells
+            .iter()
+            .map(|c| {
+                let mirror =
+                    (0..4).fold(0u32, |acc, f| acc | ((c.mirror[f] as u32 & 3) << (2 * f)));
+                mirror | (c.constrained as u32) << 8
             })
             .collect();
         GpuMesh {
-            points: self.storage(bytemuck::cast_slice(&points)),
-            tets: self.storage(bytemuck::cast_slice(&mesh.tets)),
-            neighbors: self.storage(bytemuck::cast_slice(&mesh.neighbors)),
+            cells: self.storage(bytemuck::cast_slice(&cells)),
             info: self.storage(bytemuck::cast_slice(&info)),
             tetrahedra: mesh.tets.len(),
         }
     }
 
-    /// Walk every ray from tetrahedron `start` with `method` on the GPU; `None` for a ray the method
-    /// flagged (a step its f32 stage could not settle), which the CPU must walk.
+    /// Walk every ray from its starting tetrahedron with `method` on the GPU: each ray's ending, its
+    /// code checked ([`Ending::walk`] reads it). The kernel time is summed over the dispatches (as many
+    /// as the adapter's binding size needs).
     pub fn walks(
         &self,
         method: &Method,
         mesh: &GpuMesh,
-        rays: &[Ray],
-        start: u32,
+        rays: &[(Ray, u32)],
         max_steps: u32,
-    ) -> Result<Vec<Option<Walk>>, GpuError> {
+    ) -> Result<Dispatched<Ending>, GpuError> {
         let [_, walk] = Self::entry_points(method)?;
-        let r: Vec<[f32; 4]> = rays
-            .iter()
-            .flat_map(|r| [r.org.extend(0.0).to_array(), r.dir.extend(0.0).to_array()])
-            .collect();
-        let input = self.storage(bytemuck::cast_slice(&r));
-        let out = self.storage(&vec![0u8; std::mem::size_of::<Ending>() * rays.len()]);
-        let params = Params {
-            count: rays.len() as u32,
-            offset: 0,
-            max_steps,
-            start,
+        let per = self
+            .max_items(std::mem::size_of::<shader::WalkRay>())
+            .min(self.max_items(std::mem::size_of::<Ending>()));
+        let mut out = Dispatched {
+            items: Vec::new(),
+            kernel_seconds: Some(0.0),
         };
-        let bind = [
-            (3, &input),
-            (4, &mesh.points),
-            (5, &mesh.tets),
-            (6, &mesh.neighbors),
-            (7, &mesh.info),
-            (8, &out),
-        ];
-        let bytes = self.dispatch(&walk, params, &bind, &out)?;
-        let endings: Vec<Ending> = bytemuck::pod_collect_to_vec(&bytes);
-        endings[..rays.len()]
-            .iter()
-            .map(|e| {
-                if e.kind == shader::FLAGGED {
-                    return Ok(None);
-                }
-                let kind = OutcomeKind::from_code(e.kind).ok_or(GpuError::BadOutcome(e.kind))?;
-                Ok(Some(Walk {
-                    outcome: Outcome::from_parts(kind, e.tet, e.x),
-                    steps: e.steps,
-                }))
-            })
-            .collect()
+        for chunk in rays.chunks(per) {
+            let ray = |i: usize| shader::WalkRay::new(&chunk[i].0, chunk[i].1);
+            let mesh = [(4, &mesh.cells), (5, &mesh.info)];
+            let d: Dispatched<Ending> =
+                self.dispatch(&walk, chunk.len(), max_steps, (3, &ray), &mesh, 6)?;
+            out.kernel_seconds = out.kernel_seconds.zip(d.kernel_seconds).map(|(a, b)| a + b);
+            if let Some(bad) = d
+                .items
+                .par_iter()
+                .find_any(|e| e.kind != shader::FLAGGED && OutcomeKind::from_code(e.kind).is_none())
+            {
+                return Err(GpuError::BadOutcome(bad.kind));
+            }
+            if out.items.is_empty() {
+                out.items = d.items;
+            } else {
+                out.items.extend(d.items);
+            }
+        }
+        Ok(out)
+    }
+}
+
+impl Ending {
+    /// The walk this ending says, or `None` for a ray the method flagged (a step its f32 stage could
+    /// not settle), which the CPU must walk. Codes are checked by [`Gpu::walks`].
+    pub fn walk(&self) -> Option<Walk> {
+        let kind = OutcomeKind::from_code(self.kind)?;
+        Some(Walk {
+            outcome: Outcome::from_parts(kind, self.tet, self.x),
+            steps: self.steps,
+        })
+    }
+}
+
+impl shader::WalkRay {
+    /// A ray to walk from tetrahedron `start`.
+    pub fn new(ray: &Ray, start: u32) -> shader::WalkRay {
+        shader::WalkRay {
+            org: ray.org.to_array(),
+            start,
+            dir: ray.dir.to_array(),
+            pad: 0,
+        }
     }
 }
 
 /// A mesh uploaded to the GPU.
 pub struct GpuMesh {
-    points: wgpu::Buffer,
-    tets: wgpu::Buffer,
-    neighbors: wgpu::Buffer,
+    cells: wgpu::Buffer,
     info: wgpu::Buffer,
     pub tetrahedra: usize,
 }

@@ -39,12 +39,38 @@ macro_rules! shared_struct {
 }
 
 shared_struct! {
-    /// The uniform parameters of a dispatch.
+    /// The uniform parameters of a dispatch (items are numbered across a 2-D grid of workgroups, so one
+    /// dispatch covers any count).
     Params {
         count: u32 => "u32",
-        offset: u32 => "u32",
         max_steps: u32 => "u32",
+        pad0: u32 => "u32",
+        pad1: u32 => "u32",
+    }
+}
+
+shared_struct! {
+    /// One ray to walk and the tetrahedron holding its origin.
+    WalkRay {
+        org: [f32; 3] => "vec3f",
         start: u32 => "u32",
+        dir: [f32; 3] => "vec3f",
+        pad: u32 => "u32",
+    }
+}
+
+shared_struct! {
+    /// A tetrahedron as a walk step reads it (the CPU's `mesh::Cell`): each vertex with the neighbour
+    /// across the face opposite it, 64 bytes, one load per step besides [`faceinfo`](BINDINGS).
+    Cell {
+        v0: [f32; 3] => "vec3f",
+        n0: u32 => "u32",
+        v1: [f32; 3] => "vec3f",
+        n1: u32 => "u32",
+        v2: [f32; 3] => "vec3f",
+        n2: u32 => "u32",
+        v3: [f32; 3] => "vec3f",
+        n3: u32 => "u32",
     }
 }
 
@@ -101,14 +127,22 @@ const BINDINGS: &str = "\
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> cases: array<Case>;
 @group(0) @binding(2) var<storage, read_write> faces: array<i32>;
-// The walk: rays (org, dir), mesh points, tetrahedra, neighbours, mirror faces and constrained bits.
-@group(0) @binding(3) var<storage, read> rays: array<vec4f>;
-@group(0) @binding(4) var<storage, read> points: array<vec4f>;
-@group(0) @binding(5) var<storage, read> tets: array<vec4u>;
-@group(0) @binding(6) var<storage, read> neighbors: array<vec4u>;
+// The walk: rays with their starting tetrahedra, the mesh's cells, mirror faces and constrained bits.
+@group(0) @binding(3) var<storage, read> rays: array<WalkRay>;
+@group(0) @binding(4) var<storage, read> cells: array<Cell>;
 // Bits 0-7: mirror face of each face (2 bits each); bits 8-11: constrained faces.
-@group(0) @binding(7) var<storage, read> faceinfo: array<u32>;
-@group(0) @binding(8) var<storage, read_write> endings: array<Ending>;
+@group(0) @binding(5) var<storage, read> faceinfo: array<u32>;
+@group(0) @binding(6) var<storage, read_write> endings: array<Ending>;
+
+// The item a thread answers, numbered across the 2-D grid of workgroups.
+fn item(gid: vec3u, groups: vec3u) -> u32 {
+    return gid.x + gid.y * groups.x * GROUP;
+}
+
+// The neighbour across face f.
+fn neighbor(c: Cell, f: u32) -> u32 {
+    return select(select(c.n0, c.n1, f == 1u), select(c.n2, c.n3, f == 3u), f >= 2u);
+}
 ";
 
 /// The entry points of one method (`IDENT` replaced by its identifier): the exit face of each case,
@@ -116,32 +150,33 @@ const BINDINGS: &str = "\
 /// `crate::walk::walk` does, the ray prepared once.
 const ENTRY_POINTS: &str = "\
 @compute @workgroup_size(GROUP)
-fn exit_IDENT(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = IDENT_exit(&t, IDENT_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = IDENT_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = IDENT_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = IDENT_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -157,7 +192,7 @@ fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -204,6 +239,10 @@ pub fn generate() -> String {
     }
     s += "\n";
     s += Params::WGSL;
+    s += "\n";
+    s += WalkRay::WGSL;
+    s += "\n";
+    s += Cell::WGSL;
     s += "\n";
     s += Case::WGSL;
     s += "\n";

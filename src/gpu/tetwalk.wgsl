@@ -20,9 +20,27 @@ const STEP_LIMIT: u32 = 4u;
 
 struct Params {
     count: u32,
-    offset: u32,
     max_steps: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+struct WalkRay {
+    org: vec3f,
     start: u32,
+    dir: vec3f,
+    pad: u32,
+}
+
+struct Cell {
+    v0: vec3f,
+    n0: u32,
+    v1: vec3f,
+    n1: u32,
+    v2: vec3f,
+    n2: u32,
+    v3: vec3f,
+    n3: u32,
 }
 
 struct Case {
@@ -48,14 +66,22 @@ struct Ending {
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> cases: array<Case>;
 @group(0) @binding(2) var<storage, read_write> faces: array<i32>;
-// The walk: rays (org, dir), mesh points, tetrahedra, neighbours, mirror faces and constrained bits.
-@group(0) @binding(3) var<storage, read> rays: array<vec4f>;
-@group(0) @binding(4) var<storage, read> points: array<vec4f>;
-@group(0) @binding(5) var<storage, read> tets: array<vec4u>;
-@group(0) @binding(6) var<storage, read> neighbors: array<vec4u>;
+// The walk: rays with their starting tetrahedra, the mesh's cells, mirror faces and constrained bits.
+@group(0) @binding(3) var<storage, read> rays: array<WalkRay>;
+@group(0) @binding(4) var<storage, read> cells: array<Cell>;
 // Bits 0-7: mirror face of each face (2 bits each); bits 8-11: constrained faces.
-@group(0) @binding(7) var<storage, read> faceinfo: array<u32>;
-@group(0) @binding(8) var<storage, read_write> endings: array<Ending>;
+@group(0) @binding(5) var<storage, read> faceinfo: array<u32>;
+@group(0) @binding(6) var<storage, read_write> endings: array<Ending>;
+
+// The item a thread answers, numbered across the 2-D grid of workgroups.
+fn item(gid: vec3u, groups: vec3u) -> u32 {
+    return gid.x + gid.y * groups.x * GROUP;
+}
+
+// The neighbour across face f.
+fn neighbor(c: Cell, f: u32) -> u32 {
+    return select(select(c.n0, c.n1, f == 1u), select(c.n2, c.n3, f == 3u), f >= 2u);
+}
 
 // Face i's vertices, counterclockwise seen from outside (tetwalk::tet::FACE_VERTICES).
 fn face_vertices(i: u32) -> vec3u {
@@ -583,32 +609,33 @@ fn certified_exit(t: ptr<function, array<vec3f, 4>>, r: CertifiedRay, entry: i32
 // ---- ray-plane ----
 
 @compute @workgroup_size(GROUP)
-fn exit_ray_plane(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_ray_plane(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = ray_plane_exit(&t, ray_plane_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_ray_plane(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_ray_plane(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = ray_plane_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = ray_plane_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = ray_plane_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -624,7 +651,7 @@ fn walk_ray_plane(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -649,32 +676,33 @@ fn walk_ray_plane(@builtin(global_invocation_id) gid: vec3u) {
 // ---- halfspace ----
 
 @compute @workgroup_size(GROUP)
-fn exit_halfspace(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_halfspace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = halfspace_exit(&t, halfspace_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_halfspace(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_halfspace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = halfspace_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = halfspace_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = halfspace_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -690,7 +718,7 @@ fn walk_halfspace(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -715,32 +743,33 @@ fn walk_halfspace(@builtin(global_invocation_id) gid: vec3u) {
 // ---- plucker ----
 
 @compute @workgroup_size(GROUP)
-fn exit_plucker(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_plucker(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = plucker_exit(&t, plucker_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_plucker(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_plucker(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = plucker_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = plucker_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = plucker_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -756,7 +785,7 @@ fn walk_plucker(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -781,32 +810,33 @@ fn walk_plucker(@builtin(global_invocation_id) gid: vec3u) {
 // ---- stp ----
 
 @compute @workgroup_size(GROUP)
-fn exit_stp(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_stp(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = stp_exit(&t, stp_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_stp(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_stp(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = stp_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = stp_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = stp_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -822,7 +852,7 @@ fn walk_stp(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -847,32 +877,33 @@ fn walk_stp(@builtin(global_invocation_id) gid: vec3u) {
 // ---- ms06 ----
 
 @compute @workgroup_size(GROUP)
-fn exit_ms06(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_ms06(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = ms06_exit(&t, ms06_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_ms06(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_ms06(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = ms06_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = ms06_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = ms06_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -888,7 +919,7 @@ fn walk_ms06(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -913,32 +944,33 @@ fn walk_ms06(@builtin(global_invocation_id) gid: vec3u) {
 // ---- maria17 ----
 
 @compute @workgroup_size(GROUP)
-fn exit_maria17(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_maria17(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = maria17_exit(&t, maria17_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_maria17(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_maria17(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = maria17_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = maria17_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = maria17_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -954,7 +986,7 @@ fn walk_maria17(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -979,32 +1011,33 @@ fn walk_maria17(@builtin(global_invocation_id) gid: vec3u) {
 // ---- aman20 ----
 
 @compute @workgroup_size(GROUP)
-fn exit_aman20(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_aman20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = aman20_exit(&t, aman20_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_aman20(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_aman20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = aman20_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = aman20_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = aman20_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -1020,7 +1053,7 @@ fn walk_aman20(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -1045,32 +1078,33 @@ fn walk_aman20(@builtin(global_invocation_id) gid: vec3u) {
 // ---- aman20-scaled ----
 
 @compute @workgroup_size(GROUP)
-fn exit_aman20_scaled(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_aman20_scaled(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = aman20_scaled_exit(&t, aman20_scaled_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = aman20_scaled_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = aman20_scaled_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = aman20_scaled_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -1086,7 +1120,7 @@ fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;
@@ -1111,32 +1145,33 @@ fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u) {
 // ---- certified ----
 
 @compute @workgroup_size(GROUP)
-fn exit_certified(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn exit_certified(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
     let c = cases[i];
     var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
     faces[i] = certified_exit(&t, certified_prepare(c.org.xyz, c.dir.xyz), c.entry);
 }
 
 @compute @workgroup_size(GROUP)
-fn walk_certified(@builtin(global_invocation_id) gid: vec3u) {
-    if gid.x >= params.count {
+fn walk_certified(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
         return;
     }
-    let i = gid.x + params.offset;
-    let r = certified_prepare(rays[2u * i].xyz, rays[2u * i + 1u].xyz);
-    var tet = params.start;
+    let ray = rays[i];
+    let r = certified_prepare(ray.org, ray.dir);
+    var tet = ray.start;
     var entry = NONE;
     var saved_tet = tet;
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
     for (var steps = 1u; steps <= params.max_steps; steps++) {
-        let vi = tets[tet];
-        var t = array<vec3f, 4>(points[vi.x].xyz, points[vi.y].xyz, points[vi.z].xyz, points[vi.w].xyz);
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = certified_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
@@ -1152,7 +1187,7 @@ fn walk_certified(@builtin(global_invocation_id) gid: vec3u) {
             endings[i] = Ending(HIT, tet, fu, steps);
             return;
         }
-        let next = neighbors[tet][fu];
+        let next = neighbor(c, fu);
         if next == HULL {
             endings[i] = Ending(LEFT_MESH, tet, fu, steps);
             return;

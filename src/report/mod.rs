@@ -1,5 +1,6 @@
 //! Reports: failure counts per method, as markdown tables and JSON.
 
+pub mod bench;
 pub mod count;
 pub mod scene_info;
 pub mod stress;

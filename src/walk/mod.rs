@@ -226,8 +226,8 @@ pub struct Divergence {
 
 /// A walk specialised to one method and arithmetic: `(mesh, ray, start tetrahedron, max_steps)`.
 pub type WalkFn = fn(&Mesh, &Ray, u32, u32) -> Walk;
-/// The same over many rays from one start ([`walks`]).
-pub type WalksFn = fn(&Mesh, &[Ray], u32, u32) -> Vec<Walk>;
+/// The same over many rays, each with its start ([`walks`]).
+pub type WalksFn = fn(&Mesh, &[(Ray, u32)], u32) -> Vec<Walk>;
 /// The same, checking every step against the oracle.
 pub type CheckedWalkFn = fn(&Mesh, &Ray, u32, u32) -> (Walk, Option<Divergence>);
 
@@ -304,24 +304,23 @@ fn walk_observed<M: ExitMethod, A: Arith>(
 /// The most walks in flight at once on one thread ([`walks`]).
 pub const MAX_LANES: usize = 4;
 
-/// [`walk`] of every ray, [`ExitMethod::LANES`] at a time, interleaved: a walk step waits on the
+/// [`walk`] of every ray from its starting tetrahedron, [`ExitMethod::LANES`] at a time, interleaved: a walk step waits on the
 /// tetrahedron it reads and on the face it computes, so one thread advances several independent walks
 /// in turn (each ends exactly as [`walk`] would end it).
 pub fn walks<M: ExitMethod, A: Arith>(
     mesh: &Mesh,
-    rays: &[Ray],
-    start: u32,
+    rays: &[(Ray, u32)],
     max_steps: u32,
 ) -> Vec<Walk> {
     if M::LANES <= 1 {
         return rays
             .iter()
-            .map(|r| walk::<M, A>(mesh, r, start, max_steps))
+            .map(|(r, start)| walk::<M, A>(mesh, r, *start, max_steps))
             .collect();
     }
     let mut out = vec![
         Walk {
-            outcome: Outcome::StepLimit { tet: start },
+            outcome: Outcome::StepLimit { tet: 0 },
             steps: 0,
         };
         rays.len()
@@ -330,7 +329,9 @@ pub fn walks<M: ExitMethod, A: Arith>(
     let mut lanes: [Option<(usize, Walker<M>)>; MAX_LANES] = std::array::from_fn(|_| None);
     let lanes = &mut lanes[..M::LANES.clamp(1, MAX_LANES)];
     for lane in lanes.iter_mut() {
-        *lane = pending.next().map(|(i, r)| (i, Walker::new::<A>(r, start)));
+        *lane = pending
+            .next()
+            .map(|(i, (r, start))| (i, Walker::new::<A>(r, *start)));
     }
     let mut observe = |_, _, _| {};
     while lanes.iter().any(Option::is_some) {
@@ -339,7 +340,9 @@ pub fn walks<M: ExitMethod, A: Arith>(
                 && let Some(w) = walker.step::<A>(mesh, max_steps, &mut observe)
             {
                 out[*i] = w;
-                *lane = pending.next().map(|(i, r)| (i, Walker::new::<A>(r, start)));
+                *lane = pending
+                    .next()
+                    .map(|(i, (r, start))| (i, Walker::new::<A>(r, *start)));
             }
         }
     }

@@ -1,0 +1,94 @@
+//! `tetwalk bench`: walk speed per method and backend on a scene's primary rays.
+
+use super::{JsonOut, Outcome};
+use crate::backend::{Backend, BackendKind};
+use crate::choice::Choice;
+use crate::registry::parse_list;
+use crate::report::bench;
+use crate::scenes::camera::Views;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// A built-in scene or a TetGen stem (as `count` takes).
+    #[arg(long, default_value = "bunny-quality")]
+    scene: String,
+    /// Accept a TetGen scene without constrained faces.
+    #[arg(long)]
+    no_faces: bool,
+    /// Viewpoints on a sphere around the model.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 16)]
+    views: usize,
+    /// Image size, WxH.
+    #[arg(long, default_value = "1024x1024")]
+    size: String,
+    /// Methods to time (comma-separated, or all); on a GPU, those with a GPU version.
+    #[arg(long, default_value = "all")]
+    methods: String,
+    /// Backends, comma-separated (`cpu`, `cpu-fma`, `gpu`), timed on the same rays in one run.
+    #[arg(long, default_value = "cpu")]
+    backend: String,
+    /// Rays handed to a backend at once (whole views).
+    #[arg(long, default_value_t = 1 << 22)]
+    batch: usize,
+    /// Seed of the viewpoints' rotation.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
+    seed: u64,
+    /// Also write the report as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+}
+
+pub fn run(a: Args) -> Outcome {
+    let methods = parse_list(&a.methods)?;
+    let mut kinds = Vec::new();
+    for name in a.backend.split(',').map(str::trim) {
+        let kind = BackendKind::from_name(name).ok_or_else(|| {
+            let known: Vec<_> = BackendKind::ALL.iter().map(|k| k.name()).collect();
+            format!("--backend: '{name}' is not one of {}", known.join(", "))
+        })?;
+        if !kinds.contains(&kind) {
+            kinds.push(kind);
+        }
+    }
+    if a.views == 0 {
+        return Err("--views 0: a bench needs at least one view".into());
+    }
+    if a.batch == 0 {
+        return Err("--batch 0: a batch holds at least one ray".into());
+    }
+    let (width, height) = super::size(&a.size, false, 65536)?;
+    let per_view = width as u128 * height as u128;
+    super::fits(
+        &format!("--size {width}x{height} --batch {}", a.batch),
+        per_view.max(a.batch as u128) * super::BYTES_PER_PIXEL,
+    )?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let backends = kinds
+        .into_iter()
+        .map(Backend::open)
+        .collect::<Result<Vec<_>, _>>()?;
+    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let views = Views {
+        views: a.views,
+        width,
+        height,
+        seed: a.seed,
+        fov_deg: Views::FOV_DEG,
+    };
+    let bar = super::progress(a.views as u64, "views");
+    let report = bench::run(
+        &a.scene,
+        &mesh,
+        &views,
+        &methods,
+        &backends,
+        a.batch,
+        &|| bar.inc(1),
+    )?;
+    bar.finish_and_clear();
+    print!("{}", report.markdown());
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,192 @@
+//! Walk speed per method and backend on a scene's primary rays (`tetwalk bench`): rays and tetrahedra
+//! per second end to end (upload, kernel, readback, and the CPU's walks of rays the GPU flagged), and
+//! the GPU's kernel time alone where the adapter has timestamp queries. Rays are made before the clock
+//! starts, in batches of whole views; every backend walks the same batches in one run.
+
+use crate::backend::{Backend, BackendError};
+use crate::choice::Choice;
+use crate::mesh::Mesh;
+use crate::registry::{Gpu, Method};
+use crate::scenes::camera::Views;
+use crate::tet::Ray;
+use crate::walk::{default_max_steps, locate};
+use std::time::Instant;
+
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+    #[error(
+        "nothing to time: none of the {0} camera positions lies inside the mesh (a scene needs the box around the model that `tetwalk scene build` adds)"
+    )]
+    NoView(usize),
+    #[error("nothing to time: no method runs on {0}")]
+    NoMethod(String),
+}
+
+/// One method on one backend.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct BenchRow {
+    pub method: String,
+    pub backend: String,
+    pub rays: u64,
+    /// Tetrahedra traversed.
+    pub tetrahedra: u64,
+    /// Wall-clock seconds from handing the rays over to having every walk back.
+    pub seconds: f64,
+    /// GPU kernel seconds (timestamp queries), where measured.
+    pub kernel_seconds: Option<f64>,
+    /// Rays the GPU flagged and the CPU walked.
+    pub flagged: u64,
+}
+
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct BenchReport {
+    pub scene: String,
+    pub tetrahedra_in_mesh: usize,
+    pub views: Views,
+    /// Views whose camera lies inside the mesh (the others are skipped, as `count` skips them).
+    pub views_timed: usize,
+    /// Rays per batch handed to a backend at once.
+    pub batch: usize,
+    /// Each backend, with its adapter and driver for a GPU.
+    pub backends: Vec<String>,
+    pub rows: Vec<BenchRow>,
+}
+
+/// Methods a backend can time: on a GPU, those with a GPU version (the others would time the CPU).
+pub fn runs_on<'a>(methods: &[&'a Method], backend: &Backend) -> Vec<&'a Method> {
+    methods
+        .iter()
+        .copied()
+        .filter(|m| !matches!(backend, Backend::Gpu(_)) || matches!(m.gpu, Gpu::Wgsl(_)))
+        .collect()
+}
+
+/// Time every method on every backend over the views' primary rays, `batch` rays at most at once
+/// (whole views; one view when a view is larger).
+pub fn run(
+    scene: &str,
+    mesh: &Mesh,
+    views: &Views,
+    methods: &[&Method],
+    backends: &[Backend],
+    batch: usize,
+    tick: &dyn Fn(),
+) -> Result<BenchReport, BenchError> {
+    let (lo, hi) = crate::mesh::bounds(&mesh.points);
+    let max = default_max_steps(mesh);
+    let mut rows: Vec<BenchRow> = Vec::new();
+    // (row, backend, method) in the order they are timed.
+    let mut plan: Vec<(usize, usize, &Method)> = Vec::new();
+    for (bi, b) in backends.iter().enumerate() {
+        let on = runs_on(methods, b);
+        if on.is_empty() {
+            return Err(BenchError::NoMethod(b.describe()));
+        }
+        for m in on {
+            plan.push((rows.len(), bi, m));
+            rows.push(BenchRow {
+                method: m.name.to_string(),
+                backend: b.kind().name().to_string(),
+                rays: 0,
+                tetrahedra: 0,
+                seconds: 0.0,
+                kernel_seconds: b.for_method(m).measures_kernels().then_some(0.0),
+                flagged: 0,
+            });
+        }
+    }
+    let meshes: Vec<_> = backends.iter().map(|b| b.mesh(mesh)).collect();
+    let per_view = views.width as usize * views.height as usize;
+    let views_per_batch = (batch / per_view.max(1)).max(1);
+    let (mut start, mut timed, mut warm) = (0, 0, false);
+    let mut v = 0;
+    while v < views.views {
+        // The next batch of whole views, rays made before the clock starts.
+        let mut rays: Vec<(Ray, u32)> = Vec::with_capacity(views_per_batch * per_view);
+        while v < views.views && rays.len() + per_view <= (views_per_batch * per_view) {
+            let cam = views.camera(lo, hi, v);
+            v += 1;
+            tick();
+            let Ok(located) = locate(mesh, cam.eye, start) else {
+                continue;
+            };
+            start = located;
+            timed += 1;
+            rays.extend(views.rays(&cam).into_iter().map(|r| (r, located)));
+        }
+        if rays.is_empty() {
+            continue;
+        }
+        if !warm {
+            // Compile every pipeline and size every buffer before timing.
+            for &(_, b, m) in &plan {
+                backends[b].walks_from(m, &meshes[b], &rays, max)?;
+            }
+            warm = true;
+        }
+        for &(row, b, m) in &plan {
+            let t0 = Instant::now();
+            let done = backends[b].walks_from(m, &meshes[b], &rays, max)?;
+            let r = &mut rows[row];
+            r.seconds += t0.elapsed().as_secs_f64();
+            r.kernel_seconds = r
+                .kernel_seconds
+                .zip(done.kernel_seconds)
+                .map(|(a, k)| a + k);
+            r.rays += rays.len() as u64;
+            r.tetrahedra += done.walks.iter().map(|w| w.steps as u64).sum::<u64>();
+            r.flagged += done.flagged as u64;
+        }
+    }
+    if timed == 0 {
+        return Err(BenchError::NoView(views.views));
+    }
+    Ok(BenchReport {
+        scene: scene.to_string(),
+        tetrahedra_in_mesh: mesh.tets.len(),
+        views: *views,
+        views_timed: timed,
+        batch: views_per_batch * per_view,
+        backends: backends.iter().map(Backend::describe).collect(),
+        rows,
+    })
+}
+
+impl BenchReport {
+    pub fn markdown(&self) -> String {
+        let mut out = format!(
+            "walk speed on {} ({} tetrahedra): {} of {} views of {}x{} inside the mesh, {} rays at most per batch\n\n",
+            self.scene,
+            self.tetrahedra_in_mesh,
+            self.views_timed,
+            self.views.views,
+            self.views.width,
+            self.views.height,
+            self.batch
+        );
+        for b in &self.backends {
+            out += &format!("- {b}\n");
+        }
+        out += "\n";
+        out += "| method | backend | rays | Φ (tetrahedra/ray) | end to end Mrays/s | end to end Mtets/s | kernel Mrays/s | kernel Mtets/s | flagged |\n|---|---|---|---|---|---|---|---|---|\n";
+        for r in &self.rows {
+            let per = |n: u64, s: f64| format!("{:.1}", n as f64 / s.max(1e-12) / 1e6);
+            let kernel = |n: u64| r.kernel_seconds.map_or("-".to_string(), |k| per(n, k));
+            out += &format!(
+                "| {} | {} | {} | {:.1} | {} | {} | {} | {} | {} |\n",
+                r.method,
+                r.backend,
+                r.rays,
+                r.tetrahedra as f64 / r.rays.max(1) as f64,
+                per(r.rays, r.seconds),
+                per(r.tetrahedra, r.seconds),
+                kernel(r.rays),
+                kernel(r.tetrahedra),
+                r.flagged
+            );
+        }
+        out
+    }
+}
