@@ -91,6 +91,14 @@ impl Backend {
         }
     }
 
+    /// The adapter and driver, for a GPU.
+    pub fn adapter(&self) -> Option<String> {
+        match self {
+            Backend::Gpu(g) => Some(g.describe()),
+            Backend::Cpu { .. } => None,
+        }
+    }
+
     /// Whether walks here report a kernel time (a GPU with timestamp queries).
     pub fn measures_kernels(&self) -> bool {
         matches!(self, Backend::Gpu(g) if g.measures_kernels())

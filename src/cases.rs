@@ -9,7 +9,7 @@ use crate::exact::{self, ExactError};
 use crate::scenes::Generated;
 use crate::scenes::from_bytes::WalkCase;
 pub use crate::tet::Case;
-use crate::tet::{SWAP01, Tet, normalize};
+use crate::tet::{Ray, SWAP01, Tet, normalize};
 use glam::Vec3;
 use serde_json::{Map, Value};
 
@@ -50,6 +50,30 @@ pub enum Subject {
 pub const MAX_WALK_SIZE: u32 = 64;
 
 impl Subject {
+    /// The case's ray.
+    pub fn ray(&self) -> Ray {
+        match self {
+            Subject::Exit(c) => c.ray(),
+            Subject::Walk(w) => w.ray(),
+        }
+    }
+
+    /// The same case with another ray.
+    pub fn with_ray(&self, ray: Ray) -> Subject {
+        match *self {
+            Subject::Exit(c) => Subject::Exit(Case {
+                org: ray.org,
+                dir: ray.dir,
+                ..c
+            }),
+            Subject::Walk(w) => Subject::Walk(WalkCase {
+                org: ray.org.to_array(),
+                dir: ray.dir.to_array(),
+                ..w
+            }),
+        }
+    }
+
     /// Parse one line that holds only a case.
     pub fn parse(line: &str) -> Result<Subject, CaseError> {
         let mut obj = object(line)?;

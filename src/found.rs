@@ -10,7 +10,7 @@ use crate::choice::Choice;
 use crate::exact::hit::first_hit;
 use crate::registry::{METHODS, Method, UnknownMethod, by_name, reference};
 use crate::scenes::from_bytes::WalkCase;
-use crate::tet::Case;
+use crate::tet::{Case, Ray};
 use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, locate, same_result};
 use glam::Vec3;
 use serde_json::Value;
@@ -32,6 +32,8 @@ pub enum FoundError {
     Outside(String),
     #[error("TETWALK_FUZZ_METHOD: {0}")]
     FuzzMethod(UnknownMethod),
+    #[error("TETWALK_FUZZ_BACKEND: {0}")]
+    FuzzBackend(String),
 }
 
 /// Which methods a fuzz run holds to exactness, from `TETWALK_FUZZ_METHOD`: `robust` (every method
@@ -57,15 +59,83 @@ pub fn required_methods() -> Result<Vec<&'static Method>, FoundError> {
 /// The backends a fuzz run holds the required methods to: the CPU, plain and as a GPU compiles them.
 pub const FUZZ_BACKENDS: [&Backend; 2] = [&CPU, &CPU_FMA];
 
-/// A fuzz target's check of one decoded case: the found case, when a required method
-/// ([`required_methods`]) answers wrongly on a [`FUZZ_BACKENDS`] backend.
+/// The GPU a fuzz run with `TETWALK_FUZZ_BACKEND=gpu` holds the methods to, opened once.
+static FUZZ_GPU: std::sync::OnceLock<Result<Backend, String>> = std::sync::OnceLock::new();
+
+/// The backends a fuzz run holds the required methods to, from `TETWALK_FUZZ_BACKEND`: `cpu` (the
+/// default: [`FUZZ_BACKENDS`]) or `gpu` (the adapter `WGPU_ADAPTER_NAME` names, or the default one).
+pub fn fuzz_backends() -> Result<Vec<&'static Backend>, FoundError> {
+    match std::env::var("TETWALK_FUZZ_BACKEND").as_deref() {
+        Err(_) | Ok("cpu") => Ok(FUZZ_BACKENDS.to_vec()),
+        Ok("gpu") => FUZZ_GPU
+            .get_or_init(|| Backend::open(BackendKind::Gpu).map_err(|e| e.to_string()))
+            .as_ref()
+            .map(|g| vec![g])
+            .map_err(|why| FoundError::FuzzBackend(why.clone())),
+        Ok(other) => Err(FoundError::FuzzBackend(format!(
+            "'{other}' is not cpu or gpu"
+        ))),
+    }
+}
+
+/// What a fuzz run finds on one decoded case, on the methods and backends its environment names
+/// ([`required_methods`], [`fuzz_backends`]): on the CPU, the case itself; on a GPU, the case and its
+/// [`neighbourhood`] in one batch (one dispatch per method), so that each input does a dispatch's
+/// worth of work. The exact judge runs on the CPU.
+pub fn fuzz_find(subject: &Subject) -> Result<Option<Record>, FoundError> {
+    let methods = required_methods()?;
+    let backends = fuzz_backends()?;
+    let subjects = if backends.iter().any(|b| b.kind() == BackendKind::Gpu) {
+        neighbourhood(subject)
+    } else {
+        vec![*subject]
+    };
+    Ok(
+        check_batch(&subjects, &methods, &backends)?.map(|(i, f)| Record {
+            subject: subjects[i],
+            failure: Some(f),
+        }),
+    )
+}
+
+/// A fuzz target's check of one decoded case ([`fuzz_find`]); a bad environment stops the run.
 pub fn fuzz_check(subject: Subject) -> Option<Record> {
-    let methods = required_methods().expect("TETWALK_FUZZ_METHOD names a method");
-    let failure = check(&subject, &methods, &FUZZ_BACKENDS).ok()??;
-    Some(Record {
-        subject,
-        failure: Some(failure),
+    fuzz_find(&subject).unwrap_or_else(|e| match e {
+        FoundError::FuzzMethod(_) | FoundError::FuzzBackend(_) => panic!("{e}"),
+        _ => None,
     })
+}
+
+/// Ulps by which [`neighbourhood`] moves each component.
+const NEIGHBOUR_ULPS: [i32; 3] = [-1, 0, 1];
+
+/// The case and its neighbours a few ulps away: its ray's direction, then its origin, moved by -1, 0
+/// or +1 ulp in each component (53 cases, the case itself first).
+pub fn neighbourhood(subject: &Subject) -> Vec<Subject> {
+    let ray = subject.ray();
+    let moved = |p: Vec3, k: usize| {
+        let d = [k % 3, k / 3 % 3, k / 9].map(|i| NEIGHBOUR_ULPS[i]);
+        Vec3::new(
+            crate::scenes::tets::ulps(p.x, d[0]),
+            crate::scenes::tets::ulps(p.y, d[1]),
+            crate::scenes::tets::ulps(p.z, d[2]),
+        )
+    };
+    let mut out = vec![*subject];
+    for k in (0..27).filter(|&k| k != 13) {
+        out.push(subject.with_ray(Ray {
+            org: ray.org,
+            dir: moved(ray.dir, k),
+        }));
+    }
+    for k in (0..27).filter(|&k| k != 13) {
+        out.push(subject.with_ray(Ray {
+            org: moved(ray.org, k),
+            dir: ray.dir,
+        }));
+    }
+    out.retain(|s| s.ray().dir != Vec3::ZERO && s.ray().dir.is_finite() && s.ray().org.is_finite());
+    out
 }
 
 /// What a method answered: an exit face (or none) for one tetrahedron, a walk for a walk case.
@@ -98,6 +168,8 @@ impl Answer {
 pub struct Failure {
     pub method: String,
     pub backend: BackendKind,
+    /// The adapter and driver, for a failure found on a GPU.
+    pub adapter: Option<String>,
     pub answer: Answer,
 }
 
@@ -116,7 +188,7 @@ pub struct Record {
 }
 
 /// The fields a found case adds to its case.
-const FAILURE_FIELDS: [&str; 4] = ["method", "backend", "kind", "answer"];
+const FAILURE_FIELDS: [&str; 5] = ["method", "backend", "adapter", "kind", "answer"];
 
 impl Record {
     /// Read a line: a case, or a found case.
@@ -132,6 +204,7 @@ impl Record {
                 failure: None,
             });
         }
+        let adapter = obj.remove("adapter");
         let mut field = |k: &'static str| {
             obj.remove(k).ok_or(FoundError::Field {
                 field: k,
@@ -148,6 +221,16 @@ impl Record {
             .as_str()
             .and_then(BackendKind::from_name)
             .ok_or_else(|| bad("backend", format!("{backend} is not cpu, cpu-fma or gpu")))?;
+        let adapter = match adapter {
+            None => None,
+            Some(Value::String(a)) if backend == BackendKind::Gpu => Some(a),
+            Some(v) => {
+                return Err(bad(
+                    "adapter",
+                    format!("{v} is not the name of the GPU a gpu finding was made on"),
+                ));
+            }
+        };
         let kind = field("kind")?;
         let kind = kind
             .as_str()
@@ -183,6 +266,7 @@ impl Record {
             failure: Some(Failure {
                 method,
                 backend,
+                adapter,
                 answer,
             }),
         })
@@ -194,6 +278,9 @@ impl Record {
         if let Some(f) = &self.failure {
             m.insert("method".into(), f.method.clone().into());
             m.insert("backend".into(), f.backend.name().into());
+            if let Some(a) = &f.adapter {
+                m.insert("adapter".into(), a.clone().into());
+            }
             m.insert("kind".into(), f.kind().wrong_key().into());
             m.insert("answer".into(), f.answer.to_json());
         }
@@ -237,34 +324,86 @@ pub fn check(
     methods: &[&Method],
     backends: &[&Backend],
 ) -> Result<Option<Failure>, FoundError> {
-    match subject {
-        Subject::Exit(case) => check_exit(case, methods, backends),
-        Subject::Walk(w) => check_walk(w, methods, backends),
+    Ok(check_batch(std::slice::from_ref(subject), methods, backends)?.map(|(_, f)| f))
+}
+
+/// [`check`] over a batch of cases answered together (one call per method and backend): the first
+/// wrong one, by index. The cases after the first share its kind, and walk cases its mesh; those of
+/// them that cannot be judged (an entry face the moved ray does not enter by, an origin outside the
+/// mesh) are left out.
+pub fn check_batch(
+    subjects: &[Subject],
+    methods: &[&Method],
+    backends: &[&Backend],
+) -> Result<Option<(usize, Failure)>, FoundError> {
+    let exits: Vec<Case> = subjects
+        .iter()
+        .filter_map(|s| match s {
+            Subject::Exit(c) => Some(*c),
+            Subject::Walk(_) => None,
+        })
+        .collect();
+    let mesh = |s: &Subject| match s {
+        Subject::Walk(w) => Some((w.mesh, w.size, w.offset.to_bits())),
+        Subject::Exit(_) => None,
+    };
+    let walks: Vec<WalkCase> = subjects
+        .iter()
+        .filter_map(|s| match s {
+            Subject::Walk(w) if mesh(s) == subjects.first().and_then(mesh) => Some(*w),
+            _ => None,
+        })
+        .collect();
+    match subjects.first() {
+        None => Ok(None),
+        Some(Subject::Exit(_)) => check_exits(&exits, methods, backends),
+        Some(Subject::Walk(_)) => check_walks(&walks, methods, backends),
     }
 }
 
-fn check_exit(
-    case: &Case,
+fn check_exits(
+    cases: &[Case],
     methods: &[&Method],
     backends: &[&Backend],
-) -> Result<Option<Failure>, FoundError> {
-    let c = classify(case)?;
-    if !c.meets() {
+) -> Result<Option<(usize, Failure)>, FoundError> {
+    let mut judged = Vec::with_capacity(cases.len());
+    for (i, case) in cases.iter().enumerate() {
+        match classify(case) {
+            Ok(c) if c.meets() => judged.push((i, c.exit)),
+            Ok(_) => {}
+            Err(e) if i == 0 => return Err(e.into()),
+            Err(_) => {}
+        }
+    }
+    if judged.is_empty() {
         return Ok(None);
     }
+    let asked: Vec<Case> = judged.iter().map(|&(i, _)| cases[i]).collect();
     for m in methods {
         for b in backends {
-            let face = b.exit_face(m, case)?;
-            if !face.is_some_and(|f| c.exit.contains(f)) {
-                return Ok(Some(Failure {
-                    method: m.name.into(),
-                    backend: b.for_method(m).kind(),
-                    answer: Answer::Face(face.map(|f| f as u8)),
-                }));
+            let faces = b.exit_faces(m, &asked)?;
+            for (face, &(i, exit)) in faces.iter().zip(&judged) {
+                if !face.is_some_and(|f| exit.contains(f)) {
+                    return Ok(Some((
+                        i,
+                        failure(m, b, Answer::Face(face.map(|f| f as u8))),
+                    )));
+                }
             }
         }
     }
     Ok(None)
+}
+
+/// What `m` answered wrongly on `b`, recorded with the adapter where `b` is a GPU.
+fn failure(m: &Method, b: &Backend, answer: Answer) -> Failure {
+    let on = b.for_method(m);
+    Failure {
+        method: m.name.into(),
+        backend: on.kind(),
+        adapter: on.adapter(),
+        answer,
+    }
 }
 
 /// A walk case's mesh, start and ray.
@@ -289,21 +428,30 @@ impl WalkSetup {
 
     /// `m`'s walk on `backend`.
     pub fn walk(&self, m: &Method, backend: &Backend, w: &WalkCase) -> Result<Walk, FoundError> {
-        let on = backend.mesh(&self.mesh);
-        Ok(backend.walks(m, &on, &[w.ray()], self.start, self.max_steps)?[0])
+        Ok(self.walks(m, backend, &[(w.ray(), self.start)])?[0])
     }
 
-    /// Whether `got` ends rightly: the reference against the brute-force first hit, every other
-    /// method against the reference walk `exact`.
-    pub fn right(&self, m: &Method, w: &WalkCase, got: &Walk, exact: &Walk) -> bool {
-        let ray = w.ray();
+    /// `m`'s walks of rays through this mesh, each from its start, on `backend`.
+    pub fn walks(
+        &self,
+        m: &Method,
+        backend: &Backend,
+        rays: &[(Ray, u32)],
+    ) -> Result<Vec<Walk>, FoundError> {
+        let on = backend.mesh(&self.mesh);
+        Ok(backend.walks_from(m, &on, rays, self.max_steps)?.walks)
+    }
+
+    /// Whether `got` ends rightly for `ray`: the reference against the brute-force first hit, every
+    /// other method against the reference walk `exact`.
+    pub fn right(&self, m: &Method, ray: &Ray, got: &Walk, exact: &Walk) -> bool {
         if !m.reference {
-            return same_result(&self.mesh, &ray, got, exact);
+            return same_result(&self.mesh, ray, got, exact);
         }
-        match (got.outcome, first_hit(&self.mesh, &ray)) {
+        match (got.outcome, first_hit(&self.mesh, ray)) {
             (Outcome::LeftMesh { .. }, None) => true,
             (Outcome::Hit { tet, face }, Some((_, faces))) => {
-                faces.contains(&(tet, face)) || same_result(&self.mesh, &ray, got, exact)
+                faces.contains(&(tet, face)) || same_result(&self.mesh, ray, got, exact)
             }
             _ => false,
         }
@@ -346,16 +494,25 @@ fn generated(w: &WalkCase) -> Result<std::sync::Arc<crate::mesh::Mesh>, FoundErr
     Ok(mesh)
 }
 
-fn check_walk(
-    w: &WalkCase,
+fn check_walks(
+    ws: &[WalkCase],
     methods: &[&Method],
     backends: &[&Backend],
-) -> Result<Option<Failure>, FoundError> {
+) -> Result<Option<(usize, Failure)>, FoundError> {
     // A case whose mesh cannot be built or whose origin is outside it judges nothing.
-    let Ok(setup) = WalkSetup::new(w) else {
+    let Some(Ok(setup)) = ws.first().map(WalkSetup::new) else {
         return Ok(None);
     };
-    let exact = setup.walk(reference(), &CPU, w)?;
+    let judged: Vec<(usize, (Ray, u32))> = ws
+        .iter()
+        .enumerate()
+        .filter_map(|(i, w)| {
+            let start = locate(&setup.mesh, w.ray().org, setup.start).ok()?;
+            Some((i, (w.ray(), start)))
+        })
+        .collect();
+    let rays: Vec<(Ray, u32)> = judged.iter().map(|(_, r)| *r).collect();
+    let exact = setup.walks(reference(), &CPU, &rays)?;
     let mut done = Vec::new();
     for m in methods {
         for b in backends {
@@ -366,16 +523,14 @@ fn check_walk(
             }
             done.push(key);
             let got = if m.reference {
-                exact
+                exact.clone()
             } else {
-                setup.walk(m, b, w)?
+                setup.walks(m, b, &rays)?
             };
-            if !setup.right(m, w, &got, &exact) {
-                return Ok(Some(Failure {
-                    method: m.name.into(),
-                    backend: b.for_method(m).kind(),
-                    answer: Answer::Walk(got.outcome),
-                }));
+            for ((i, (ray, _)), (got, exact)) in judged.iter().zip(got.iter().zip(&exact)) {
+                if !setup.right(m, ray, got, exact) {
+                    return Ok(Some((*i, failure(m, b, Answer::Walk(got.outcome)))));
+                }
             }
         }
     }
@@ -408,6 +563,14 @@ pub fn replay(record: &Record) -> Result<Replay, FoundError> {
         Ok(b) => b,
         Err(e) => return Ok(Replay::Skipped(e.to_string())),
     };
+    // A GPU finding replays on the adapter and driver it was found on; another compiles differently.
+    if let (Some(want), Some(here)) = (&f.adapter, backend.adapter())
+        && *want != here
+    {
+        return Ok(Replay::Skipped(format!(
+            "found on {want}; this GPU is {here}"
+        )));
+    }
     Ok(match check(&record.subject, &[m], &[&backend])? {
         None => Replay::Right,
         Some(now) if now.answer == f.answer => Replay::Holds,

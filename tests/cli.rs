@@ -317,3 +317,57 @@ fn bench_times_each_method_on_each_backend_over_the_same_rays() {
     };
     assert_eq!(steps("cpu"), steps("cpu-fma"));
 }
+
+/// `stress --seconds` is a differential campaign: it files new failures as found cases (at most
+/// `--keep` per method, row and kind), each of which replays with its recorded answer; a second
+/// campaign files only cases not filed already.
+#[test]
+fn a_stress_campaign_files_new_failures_that_replay() {
+    let dir = tempfile::tempdir().unwrap();
+    let found = dir.path().join("found");
+    let run = || {
+        let (code, out, err) = tetwalk(
+            &[
+                "stress",
+                "--seconds",
+                "0",
+                "--cases",
+                "400",
+                "--families",
+                "near-edge,near-vertex",
+                "--methods",
+                "maria17",
+                "--keep",
+                "2",
+                "--found",
+                found.to_str().unwrap(),
+            ],
+            "",
+        );
+        assert_eq!(code, 0, "{err}");
+        assert!(out.contains("new found cases filed"), "{out}");
+        let mut files: Vec<_> = std::fs::read_dir(found.join("maria17"))
+            .unwrap()
+            .flatten()
+            .map(|e| e.path())
+            .collect();
+        files.sort();
+        files
+    };
+    let first = run();
+    assert!(!first.is_empty() && first.len() <= 4, "{first:?}");
+    for f in &first {
+        let r = tetwalk::found::Record::parse(std::fs::read_to_string(f).unwrap().trim()).unwrap();
+        assert_eq!(
+            tetwalk::found::replay(&r).unwrap(),
+            tetwalk::found::Replay::Holds,
+            "{f:?}"
+        );
+    }
+    let second = run();
+    assert!(
+        second.len() > first.len(),
+        "the second campaign files new cases"
+    );
+    assert!(first.iter().all(|f| second.contains(f)));
+}

@@ -148,3 +148,56 @@ fn found_cases_replay_on_the_gpu() {
         }
     }
 }
+
+/// A GPU fuzz check: a found case's neighbourhood (the case and its rays a few ulps away, 53 cases)
+/// goes to the GPU in one batch; the failure found there records the adapter, reads back as written,
+/// replays on this adapter with its recorded answer, and is skipped, with a notice naming both, on
+/// another adapter.
+#[test]
+fn gpu_findings_record_their_adapter_and_replay_only_on_it() {
+    let Some(gpu) = common::gpu_or_skip() else {
+        return;
+    };
+    let maria17 = tetwalk::registry::by_name("maria17").unwrap();
+    let exits: Vec<Record> = findings()
+        .into_iter()
+        .map(|(_, r)| r)
+        .filter(|r| {
+            matches!(r.subject, Subject::Exit(_)) && r.failure.as_ref().unwrap().method == "maria17"
+        })
+        .collect();
+    assert!(!exits.is_empty());
+    let mut found = 0;
+    for r in &exits {
+        let batch = tetwalk::found::neighbourhood(&r.subject);
+        assert_eq!(batch[0], r.subject, "the case itself comes first");
+        assert!(batch.len() > 40 && batch.len() <= 53, "{}", batch.len());
+        let Some((i, f)) = tetwalk::found::check_batch(&batch, &[maria17], &[&gpu]).unwrap() else {
+            continue;
+        };
+        found += 1;
+        assert_eq!(f.adapter, gpu.adapter(), "a GPU finding names its adapter");
+        let finding = Record {
+            subject: batch[i],
+            failure: Some(f.clone()),
+        };
+        let read = Record::parse(&finding.to_json()).unwrap();
+        assert_eq!(read, finding, "the adapter is written and read back");
+        assert_eq!(replay(&read).unwrap(), Replay::Holds);
+        let mut elsewhere = read.clone();
+        elsewhere.failure.as_mut().unwrap().adapter = Some("Some Other GPU (Vulkan)".into());
+        match replay(&elsewhere).unwrap() {
+            Replay::Skipped(why) => {
+                assert!(
+                    why.contains("Some Other GPU") && why.contains(&gpu.adapter().unwrap()),
+                    "{why}"
+                )
+            }
+            other => panic!("replayed on another adapter: {other:?}"),
+        }
+    }
+    assert!(
+        found > 0,
+        "maria17's found cases fail on the GPU too (neighbourhoods included)"
+    );
+}

@@ -255,7 +255,14 @@ fn a_small_stress_table_is_unchanged() {
         ulps: 4,
     };
     let methods: Vec<_> = METHODS.iter().collect();
-    let report = stress::run(&s, &methods, &Backend::Cpu { fma: false }, &|_| {}).unwrap();
+    let report = stress::run(
+        &s,
+        &methods,
+        &Backend::Cpu { fma: false },
+        &|_| {},
+        &mut |_, _, _, _| {},
+    )
+    .unwrap();
     let all = report.rows.iter().flat_map(|r| &r.tallies);
     assert!(all.clone().any(|t| t.wrong_face > 0));
     assert!(all.clone().any(|t| t.no_exit_face > 0));

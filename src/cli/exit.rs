@@ -236,7 +236,7 @@ fn walk_lines(
     let mut out = Vec::new();
     for (m, t) in methods.iter().zip(&mut summary.methods) {
         let got = setup.walk(m, backend, w)?;
-        let right = setup.right(m, w, &got, &exact);
+        let right = setup.right(m, &w.ray(), &got, &exact);
         t.right += right as u64;
         t.wrong += !right as u64;
         out.push(serde_json::json!({

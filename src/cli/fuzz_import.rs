@@ -2,7 +2,7 @@
 
 use super::{JsonOut, Outcome};
 use crate::cases::Subject;
-use crate::found::{FUZZ_BACKENDS, Record, check, required_methods};
+use crate::found::{Record, fuzz_find, required_methods};
 use crate::scenes::from_bytes::{exit_case, walk_case};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -23,8 +23,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Outcome {
-    // The same methods the fuzz run held to exactness (TETWALK_FUZZ_METHOD), on the CPU plain and
-    // as a GPU compiles them, as the fuzz targets do.
+    // The same methods the fuzz run held to exactness (TETWALK_FUZZ_METHOD), on the same backend
+    // (TETWALK_FUZZ_BACKEND: the CPU plain and fused, or a GPU with each case's neighbourhood), as the
+    // fuzz targets do.
     let methods = required_methods()?;
     let json = JsonOut::new(a.json.as_deref())?;
     let mut filed = Vec::new();
@@ -44,12 +45,7 @@ pub fn run(a: Args) -> Outcome {
             walk_case(&mut u).ok().map(Subject::Walk)
         };
         let found = match subject {
-            Some(s) => check(&s, &methods, &FUZZ_BACKENDS)
-                .map_err(|e| format!("{}: {e}", path.display()))?
-                .map(|f| Record {
-                    subject: s,
-                    failure: Some(f),
-                }),
+            Some(s) => fuzz_find(&s).map_err(|e| format!("{}: {e}", path.display()))?,
             None => None,
         };
         let Some(found) = found else {

@@ -1,10 +1,14 @@
 //! `tetwalk stress`: the failure table over tetrahedron families and ray kinds.
 
 use super::{BackendArg, JsonOut, Outcome, choice};
-use crate::backend::BackendKind;
+use crate::backend::{Backend, BackendKind};
+use crate::cases::{Case, Subject};
 use crate::choice::Choice;
+use crate::found::{Answer, Failure, Record};
+use crate::registry::Method;
 use crate::registry::parse_list;
 use crate::report::stress::{self, Row, Settings};
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -33,6 +37,17 @@ pub struct Args {
     /// Largest ulp offset of the near-edge and near-vertex rows.
     #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
+    /// A differential campaign: rounds of new cases (seed, seed + 1, …) until this many seconds have
+    /// passed, every new failure filed under `--found`.
+    #[arg(long, allow_negative_numbers = true)]
+    seconds: Option<f64>,
+    /// Where a campaign files its failures as found cases (one folder per method), replayed by
+    /// `cargo test`.
+    #[arg(long, default_value = "corpora/found")]
+    found: PathBuf,
+    /// A campaign files at most this many new failures per method, row and kind of wrong answer.
+    #[arg(long, default_value_t = 3)]
+    keep: usize,
     /// Also write the report as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -82,10 +97,107 @@ pub fn run(a: Args) -> Outcome {
         out.finish(&d)?;
         return Ok(ExitCode::SUCCESS);
     }
-    let bar = super::progress((settings.cases * settings.rows.len()) as u64, "cases");
-    let report = stress::run(&settings, &methods, &backend, &|n| bar.inc(n))?;
-    bar.finish_and_clear();
+    let Some(seconds) = a.seconds else {
+        let bar = super::progress((settings.cases * settings.rows.len()) as u64, "cases");
+        let report = stress::run(
+            &settings,
+            &methods,
+            &backend,
+            &|n| bar.inc(n),
+            &mut |_, _, _, _| {},
+        )?;
+        bar.finish_and_clear();
+        print!("{}", report.markdown());
+        out.finish(&report)?;
+        return Ok(ExitCode::SUCCESS);
+    };
+    if !(seconds.is_finite() && seconds >= 0.0) {
+        return Err(format!("--seconds {seconds} is not a number of seconds").into());
+    }
+    let mut filing = Filing {
+        dir: a.found,
+        keep: a.keep,
+        kept: HashMap::new(),
+        seen: 0,
+        filed: Vec::new(),
+        error: None,
+    };
+    let report = stress::campaign(
+        &settings,
+        &methods,
+        &backend,
+        seconds,
+        &|_| {},
+        &mut |row, m, case, face| filing.file(row, m, &backend, case, face),
+    )?;
+    if let Some(e) = filing.error {
+        return Err(e.into());
+    }
     print!("{}", report.markdown());
+    println!(
+        "\n{} wrong answers in {} rounds; {} new found cases filed under {} (at most {} per method, row and kind):",
+        filing.seen,
+        report.rounds,
+        filing.filed.len(),
+        filing.dir.display(),
+        filing.keep
+    );
+    for f in &filing.filed {
+        println!("  {}", f.display());
+    }
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
+/// kind; the first error stops filing and is reported.
+struct Filing {
+    dir: PathBuf,
+    keep: usize,
+    kept: HashMap<(String, Row, &'static str), usize>,
+    seen: u64,
+    filed: Vec<PathBuf>,
+    error: Option<String>,
+}
+
+impl Filing {
+    fn file(&mut self, row: Row, m: &Method, backend: &Backend, case: &Case, face: Option<usize>) {
+        self.seen += 1;
+        let on = backend.for_method(m);
+        let record = Record {
+            subject: Subject::Exit(*case),
+            failure: Some(Failure {
+                method: m.name.to_string(),
+                backend: on.kind(),
+                adapter: on.adapter(),
+                answer: Answer::Face(face.map(|f| f as u8)),
+            }),
+        };
+        let kind = record.failure.as_ref().map_or("", |f| f.kind().wrong_key());
+        let n = self
+            .kept
+            .entry((m.name.to_string(), row, kind))
+            .or_default();
+        if *n >= self.keep || self.error.is_some() {
+            return;
+        }
+        let line = record.to_json();
+        // FNV-1a of the line: the same failure files under the same name, so it is filed once.
+        let hash = line.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+        });
+        let dir = self.dir.join(m.name);
+        let file = dir.join(format!("stress-{}-{kind}-{hash:016x}.json", row.name()));
+        if file.exists() {
+            return;
+        }
+        *n += 1;
+        if let Err(e) =
+            std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&file, line + "\n"))
+        {
+            self.error = Some(format!("{}: {e}", file.display()));
+            return;
+        }
+        self.filed.push(file);
+    }
 }

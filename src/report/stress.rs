@@ -13,7 +13,7 @@ use rand::RngExt;
 use rayon::prelude::*;
 
 /// The rows of the stress table: a tetrahedron family with stabbing rays, or a way of aiming rays.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Row {
     Well,
@@ -98,6 +98,8 @@ pub struct RowReport {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct StressReport {
     pub settings: Settings,
+    /// Rounds of `settings.cases` cases per row, seeds `seed`, `seed + 1`, … (one unless a campaign).
+    pub rounds: u64,
     pub methods: Vec<String>,
     pub rows: Vec<RowReport>,
     /// Signs the oracle decided in its f64 filter and exactly.
@@ -180,13 +182,17 @@ fn row_cases(row: Row, s: &Settings) -> (Vec<(Case, Classification)>, crate::exa
         )
 }
 
+/// What [`run`] shows of each wrong answer: the row, the method, the case and the face it answered.
+pub type OnWrong<'a> = dyn FnMut(Row, &Method, &Case, Option<usize>) + 'a;
+
 /// Run every method on `cases` cases of every row on `backend`, judging each answer exactly; `tick`
-/// is told how many cases each row held.
+/// is told how many cases each row held, and `wrong` sees every wrong answer.
 pub fn run(
     s: &Settings,
     methods: &[&Method],
     backend: &Backend,
     tick: &(dyn Fn(u64) + Sync),
+    wrong: &mut OnWrong,
 ) -> Result<StressReport, BackendError> {
     let mut rows = Vec::new();
     let mut oracle = crate::exact::Counts::default();
@@ -201,8 +207,12 @@ pub fn run(
                 method: m.name.to_string(),
                 ..Tally::default()
             };
-            for ((_, x), f) in cases.iter().zip(faces) {
-                t.add(&judged(x, f));
+            for ((c, x), f) in cases.iter().zip(faces) {
+                let j = judged(x, f);
+                if j.correct == Some(false) {
+                    wrong(row, m, c, f);
+                }
+                t.add(&j);
             }
             tallies.push(t);
         }
@@ -211,10 +221,42 @@ pub fn run(
     }
     Ok(StressReport {
         settings: s.clone(),
+        rounds: 1,
         methods: methods.iter().map(|m| m.name.to_string()).collect(),
         rows,
         oracle,
     })
+}
+
+/// A differential campaign: rounds of [`run`], round `k` with seed `seed + k`, until `seconds` have
+/// passed (one round at least); the tallies summed over rounds.
+pub fn campaign(
+    s: &Settings,
+    methods: &[&Method],
+    backend: &Backend,
+    seconds: f64,
+    tick: &(dyn Fn(u64) + Sync),
+    wrong: &mut OnWrong,
+) -> Result<StressReport, BackendError> {
+    let t0 = std::time::Instant::now();
+    let mut total = run(s, methods, backend, tick, wrong)?;
+    while t0.elapsed().as_secs_f64() < seconds {
+        let round = Settings {
+            seed: s.seed.wrapping_add(total.rounds),
+            ..s.clone()
+        };
+        let more = run(&round, methods, backend, tick, wrong)?;
+        for (a, b) in total.rows.iter_mut().zip(&more.rows) {
+            for (x, y) in a.tallies.iter_mut().zip(&b.tallies) {
+                x.judged += y.judged;
+                x.wrong_face += y.wrong_face;
+                x.no_exit_face += y.no_exit_face;
+            }
+        }
+        total.oracle += more.oracle;
+        total.rounds += 1;
+    }
+    Ok(total)
 }
 
 /// One row of the comparison: per method, how many of the row's cases each pair of backends answers
@@ -318,9 +360,20 @@ impl StressReport {
     /// The table: per row and method, wrong exit faces / "no exit face", per million judged cases.
     pub fn markdown(&self) -> String {
         let s = &self.settings;
+        let cases = if self.rounds > 1 {
+            format!(
+                "{} cases per row in each of {} rounds, seeds {} to {}",
+                s.cases,
+                self.rounds,
+                s.seed,
+                s.seed.wrapping_add(self.rounds - 1)
+            )
+        } else {
+            format!("{} cases per row, seed {}", s.cases, s.seed)
+        };
         let mut out = format!(
-            "{} cases per row, seed {}, {}, flatness {}, near-* within {} ulps; cells: wrong face / no exit face per million judged cases\n\n",
-            s.cases, s.seed, s.backend, s.flatness, s.ulps
+            "{cases}, {}, flatness {}, near-* within {} ulps; cells: wrong face / no exit face per million judged cases\n\n",
+            s.backend, s.flatness, s.ulps
         );
         out += &format!("| row | judged | {} |\n", self.methods.join(" | "));
         out += &format!("|---|---|{}\n", "---|".repeat(self.methods.len()));
