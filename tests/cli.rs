@@ -371,3 +371,48 @@ fn a_stress_campaign_files_new_failures_that_replay() {
     );
     assert!(first.iter().all(|f| second.contains(f)));
 }
+
+/// `replay --found` replays found cases: every kept one fails again with its recorded answer (exit
+/// status 0, "N of N"), and one whose recorded answer is changed is reported (exit status 1).
+#[test]
+fn replay_found_cases_says_whether_each_fails_again() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/found/maria17");
+    let mut files: Vec<String> = std::fs::read_dir(root)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path().display().to_string())
+        .filter(|p| !std::fs::read_to_string(p).unwrap().contains("\"adapter\""))
+        .collect();
+    files.sort();
+    files.truncate(5);
+    let mut args = vec!["replay", "--found"];
+    args.extend(files.iter().map(String::as_str));
+    let (code, _, err) = tetwalk(&args, "");
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(&format!(
+            "{} of {} found cases fail again",
+            files.len(),
+            files.len()
+        )),
+        "{err}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let changed = dir.path().join("changed.json");
+    let text = std::fs::read_to_string(&files[0]).unwrap();
+    let mut r = tetwalk::found::Record::parse(text.trim()).unwrap();
+    let f = r.failure.as_mut().unwrap();
+    f.answer = match f.answer {
+        tetwalk::found::Answer::Face(Some(x)) => tetwalk::found::Answer::Face(Some((x + 1) % 4)),
+        a => a,
+    };
+    std::fs::write(&changed, r.to_json()).unwrap();
+    let (code, out, err) = tetwalk(&["replay", "--found", changed.to_str().unwrap()], "");
+    if matches!(r.failure.unwrap().answer, tetwalk::found::Answer::Face(_)) {
+        assert_eq!(code, 1, "{out}{err}");
+        assert!(
+            out.contains("other answer") || out.contains("right now"),
+            "{out}"
+        );
+    }
+}

@@ -1,5 +1,6 @@
 //! `tetwalk replay`: walk the wrong rays of a `count --dump` again and say whether each still fails
-//! the same way (the same method on the same backend stopping at the same place, and still wrong).
+//! the same way (the same method on the same backend stopping at the same place, and still wrong);
+//! with `--found`, the same for found cases (on their backend, and for a GPU finding on its adapter).
 
 use super::{JsonOut, Outcome};
 use crate::backend::{Backend, BackendKind};
@@ -14,8 +15,12 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// A dump written by `tetwalk count --dump`.
-    file: PathBuf,
+    /// A dump written by `tetwalk count --dump`, or with `--found` found cases (files of JSON lines).
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+    /// The files hold found cases (`corpora/found/`), not a count's dump.
+    #[arg(long)]
+    found: bool,
     /// The dump's scene has no constrained faces (it was counted with --no-faces).
     #[arg(long)]
     no_faces: bool,
@@ -32,16 +37,83 @@ struct Summary {
     skipped: u64,
 }
 
-pub fn run(a: Args) -> Outcome {
+/// Replay found cases: each must fail again on its backend with its recorded answer.
+fn found(a: &Args) -> Outcome {
+    use crate::found::{Record, Replay, replay};
     let out = JsonOut::new(a.json.as_deref())?;
-    let file = std::fs::File::open(&a.file).map_err(|e| format!("{}: {e}", a.file.display()))?;
+    let mut summary = Summary::default();
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    for path in &a.files {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        for (n, line) in text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty())
+        {
+            let place =
+                |e: &dyn std::fmt::Display| format!("{} line {}: {e}", path.display(), n + 1);
+            let r = Record::parse(line).map_err(|e| place(&e))?;
+            summary.lines += 1;
+            let now = replay(&r).map_err(|e| place(&e))?;
+            let what = match &now {
+                Replay::Holds => {
+                    summary.same += 1;
+                    "holds".to_string()
+                }
+                Replay::Skipped(why) => {
+                    summary.skipped += 1;
+                    eprintln!("tetwalk replay: {} skipped: {why}", place(&"case"));
+                    "skipped".to_string()
+                }
+                Replay::Right => {
+                    summary.changed += 1;
+                    "right now".to_string()
+                }
+                Replay::OtherAnswer(x) => {
+                    summary.changed += 1;
+                    format!("other answer {x:?}")
+                }
+            };
+            let v = serde_json::json!({
+                "file": path.display().to_string(), "line": n + 1,
+                "method": r.failure.as_ref().map(|f| f.method.clone()), "replay": what,
+            });
+            writeln!(w, "{v}")?;
+        }
+    }
+    w.flush()?;
+    out.finish(&summary)?;
+    if summary.lines == 0 {
+        return Err("no found case to replay".into());
+    }
+    eprintln!(
+        "tetwalk replay: {} of {} found cases fail again with their recorded answer ({} changed, {} skipped)",
+        summary.same, summary.lines, summary.changed, summary.skipped
+    );
+    Ok(if summary.changed > 0 {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+pub fn run(a: Args) -> Outcome {
+    if a.found {
+        return found(&a);
+    }
+    let [file] = a.files.as_slice() else {
+        return Err("a count's dump is replayed one file at a time".into());
+    };
+    let out = JsonOut::new(a.json.as_deref())?;
+    let file_name = file.display();
+    let file = std::fs::File::open(file).map_err(|e| format!("{file_name}: {e}"))?;
     let mut scenes: HashMap<String, Mesh> = HashMap::new();
     let mut backends: HashMap<BackendKind, Result<Backend, String>> = HashMap::new();
     let mut summary = Summary::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     for (n, line) in std::io::BufReader::new(file).lines().enumerate() {
         let n = n + 1;
-        let place = |e: &dyn std::fmt::Display| format!("{} line {n}: {e}", a.file.display());
+        let place = |e: &dyn std::fmt::Display| format!("{file_name} line {n}: {e}");
         let line = line.map_err(|e| place(&e))?;
         if line.trim().is_empty() {
             continue;
@@ -91,7 +163,7 @@ pub fn run(a: Args) -> Outcome {
     w.flush()?;
     out.finish(&summary)?;
     if summary.lines == 0 {
-        return Err(format!("{}: no wrong ray to replay", a.file.display()).into());
+        return Err(format!("{file_name}: no wrong ray to replay").into());
     }
     eprintln!(
         "tetwalk replay: {} of {} wrong rays fail again the same way ({} changed, {} skipped)",

@@ -150,7 +150,8 @@ pub fn run(a: Args) -> Outcome {
 }
 
 /// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
-/// kind; the first error stops filing and is reported.
+/// kind (each with the same case for the robust methods that fail on it too); the first error stops
+/// filing and is reported.
 struct Filing {
     dir: PathBuf,
     keep: usize,
@@ -174,30 +175,51 @@ impl Filing {
             }),
         };
         let kind = record.failure.as_ref().map_or("", |f| f.kind().wrong_key());
-        let n = self
-            .kept
-            .entry((m.name.to_string(), row, kind))
-            .or_default();
-        if *n >= self.keep || self.error.is_some() {
+        let key = (m.name.to_string(), row, kind);
+        let n = self.kept.get(&key).copied().unwrap_or(0);
+        if n >= self.keep || self.error.is_some() || self.path(row, &record).exists() {
             return;
         }
-        let line = record.to_json();
-        // FNV-1a of the line: the same failure files under the same name, so it is filed once.
+        self.kept.insert(key, n + 1);
+        // The same case for every method that claims robustness and fails on it too (on the CPU):
+        // a failure of a claim is a finding of its own, as `fuzz-import` files it.
+        let records = match record.with_robust_failures() {
+            Ok(r) => r,
+            Err(e) => {
+                self.error = Some(e.to_string());
+                return;
+            }
+        };
+        for r in records {
+            let file = self.path(row, &r);
+            if file.exists() {
+                continue;
+            }
+            let written = file
+                .parent()
+                .map_or(Ok(()), std::fs::create_dir_all)
+                .and_then(|_| std::fs::write(&file, r.to_json() + "\n"));
+            if let Err(e) = written {
+                self.error = Some(format!("{}: {e}", file.display()));
+                return;
+            }
+            self.filed.push(file);
+        }
+    }
+
+    /// Where a found case is filed: by method, row, kind and an FNV-1a hash of its line, so that the
+    /// same failure always files under the same name, once.
+    fn path(&self, row: Row, r: &Record) -> PathBuf {
+        let line = r.to_json();
         let hash = line.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
             (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
         });
-        let dir = self.dir.join(m.name);
-        let file = dir.join(format!("stress-{}-{kind}-{hash:016x}.json", row.name()));
-        if file.exists() {
-            return;
-        }
-        *n += 1;
-        if let Err(e) =
-            std::fs::create_dir_all(&dir).and_then(|_| std::fs::write(&file, line + "\n"))
-        {
-            self.error = Some(format!("{}: {e}", file.display()));
-            return;
-        }
-        self.filed.push(file);
+        let (method, kind) = r
+            .failure
+            .as_ref()
+            .map_or(("", ""), |f| (f.method.as_str(), f.kind().wrong_key()));
+        self.dir
+            .join(method)
+            .join(format!("stress-{}-{kind}-{hash:016x}.json", row.name()))
     }
 }
