@@ -82,19 +82,11 @@ fn found(a: &Args) -> Outcome {
         }
     }
     w.flush()?;
-    out.finish(&summary)?;
-    if summary.lines == 0 {
-        return Err("no found case to replay".into());
-    }
-    eprintln!(
-        "tetwalk replay: {} of {} found cases fail again with their recorded answer ({} changed, {} skipped)",
-        summary.same, summary.lines, summary.changed, summary.skipped
-    );
-    Ok(if summary.changed > 0 {
-        ExitCode::FAILURE
-    } else {
-        ExitCode::SUCCESS
-    })
+    summary.finish(
+        out,
+        "no found case to replay",
+        "found cases fail again with their recorded answer",
+    )
 }
 
 pub fn run(a: Args) -> Outcome {
@@ -161,17 +153,29 @@ pub fn run(a: Args) -> Outcome {
         writeln!(w, "{v}")?;
     }
     w.flush()?;
-    out.finish(&summary)?;
-    if summary.lines == 0 {
-        return Err(format!("{file_name}: no wrong ray to replay").into());
+    summary.finish(
+        out,
+        &format!("{file_name}: no wrong ray to replay"),
+        "wrong rays fail again the same way",
+    )
+}
+
+impl Summary {
+    /// Write the summary, say it, and end: an error when nothing was replayed, status 1 when a case
+    /// changed.
+    fn finish(self, out: JsonOut, nothing: &str, what: &str) -> Outcome {
+        out.finish(&self)?;
+        if self.lines == 0 {
+            return Err(nothing.into());
+        }
+        eprintln!(
+            "tetwalk replay: {} of {} {what} ({} changed, {} skipped)",
+            self.same, self.lines, self.changed, self.skipped
+        );
+        Ok(if self.changed > 0 {
+            ExitCode::FAILURE
+        } else {
+            ExitCode::SUCCESS
+        })
     }
-    eprintln!(
-        "tetwalk replay: {} of {} wrong rays fail again the same way ({} changed, {} skipped)",
-        summary.same, summary.lines, summary.changed, summary.skipped
-    );
-    Ok(if summary.changed > 0 {
-        ExitCode::FAILURE
-    } else {
-        ExitCode::SUCCESS
-    })
 }
