@@ -7,9 +7,11 @@ use crate::cases::{Case, normalized};
 use crate::choice::Choice;
 use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
+use crate::mesh::layout::Layout;
 use crate::registry::Method;
 use crate::tet::Ray;
 use crate::walk::Walk;
+use crate::walk::layouts::{Kind, LayoutOutcome, Source};
 use rayon::prelude::*;
 
 /// Which backend: the one spelling used by every command (`--backend`), found cases and reports.
@@ -33,6 +35,10 @@ pub enum BackendError {
     Gpu(#[from] GpuError),
     #[error("the GPU holds another mesh than the one walked")]
     OtherMesh,
+    #[error(
+        "method '{0}' has no layout walk (seed 003's layouts are walked by the 2-D frame methods)"
+    )]
+    NoLayoutWalk(&'static str),
 }
 
 /// Fewer items than this are answered on the calling thread: handing a few to the thread pool costs
@@ -57,6 +63,19 @@ pub static CPU_FMA: Backend = Backend::Cpu { fma: true };
 pub enum Backend {
     Cpu { fma: bool },
     Gpu(Box<gpu::Gpu>),
+}
+
+/// Seed 003's layouts of a mesh where a backend walks them (uploaded once to a GPU).
+pub struct LayoutOn<'a> {
+    pub layout: &'a Layout,
+    pub points: &'a [glam::Vec3],
+    gpu: Option<gpu::GpuLayout>,
+}
+
+/// Layout walks from a backend (each outcome and its steps), with the GPU's kernel time.
+pub struct LayoutWalked {
+    pub walks: Vec<(LayoutOutcome, u32)>,
+    pub kernel_seconds: Option<f64>,
 }
 
 /// A mesh where a backend walks it (uploaded once to a GPU).
@@ -159,6 +178,59 @@ impl Backend {
                 Backend::Gpu(g) => Some(g.upload(mesh)),
                 Backend::Cpu { .. } => None,
             },
+        }
+    }
+
+    /// Make seed 003's layouts of a mesh ready to walk here.
+    pub fn layout<'a>(&self, layout: &'a Layout, points: &'a [glam::Vec3]) -> LayoutOn<'a> {
+        LayoutOn {
+            layout,
+            points,
+            gpu: match self {
+                Backend::Gpu(g) => Some(g.upload_layout(layout, points)),
+                Backend::Cpu { .. } => None,
+            },
+        }
+    }
+
+    /// `method`'s walk over layout `kind` of every ray from its source tetrahedron (seed 003
+    /// Algorithms 2-7; the 2-D frame methods only).
+    pub fn layout_walks(
+        &self,
+        method: &Method,
+        kind: Kind,
+        on: &LayoutOn,
+        rays: &[(Ray, Source)],
+        max_steps: u32,
+    ) -> Result<LayoutWalked, BackendError> {
+        match self {
+            Backend::Cpu { fma } => {
+                let walk = method
+                    .layout_walk(*fma)
+                    .ok_or(BackendError::NoLayoutWalk(method.name))?;
+                Ok(LayoutWalked {
+                    walks: rays
+                        .par_iter()
+                        .map(|(r, s)| walk(kind, on.layout, on.points, r, s, max_steps))
+                        .collect(),
+                    kernel_seconds: None,
+                })
+            }
+            Backend::Gpu(g) => {
+                let uploaded = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
+                if uploaded.tetrahedra != on.layout.tet32.len() {
+                    return Err(BackendError::OtherMesh);
+                }
+                let done = g.layout_walks(method, kind, uploaded, rays, max_steps)?;
+                Ok(LayoutWalked {
+                    walks: done
+                        .items
+                        .par_iter()
+                        .map(|e| e.layout_walk().ok_or(GpuError::BadOutcome(e.kind)))
+                        .collect::<Result<_, _>>()?,
+                    kernel_seconds: done.kernel_seconds,
+                })
+            }
         }
     }
 

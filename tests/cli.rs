@@ -286,20 +286,22 @@ fn bench_times_each_method_on_each_backend_over_the_same_rays() {
             "--backend",
             "cpu,cpu-fma",
             "--methods",
-            "maria17,certified",
+            "maria17,certified,aman20",
+            "--layouts",
             "--json",
             json.to_str().unwrap(),
         ],
         "",
     );
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("| certified | cpu-fma |"), "{out}");
+    assert!(out.contains("| certified | cells | cpu-fma |"), "{out}");
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let timed = r["views_timed"].as_u64().unwrap();
     assert!(timed >= 1);
     let rows = r["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 4);
+    // Three methods over the cells and aman20 over Tet32, Tet20 and Tet16, on both backends.
+    assert_eq!(rows.len(), 12);
     for row in rows {
         assert_eq!(row["rays"].as_u64(), Some(timed * 32 * 32), "{row}");
         assert!(
@@ -316,6 +318,14 @@ fn bench_times_each_method_on_each_backend_over_the_same_rays() {
             .as_u64()
     };
     assert_eq!(steps("cpu"), steps("cpu-fma"));
+    // aman20 traverses the same tetrahedra over the cells and over each layout.
+    let aman20: Vec<_> = rows
+        .iter()
+        .filter(|x| x["method"] == "aman20" && x["backend"] == "cpu")
+        .map(|x| (x["layout"].as_str().unwrap(), x["tetrahedra"].as_u64()))
+        .collect();
+    assert_eq!(aman20.len(), 4, "{aman20:?}");
+    assert!(aman20.iter().all(|a| a.1 == aman20[0].1), "{aman20:?}");
 }
 
 /// `stress --seconds` is a differential campaign: it files new failures as found cases (at most

@@ -195,10 +195,11 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
     let r = tetwalk::report::bench::run(
         "kuhn",
         &mesh,
+        false,
         &views,
         &[certified],
         &backends,
-        1 << 20,
+        (1 << 20, false),
         &|| {},
     )
     .unwrap();
@@ -210,4 +211,66 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
     assert_eq!(gpu.tetrahedra, cpu.tetrahedra);
     assert_eq!(gpu.kernel_seconds.is_some(), measures);
     assert!(cpu.kernel_seconds.is_none());
+}
+
+/// Seed 003 on the GPU: `aman20` and `aman20-scaled` walk Tet32, Tet20 and Tet16 in WGSL, on a plain
+/// and a Hilbert-ordered mesh, each ray from its own source tetrahedron; on an adapter that does not
+/// contract multiply-adds every walk equals the CPU layout walk (outcome, tetrahedron, vertex across
+/// the face, steps), elsewhere the differences are counted and shown, and every walk ends on the same
+/// kind of stop with at least one step.
+#[test]
+fn layout_walks_on_the_gpu_equal_the_cpu_ones() {
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
+    let exact_adapter = !contracts(&g);
+    let plain = scenes::generated_mesh(Generated::Jitter, 8, Vec3::ZERO, 2).unwrap();
+    let cpu = Backend::Cpu { fma: false };
+    for mesh in [
+        plain.clone(),
+        tetwalk::mesh::reorder::hilbert_sorted(&plain),
+    ] {
+        let layout = tetwalk::mesh::layout::Layout::build(&mesh);
+        let rays: Vec<(Ray, tetwalk::walk::layouts::Source)> =
+            scenes::rays(Generated::Jitter, &mesh, Vec3::ZERO, 1500, 5)
+                .into_iter()
+                .filter_map(|r| {
+                    let s = locate(&mesh, r.org, 0).ok()?;
+                    Some((r, tetwalk::walk::layouts::Source::new(&layout, s)))
+                })
+                .collect();
+        assert!(rays.len() > 1000);
+        let max = default_max_steps(&mesh);
+        let on_gpu = g.layout(&layout, &mesh.points);
+        let on_cpu = cpu.layout(&layout, &mesh.points);
+        for m in METHODS.iter().filter(|m| m.layout_walk(false).is_some()) {
+            for kind in <tetwalk::walk::layouts::Kind as tetwalk::choice::Choice>::ALL {
+                let a = g.layout_walks(m, *kind, &on_gpu, &rays, max).unwrap();
+                let b = cpu.layout_walks(m, *kind, &on_cpu, &rays, max).unwrap();
+                assert_eq!(a.walks.len(), rays.len());
+                let differ = a.walks.iter().zip(&b.walks).filter(|(x, y)| x != y).count();
+                println!("{} {kind:?}: {differ} of {} differ", m.name, rays.len());
+                if exact_adapter {
+                    assert_eq!(a.walks, b.walks, "{} {kind:?}", m.name);
+                } else {
+                    assert!(differ * 20 < rays.len(), "{} {kind:?}: {differ}", m.name);
+                }
+                assert!(a.walks.iter().all(|(_, steps)| *steps >= 1));
+            }
+        }
+        // A method without a layout walk is refused with its name.
+        let maria17 = tetwalk::registry::by_name("maria17").unwrap();
+        let err = g
+            .layout_walks(
+                maria17,
+                tetwalk::walk::layouts::Kind::Tet20,
+                &on_gpu,
+                &rays,
+                max,
+            )
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(err.contains("maria17") && err.contains("layout"), "{err}");
+    }
 }

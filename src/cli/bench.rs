@@ -32,6 +32,12 @@ pub struct Args {
     /// Rays handed to a backend at once (whole views).
     #[arg(long, default_value_t = 1 << 22)]
     batch: usize,
+    /// Also time the walks over seed 003's layouts (Tet32, Tet20, Tet16) of the methods that have them.
+    #[arg(long)]
+    layouts: bool,
+    /// Put the mesh in Hilbert order first (seed 003 §3).
+    #[arg(long)]
+    hilbert: bool,
     /// Seed of the viewpoints' rotation.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
@@ -69,7 +75,10 @@ pub fn run(a: Args) -> Outcome {
         .into_iter()
         .map(Backend::open)
         .collect::<Result<Vec<_>, _>>()?;
-    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let mut mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    if a.hilbert {
+        mesh = crate::mesh::reorder::hilbert_sorted(&mesh);
+    }
     let views = Views {
         views: a.views,
         width,
@@ -81,10 +90,11 @@ pub fn run(a: Args) -> Outcome {
     let report = bench::run(
         &a.scene,
         &mesh,
+        a.hilbert,
         &views,
         &methods,
         &backends,
-        a.batch,
+        (a.batch, a.layouts),
         &|| bar.inc(1),
     )?;
     bar.finish_and_clear();

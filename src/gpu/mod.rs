@@ -2,9 +2,12 @@
 //! (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME` respected), headless. The shader and its buffer layouts are
 //! generated from the Rust definitions ([`shader`]).
 
+use crate::choice::Choice;
 use crate::mesh::Mesh;
+use crate::mesh::layout::Layout;
 use crate::registry::{Gpu as GpuSupport, Method};
 use crate::tet::{Ray, Tet};
+use crate::walk::layouts::{Kind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};
 use rayon::prelude::*;
 use shader::{Ending, GROUP, Params};
@@ -33,6 +36,10 @@ pub enum GpuError {
         method: &'static str,
         why: &'static str,
     },
+    #[error(
+        "method '{0}' has no layout walk (seed 003's layouts are walked by the 2-D frame methods)"
+    )]
+    NoLayoutWalk(&'static str),
     #[error("reading results back from the GPU failed: {0}")]
     Readback(String),
     #[error("the GPU wrote outcome code {0}, which no outcome kind has")]
@@ -261,13 +268,11 @@ impl Gpu {
         b
     }
 
-    /// Run `entry` over `count` items in one dispatch: item `i` of the input, `input(i)`, is made in
-    /// parallel and uploaded to binding `input_at`, `mesh`
-    /// lists (binding, buffer) made beforehand, and each output item of binding `out_at` is read
-    /// back through `output` (in parallel, straight from the mapped buffer), with the kernel time where
-    /// the adapter measures it.
-    #[allow(clippy::too_many_arguments)]
-    fn dispatch<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
+    /// Run `entry` over `count` (at least one) items in one dispatch: item `i` of the input,
+    /// `input(i)`, is made in parallel and uploaded to binding `input_at`, `mesh` lists (binding,
+    /// buffer) made beforehand, and the items of binding `out_at` are read back in parallel straight
+    /// from the mapped buffer, with the kernel time where the adapter measures it.
+    fn dispatch_once<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
         entry: &str,
         count: usize,
@@ -277,12 +282,6 @@ impl Gpu {
         out_at: u32,
     ) -> Result<Dispatched<T>, GpuError> {
         let pipeline = self.pipeline(entry)?;
-        if count == 0 {
-            return Ok(Dispatched {
-                items: Vec::new(),
-                kernel_seconds: Some(0.0),
-            });
-        }
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let (in_size, out_size) = (std::mem::size_of::<I>(), std::mem::size_of::<T>());
         let in_bytes = (count * in_size) as u64;
@@ -421,6 +420,39 @@ impl Gpu {
         })
     }
 
+    /// [`Gpu::dispatch_once`] over any count: as many dispatches as the adapter's largest binding
+    /// needs, their outputs in order, their kernel times summed.
+    fn dispatch<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
+        &self,
+        entry: &str,
+        count: usize,
+        max_steps: u32,
+        (input_at, input): (u32, &(dyn Fn(usize) -> I + Sync)),
+        mesh: &[(u32, &wgpu::Buffer)],
+        out_at: u32,
+    ) -> Result<Dispatched<T>, GpuError> {
+        self.pipeline(entry)?;
+        let per = self
+            .max_items(std::mem::size_of::<I>())
+            .min(self.max_items(std::mem::size_of::<T>()));
+        let mut out = Dispatched {
+            items: Vec::new(),
+            kernel_seconds: Some(0.0),
+        };
+        for first in (0..count).step_by(per) {
+            let n = per.min(count - first);
+            let shifted = |i: usize| input(first + i);
+            let d = self.dispatch_once(entry, n, max_steps, (input_at, &shifted), mesh, out_at)?;
+            out.kernel_seconds = out.kernel_seconds.zip(d.kernel_seconds).map(|(a, b)| a + b);
+            if out.items.is_empty() {
+                out.items = d.items;
+            } else {
+                out.items.extend(d.items);
+            }
+        }
+        Ok(out)
+    }
+
     /// Each case's answer by `method`, as the shader writes it: a face, [`NONE`] for no exit face, or
     /// [`shader::UNSETTLED`] for a case the CPU must answer.
     pub fn exit_faces(
@@ -429,12 +461,9 @@ impl Gpu {
         cases: &[shader::Case],
     ) -> Result<Vec<i32>, GpuError> {
         let [exit, _] = Self::entry_points(method)?;
-        let mut faces = Vec::with_capacity(cases.len());
-        for chunk in cases.chunks(self.max_items(std::mem::size_of::<shader::Case>())) {
-            let d = self.dispatch::<_, i32>(&exit, chunk.len(), 0, (1, &|i| chunk[i]), &[], 2)?;
-            faces.extend(d.items);
-        }
-        Ok(faces)
+        Ok(self
+            .dispatch::<_, i32>(&exit, cases.len(), 0, (1, &|i| cases[i]), &[], 2)?
+            .items)
     }
 
     /// Upload a mesh for [`Gpu::walks`].
@@ -474,8 +503,7 @@ impl Gpu {
     }
 
     /// Walk every ray from its starting tetrahedron with `method` on the GPU: each ray's ending, its
-    /// code checked ([`Ending::walk`] reads it). The kernel time is summed over the dispatches (as many
-    /// as the adapter's binding size needs).
+    /// code checked ([`Ending::walk`] reads it).
     pub fn walks(
         &self,
         method: &Method,
@@ -484,33 +512,99 @@ impl Gpu {
         max_steps: u32,
     ) -> Result<Dispatched<Ending>, GpuError> {
         let [_, walk] = Self::entry_points(method)?;
-        let per = self
-            .max_items(std::mem::size_of::<shader::WalkRay>())
-            .min(self.max_items(std::mem::size_of::<Ending>()));
-        let mut out = Dispatched {
-            items: Vec::new(),
-            kernel_seconds: Some(0.0),
-        };
-        for chunk in rays.chunks(per) {
-            let ray = |i: usize| shader::WalkRay::new(&chunk[i].0, chunk[i].1);
-            let mesh = [(4, &mesh.cells), (5, &mesh.info)];
-            let d: Dispatched<Ending> =
-                self.dispatch(&walk, chunk.len(), max_steps, (3, &ray), &mesh, 6)?;
-            out.kernel_seconds = out.kernel_seconds.zip(d.kernel_seconds).map(|(a, b)| a + b);
-            if let Some(bad) = d
-                .items
-                .par_iter()
-                .find_any(|e| e.kind != shader::FLAGGED && OutcomeKind::from_code(e.kind).is_none())
-            {
-                return Err(GpuError::BadOutcome(bad.kind));
-            }
-            if out.items.is_empty() {
-                out.items = d.items;
-            } else {
-                out.items.extend(d.items);
-            }
+        let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
+        let mesh = [(4, &mesh.cells), (5, &mesh.info)];
+        let out: Dispatched<Ending> =
+            self.dispatch(&walk, rays.len(), max_steps, (3, &ray), &mesh, 6)?;
+        if let Some(bad) = out
+            .items
+            .par_iter()
+            .find_any(|e| e.kind != shader::FLAGGED && OutcomeKind::from_code(e.kind).is_none())
+        {
+            return Err(GpuError::BadOutcome(bad.kind));
         }
         Ok(out)
+    }
+}
+
+impl Gpu {
+    /// Upload seed 003's three layouts of a mesh and its points for [`Gpu::layout_walks`].
+    pub fn upload_layout(&self, layout: &Layout, points: &[glam::Vec3]) -> GpuLayout {
+        let tet32: Vec<u32> = layout
+            .tet32
+            .iter()
+            .flat_map(|t| [t.v[0], t.v[1], t.v[2], t.vx, t.n[0], t.n[1], t.n[2], t.n[3]])
+            .collect();
+        let tet20: Vec<u32> = layout
+            .tet20
+            .iter()
+            .flat_map(|t| [t.vx, t.n[0], t.n[1], t.n[2], t.n[3]])
+            .collect();
+        let tet16: Vec<u32> = layout
+            .tet16
+            .iter()
+            .flat_map(|t| [t.vx, t.nx[0], t.nx[1], t.nx[2]])
+            .collect();
+        let points: Vec<[f32; 4]> = points.iter().map(|p| p.extend(0.0).to_array()).collect();
+        GpuLayout {
+            words: [&tet32, &tet20, &tet16].map(|w| self.storage(bytemuck::cast_slice(w))),
+            points: self.storage(bytemuck::cast_slice(&points)),
+            tetrahedra: layout.tet32.len(),
+        }
+    }
+
+    /// Walk every ray from its source tetrahedron over layout `kind` with `method` (seed 003
+    /// Algorithms 2-7); each ray's ending ([`Ending::layout_walk`] reads it), a face named by the
+    /// vertex across it.
+    pub fn layout_walks(
+        &self,
+        method: &Method,
+        kind: Kind,
+        layout: &GpuLayout,
+        rays: &[(Ray, Source)],
+        max_steps: u32,
+    ) -> Result<Dispatched<Ending>, GpuError> {
+        Self::entry_points(method)?;
+        if method.layout_walk(false).is_none() {
+            return Err(GpuError::NoLayoutWalk(method.name));
+        }
+        let entry = shader::layout_entry_point(method, kind);
+        let words = &layout.words[Kind::ALL.iter().position(|&k| k == kind).unwrap_or(0)];
+        let ray = |i: usize| {
+            let (r, s) = &rays[i];
+            shader::LayoutRay {
+                org: r.org.to_array(),
+                start: s.tet,
+                dir: r.dir.to_array(),
+                pad: 0,
+                vertices: s.vertices,
+                neighbors: s.neighbors,
+            }
+        };
+        let mesh = [(7, words), (8, &layout.points)];
+        self.dispatch(&entry, rays.len(), max_steps, (9, &ray), &mesh, 6)
+    }
+}
+
+/// Seed 003's layouts of a mesh and its points, uploaded to the GPU.
+pub struct GpuLayout {
+    /// Tet32, Tet20, Tet16, in [`Kind::ALL`] order.
+    words: [wgpu::Buffer; 3],
+    points: wgpu::Buffer,
+    pub tetrahedra: usize,
+}
+
+impl Ending {
+    /// The layout walk this ending says (a face named by the vertex across it), and its steps.
+    pub fn layout_walk(&self) -> Option<(LayoutOutcome, u32)> {
+        Some((
+            LayoutOutcome {
+                kind: OutcomeKind::from_code(self.kind)?,
+                tet: self.tet,
+                x: self.x,
+            },
+            self.steps,
+        ))
     }
 }
 

@@ -3,10 +3,13 @@
 //! method, around each method's hand-written WGSL (`src/methods/NAME.wgsl`). The result is committed as
 //! `src/gpu/tetwalk.wgsl` for reading; a test fails when it is stale (`TETWALK_BLESS=1` rewrites it).
 
+use crate::choice::Choice;
 use crate::mesh::HULL;
+use crate::mesh::layout::{BOUNDARY, STOP, Tet16, Tet20, Tet32};
 use crate::registry::{Gpu, METHODS, Method};
 use crate::tet::{EDGES, FACE_VERTICES, edge_index};
 use crate::walk::OutcomeKind;
+use crate::walk::layouts::Kind;
 use std::fmt::Write;
 
 /// Threads per workgroup.
@@ -56,6 +59,19 @@ shared_struct! {
         start: u32 => "u32",
         dir: [f32; 3] => "vec3f",
         pad: u32 => "u32",
+    }
+}
+
+shared_struct! {
+    /// One ray to walk over a compact layout, with its source tetrahedron (seed 003 §4.2): its vertices
+    /// and its neighbour fields as the layouts encode them.
+    LayoutRay {
+        org: [f32; 3] => "vec3f",
+        start: u32 => "u32",
+        dir: [f32; 3] => "vec3f",
+        pad: u32 => "u32",
+        vertices: [u32; 4] => "vec4u",
+        neighbors: [u32; 4] => "vec4u",
     }
 }
 
@@ -133,6 +149,10 @@ const BINDINGS: &str = "\
 // Bits 0-7: mirror face of each face (2 bits each); bits 8-11: constrained faces.
 @group(0) @binding(5) var<storage, read> faceinfo: array<u32>;
 @group(0) @binding(6) var<storage, read_write> endings: array<Ending>;
+// The layout walks: one layout's words, the mesh points, the rays with their source tetrahedra.
+@group(0) @binding(7) var<storage, read> layout_words: array<u32>;
+@group(0) @binding(8) var<storage, read> points: array<vec4f>;
+@group(0) @binding(9) var<storage, read> layout_rays: array<LayoutRay>;
 
 // The item a thread answers, numbered across the 2-D grid of workgroups.
 fn item(gid: vec3u, groups: vec3u) -> u32 {
@@ -215,6 +235,80 @@ fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
 }
 ";
 
+/// The layout walk of one method over one layout (`IDENT`, `KIND` replaced), as
+/// `crate::walk::layouts::walk_layout` does: the source's four vertices projected, §4's start, then per
+/// tetrahedron one vertex fetched (decoded from the xor-sum), projected, Algorithm 1, and the next
+/// tetrahedron decoded; Brent's detection on (tetrahedron, vertex across the exit face).
+const LAYOUT_ENTRY_POINT: &str = "\
+@compute @workgroup_size(GROUP)
+fn layout_IDENT_KIND(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = layout_rays[i];
+    let r = IDENT_prepare(ray.org, ray.dir);
+    var p4: array<vec2f, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        p4[k] = IDENT_project(r, points[ray.vertices[k]].xyz);
+    }
+    let f0 = start_exit_face(&p4);
+    if f0 < 0 {
+        endings[i] = Ending(NO_EXIT_FACE, ray.start, 0u, 1u);
+        return;
+    }
+    let f = u32(f0);
+    let fv = face_vertices(f);
+    var idx = vec3u(ray.vertices[fv.x], ray.vertices[fv.y], ray.vertices[fv.z]);
+    var p = array<vec2f, 3>(p4[fv.x], p4[fv.y], p4[fv.z]);
+    var tet = ray.start;
+    var next = ray.neighbors[f];
+    var across = ray.vertices[f];
+    var saved_tet = tet;
+    var saved_across = 0xffffffffu;
+    var power = 1u;
+    var lam = 0u;
+    var steps = 1u;
+    loop {
+        if (next & STOP) != 0u {
+            endings[i] = Ending(select(HIT, LEFT_MESH, next == (STOP | BOUNDARY)), tet, across, steps);
+            return;
+        }
+        lam += 1u;
+        if tet == saved_tet && across == saved_across {
+            endings[i] = Ending(CYCLE, next, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_across = across;
+            power = power * 2u;
+            lam = 0u;
+        }
+        if steps >= params.max_steps {
+            endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
+            return;
+        }
+        let prev = tet;
+        tet = next;
+        steps += 1u;
+        let fourth = idx.x ^ idx.y ^ idx.z ^ KIND_vx(tet);
+        let p3 = IDENT_project(r, points[fourth].xyz);
+        var q = array<vec2f, 4>(p[0], p[1], p[2], p3);
+        let k = get_exit_face(&q);
+        across = idx[k];
+        next = KIND_next(tet, prev, vec4u(idx, fourth), across);
+        idx[k] = fourth;
+        p[k] = p3;
+    }
+}
+";
+
+/// The layout entry point of `m` over `kind`: `layout_IDENT_KIND`.
+pub fn layout_entry_point(m: &Method, kind: Kind) -> String {
+    format!("layout_{}_{}", m.ident(), kind.name())
+}
+
 /// The whole WGSL module.
 pub fn generate() -> String {
     let mut s = String::from(
@@ -243,6 +337,8 @@ pub fn generate() -> String {
     s += WalkRay::WGSL;
     s += "\n";
     s += Cell::WGSL;
+    s += "\n";
+    s += LayoutRay::WGSL;
     s += "\n";
     s += Case::WGSL;
     s += "\n";
@@ -290,10 +386,38 @@ pub fn generate() -> String {
             }
         }
     }
+    s += "\n// Seed 003's layouts (tetwalk::mesh::layout).\n";
+    let words = |bytes: usize| bytes / std::mem::size_of::<u32>();
+    let _ = writeln!(
+        s,
+        "const TET32_WORDS: u32 = {}u;",
+        words(size_of::<Tet32>())
+    );
+    let _ = writeln!(
+        s,
+        "const TET20_WORDS: u32 = {}u;",
+        words(size_of::<Tet20>())
+    );
+    let _ = writeln!(
+        s,
+        "const TET16_WORDS: u32 = {}u;",
+        words(size_of::<Tet16>())
+    );
+    let _ = writeln!(s, "const STOP: u32 = {STOP:#x}u;");
+    let _ = writeln!(s, "const BOUNDARY: u32 = {BOUNDARY:#x}u;");
+    s += include_str!("../walk/layouts.wgsl");
     for m in METHODS {
         if let Gpu::Wgsl(_) = m.gpu {
             let _ = write!(s, "\n// ---- {} ----\n\n", m.name);
             s += &ENTRY_POINTS.replace("IDENT", &m.ident());
+            if m.layout_walk(false).is_some() {
+                for kind in Kind::ALL {
+                    s += "\n";
+                    s += &LAYOUT_ENTRY_POINT
+                        .replace("IDENT", &m.ident())
+                        .replace("KIND", kind.name());
+                }
+            }
         }
     }
     s

@@ -43,6 +43,15 @@ struct Cell {
     n3: u32,
 }
 
+struct LayoutRay {
+    org: vec3f,
+    start: u32,
+    dir: vec3f,
+    pad: u32,
+    vertices: vec4u,
+    neighbors: vec4u,
+}
+
 struct Case {
     v0: vec4f,
     v1: vec4f,
@@ -72,6 +81,10 @@ struct Ending {
 // Bits 0-7: mirror face of each face (2 bits each); bits 8-11: constrained faces.
 @group(0) @binding(5) var<storage, read> faceinfo: array<u32>;
 @group(0) @binding(6) var<storage, read_write> endings: array<Ending>;
+// The layout walks: one layout's words, the mesh points, the rays with their source tetrahedra.
+@group(0) @binding(7) var<storage, read> layout_words: array<u32>;
+@group(0) @binding(8) var<storage, read> points: array<vec4f>;
+@group(0) @binding(9) var<storage, read> layout_rays: array<LayoutRay>;
 
 // The item a thread answers, numbered across the 2-D grid of workgroups.
 fn item(gid: vec3u, groups: vec3u) -> u32 {
@@ -402,17 +415,9 @@ fn get_exit_face(p: ptr<function, array<vec2f, 4>>) -> u32 {
     return exit;
 }
 
-// §4: with an entry face, Algorithm 1 over its vertices (outward cycle reversed) and the opposite
-// vertex; without, the first face whose projected outward cycle has the origin on the left of all three
-// edges, not all on them. `p` holds the four projected vertices.
-fn exit_2d(p: ptr<function, array<vec2f, 4>>, entry: i32) -> i32 {
-    if entry >= 0 {
-        let e = u32(entry);
-        let a = face_vertices(e);
-        let idx = vec4u(a.x, a.z, a.y, e);
-        var q = array<vec2f, 4>((*p)[idx.x], (*p)[idx.y], (*p)[idx.z], (*p)[idx.w]);
-        return i32(idx[get_exit_face(&q)]);
-    }
+// §4's exit from the starting tetrahedron, from its four projected vertices: the first face whose
+// projected outward cycle has the origin on the left of all three edges, not all on them.
+fn start_exit_face(p: ptr<function, array<vec2f, 4>>) -> i32 {
     for (var f = 0u; f < 4u; f++) {
         let v = face_vertices(f);
         var x: vec3f;
@@ -424,6 +429,19 @@ fn exit_2d(p: ptr<function, array<vec2f, 4>>, entry: i32) -> i32 {
         }
     }
     return NONE;
+}
+
+// §4: with an entry face, Algorithm 1 over its vertices (outward cycle reversed) and the opposite
+// vertex; without, start_exit_face. `p` holds the four projected vertices.
+fn exit_2d(p: ptr<function, array<vec2f, 4>>, entry: i32) -> i32 {
+    if entry >= 0 {
+        let e = u32(entry);
+        let a = face_vertices(e);
+        let idx = vec4u(a.x, a.z, a.y, e);
+        var q = array<vec2f, 4>((*p)[idx.x], (*p)[idx.y], (*p)[idx.z], (*p)[idx.w]);
+        return i32(idx[get_exit_face(&q)]);
+    }
+    return start_exit_face(p);
 }
 
 // The ray origin and the orthonormal basis of Duff et al. 2017 around the unit direction.
@@ -443,11 +461,16 @@ fn aman20_prepare(o: vec3f, d: vec3f) -> DuffFrame {
     return DuffFrame(o, u, v);
 }
 
+// Algorithm 2's projection: (u · (p - o), v · (p - o)).
+fn aman20_project(r: DuffFrame, p: vec3f) -> vec2f {
+    let q = p - r.org;
+    return vec2f(dot3(r.u, q), dot3(r.v, q));
+}
+
 fn aman20_exit(t: ptr<function, array<vec3f, 4>>, r: DuffFrame, entry: i32) -> i32 {
     var p: array<vec2f, 4>;
     for (var k = 0u; k < 4u; k++) {
-        let q = (*t)[k] - r.org;
-        p[k] = vec2f(dot3(r.u, q), dot3(r.v, q));
+        p[k] = aman20_project(r, (*t)[k]);
     }
     return exit_2d(&p, entry);
 }
@@ -485,7 +508,7 @@ fn aman20_scaled_prepare(o: vec3f, n: vec3f) -> ScaledFrame {
 }
 
 // Eq. 3: 3 sub, 3 mul, 3 add.
-fn scaled_project(f: ScaledFrame, p: vec3f) -> vec2f {
+fn aman20_scaled_project(f: ScaledFrame, p: vec3f) -> vec2f {
     let q = p - f.org;
     let mx = f.idx.x;
     let mn = f.idx.y;
@@ -498,7 +521,7 @@ fn scaled_project(f: ScaledFrame, p: vec3f) -> vec2f {
 fn aman20_scaled_exit(t: ptr<function, array<vec3f, 4>>, r: ScaledFrame, entry: i32) -> i32 {
     var p: array<vec2f, 4>;
     for (var k = 0u; k < 4u; k++) {
-        p[k] = scaled_project(r, (*t)[k]);
+        p[k] = aman20_scaled_project(r, (*t)[k]);
     }
     return exit_2d(&p, entry);
 }
@@ -604,6 +627,68 @@ fn certified_exit(t: ptr<function, array<vec3f, 4>>, r: CertifiedRay, entry: i32
     }
     // The perturbed line passes beside the tetrahedron: the CPU answers as exact does.
     return UNSETTLED;
+}
+
+// Seed 003's layouts (tetwalk::mesh::layout).
+const TET32_WORDS: u32 = 8u;
+const TET20_WORDS: u32 = 5u;
+const TET16_WORDS: u32 = 4u;
+const STOP: u32 = 0x80000000u;
+const BOUNDARY: u32 = 0x7fffffffu;
+// Seed 003's compact layouts on the GPU, as src/walk/layouts.rs and src/mesh/layout.rs walk them: each
+// layout is an array of u32 words, LAYOUT_WORDS per tetrahedron (generated from the Rust structs).
+
+// Rank of vertex index x among a tetrahedron's four (0 for the smallest).
+fn rank(v: vec4u, x: u32) -> u32 {
+    return u32(v.x < x) + u32(v.y < x) + u32(v.z < x) + u32(v.w < x);
+}
+
+// Tet32 (Figure 2): v0 v1 v2, the xor-sum, four neighbours (across v0, v1, v2, the fourth).
+fn tet32_vx(t: u32) -> u32 {
+    return layout_words[t * TET32_WORDS + 3u];
+}
+
+// Algorithm 3 (GETNEXTTET32): the neighbour across vertex `across`.
+fn tet32_next(t: u32, prev: u32, all: vec4u, across: u32) -> u32 {
+    let b = t * TET32_WORDS;
+    var next = layout_words[b + 7u];
+    for (var i = 0u; i < 3u; i++) {
+        if across == layout_words[b + i] {
+            next = layout_words[b + 4u + i];
+        }
+    }
+    return next;
+}
+
+// Tet20 (Figure 3): the xor-sum, the neighbours sorted by the index of the vertex they are across.
+fn tet20_vx(t: u32) -> u32 {
+    return layout_words[t * TET20_WORDS];
+}
+
+// Algorithm 5 (GETNEXTTET20): the neighbour at the exit vertex's rank.
+fn tet20_next(t: u32, prev: u32, all: vec4u, across: u32) -> u32 {
+    return layout_words[t * TET20_WORDS + 1u + rank(all, across)];
+}
+
+// Tet16 (Figure 4): the xor-sum and NX_j = N_j xor N_3 over Tet20's sorted neighbours.
+fn tet16_vx(t: u32) -> u32 {
+    return layout_words[t * TET16_WORDS];
+}
+
+// Algorithm 7 (GETNEXTTET16): from the previous tetrahedron (at the rank of the newly fetched vertex,
+// all.w) to the one at the exit vertex's rank.
+fn tet16_next(t: u32, prev: u32, all: vec4u, across: u32) -> u32 {
+    let b = t * TET16_WORDS + 1u;
+    let order_a = rank(all, all.w);
+    let order_b = rank(all, across);
+    var next = prev;
+    if order_a != 3u {
+        next ^= layout_words[b + order_a];
+    }
+    if order_b != 3u {
+        next ^= layout_words[b + order_b];
+    }
+    return next;
 }
 
 // ---- ray-plane ----
@@ -1075,6 +1160,195 @@ fn walk_aman20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
 }
 
+@compute @workgroup_size(GROUP)
+fn layout_aman20_tet32(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = layout_rays[i];
+    let r = aman20_prepare(ray.org, ray.dir);
+    var p4: array<vec2f, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        p4[k] = aman20_project(r, points[ray.vertices[k]].xyz);
+    }
+    let f0 = start_exit_face(&p4);
+    if f0 < 0 {
+        endings[i] = Ending(NO_EXIT_FACE, ray.start, 0u, 1u);
+        return;
+    }
+    let f = u32(f0);
+    let fv = face_vertices(f);
+    var idx = vec3u(ray.vertices[fv.x], ray.vertices[fv.y], ray.vertices[fv.z]);
+    var p = array<vec2f, 3>(p4[fv.x], p4[fv.y], p4[fv.z]);
+    var tet = ray.start;
+    var next = ray.neighbors[f];
+    var across = ray.vertices[f];
+    var saved_tet = tet;
+    var saved_across = 0xffffffffu;
+    var power = 1u;
+    var lam = 0u;
+    var steps = 1u;
+    loop {
+        if (next & STOP) != 0u {
+            endings[i] = Ending(select(HIT, LEFT_MESH, next == (STOP | BOUNDARY)), tet, across, steps);
+            return;
+        }
+        lam += 1u;
+        if tet == saved_tet && across == saved_across {
+            endings[i] = Ending(CYCLE, next, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_across = across;
+            power = power * 2u;
+            lam = 0u;
+        }
+        if steps >= params.max_steps {
+            endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
+            return;
+        }
+        let prev = tet;
+        tet = next;
+        steps += 1u;
+        let fourth = idx.x ^ idx.y ^ idx.z ^ tet32_vx(tet);
+        let p3 = aman20_project(r, points[fourth].xyz);
+        var q = array<vec2f, 4>(p[0], p[1], p[2], p3);
+        let k = get_exit_face(&q);
+        across = idx[k];
+        next = tet32_next(tet, prev, vec4u(idx, fourth), across);
+        idx[k] = fourth;
+        p[k] = p3;
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn layout_aman20_tet20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = layout_rays[i];
+    let r = aman20_prepare(ray.org, ray.dir);
+    var p4: array<vec2f, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        p4[k] = aman20_project(r, points[ray.vertices[k]].xyz);
+    }
+    let f0 = start_exit_face(&p4);
+    if f0 < 0 {
+        endings[i] = Ending(NO_EXIT_FACE, ray.start, 0u, 1u);
+        return;
+    }
+    let f = u32(f0);
+    let fv = face_vertices(f);
+    var idx = vec3u(ray.vertices[fv.x], ray.vertices[fv.y], ray.vertices[fv.z]);
+    var p = array<vec2f, 3>(p4[fv.x], p4[fv.y], p4[fv.z]);
+    var tet = ray.start;
+    var next = ray.neighbors[f];
+    var across = ray.vertices[f];
+    var saved_tet = tet;
+    var saved_across = 0xffffffffu;
+    var power = 1u;
+    var lam = 0u;
+    var steps = 1u;
+    loop {
+        if (next & STOP) != 0u {
+            endings[i] = Ending(select(HIT, LEFT_MESH, next == (STOP | BOUNDARY)), tet, across, steps);
+            return;
+        }
+        lam += 1u;
+        if tet == saved_tet && across == saved_across {
+            endings[i] = Ending(CYCLE, next, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_across = across;
+            power = power * 2u;
+            lam = 0u;
+        }
+        if steps >= params.max_steps {
+            endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
+            return;
+        }
+        let prev = tet;
+        tet = next;
+        steps += 1u;
+        let fourth = idx.x ^ idx.y ^ idx.z ^ tet20_vx(tet);
+        let p3 = aman20_project(r, points[fourth].xyz);
+        var q = array<vec2f, 4>(p[0], p[1], p[2], p3);
+        let k = get_exit_face(&q);
+        across = idx[k];
+        next = tet20_next(tet, prev, vec4u(idx, fourth), across);
+        idx[k] = fourth;
+        p[k] = p3;
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn layout_aman20_tet16(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = layout_rays[i];
+    let r = aman20_prepare(ray.org, ray.dir);
+    var p4: array<vec2f, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        p4[k] = aman20_project(r, points[ray.vertices[k]].xyz);
+    }
+    let f0 = start_exit_face(&p4);
+    if f0 < 0 {
+        endings[i] = Ending(NO_EXIT_FACE, ray.start, 0u, 1u);
+        return;
+    }
+    let f = u32(f0);
+    let fv = face_vertices(f);
+    var idx = vec3u(ray.vertices[fv.x], ray.vertices[fv.y], ray.vertices[fv.z]);
+    var p = array<vec2f, 3>(p4[fv.x], p4[fv.y], p4[fv.z]);
+    var tet = ray.start;
+    var next = ray.neighbors[f];
+    var across = ray.vertices[f];
+    var saved_tet = tet;
+    var saved_across = 0xffffffffu;
+    var power = 1u;
+    var lam = 0u;
+    var steps = 1u;
+    loop {
+        if (next & STOP) != 0u {
+            endings[i] = Ending(select(HIT, LEFT_MESH, next == (STOP | BOUNDARY)), tet, across, steps);
+            return;
+        }
+        lam += 1u;
+        if tet == saved_tet && across == saved_across {
+            endings[i] = Ending(CYCLE, next, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_across = across;
+            power = power * 2u;
+            lam = 0u;
+        }
+        if steps >= params.max_steps {
+            endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
+            return;
+        }
+        let prev = tet;
+        tet = next;
+        steps += 1u;
+        let fourth = idx.x ^ idx.y ^ idx.z ^ tet16_vx(tet);
+        let p3 = aman20_project(r, points[fourth].xyz);
+        var q = array<vec2f, 4>(p[0], p[1], p[2], p3);
+        let k = get_exit_face(&q);
+        across = idx[k];
+        next = tet16_next(tet, prev, vec4u(idx, fourth), across);
+        idx[k] = fourth;
+        p[k] = p3;
+    }
+}
+
 // ---- aman20-scaled ----
 
 @compute @workgroup_size(GROUP)
@@ -1140,6 +1414,195 @@ fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wo
         }
     }
     endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+}
+
+@compute @workgroup_size(GROUP)
+fn layout_aman20_scaled_tet32(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = layout_rays[i];
+    let r = aman20_scaled_prepare(ray.org, ray.dir);
+    var p4: array<vec2f, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        p4[k] = aman20_scaled_project(r, points[ray.vertices[k]].xyz);
+    }
+    let f0 = start_exit_face(&p4);
+    if f0 < 0 {
+        endings[i] = Ending(NO_EXIT_FACE, ray.start, 0u, 1u);
+        return;
+    }
+    let f = u32(f0);
+    let fv = face_vertices(f);
+    var idx = vec3u(ray.vertices[fv.x], ray.vertices[fv.y], ray.vertices[fv.z]);
+    var p = array<vec2f, 3>(p4[fv.x], p4[fv.y], p4[fv.z]);
+    var tet = ray.start;
+    var next = ray.neighbors[f];
+    var across = ray.vertices[f];
+    var saved_tet = tet;
+    var saved_across = 0xffffffffu;
+    var power = 1u;
+    var lam = 0u;
+    var steps = 1u;
+    loop {
+        if (next & STOP) != 0u {
+            endings[i] = Ending(select(HIT, LEFT_MESH, next == (STOP | BOUNDARY)), tet, across, steps);
+            return;
+        }
+        lam += 1u;
+        if tet == saved_tet && across == saved_across {
+            endings[i] = Ending(CYCLE, next, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_across = across;
+            power = power * 2u;
+            lam = 0u;
+        }
+        if steps >= params.max_steps {
+            endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
+            return;
+        }
+        let prev = tet;
+        tet = next;
+        steps += 1u;
+        let fourth = idx.x ^ idx.y ^ idx.z ^ tet32_vx(tet);
+        let p3 = aman20_scaled_project(r, points[fourth].xyz);
+        var q = array<vec2f, 4>(p[0], p[1], p[2], p3);
+        let k = get_exit_face(&q);
+        across = idx[k];
+        next = tet32_next(tet, prev, vec4u(idx, fourth), across);
+        idx[k] = fourth;
+        p[k] = p3;
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn layout_aman20_scaled_tet20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = layout_rays[i];
+    let r = aman20_scaled_prepare(ray.org, ray.dir);
+    var p4: array<vec2f, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        p4[k] = aman20_scaled_project(r, points[ray.vertices[k]].xyz);
+    }
+    let f0 = start_exit_face(&p4);
+    if f0 < 0 {
+        endings[i] = Ending(NO_EXIT_FACE, ray.start, 0u, 1u);
+        return;
+    }
+    let f = u32(f0);
+    let fv = face_vertices(f);
+    var idx = vec3u(ray.vertices[fv.x], ray.vertices[fv.y], ray.vertices[fv.z]);
+    var p = array<vec2f, 3>(p4[fv.x], p4[fv.y], p4[fv.z]);
+    var tet = ray.start;
+    var next = ray.neighbors[f];
+    var across = ray.vertices[f];
+    var saved_tet = tet;
+    var saved_across = 0xffffffffu;
+    var power = 1u;
+    var lam = 0u;
+    var steps = 1u;
+    loop {
+        if (next & STOP) != 0u {
+            endings[i] = Ending(select(HIT, LEFT_MESH, next == (STOP | BOUNDARY)), tet, across, steps);
+            return;
+        }
+        lam += 1u;
+        if tet == saved_tet && across == saved_across {
+            endings[i] = Ending(CYCLE, next, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_across = across;
+            power = power * 2u;
+            lam = 0u;
+        }
+        if steps >= params.max_steps {
+            endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
+            return;
+        }
+        let prev = tet;
+        tet = next;
+        steps += 1u;
+        let fourth = idx.x ^ idx.y ^ idx.z ^ tet20_vx(tet);
+        let p3 = aman20_scaled_project(r, points[fourth].xyz);
+        var q = array<vec2f, 4>(p[0], p[1], p[2], p3);
+        let k = get_exit_face(&q);
+        across = idx[k];
+        next = tet20_next(tet, prev, vec4u(idx, fourth), across);
+        idx[k] = fourth;
+        p[k] = p3;
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn layout_aman20_scaled_tet16(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = layout_rays[i];
+    let r = aman20_scaled_prepare(ray.org, ray.dir);
+    var p4: array<vec2f, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        p4[k] = aman20_scaled_project(r, points[ray.vertices[k]].xyz);
+    }
+    let f0 = start_exit_face(&p4);
+    if f0 < 0 {
+        endings[i] = Ending(NO_EXIT_FACE, ray.start, 0u, 1u);
+        return;
+    }
+    let f = u32(f0);
+    let fv = face_vertices(f);
+    var idx = vec3u(ray.vertices[fv.x], ray.vertices[fv.y], ray.vertices[fv.z]);
+    var p = array<vec2f, 3>(p4[fv.x], p4[fv.y], p4[fv.z]);
+    var tet = ray.start;
+    var next = ray.neighbors[f];
+    var across = ray.vertices[f];
+    var saved_tet = tet;
+    var saved_across = 0xffffffffu;
+    var power = 1u;
+    var lam = 0u;
+    var steps = 1u;
+    loop {
+        if (next & STOP) != 0u {
+            endings[i] = Ending(select(HIT, LEFT_MESH, next == (STOP | BOUNDARY)), tet, across, steps);
+            return;
+        }
+        lam += 1u;
+        if tet == saved_tet && across == saved_across {
+            endings[i] = Ending(CYCLE, next, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_across = across;
+            power = power * 2u;
+            lam = 0u;
+        }
+        if steps >= params.max_steps {
+            endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
+            return;
+        }
+        let prev = tet;
+        tet = next;
+        steps += 1u;
+        let fourth = idx.x ^ idx.y ^ idx.z ^ tet16_vx(tet);
+        let p3 = aman20_scaled_project(r, points[fourth].xyz);
+        var q = array<vec2f, 4>(p[0], p[1], p[2], p3);
+        let k = get_exit_face(&q);
+        across = idx[k];
+        next = tet16_next(tet, prev, vec4u(idx, fourth), across);
+        idx[k] = fourth;
+        p[k] = p3;
+    }
 }
 
 // ---- certified ----

@@ -13,17 +13,9 @@ fn get_exit_face(p: ptr<function, array<vec2f, 4>>) -> u32 {
     return exit;
 }
 
-// §4: with an entry face, Algorithm 1 over its vertices (outward cycle reversed) and the opposite
-// vertex; without, the first face whose projected outward cycle has the origin on the left of all three
-// edges, not all on them. `p` holds the four projected vertices.
-fn exit_2d(p: ptr<function, array<vec2f, 4>>, entry: i32) -> i32 {
-    if entry >= 0 {
-        let e = u32(entry);
-        let a = face_vertices(e);
-        let idx = vec4u(a.x, a.z, a.y, e);
-        var q = array<vec2f, 4>((*p)[idx.x], (*p)[idx.y], (*p)[idx.z], (*p)[idx.w]);
-        return i32(idx[get_exit_face(&q)]);
-    }
+// §4's exit from the starting tetrahedron, from its four projected vertices: the first face whose
+// projected outward cycle has the origin on the left of all three edges, not all on them.
+fn start_exit_face(p: ptr<function, array<vec2f, 4>>) -> i32 {
     for (var f = 0u; f < 4u; f++) {
         let v = face_vertices(f);
         var x: vec3f;
@@ -35,6 +27,19 @@ fn exit_2d(p: ptr<function, array<vec2f, 4>>, entry: i32) -> i32 {
         }
     }
     return NONE;
+}
+
+// §4: with an entry face, Algorithm 1 over its vertices (outward cycle reversed) and the opposite
+// vertex; without, start_exit_face. `p` holds the four projected vertices.
+fn exit_2d(p: ptr<function, array<vec2f, 4>>, entry: i32) -> i32 {
+    if entry >= 0 {
+        let e = u32(entry);
+        let a = face_vertices(e);
+        let idx = vec4u(a.x, a.z, a.y, e);
+        var q = array<vec2f, 4>((*p)[idx.x], (*p)[idx.y], (*p)[idx.z], (*p)[idx.w]);
+        return i32(idx[get_exit_face(&q)]);
+    }
+    return start_exit_face(p);
 }
 
 // The ray origin and the orthonormal basis of Duff et al. 2017 around the unit direction.
@@ -54,11 +59,16 @@ fn aman20_prepare(o: vec3f, d: vec3f) -> DuffFrame {
     return DuffFrame(o, u, v);
 }
 
+// Algorithm 2's projection: (u · (p - o), v · (p - o)).
+fn aman20_project(r: DuffFrame, p: vec3f) -> vec2f {
+    let q = p - r.org;
+    return vec2f(dot3(r.u, q), dot3(r.v, q));
+}
+
 fn aman20_exit(t: ptr<function, array<vec3f, 4>>, r: DuffFrame, entry: i32) -> i32 {
     var p: array<vec2f, 4>;
     for (var k = 0u; k < 4u; k++) {
-        let q = (*t)[k] - r.org;
-        p[k] = vec2f(dot3(r.u, q), dot3(r.v, q));
+        p[k] = aman20_project(r, (*t)[k]);
     }
     return exit_2d(&p, entry);
 }

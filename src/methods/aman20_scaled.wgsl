@@ -31,7 +31,7 @@ fn aman20_scaled_prepare(o: vec3f, n: vec3f) -> ScaledFrame {
 }
 
 // Eq. 3: 3 sub, 3 mul, 3 add.
-fn scaled_project(f: ScaledFrame, p: vec3f) -> vec2f {
+fn aman20_scaled_project(f: ScaledFrame, p: vec3f) -> vec2f {
     let q = p - f.org;
     let mx = f.idx.x;
     let mn = f.idx.y;
@@ -44,7 +44,7 @@ fn scaled_project(f: ScaledFrame, p: vec3f) -> vec2f {
 fn aman20_scaled_exit(t: ptr<function, array<vec3f, 4>>, r: ScaledFrame, entry: i32) -> i32 {
     var p: array<vec2f, 4>;
     for (var k = 0u; k < 4u; k++) {
-        p[k] = scaled_project(r, (*t)[k]);
+        p[k] = aman20_scaled_project(r, (*t)[k]);
     }
     return exit_2d(&p, entry);
 }

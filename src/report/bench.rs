@@ -6,9 +6,11 @@
 use crate::backend::{Backend, BackendError};
 use crate::choice::Choice;
 use crate::mesh::Mesh;
+use crate::mesh::layout::Layout;
 use crate::registry::{Gpu, Method};
 use crate::scenes::camera::Views;
 use crate::tet::Ray;
+use crate::walk::layouts::{Kind, Source};
 use crate::walk::{default_max_steps, locate};
 use std::time::Instant;
 
@@ -28,6 +30,8 @@ pub enum BenchError {
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BenchRow {
     pub method: String,
+    /// `cells` (the mesh's cells: 80 bytes on the CPU, 64 on the GPU) or one of seed 003's layouts.
+    pub layout: String,
     pub backend: String,
     pub rays: u64,
     /// Tetrahedra traversed.
@@ -51,6 +55,8 @@ pub struct BenchReport {
     pub batch: usize,
     /// Each backend, with its adapter and driver for a GPU.
     pub backends: Vec<String>,
+    /// Whether the mesh was put in Hilbert order first (seed 003 §3).
+    pub hilbert: bool,
     pub rows: Vec<BenchRow>,
 }
 
@@ -63,31 +69,53 @@ pub fn runs_on<'a>(methods: &[&'a Method], backend: &Backend) -> Vec<&'a Method>
         .collect()
 }
 
+/// What one row times: a method's walk over the mesh's cells, or over one of seed 003's layouts.
+#[derive(Clone, Copy)]
+enum Walker<'a> {
+    Cells(&'a Method),
+    Layout(&'a Method, Kind),
+}
+
 /// Time every method on every backend over the views' primary rays, `batch` rays at most at once
-/// (whole views; one view when a view is larger).
+/// (whole views; one view when a view is larger); with `layouts`, also the methods that walk seed
+/// 003's layouts over Tet32, Tet20 and Tet16. `hilbert` records that the mesh was put in Hilbert order.
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     scene: &str,
     mesh: &Mesh,
+    hilbert: bool,
     views: &Views,
     methods: &[&Method],
     backends: &[Backend],
-    batch: usize,
+    (batch, layouts): (usize, bool),
     tick: &dyn Fn(),
 ) -> Result<BenchReport, BenchError> {
     let (lo, hi) = crate::mesh::bounds(&mesh.points);
     let max = default_max_steps(mesh);
+    let layout = layouts.then(|| Layout::build(mesh));
     let mut rows: Vec<BenchRow> = Vec::new();
-    // (row, backend, method) in the order they are timed.
-    let mut plan: Vec<(usize, usize, &Method)> = Vec::new();
+    // (row, backend, what) in the order they are timed.
+    let mut plan: Vec<(usize, usize, Walker)> = Vec::new();
     for (bi, b) in backends.iter().enumerate() {
         let on = runs_on(methods, b);
         if on.is_empty() {
             return Err(BenchError::NoMethod(b.describe()));
         }
-        for m in on {
-            plan.push((rows.len(), bi, m));
+        let mut walkers: Vec<Walker> = on.iter().map(|m| Walker::Cells(m)).collect();
+        if layout.is_some() {
+            for m in on.iter().filter(|m| m.layout_walk(false).is_some()) {
+                walkers.extend(Kind::ALL.iter().map(|k| Walker::Layout(m, *k)));
+            }
+        }
+        for w in walkers {
+            let (m, layout) = match w {
+                Walker::Cells(m) => (m, "cells"),
+                Walker::Layout(m, k) => (m, k.name()),
+            };
+            plan.push((rows.len(), bi, w));
             rows.push(BenchRow {
                 method: m.name.to_string(),
+                layout: layout.to_string(),
                 backend: b.kind().name().to_string(),
                 rays: 0,
                 tetrahedra: 0,
@@ -98,6 +126,10 @@ pub fn run(
         }
     }
     let meshes: Vec<_> = backends.iter().map(|b| b.mesh(mesh)).collect();
+    let layouts_on: Vec<_> = backends
+        .iter()
+        .map(|b| layout.as_ref().map(|l| b.layout(l, &mesh.points)))
+        .collect();
     let per_view = views.width as usize * views.height as usize;
     let views_per_batch = (batch / per_view.max(1)).max(1);
     let (mut start, mut timed, mut warm) = (0, 0, false);
@@ -119,25 +151,39 @@ pub fn run(
         if rays.is_empty() {
             continue;
         }
-        if !warm {
-            // Compile every pipeline and size every buffer before timing.
-            for &(_, b, m) in &plan {
-                backends[b].walks_from(m, &meshes[b], &rays, max)?;
+        let sourced: Vec<(Ray, Source)> = layout.as_ref().map_or(Vec::new(), |l| {
+            rays.iter().map(|(r, s)| (*r, Source::new(l, *s))).collect()
+        });
+        // One pass per walker; the first batch once more before, untimed, to compile every pipeline
+        // and size every buffer.
+        let passes = if warm { 1 } else { 2 };
+        warm = true;
+        for pass in 0..passes {
+            for &(row, b, w) in &plan {
+                let t0 = Instant::now();
+                let (steps, kernel, flagged) = match w {
+                    Walker::Cells(m) => {
+                        let done = backends[b].walks_from(m, &meshes[b], &rays, max)?;
+                        let steps = done.walks.iter().map(|w| w.steps as u64).sum::<u64>();
+                        (steps, done.kernel_seconds, done.flagged as u64)
+                    }
+                    Walker::Layout(m, kind) => {
+                        let Some(on) = &layouts_on[b] else { continue };
+                        let done = backends[b].layout_walks(m, kind, on, &sourced, max)?;
+                        let steps = done.walks.iter().map(|w| w.1 as u64).sum::<u64>();
+                        (steps, done.kernel_seconds, 0)
+                    }
+                };
+                if pass + 1 < passes {
+                    continue;
+                }
+                let r = &mut rows[row];
+                r.seconds += t0.elapsed().as_secs_f64();
+                r.kernel_seconds = r.kernel_seconds.zip(kernel).map(|(a, k)| a + k);
+                r.rays += rays.len() as u64;
+                r.tetrahedra += steps;
+                r.flagged += flagged;
             }
-            warm = true;
-        }
-        for &(row, b, m) in &plan {
-            let t0 = Instant::now();
-            let done = backends[b].walks_from(m, &meshes[b], &rays, max)?;
-            let r = &mut rows[row];
-            r.seconds += t0.elapsed().as_secs_f64();
-            r.kernel_seconds = r
-                .kernel_seconds
-                .zip(done.kernel_seconds)
-                .map(|(a, k)| a + k);
-            r.rays += rays.len() as u64;
-            r.tetrahedra += done.walks.iter().map(|w| w.steps as u64).sum::<u64>();
-            r.flagged += done.flagged as u64;
         }
     }
     if timed == 0 {
@@ -150,6 +196,7 @@ pub fn run(
         views_timed: timed,
         batch: views_per_batch * per_view,
         backends: backends.iter().map(Backend::describe).collect(),
+        hilbert,
         rows,
     })
 }
@@ -157,9 +204,14 @@ pub fn run(
 impl BenchReport {
     pub fn markdown(&self) -> String {
         let mut out = format!(
-            "walk speed on {} ({} tetrahedra): {} of {} views of {}x{} inside the mesh, {} rays at most per batch\n\n",
+            "walk speed on {} ({} tetrahedra{}): {} of {} views of {}x{} inside the mesh, {} rays at most per batch\n\n",
             self.scene,
             self.tetrahedra_in_mesh,
+            if self.hilbert {
+                ", in Hilbert order"
+            } else {
+                ""
+            },
             self.views_timed,
             self.views.views,
             self.views.width,
@@ -170,13 +222,14 @@ impl BenchReport {
             out += &format!("- {b}\n");
         }
         out += "\n";
-        out += "| method | backend | rays | Φ (tetrahedra/ray) | end to end Mrays/s | end to end Mtets/s | kernel Mrays/s | kernel Mtets/s | flagged |\n|---|---|---|---|---|---|---|---|---|\n";
+        out += "| method | layout | backend | rays | Φ (tetrahedra/ray) | end to end Mrays/s | end to end Mtets/s | kernel Mrays/s | kernel Mtets/s | flagged |\n|---|---|---|---|---|---|---|---|---|---|\n";
         for r in &self.rows {
             let per = |n: u64, s: f64| format!("{:.1}", n as f64 / s.max(1e-12) / 1e6);
             let kernel = |n: u64| r.kernel_seconds.map_or("-".to_string(), |k| per(n, k));
             out += &format!(
-                "| {} | {} | {} | {:.1} | {} | {} | {} | {} | {} |\n",
+                "| {} | {} | {} | {} | {:.1} | {} | {} | {} | {} | {} |\n",
                 r.method,
+                r.layout,
                 r.backend,
                 r.rays,
                 r.tetrahedra as f64 / r.rays.max(1) as f64,
