@@ -8,7 +8,7 @@ use super::maria17::{FACE_VERTICES, GET_FACE};
 use super::plucker::exit_by_sides;
 use super::{Arith, Exact, ExitMethod};
 use crate::tet::{EDGES, Ray, Tet};
-use glam::Vec3;
+use glam::{Vec3, Vec3A, Vec3Swizzles};
 use std::cell::Cell;
 
 /// Half an ulp of 1 in f32 (Shewchuk's ε for single precision).
@@ -47,6 +47,8 @@ fn exact_side(a: Vec3, b: Vec3, ray: &Ray) -> i8 {
 #[derive(Clone, Copy, Debug)]
 pub struct CertifiedRay {
     ray: Ray,
+    org: Vec3A,
+    dir: Vec3A,
     underflow: f32,
 }
 
@@ -54,26 +56,23 @@ pub struct CertifiedRay {
 /// product `w` (and the absolute values its error bound needs, `m`) computed once for every `a` (as
 /// Maria et al.'s translated moment is computed once per tetrahedron).
 struct Apex {
-    b: Vec3,
-    w: Vec3,
-    m: Vec3,
+    b: Vec3A,
+    w: Vec3A,
+    m: Vec3A,
 }
 
 impl Apex {
     #[inline(always)]
     fn new(b: Vec3, r: &CertifiedRay) -> Apex {
-        let (q, d) = (b - r.ray.org, r.ray.dir);
-        let (x1, x2) = (q.y * d.z, q.z * d.y);
-        let (y1, y2) = (q.z * d.x, q.x * d.z);
-        let (z1, z2) = (q.x * d.y, q.y * d.x);
+        let b = Vec3A::from(b);
+        let (q, d) = (b - r.org, r.dir);
+        // w = q × d, each component the difference of two products, m the sum of their magnitudes.
+        let p1 = q.yzx() * d.zxy();
+        let p2 = q.zxy() * d.yzx();
         Apex {
             b,
-            w: Vec3::new(x1 - x2, y1 - y2, z1 - z2),
-            m: Vec3::new(
-                x1.abs() + x2.abs(),
-                y1.abs() + y2.abs(),
-                z1.abs() + z2.abs(),
-            ),
+            w: p1 - p2,
+            m: p1.abs() + p2.abs(),
         }
     }
 
@@ -82,9 +81,9 @@ impl Apex {
     /// the edge, or is parallel to it).
     #[inline(always)]
     fn side(&self, a: Vec3, r: &CertifiedRay) -> i8 {
-        let e = a - self.b;
-        let det = e.x * self.w.x + e.y * self.w.y + e.z * self.w.z;
-        let permanent = e.x.abs() * self.m.x + e.y.abs() * self.m.y + e.z.abs() * self.m.z;
+        let e = Vec3A::from(a) - self.b;
+        let det = e.dot(self.w);
+        let permanent = e.abs().dot(self.m);
         let bound = O3DERRBOUND_A * permanent + r.underflow;
         // Branch on whether the sign is settled (nearly always), never on the sign itself, which is as
         // likely one way as the other (Maria et al.'s tree is branch-free for the same reason).
@@ -92,7 +91,7 @@ impl Apex {
             (det > 0.0) as i8 * 2 - 1
         } else {
             // Not settled, or not finite: decide exactly; 0 is a tie.
-            exact_side(a, self.b, &r.ray)
+            exact_side(a, self.b.into(), &r.ray)
         }
     }
 }
@@ -159,6 +158,8 @@ impl ExitMethod for Certified {
     fn prepare<A: Arith>(ray: &Ray) -> CertifiedRay {
         CertifiedRay {
             ray: *ray,
+            org: ray.org.into(),
+            dir: ray.dir.into(),
             underflow: UNDERFLOW * (1.0 + ray.dir.abs().max_element()),
         }
     }
