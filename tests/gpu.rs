@@ -274,3 +274,26 @@ fn layout_walks_on_the_gpu_equal_the_cpu_ones() {
         assert!(err.contains("maria17") && err.contains("layout"), "{err}");
     }
 }
+
+/// A batch larger than one dispatch ([`tetwalk::gpu::DISPATCH_RUN`] items) is split into several:
+/// the answers come back complete and in order — `certified`'s equal the CPU's case for case on any adapter (what the GPU cannot settle,
+/// the CPU answers).
+#[test]
+fn batches_larger_than_one_dispatch_come_back_whole_and_in_order() {
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
+    let base = near_cases(21, 4000);
+    let n = tetwalk::gpu::DISPATCH_RUN + 12_345;
+    let cases: Vec<Case> = (0..n).map(|i| base[(i * 7919) % base.len()]).collect();
+    let certified = tetwalk::registry::by_name("certified").unwrap();
+    let on_gpu = g.exit_faces(certified, &cases).unwrap();
+    let on_cpu = Backend::Cpu { fma: false }
+        .exit_faces(certified, &cases)
+        .unwrap();
+    assert_eq!(on_gpu.len(), n);
+    assert!(
+        on_gpu == on_cpu,
+        "certified answers differ between the GPU and the CPU"
+    );
+}

@@ -29,8 +29,9 @@ pub struct Args {
     /// Backends, comma-separated (`cpu`, `cpu-fma`, `gpu`), timed on the same rays in one run.
     #[arg(long, default_value = "cpu")]
     backend: String,
-    /// Rays handed to a backend at once (whole views).
-    #[arg(long, default_value_t = 1 << 22)]
+    /// Rays handed to a backend at once (whole views; one 1024² view by default: larger batches were
+    /// slower end to end on an H200, their host buffers being fresh memory each time).
+    #[arg(long, default_value_t = 1 << 20)]
     batch: usize,
     /// Also time the walks over seed 003's layouts (Tet32, Tet20, Tet16) of the methods that have them.
     #[arg(long)]

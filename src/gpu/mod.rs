@@ -98,6 +98,9 @@ pub struct Gpu {
     scratch: Mutex<HashMap<&'static str, wgpu::Buffer>>,
 }
 
+/// Items of one dispatch at most (a test sends batches larger than this).
+pub const DISPATCH_RUN: usize = 1 << 22;
+
 /// Items made and staged at once by one task of an upload.
 const UPLOAD_RUN: usize = 1 << 16;
 
@@ -318,19 +321,31 @@ impl Gpu {
         };
         self.queue
             .write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
-        // Made and staged in parallel, in runs of [`UPLOAD_RUN`] items (each `write_buffer` copies
-        // its run into staging memory of its own).
+        // Made in parallel straight into a kept upload buffer mapped for writing, in runs of
+        // [`UPLOAD_RUN`] items (each run a mapped range of its own), then copied on the GPU.
+        let upload = self.scratch(
+            &mut kept,
+            "upload",
+            in_bytes,
+            wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC,
+        );
+        let in_span = 0..in_bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        self.map(&upload, wgpu::MapMode::Write, in_span.clone())?;
         (0..count.div_ceil(UPLOAD_RUN))
             .into_par_iter()
-            .for_each(|run| {
+            .try_for_each(|run| {
                 let first = run * UPLOAD_RUN;
-                let items: Vec<I> = (first..count.min(first + UPLOAD_RUN)).map(input).collect();
-                self.queue.write_buffer(
-                    &input_buf,
-                    (first * in_size) as u64,
-                    bytemuck::cast_slice(&items),
-                );
-            });
+                let last = count.min(first + UPLOAD_RUN);
+                let items: Vec<I> = (first..last).map(input).collect();
+                let span = (first * in_size) as u64..(last * in_size) as u64;
+                let mut view = upload
+                    .slice(span)
+                    .get_mapped_range_mut()
+                    .map_err(|e| GpuError::Readback(e.to_string()))?;
+                view.copy_from_slice(bytemuck::cast_slice(&items));
+                Ok::<(), GpuError>(())
+            })?;
+        upload.unmap();
         let mut entries = vec![
             wgpu::BindGroupEntry {
                 binding: 0,
@@ -358,6 +373,7 @@ impl Gpu {
         let groups = (count as u32).div_ceil(GROUP);
         let x = groups.min(self.max_groups);
         let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(&upload, 0, &input_buf, 0, in_span.end);
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(entry),
@@ -385,17 +401,8 @@ impl Gpu {
         }
         enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes);
         self.queue.submit([enc.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
         let span = 0..out_bytes + TIMESTAMP_BYTES;
-        read.map_async(wgpu::MapMode::Read, span.clone(), move |r| {
-            let _ = tx.send(r);
-        });
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.map(&read, wgpu::MapMode::Read, span.clone())?;
         let (items, kernel_seconds) = {
             let bytes = read
                 .get_mapped_range(span)
@@ -420,8 +427,27 @@ impl Gpu {
         })
     }
 
-    /// [`Gpu::dispatch_once`] over any count: as many dispatches as the adapter's largest binding
-    /// needs, their outputs in order, their kernel times summed.
+    /// Map `span` of `buffer` and wait until it is mapped.
+    fn map(
+        &self,
+        buffer: &wgpu::Buffer,
+        mode: wgpu::MapMode,
+        span: std::ops::Range<u64>,
+    ) -> Result<(), GpuError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        buffer.map_async(mode, span, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .map_err(|e| GpuError::Readback(e.to_string()))
+    }
+
+    /// [`Gpu::dispatch_once`] over any count: dispatches of at most [`DISPATCH_RUN`] items (and what
+    /// the adapter's largest binding holds), their outputs in order, their kernel times summed.
     fn dispatch<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
         entry: &str,
@@ -434,7 +460,8 @@ impl Gpu {
         self.pipeline(entry)?;
         let per = self
             .max_items(std::mem::size_of::<I>())
-            .min(self.max_items(std::mem::size_of::<T>()));
+            .min(self.max_items(std::mem::size_of::<T>()))
+            .min(DISPATCH_RUN);
         let mut out = Dispatched {
             items: Vec::new(),
             kernel_seconds: Some(0.0),

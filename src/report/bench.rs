@@ -12,6 +12,7 @@ use crate::scenes::camera::Views;
 use crate::tet::Ray;
 use crate::walk::layouts::{Kind, Source};
 use crate::walk::{default_max_steps, locate};
+use rayon::prelude::*;
 use std::time::Instant;
 
 #[derive(Debug, thiserror::Error)]
@@ -161,24 +162,27 @@ pub fn run(
         for pass in 0..passes {
             for &(row, b, w) in &plan {
                 let t0 = Instant::now();
-                let (steps, kernel, flagged) = match w {
+                // The clock stops when the walks are back; counting their steps is not timed.
+                let (seconds, steps, kernel, flagged) = match w {
                     Walker::Cells(m) => {
                         let done = backends[b].walks_from(m, &meshes[b], &rays, max)?;
-                        let steps = done.walks.iter().map(|w| w.steps as u64).sum::<u64>();
-                        (steps, done.kernel_seconds, done.flagged as u64)
+                        let seconds = t0.elapsed().as_secs_f64();
+                        let steps = done.walks.par_iter().map(|w| w.steps as u64).sum::<u64>();
+                        (seconds, steps, done.kernel_seconds, done.flagged as u64)
                     }
                     Walker::Layout(m, kind) => {
                         let Some(on) = &layouts_on[b] else { continue };
                         let done = backends[b].layout_walks(m, kind, on, &sourced, max)?;
-                        let steps = done.walks.iter().map(|w| w.1 as u64).sum::<u64>();
-                        (steps, done.kernel_seconds, 0)
+                        let seconds = t0.elapsed().as_secs_f64();
+                        let steps = done.walks.par_iter().map(|w| w.1 as u64).sum::<u64>();
+                        (seconds, steps, done.kernel_seconds, 0)
                     }
                 };
                 if pass + 1 < passes {
                     continue;
                 }
                 let r = &mut rows[row];
-                r.seconds += t0.elapsed().as_secs_f64();
+                r.seconds += seconds;
                 r.kernel_seconds = r.kernel_seconds.zip(kernel).map(|(a, k)| a + k);
                 r.rays += rays.len() as u64;
                 r.tetrahedra += steps;
