@@ -4,8 +4,8 @@
 
 use crate::methods::aman20::Frame;
 use crate::methods::{
-    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Fused, HalfSpace, Maria17, Ms06,
-    Plain, Plucker, Query, RayPlane, Stp, time_queries,
+    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Fused, HalfSpace, Maria17,
+    MomentFirst, Ms06, OriginFirst, Plain, Plucker, Query, RayPlane, Stp, time_queries,
 };
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{self, LayoutWalkFn};
@@ -42,6 +42,7 @@ const PLUCKER: &str = include_str!("methods/plucker.wgsl");
 const STP: &str = include_str!("methods/stp.wgsl");
 const MS06: &str = include_str!("methods/ms06.wgsl");
 const MARIA17: &str = include_str!("methods/maria17.wgsl");
+const MARIA17_TRANSLATED: &str = include_str!("methods/maria17_translated.wgsl");
 const AMAN20: &str = include_str!("methods/aman20.wgsl");
 const AMAN20_SCALED: &str = include_str!("methods/aman20_scaled.wgsl");
 const CERTIFIED: &str = include_str!("methods/certified.wgsl");
@@ -197,11 +198,17 @@ pub static METHODS: &[Method] = &[
         false,
         Gpu::Wgsl(&[PLUCKER, MS06]),
     ),
-    Method::of::<Maria17>(
+    Method::of::<Maria17<MomentFirst>>(
         "maria17",
-        "Maria, Horna, Aveneau 2017, Algorithms 1-2, Tables 1-2, translated frame of §3.4",
+        "Maria, Horna, Aveneau 2017, Algorithms 1-2, Tables 1-2, translated frame of §3.4 by its formula v' = v - V_f × u",
         true,
         Gpu::Wgsl(&[MARIA17]),
+    ),
+    Method::of::<Maria17<OriginFirst>>(
+        "maria17-translated",
+        "Maria, Horna, Aveneau 2017 as maria17, §3.4 by its stated order of operations v' = (o - V_f) × u",
+        true,
+        Gpu::Wgsl(&[MARIA17, MARIA17_TRANSLATED]),
     ),
     Method::planar::<Aman20>(
         "aman20",

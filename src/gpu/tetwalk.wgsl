@@ -377,27 +377,53 @@ fn maria17_prepare(o: vec3f, d: vec3f) -> Maria17Ray {
     return Maria17Ray(d, cross3(o, d));
 }
 
-// §3.4: the moment in the frame translated to V_f, v' = v - V_f × u.
+// §3.4's formula: the moment in the frame translated to V_f, v' = v - V_f × u.
 fn maria17_moment(r: Maria17Ray, vf: vec3f) -> vec3f {
     return r.v - cross3(vf, r.u);
+}
+
+// Algorithm 2's fake entry face in the starting tetrahedron, from v' in the frame of V_3.
+fn maria17_start(t: ptr<function, array<vec3f, 4>>, m3: vec3f) -> i32 {
+    let s = dot3(m3, (*t)[3] - (*t)[2]);
+    return select(0, 1, s < 0.0);
+}
+
+// Algorithm 1 from entry face e, given v' in the frame of V_f = t[e]: two side products, no branch.
+fn maria17_tree(t: ptr<function, array<vec3f, 4>>, e: u32, moment: vec3f) -> i32 {
+    let vf = (*t)[e];
+    let lambda = maria17_face_vertices(e);
+    let s2 = dot3(moment, vf - (*t)[lambda.z]);
+    var id = select(0u, 1u, s2 >= 0.0);
+    let s = dot3(moment, vf - (*t)[lambda[id]]);
+    id = id + select(0u, 1u, s < 0.0);
+    return i32(maria17_get_face(e)[id]);
 }
 
 fn maria17_exit(t: ptr<function, array<vec3f, 4>>, r: Maria17Ray, entry: i32) -> i32 {
     var e = entry;
     if e < 0 {
-        let vf = (*t)[3];
-        let s = dot3(maria17_moment(r, vf), vf - (*t)[2]);
-        e = select(0, 1, s < 0.0);
+        e = maria17_start(t, maria17_moment(r, (*t)[3]));
     }
-    let eu = u32(e);
-    let vf = (*t)[eu];
-    let moment = maria17_moment(r, vf);
-    let lambda = maria17_face_vertices(eu);
-    let s2 = dot3(moment, vf - (*t)[lambda.z]);
-    var id = select(0u, 1u, s2 >= 0.0);
-    let s = dot3(moment, vf - (*t)[lambda[id]]);
-    id = id + select(0u, 1u, s < 0.0);
-    return i32(maria17_get_face(eu)[id]);
+    return maria17_tree(t, u32(e), maria17_moment(r, (*t)[u32(e)]));
+}
+
+// maria17-translated (§3.4's order of operations), as src/methods/maria17.rs; builds on maria17.wgsl.
+
+fn maria17_translated_prepare(o: vec3f, d: vec3f) -> Ray {
+    return Ray(o, d);
+}
+
+// v' = (o - V_f) × u: 3 subtractions, 6 multiplications and 3 subtractions.
+fn maria17_translated_moment(r: Ray, vf: vec3f) -> vec3f {
+    return cross3(r.o - vf, r.d);
+}
+
+fn maria17_translated_exit(t: ptr<function, array<vec3f, 4>>, r: Ray, entry: i32) -> i32 {
+    var e = entry;
+    if e < 0 {
+        e = maria17_start(t, maria17_translated_moment(r, (*t)[3]));
+    }
+    return maria17_tree(t, u32(e), maria17_translated_moment(r, (*t)[u32(e)]));
 }
 
 // aman20 (Aman, Demirci, Güdükbay §4, Duff et al. 2017 frame), as src/methods/aman20.rs.
@@ -1057,6 +1083,73 @@ fn walk_maria17(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = maria17_exit(&t, r, entry);
+        if f == UNSETTLED {
+            endings[i] = Ending(FLAGGED, tet, 0u, steps);
+            return;
+        }
+        if f < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
+            return;
+        }
+        let fu = u32(f);
+        let info = faceinfo[tet];
+        if ((info >> (8u + fu)) & 1u) == 1u {
+            endings[i] = Ending(HIT, tet, fu, steps);
+            return;
+        }
+        let next = neighbor(c, fu);
+        if next == HULL {
+            endings[i] = Ending(LEFT_MESH, tet, fu, steps);
+            return;
+        }
+        entry = i32((info >> (2u * fu)) & 3u);
+        tet = next;
+        lam += 1u;
+        if tet == saved_tet && entry == saved_entry {
+            endings[i] = Ending(CYCLE, tet, lam, steps);
+            return;
+        }
+        if lam == power {
+            saved_tet = tet;
+            saved_entry = entry;
+            power = power * 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+}
+
+// ---- maria17-translated ----
+
+@compute @workgroup_size(GROUP)
+fn exit_maria17_translated(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let c = cases[i];
+    var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
+    faces[i] = maria17_translated_exit(&t, maria17_translated_prepare(c.org.xyz, c.dir.xyz), c.entry);
+}
+
+@compute @workgroup_size(GROUP)
+fn walk_maria17_translated(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    let r = maria17_translated_prepare(ray.org, ray.dir);
+    var tet = ray.start;
+    var entry = NONE;
+    var saved_tet = tet;
+    var saved_entry = entry;
+    var power = 1u;
+    var lam = 0u;
+    for (var steps = 1u; steps <= params.max_steps; steps++) {
+        let c = cells[tet];
+        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
+        let f = maria17_translated_exit(&t, r, entry);
         if f == UNSETTLED {
             endings[i] = Ending(FLAGGED, tet, 0u, steps);
             return;

@@ -22,7 +22,7 @@ pub use aman20::{Aman20, Aman20Scaled};
 pub use certified::Certified;
 pub use exact::Exact;
 pub use halfspace::HalfSpace;
-pub use maria17::Maria17;
+pub use maria17::{Maria17, MomentFirst, OriginFirst};
 pub use ms06::Ms06;
 pub use plucker::Plucker;
 pub use ray_plane::RayPlane;
