@@ -201,3 +201,40 @@ fn gpu_findings_record_their_adapter_and_replay_only_on_it() {
         "maria17's found cases fail on the GPU too (neighbourhoods included)"
     );
 }
+
+/// The README's register of claims ("What the papers claim and what we found"): its counterexample,
+/// written out there exactly, is replayed here. One tetrahedron with a ray entering through face 1 and
+/// leaving through face 3 only (no tie): both readings of seed 000 §3.4 answer face 2, seed 003's scaled
+/// basis answers face 0 where the unscaled one is right, and `certified` is right.
+#[test]
+fn the_claims_register_counterexample_replays() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/corpora/found/maria17/exit_face-wrong_face-50e741ec2f3d.json"
+    ))
+    .unwrap();
+    let r = Record::parse(text.trim()).unwrap();
+    let Subject::Exit(case) = r.subject else {
+        panic!("an exit case")
+    };
+    let written = r#"{"tet":[[6.5,-5.583333,1.0],[15.5,15.0,15.5],[-5.5,-16.0,-16.0],[-16.0,-16.0,-16.0]],"org":[-64.0,-64.0,-64.0],"dir":[70.5,58.416668,65.0],"entry":1}"#;
+    assert_eq!(
+        Subject::parse(written).unwrap(),
+        r.subject,
+        "the README writes it out exactly"
+    );
+    let c = tetwalk::cases::classify(&case).unwrap();
+    assert_eq!(c.exit.to_vec(), vec![3]);
+    assert_eq!(c.entry.to_vec(), vec![1]);
+    let cpu = Backend::Cpu { fma: false };
+    for (name, answer) in [
+        ("maria17", 2),
+        ("maria17-translated", 2),
+        ("aman20", 3),
+        ("aman20-scaled", 0),
+        ("certified", 3),
+    ] {
+        let m = tetwalk::registry::by_name(name).unwrap();
+        assert_eq!(cpu.exit_face(m, &case).unwrap(), Some(answer), "{name}");
+    }
+}
