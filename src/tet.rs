@@ -65,6 +65,23 @@ pub fn edge_index(i: usize, j: usize) -> (usize, bool) {
 /// Face permutation applied by [`normalize`] when it swaps vertices 0 and 1.
 pub const SWAP01: [usize; 4] = [1, 0, 2, 3];
 
+/// The 12 orientation-preserving relabellings of a tetrahedron's vertices (the even permutations; new
+/// vertex `i` is old vertex `p[i]`), the identity first.
+pub const EVEN_PERMUTATIONS: [[usize; 4]; 12] = [
+    [0, 1, 2, 3],
+    [1, 2, 0, 3],
+    [2, 0, 1, 3],
+    [1, 3, 2, 0],
+    [3, 0, 2, 1],
+    [2, 1, 3, 0],
+    [3, 1, 0, 2],
+    [0, 2, 3, 1],
+    [0, 3, 1, 2],
+    [1, 0, 3, 2],
+    [2, 3, 0, 1],
+    [3, 2, 1, 0],
+];
+
 /// **The orientation convention**, stated once: a tetrahedron `[v0, v1, v2, v3]` is positively oriented
 /// (+1) when `robust::orient3d(v0, v1, v2, v3) > 0`, i.e. `v3` lies below the plane of `v0, v1, v2` seen
 /// counterclockwise from above; the labelling Maria et al. 2017 Table 2 assumes. Exact; 0 when flat.

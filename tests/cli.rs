@@ -426,3 +426,70 @@ fn replay_found_cases_says_whether_each_fails_again() {
         );
     }
 }
+
+/// `walk --relabel all` walks under the 12 orientation-preserving relabellings: the own labelling's
+/// wrong results and cycles are the main table's, `certified` is right under every one, and maria17's
+/// cycles on the Kuhn grid depend on the labelling.
+#[test]
+fn walk_relabel_all_reports_each_methods_spread() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("walk.json");
+    let (code, out, err) = tetwalk(
+        &[
+            "walk",
+            "--mesh",
+            "kuhn",
+            "--size",
+            "4",
+            "--rays",
+            "2000",
+            "--methods",
+            "maria17,certified",
+            "--relabel",
+            "all",
+            "--json",
+            json.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("| maria17 |") && out.contains("cycles, own"),
+        "{out}"
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let cycle = tetwalk::walk::OutcomeKind::Cycle.code() as usize;
+    for (m, x) in r["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(r["relabellings"].as_array().unwrap())
+    {
+        assert_eq!(m["method"], x["method"]);
+        assert_eq!(m["wrong"], x["wrong"][0], "{m} {x}");
+        assert_eq!(m["kinds"][cycle], x["cycles"][0], "{m} {x}");
+        let counts = |k: &str| -> Vec<u64> {
+            x[k].as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_u64().unwrap())
+                .collect()
+        };
+        if m["method"] == "certified" {
+            assert!(counts("wrong").iter().all(|&w| w == 0), "{x}");
+        } else {
+            let c = counts("cycles");
+            assert!(
+                c.iter().max() > c.iter().min(),
+                "maria17's cycles depend on the labelling: {c:?}"
+            );
+        }
+    }
+    let (code, _, err) = tetwalk(&["walk", "--relabel", "all", "--layout", "tet20"], "");
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--relabel") && err.contains("--layout"),
+        "{err}"
+    );
+}

@@ -307,3 +307,48 @@ fn interleaved_walks_equal_walks_one_at_a_time() {
         assert!(kinds.contains(&k), "no walk ended {k:?}: {kinds:?}");
     }
 }
+
+/// Relabelling every tetrahedron by an even permutation keeps the mesh (the same tetrahedra,
+/// neighbours and constrained faces, positively oriented) and the exact walks' results: where a ray
+/// first meets the constrained faces does not depend on labels.
+#[test]
+fn relabelled_meshes_keep_the_exact_results() {
+    let mesh = scenes::generated_mesh(Generated::Jitter, 4, Vec3::ZERO, 3).unwrap();
+    let exact = by_name("exact").unwrap();
+    let rays = scenes::rays(Generated::Jitter, &mesh, Vec3::ZERO, 300, 9);
+    let max = default_max_steps(&mesh);
+    for p in tetwalk::tet::EVEN_PERMUTATIONS {
+        let r = mesh.relabelled(p).unwrap();
+        assert_eq!(r.flipped, 0, "{p:?} keeps the orientation");
+        assert_eq!(r.tets.len(), mesh.tets.len());
+        let constrained = |m: &Mesh| m.constrained.iter().map(|c| c.count_ones()).sum::<u32>();
+        assert_eq!(constrained(&r), constrained(&mesh));
+        for (t, v) in r.tets.iter().enumerate() {
+            assert_eq!(*v, p.map(|i| mesh.tets[t][i]));
+            assert_eq!(r.neighbors[t], p.map(|i| mesh.neighbors[t][i]));
+        }
+        for ray in &rays {
+            let (Ok(a), Ok(b)) = (locate(&mesh, ray.org, 0), locate(&r, ray.org, 0)) else {
+                continue;
+            };
+            let wa = exact.walk(false)(&mesh, ray, a, max);
+            let mut wb = exact.walk(false)(&r, ray, b, max);
+            // Back to the original labels: face f of the relabelled tetrahedron is its face p[f].
+            wb.outcome = match wb.outcome {
+                Outcome::Hit { tet, face } => Outcome::Hit {
+                    tet,
+                    face: p[face as usize] as u8,
+                },
+                Outcome::LeftMesh { tet, face } => Outcome::LeftMesh {
+                    tet,
+                    face: p[face as usize] as u8,
+                },
+                o => o,
+            };
+            assert!(
+                tetwalk::walk::same_result(&mesh, ray, &wb, &wa),
+                "{p:?}: {wa:?} / {wb:?} for {ray:?}"
+            );
+        }
+    }
+}

@@ -7,8 +7,9 @@ use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
 use crate::registry::{parse_list, reference};
 use crate::scenes::{self, Generated};
+use crate::tet::EVEN_PERMUTATIONS;
 use crate::walk::layouts::{Kind, Source};
-use crate::walk::{Walk, default_max_steps, locate, same_result};
+use crate::walk::{OutcomeKind, Walk, default_max_steps, locate, same_result};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -45,6 +46,11 @@ pub struct Args {
     /// Reorder points and tetrahedra along a Hilbert curve, by region, first (seed 003 §5).
     #[arg(long)]
     hilbert: bool,
+    /// `all`: also walk under each of the 12 orientation-preserving relabellings of the tetrahedra
+    /// (the same for the whole mesh) and report, per method, wrong results and cycles with the mesh's
+    /// own labelling beside their min / median / max over the 12.
+    #[arg(long, value_parser = ["all"])]
+    relabel: Option<String>,
     /// Also write the table as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -69,6 +75,14 @@ struct Row {
     tally: Tally,
 }
 
+/// One method under the 12 relabellings: wrong results and cycles for each, the identity first.
+#[derive(serde::Serialize)]
+struct Relabelled {
+    method: String,
+    wrong: [u64; 12],
+    cycles: [u64; 12],
+}
+
 #[derive(serde::Serialize)]
 struct WalkReport {
     mesh: Generated,
@@ -80,6 +94,8 @@ struct WalkReport {
     seed: u64,
     backend: String,
     methods: Vec<Row>,
+    /// With `--relabel all`.
+    relabellings: Option<Vec<Relabelled>>,
 }
 
 pub fn run(a: Args) -> Outcome {
@@ -103,53 +119,19 @@ pub fn run(a: Args) -> Outcome {
     } else {
         mesh
     };
+    if a.relabel.is_some() && a.layout.is_some() {
+        return Err("--relabel walks the plain mesh; leave out --layout".into());
+    }
     let layout = a.layout.map(|_| Layout::build(&mesh));
     let rays = scenes::rays(a.mesh, &mesh, offset, a.rays, a.seed);
-    let max = default_max_steps(&mesh);
-    let exact = reference();
-    let per_ray: Vec<Option<Vec<Tally>>> = rays
-        .par_iter()
-        .map(|ray| {
-            let start = locate(&mesh, ray.org, 0).ok()?;
-            let reference = exact.walk(false)(&mesh, ray, start, max);
-            let tallies = methods
-                .iter()
-                .map(|m| {
-                    let on_layout = a.layout.zip(layout.as_ref()).zip(m.layout_walk(fma));
-                    let (w, div) = match on_layout {
-                        Some(((kind, layout), walk)) => {
-                            let (end, steps) = walk(
-                                kind,
-                                layout,
-                                &mesh.points,
-                                ray,
-                                &Source::new(layout, start),
-                                max,
-                            );
-                            (
-                                Walk {
-                                    outcome: end.to_outcome(&mesh),
-                                    steps,
-                                },
-                                None,
-                            )
-                        }
-                        None => m.walk_checked(fma)(&mesh, ray, start, max),
-                    };
-                    let mut t = Tally {
-                        rays: 1,
-                        steps: w.steps as u64,
-                        ..Tally::default()
-                    };
-                    t.kinds[w.outcome.kind().code() as usize] = 1;
-                    t.wrong = !same_result(&mesh, ray, &w, &reference) as u64;
-                    t.diverged = div.is_some() as u64;
-                    t
-                })
-                .collect();
-            Some(tallies)
-        })
-        .collect();
+    let per_ray = walk_tallies(
+        &mesh,
+        &rays,
+        &methods,
+        fma,
+        a.layout.zip(layout.as_ref()),
+        true,
+    );
     let outside = per_ray.iter().filter(|r| r.is_none()).count();
     println!(
         "mesh {:?} size {} offset {} ({} tetrahedra), {} rays, seed {}, {}{}\n",
@@ -180,6 +162,7 @@ pub fn run(a: Args) -> Outcome {
         seed: a.seed,
         backend: a.backend.backend.name().into(),
         methods: Vec::new(),
+        relabellings: None,
     };
     for (i, m) in methods.iter().enumerate() {
         let mut s = Tally::default();
@@ -217,6 +200,115 @@ pub fn run(a: Args) -> Outcome {
             tally: s,
         });
     }
+    if a.relabel.is_some() {
+        report.relabellings = Some(relabellings(&mesh, &rays, &methods, fma)?);
+    }
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Per ray (none when its origin is outside the mesh), each method's tally: checked walks (every step
+/// judged, so that "diverged" is measured) or plain ones.
+fn walk_tallies(
+    mesh: &crate::mesh::Mesh,
+    rays: &[crate::tet::Ray],
+    methods: &[&'static crate::registry::Method],
+    fma: bool,
+    layout: Option<(Kind, &Layout)>,
+    checked: bool,
+) -> Vec<Option<Vec<Tally>>> {
+    let max = default_max_steps(mesh);
+    let exact = reference();
+    rays.par_iter()
+        .map(|ray| {
+            let start = locate(mesh, ray.org, 0).ok()?;
+            let reference = exact.walk(false)(mesh, ray, start, max);
+            let tallies = methods
+                .iter()
+                .map(|m| {
+                    let (w, div) = match layout.zip(m.layout_walk(fma)) {
+                        Some(((kind, layout), walk)) => {
+                            let (end, steps) = walk(
+                                kind,
+                                layout,
+                                &mesh.points,
+                                ray,
+                                &Source::new(layout, start),
+                                max,
+                            );
+                            (
+                                Walk {
+                                    outcome: end.to_outcome(mesh),
+                                    steps,
+                                },
+                                None,
+                            )
+                        }
+                        None if checked => m.walk_checked(fma)(mesh, ray, start, max),
+                        None => (m.walk(fma)(mesh, ray, start, max), None),
+                    };
+                    let mut t = Tally {
+                        rays: 1,
+                        steps: w.steps as u64,
+                        ..Tally::default()
+                    };
+                    t.kinds[w.outcome.kind().code() as usize] = 1;
+                    t.wrong = !same_result(mesh, ray, &w, &reference) as u64;
+                    t.diverged = div.is_some() as u64;
+                    t
+                })
+                .collect();
+            Some(tallies)
+        })
+        .collect()
+}
+
+/// Every method's wrong results and cycles under each of the 12 orientation-preserving relabellings
+/// ([`EVEN_PERMUTATIONS`], the identity first), printed with min / median / max.
+fn relabellings(
+    mesh: &crate::mesh::Mesh,
+    rays: &[crate::tet::Ray],
+    methods: &[&'static crate::registry::Method],
+    fma: bool,
+) -> Result<Vec<Relabelled>, super::Error> {
+    let mut out: Vec<Relabelled> = methods
+        .iter()
+        .map(|m| Relabelled {
+            method: m.name.into(),
+            wrong: [0; 12],
+            cycles: [0; 12],
+        })
+        .collect();
+    for (k, p) in EVEN_PERMUTATIONS.iter().enumerate() {
+        let relabelled = mesh.relabelled(*p)?;
+        for t in walk_tallies(&relabelled, rays, methods, fma, None, false)
+            .iter()
+            .flatten()
+        {
+            for (r, t) in out.iter_mut().zip(t) {
+                r.wrong[k] += t.wrong;
+                r.cycles[k] += t.kinds[OutcomeKind::Cycle.code() as usize];
+            }
+        }
+    }
+    let spread = |v: &[u64; 12]| {
+        let mut s = *v;
+        s.sort_unstable();
+        format!("{} | {} | {} | {}", v[0], s[0], (s[5] + s[6]) / 2, s[11])
+    };
+    println!(
+        "\nunder the 12 orientation-preserving relabellings (own: the mesh's labelling; median of 12: mean of the 6th and 7th)\n"
+    );
+    println!(
+        "| method | wrong, own | min | median | max | cycles, own | min | median | max |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    for r in &out {
+        println!(
+            "| {} | {} | {} |",
+            r.method,
+            spread(&r.wrong),
+            spread(&r.cycles)
+        );
+    }
+    Ok(out)
 }

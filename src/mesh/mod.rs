@@ -89,6 +89,18 @@ pub enum Item {
 }
 
 impl Mesh {
+    /// The same mesh with every tetrahedron's vertices relabelled by `p` (new vertex `i` is old vertex
+    /// `p[i]`, so the neighbour across new face `i` is the old one across face `p[i]`; an even
+    /// permutation keeps the orientation), checked again.
+    pub fn relabelled(&self, p: [usize; 4]) -> Result<Mesh, MeshError> {
+        let mut raw = self.to_raw();
+        raw.tets = raw.tets.iter().map(|v| p.map(|i| v[i])).collect();
+        raw.neighbors = raw
+            .neighbors
+            .map(|n| n.iter().map(|r| p.map(|i| r[i])).collect());
+        Mesh::build(raw)
+    }
+
     /// Check `raw` and build the mesh, naming places with plain indices.
     pub fn build(raw: RawMesh) -> Result<Mesh, MeshError> {
         Self::build_at(raw, &|item| match item {
