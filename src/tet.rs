@@ -23,6 +23,18 @@ pub struct Case {
 }
 
 impl Case {
+    /// The same case with the tetrahedron's vertices relabelled by `p` (new vertex `i` is old vertex
+    /// `p[i]`, so new face `f` is old face `p[f]`); the entry face follows.
+    pub fn relabelled(&self, p: [usize; 4]) -> Case {
+        Case {
+            tet: p.map(|i| self.tet[i]),
+            entry: self
+                .entry
+                .and_then(|e| p.iter().position(|&i| i == e as usize).map(|j| j as u8)),
+            ..*self
+        }
+    }
+
     pub fn ray(&self) -> Ray {
         Ray {
             org: self.org,

@@ -14,6 +14,27 @@ fn json_lines(s: &str) -> Vec<serde_json::Value> {
         .collect()
 }
 
+/// Run `tetwalk ARGS --json FILE`: it must succeed and print `says`; the JSON it wrote.
+fn json_run(args: &[&str], says: &str) -> serde_json::Value {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("report.json");
+    let mut all = args.to_vec();
+    all.extend(["--json", json.to_str().unwrap()]);
+    let (code, out, err) = tetwalk(&all, "");
+    assert_eq!(code, 0, "tetwalk {args:?}: {err}");
+    assert!(out.contains(says), "tetwalk {args:?}: {out}");
+    serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap()
+}
+
+/// A JSON array of counts.
+fn counts(v: &serde_json::Value) -> Vec<u64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_u64().unwrap())
+        .collect()
+}
+
 const UNIT: &str = r#""tet": [[0,0,0],[0,1,0],[1,0,0],[0,0,1]]"#;
 
 #[test]
@@ -432,9 +453,7 @@ fn replay_found_cases_says_whether_each_fails_again() {
 /// cycles on the Kuhn grid depend on the labelling.
 #[test]
 fn walk_relabel_all_reports_each_methods_spread() {
-    let dir = tempfile::tempdir().unwrap();
-    let json = dir.path().join("walk.json");
-    let (code, out, err) = tetwalk(
+    let r = json_run(
         &[
             "walk",
             "--mesh",
@@ -447,39 +466,19 @@ fn walk_relabel_all_reports_each_methods_spread() {
             "maria17,certified",
             "--relabel",
             "all",
-            "--json",
-            json.to_str().unwrap(),
         ],
-        "",
+        "cycles, own",
     );
-    assert_eq!(code, 0, "{err}");
-    assert!(
-        out.contains("| maria17 |") && out.contains("cycles, own"),
-        "{out}"
-    );
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let cycle = tetwalk::walk::OutcomeKind::Cycle.code() as usize;
-    for (m, x) in r["methods"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .zip(r["relabellings"].as_array().unwrap())
-    {
+    let rows = r["methods"].as_array().unwrap();
+    for (m, x) in rows.iter().zip(r["relabellings"].as_array().unwrap()) {
         assert_eq!(m["method"], x["method"]);
         assert_eq!(m["wrong"], x["wrong"][0], "{m} {x}");
         assert_eq!(m["kinds"][cycle], x["cycles"][0], "{m} {x}");
-        let counts = |k: &str| -> Vec<u64> {
-            x[k].as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_u64().unwrap())
-                .collect()
-        };
         if m["method"] == "certified" {
-            assert!(counts("wrong").iter().all(|&w| w == 0), "{x}");
+            assert!(counts(&x["wrong"]).iter().all(|&w| w == 0), "{x}");
         } else {
-            let c = counts("cycles");
+            let c = counts(&x["cycles"]);
             assert!(
                 c.iter().max() > c.iter().min(),
                 "maria17's cycles depend on the labelling: {c:?}"
@@ -492,4 +491,79 @@ fn walk_relabel_all_reports_each_methods_spread() {
         err.contains("--relabel") && err.contains("--layout"),
         "{err}"
     );
+}
+
+/// `count --relabel all` counts again under the 12 orientation-preserving relabellings: the own
+/// labelling's column is the count itself, and the reference is right under every one.
+#[test]
+fn count_relabel_all_counts_under_every_labelling() {
+    let r = json_run(
+        &[
+            "count",
+            "--scene",
+            "jitter",
+            "--views",
+            "2",
+            "--size",
+            "32x32",
+            "--methods",
+            "maria17,maria17-translated",
+            "--relabel",
+            "all",
+        ],
+        "under the 12 orientation-preserving relabellings",
+    );
+    let methods = r["methods"].as_array().unwrap();
+    assert_eq!(methods.len(), 3);
+    for m in methods {
+        let c = counts(&m["relabelled"]);
+        assert_eq!(c.len(), 12);
+        assert_eq!(c[0], m["wrong_total"].as_u64().unwrap(), "{m}");
+        if m["method"] == "certified" {
+            assert!(c.iter().all(|&w| w == 0), "{m}");
+        }
+    }
+}
+
+/// `stress --relabel all`: each row and method under the 12 relabellings of every case's tetrahedron;
+/// the own labelling's column is the table's, and `exact` and `certified` are right under all 12.
+#[test]
+fn stress_relabel_all_reruns_every_row_under_every_labelling() {
+    let r = json_run(
+        &[
+            "stress",
+            "--cases",
+            "600",
+            "--families",
+            "needle,near-edge",
+            "--methods",
+            "exact,maria17,certified",
+            "--relabel",
+            "all",
+        ],
+        "under the 12 orientation-preserving relabellings",
+    );
+    let relabelled = r["relabelled"].as_array().unwrap();
+    assert_eq!(relabelled.len(), 2 * 3);
+    for x in relabelled {
+        let row = r["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|y| y["row"] == x["row"])
+            .unwrap();
+        let t = row["tallies"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|t| t["method"] == x["method"])
+            .unwrap();
+        let own = t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap();
+        assert_eq!(counts(&x["wrong"])[0], own, "{x}");
+        if x["method"] != "maria17" {
+            assert!(counts(&x["wrong"]).iter().all(|&w| w == 0), "{x}");
+        }
+    }
+    let (code, _, err) = tetwalk(&["stress", "--relabel", "all", "--seconds", "1"], "");
+    assert_eq!(code, 2, "{err}");
 }

@@ -73,6 +73,14 @@ proptest! {
         let (a, b) = (classify(&t, &ray).unwrap(), classify(&tp, &ray).unwrap());
         prop_assert_eq!(permuted(a.exit, &perm), b.exit);
         prop_assert_eq!(permuted(a.entry, &perm), b.entry);
+        // `Case::relabelled` (how `stress --relabel` asks) renames the entry face the same way.
+        let case = tetwalk::tet::Case { tet: t, org: ray.org, dir: ray.dir, entry: a.entry.first().map(|f| f as u8) };
+        let moved = case.relabelled(perm);
+        prop_assert_eq!(moved.tet, tp);
+        prop_assert_eq!(moved.entry.is_some(), case.entry.is_some());
+        if let Some(e) = moved.entry {
+            prop_assert!(b.entry.contains(e as usize));
+        }
         // Reversing the direction swaps entry and exit.
         let back = classify(&t, &Ray { org: ray.org, dir: -ray.dir }).unwrap();
         prop_assert_eq!((back.exit, back.entry), (a.entry, a.exit));

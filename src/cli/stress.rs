@@ -37,6 +37,11 @@ pub struct Args {
     /// Largest ulp offset of the near-edge and near-vertex rows.
     #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
+    /// `all`: run again under each of the 12 orientation-preserving relabellings of every case's
+    /// tetrahedron and give each row's and method's wrong answers with the cases' own labelling beside
+    /// their min / median / max.
+    #[arg(long, value_parser = ["all"])]
+    relabel: Option<String>,
     /// A differential campaign: rounds of new cases (seed, seed + 1, …) until this many seconds have
     /// passed, every new failure filed under `--found`.
     #[arg(long, allow_negative_numbers = true)]
@@ -90,7 +95,11 @@ pub fn run(a: Args) -> Outcome {
         backend: backend.describe(),
         flatness: a.flatness,
         ulps: a.ulps,
+        relabel: crate::tet::EVEN_PERMUTATIONS[0],
     };
+    if a.relabel.is_some() && (a.compare || a.seconds.is_some()) {
+        return Err("--relabel reruns one stress table; leave out --compare and --seconds".into());
+    }
     if a.compare {
         let d = stress::compare(&settings, &methods, &backend)?;
         print!("{}", d.markdown());
@@ -99,13 +108,16 @@ pub fn run(a: Args) -> Outcome {
     }
     let Some(seconds) = a.seconds else {
         let bar = super::progress((settings.cases * settings.rows.len()) as u64, "cases");
-        let report = stress::run(
+        let mut report = stress::run(
             &settings,
             &methods,
             &backend,
             &|n| bar.inc(n),
             &mut |_, _, _, _| {},
         )?;
+        if a.relabel.is_some() {
+            report.relabel_all(&methods, &backend)?;
+        }
         bar.finish_and_clear();
         print!("{}", report.markdown());
         out.finish(&report)?;

@@ -6,6 +6,7 @@ use crate::choice::Choice;
 use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
 use crate::registry::{parse_list, reference};
+use crate::report::relabel_spread;
 use crate::scenes::{self, Generated};
 use crate::tet::EVEN_PERMUTATIONS;
 use crate::walk::layouts::{Kind, Source};
@@ -291,14 +292,7 @@ fn relabellings(
             }
         }
     }
-    let spread = |v: &[u64; 12]| {
-        let mut s = *v;
-        s.sort_unstable();
-        format!("{} | {} | {} | {}", v[0], s[0], (s[5] + s[6]) / 2, s[11])
-    };
-    println!(
-        "\nunder the 12 orientation-preserving relabellings (own: the mesh's labelling; median of 12: mean of the 6th and 7th)\n"
-    );
+    println!("\nunder the 12 orientation-preserving relabellings of the tetrahedra\n");
     println!(
         "| method | wrong, own | min | median | max | cycles, own | min | median | max |\n|---|---|---|---|---|---|---|---|---|"
     );
@@ -306,8 +300,8 @@ fn relabellings(
         println!(
             "| {} | {} | {} |",
             r.method,
-            spread(&r.wrong),
-            spread(&r.cycles)
+            relabel_spread(&r.wrong),
+            relabel_spread(&r.cycles)
         );
     }
     Ok(out)

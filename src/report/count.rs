@@ -127,6 +127,10 @@ pub struct MethodCount {
     pub seconds: f64,
     /// Rays walked per second, in millions.
     pub mrays_per_second: f64,
+    /// Wrong rays under each of the 12 orientation-preserving relabellings of the tetrahedra
+    /// (`crate::tet::EVEN_PERMUTATIONS`, the mesh's own labelling first), with `count --relabel all`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relabelled: Option<[u64; 12]>,
 }
 
 /// One view's wrong rays for one method (`walks` beside the `exact` walks `reference`, pixel `i` at
@@ -381,6 +385,15 @@ impl CountReport {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
+        if self.methods.iter().any(|m| m.relabelled.is_some()) {
+            out += "\nwrong rays under the 12 orientation-preserving relabellings of the tetrahedra\n\n";
+            out += "| method | own labelling | min | median | max |\n|---|---|---|---|---|\n";
+            for m in &self.methods {
+                if let Some(r) = &m.relabelled {
+                    out += &format!("| {} | {} |\n", m.method, super::relabel_spread(r));
+                }
+            }
+        }
         out
     }
 }
@@ -450,6 +463,10 @@ impl CountReport {
                 t.wrong_face_elsewhere += m.wrong_face_elsewhere;
                 t.steps += m.steps;
                 t.seconds += m.seconds;
+                t.relabelled = t
+                    .relabelled
+                    .zip(m.relabelled)
+                    .map(|(a, b)| std::array::from_fn(|k| a[k] + b[k]));
             }
         }
         for t in &mut out.methods {

@@ -58,6 +58,9 @@ pub struct Settings {
     pub flatness: f32,
     /// Largest ulp offset of the near-* rows.
     pub ulps: i32,
+    /// How every case's tetrahedron is relabelled before the methods see it (new vertex `i` is old
+    /// vertex `relabel[i]`; answers are mapped back): one of `crate::tet::EVEN_PERMUTATIONS`.
+    pub relabel: [usize; 4],
 }
 
 /// Counts for one method on one row.
@@ -104,6 +107,60 @@ pub struct StressReport {
     pub rows: Vec<RowReport>,
     /// Signs the oracle decided in its f64 filter and exactly.
     pub oracle: crate::exact::Counts,
+    /// With `stress --relabel all`: per row and method, wrong answers under each of the 12
+    /// orientation-preserving relabellings (`crate::tet::EVEN_PERMUTATIONS`, the identity first).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub relabelled: Option<Vec<Relabelled>>,
+}
+
+/// One row and method under the 12 relabellings.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Relabelled {
+    pub row: Row,
+    pub method: String,
+    /// Wrong faces plus "no exit face" answers.
+    pub wrong: [u64; 12],
+}
+
+impl StressReport {
+    /// Run `s` again under every other relabelling (the identity is this report) and keep each row's
+    /// and method's wrong answers under all 12.
+    pub fn relabel_all(
+        &mut self,
+        methods: &[&Method],
+        backend: &Backend,
+    ) -> Result<(), BackendError> {
+        let wrong = |r: &StressReport| -> Vec<u64> {
+            r.rows
+                .iter()
+                .flat_map(|row| row.tallies.iter().map(|t| t.wrong_face + t.no_exit_face))
+                .collect()
+        };
+        let mut all: Vec<[u64; 12]> = wrong(self).into_iter().map(|w| [w; 12]).collect();
+        for (k, p) in crate::tet::EVEN_PERMUTATIONS.iter().enumerate().skip(1) {
+            let s = Settings {
+                relabel: *p,
+                ..self.settings.clone()
+            };
+            let r = run(&s, methods, backend, &|_| {}, &mut |_, _, _, _| {})?;
+            for (a, w) in all.iter_mut().zip(wrong(&r)) {
+                a[k] = w;
+            }
+        }
+        let mut all = all.into_iter();
+        self.relabelled = Some(
+            self.rows
+                .iter()
+                .flat_map(|row| row.tallies.iter().map(move |t| (row.row, t.method.clone())))
+                .map(|(row, method)| Relabelled {
+                    row,
+                    method,
+                    wrong: all.next().unwrap_or([0; 12]),
+                })
+                .collect(),
+        );
+        Ok(())
+    }
 }
 
 /// Case `i` of `row`: a pure function of `(seed, row, i)`, so results do not depend on threads.
@@ -199,10 +256,11 @@ pub fn run(
     for &row in &s.rows {
         let (cases, counts) = row_cases(row, s);
         oracle += counts;
-        let plain: Vec<Case> = cases.iter().map(|(c, _)| *c).collect();
+        let plain: Vec<Case> = cases.iter().map(|(c, _)| c.relabelled(s.relabel)).collect();
         let mut tallies = Vec::new();
         for m in methods {
             let faces = backend.exit_faces(m, &plain)?;
+            let faces = faces.into_iter().map(|f| f.map(|f| s.relabel[f]));
             let mut t = Tally {
                 method: m.name.to_string(),
                 ..Tally::default()
@@ -225,6 +283,7 @@ pub fn run(
         methods: methods.iter().map(|m| m.name.to_string()).collect(),
         rows,
         oracle,
+        relabelled: None,
     })
 }
 
@@ -401,6 +460,18 @@ impl StressReport {
             "\noracle: {} signs decided by the f64 filter, {} exactly\n",
             self.oracle.filter, self.oracle.exact
         );
+        if let Some(r) = &self.relabelled {
+            out += "\nwrong answers (wrong face or no exit face) under the 12 orientation-preserving relabellings\n\n";
+            out += "| row | method | own labelling | min | median | max |\n|---|---|---|---|---|---|\n";
+            for x in r.iter().filter(|x| x.wrong.iter().any(|&w| w > 0)) {
+                out += &format!(
+                    "| {} | {} | {} |\n",
+                    x.row.name(),
+                    x.method,
+                    super::relabel_spread(&x.wrong)
+                );
+            }
+        }
         out
     }
 }
