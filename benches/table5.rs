@@ -5,11 +5,9 @@
 //! 512 rays); `TABLE5_FULL=1` for the paper's 10,000 × 16,384 (needs about 40 GB and long).
 
 use glam::Vec3;
-use tetwalk::exact::classify;
-use tetwalk::methods::Query;
+use tetwalk::methods::table5_queries;
 use tetwalk::registry::METHODS;
-use tetwalk::scenes::tets::{Family, stabbing_ray, tet};
-use tetwalk::scenes::{self, Generated, rng};
+use tetwalk::scenes::{self, Generated};
 use tetwalk::walk::{default_max_steps, locate};
 
 /// Seed 000 Table 5, CPU column (ms for 10,000 × 16,384 queries).
@@ -28,18 +26,7 @@ fn main() {
     }
     let full = std::env::var("TABLE5_FULL").is_ok_and(|v| v == "1");
     let (n_tets, n_rays) = if full { (10_000, 16_384) } else { (1_000, 512) };
-    let mut r = rng(5);
-    let tets: Vec<_> = (0..n_tets)
-        .map(|_| tet(Family::Well, 1.0, &mut r))
-        .collect();
-    let mut queries: Vec<Query> = Vec::with_capacity(n_tets * n_rays);
-    for (i, t) in tets.iter().enumerate() {
-        for _ in 0..n_rays {
-            let ray = stabbing_ray(t, &mut r);
-            let entry = classify(t, &ray).ok().and_then(|c| c.entry.first());
-            queries.push((i as u32, ray, entry));
-        }
-    }
+    let (tets, queries) = table5_queries(n_tets, n_rays, 5);
     println!(
         "exit-face search, {n_tets} tetrahedra x {n_rays} rays, one thread, best of 5\n\n| method | ns/query | ratio to maria17 | paper (seed 000 Table 5, CPU) |\n|---|---|---|---|"
     );

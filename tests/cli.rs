@@ -567,3 +567,55 @@ fn stress_relabel_all_reruns_every_row_under_every_labelling() {
     let (code, _, err) = tetwalk(&["stress", "--relabel", "all", "--seconds", "1"], "");
     assert_eq!(code, 2, "{err}");
 }
+
+/// `tetwalk paper` writes the seeds' tables beside ours, whole: seed 000 Tables 3, 4 (one column per
+/// backend) and 5, seed 003 Table 4; the file holds what was printed, and a bad backend writes nothing.
+#[test]
+fn paper_writes_the_seeds_tables_beside_ours() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("paper.md");
+    let r = json_run(
+        &[
+            "paper",
+            "--scene",
+            "kuhn",
+            "--backend",
+            "cpu,cpu-fma",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        "## Seed 000 Table 5",
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    for title in [
+        "## Seed 000 Table 3",
+        "## Seed 000 Table 4",
+        "## Seed 000 Table 5",
+        "## Seed 003 Table 4",
+        "| ours, cpu | ours, cpu-fma |",
+    ] {
+        assert!(text.contains(title), "{title} missing from\n{text}");
+    }
+    assert_eq!(r["counts"].as_array().unwrap().len(), 2);
+    let maria17 = r["table5"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|q| q["method"] == "maria17")
+        .unwrap();
+    assert!(maria17["ns_per_query"].as_f64().unwrap() > 0.0);
+    let elsewhere = dir.path().join("nothing.md");
+    let (code, _, err) = tetwalk(
+        &[
+            "paper",
+            "--backend",
+            "tpu",
+            "--out",
+            elsewhere.to_str().unwrap(),
+        ],
+        "",
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("'tpu'"), "{err}");
+    assert!(!elsewhere.exists(), "nothing half-written");
+}

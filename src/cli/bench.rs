@@ -1,8 +1,7 @@
 //! `tetwalk bench`: walk speed per method and backend on a scene's primary rays.
 
 use super::{JsonOut, Outcome};
-use crate::backend::{Backend, BackendKind};
-use crate::choice::Choice;
+use crate::backend::Backend;
 use crate::registry::parse_list;
 use crate::report::bench;
 use crate::scenes::camera::Views;
@@ -49,16 +48,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Outcome {
     let methods = parse_list(&a.methods)?;
-    let mut kinds = Vec::new();
-    for name in a.backend.split(',').map(str::trim) {
-        let kind = BackendKind::from_name(name).ok_or_else(|| {
-            let known: Vec<_> = BackendKind::ALL.iter().map(|k| k.name()).collect();
-            format!("--backend: '{name}' is not one of {}", known.join(", "))
-        })?;
-        if !kinds.contains(&kind) {
-            kinds.push(kind);
-        }
-    }
+    let kinds = super::backend_list(&a.backend)?;
     if a.views == 0 {
         return Err("--views 0: a bench needs at least one view".into());
     }

@@ -6,6 +6,7 @@ mod count;
 mod exit;
 mod fuzz_import;
 mod gen_cases;
+mod paper;
 mod render;
 mod replay;
 mod scene;
@@ -54,6 +55,8 @@ enum Command {
     Stress(stress::Args),
     /// Wrong rays per image, per method, on a scene (seed 000 Table 4), judged exactly.
     Count(count::Args),
+    /// The seeds' tables that tetwalk reproduces, ours beside theirs (corpora/results/paper.md).
+    Paper(paper::Args),
     /// Walk speed: rays and tetrahedra per second per method and backend, end to end and (on a GPU
     /// with timestamp queries) kernel alone.
     Bench(bench::Args),
@@ -86,6 +89,7 @@ pub fn main() -> ExitCode {
         Command::Scene(s) => scene::run(s),
         Command::Count(a) => count::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Paper(a) => paper::run(a),
         Command::FuzzImport(a) => fuzz_import::run(a),
         Command::Render(a) => render::run(a),
         Command::Replay(a) => replay::run(a),
@@ -303,6 +307,21 @@ fn fits(what: &str, bytes: u128) -> Result<(), Error> {
 /// Bytes per primary ray of one view while it is walked and judged (ray, reference and method walks,
 /// verdicts).
 const BYTES_PER_PIXEL: u128 = 96;
+
+/// A comma-separated list of backends (`--backend cpu,gpu`), each once, in order.
+fn backend_list(text: &str) -> Result<Vec<BackendKind>, Error> {
+    let mut kinds = Vec::new();
+    for name in text.split(',').map(str::trim) {
+        let kind = BackendKind::from_name(name).ok_or_else(|| {
+            let known: Vec<_> = BackendKind::ALL.iter().map(|k| k.name()).collect();
+            format!("--backend: '{name}' is not one of {}", known.join(", "))
+        })?;
+        if !kinds.contains(&kind) {
+            kinds.push(kind);
+        }
+    }
+    Ok(kinds)
+}
 
 /// Whether a scene must have constrained faces (`--no-faces` says it need not).
 fn faces(no_faces: bool) -> crate::mesh::Faces {
