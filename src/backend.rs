@@ -209,10 +209,9 @@ impl Backend {
                     .layout_walk(*fma)
                     .ok_or(BackendError::NoLayoutWalk(method.name))?;
                 Ok(LayoutWalked {
-                    walks: rays
-                        .par_iter()
-                        .map(|(r, s)| walk(kind, on.layout, on.points, r, s, max_steps))
-                        .collect(),
+                    walks: map_all(rays, |(r, s)| {
+                        walk(kind, on.layout, on.points, r, s, max_steps)
+                    }),
                     kernel_seconds: None,
                 })
             }

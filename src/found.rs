@@ -336,29 +336,39 @@ pub fn check_batch(
     methods: &[&Method],
     backends: &[&Backend],
 ) -> Result<Option<(usize, Failure)>, FoundError> {
-    let exits: Vec<Case> = subjects
-        .iter()
-        .filter_map(|s| match s {
-            Subject::Exit(c) => Some(*c),
-            Subject::Walk(_) => None,
-        })
-        .collect();
+    let Some(first) = subjects.first() else {
+        return Ok(None);
+    };
     let mesh = |s: &Subject| match s {
         Subject::Walk(w) => Some((w.mesh, w.size, w.offset.to_bits())),
         Subject::Exit(_) => None,
     };
-    let walks: Vec<WalkCase> = subjects
-        .iter()
-        .filter_map(|s| match s {
-            Subject::Walk(w) if mesh(s) == subjects.first().and_then(mesh) => Some(*w),
-            _ => None,
-        })
-        .collect();
-    match subjects.first() {
-        None => Ok(None),
-        Some(Subject::Exit(_)) => check_exits(&exits, methods, backends),
-        Some(Subject::Walk(_)) => check_walks(&walks, methods, backends),
-    }
+    // The subjects of the first one's kind (and mesh), each with its index in `subjects`.
+    let found = match first {
+        Subject::Exit(_) => {
+            let (index, cases): (Vec<usize>, Vec<Case>) = subjects
+                .iter()
+                .enumerate()
+                .filter_map(|(i, s)| match s {
+                    Subject::Exit(c) => Some((i, *c)),
+                    Subject::Walk(_) => None,
+                })
+                .unzip();
+            check_exits(&cases, methods, backends)?.map(|(i, f)| (index[i], f))
+        }
+        Subject::Walk(_) => {
+            let (index, walks): (Vec<usize>, Vec<WalkCase>) = subjects
+                .iter()
+                .enumerate()
+                .filter_map(|(i, s)| match s {
+                    Subject::Walk(w) if mesh(s) == mesh(first) => Some((i, *w)),
+                    _ => None,
+                })
+                .unzip();
+            check_walks(&walks, methods, backends)?.map(|(i, f)| (index[i], f))
+        }
+    };
+    Ok(found)
 }
 
 fn check_exits(

@@ -238,3 +238,31 @@ fn the_claims_register_counterexample_replays() {
         assert_eq!(cpu.exit_face(m, &case).unwrap(), Some(answer), "{name}");
     }
 }
+
+/// `check_batch` names the failing case by its index in the batch it was given, also where cases of
+/// another kind sit in between (they are left out, not counted).
+#[test]
+fn a_batch_failure_names_its_own_case() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/corpora/found/maria17/exit_face-wrong_face-50e741ec2f3d.json"
+    ))
+    .unwrap();
+    let wrong = Record::parse(text.trim()).unwrap().subject;
+    let right = Subject::parse(
+        r#"{"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[0.2,0.2,-1],"dir":[0.01,0.02,1]}"#,
+    )
+    .unwrap();
+    let walk = Subject::parse(
+        r#"{"mesh":"kuhn","size":3,"offset":0,"org":[1.5,1.25,1.125],"dir":[1,0.5,0.25]}"#,
+    )
+    .unwrap();
+    let maria17 = tetwalk::registry::by_name("maria17").unwrap();
+    let cpu = Backend::Cpu { fma: false };
+    assert_eq!(check(&right, &[maria17], &[&cpu]).unwrap(), None);
+    let (i, f) = tetwalk::found::check_batch(&[right, walk, wrong], &[maria17], &[&cpu])
+        .unwrap()
+        .expect("maria17 fails on the third case");
+    assert_eq!(i, 2);
+    assert_eq!(f.method, "maria17");
+}

@@ -464,7 +464,7 @@ impl Gpu {
             .min(DISPATCH_RUN);
         let mut out = Dispatched {
             items: Vec::new(),
-            kernel_seconds: Some(0.0),
+            kernel_seconds: self.measures_kernels().then_some(0.0),
         };
         for first in (0..count).step_by(per) {
             let n = per.min(count - first);
