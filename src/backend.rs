@@ -3,12 +3,12 @@
 //! command, the fuzz targets and the tests ask for answers here. The reference method runs on the CPU
 //! whatever the backend (it has no GPU version), and reports say so.
 
-use crate::cases::{Case, normalized};
+use crate::cases::{Case, HitCase, normalized};
 use crate::choice::Choice;
 use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
-use crate::registry::Method;
+use crate::registry::{Method, TriangleMethod};
 use crate::tet::Ray;
 use crate::walk::Walk;
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
@@ -33,6 +33,8 @@ crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", Gpu => "gpu" });
 pub enum BackendError {
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    #[error("method '{0}' has no GPU version yet")]
+    NoGpuVersion(&'static str),
     #[error("the GPU holds another mesh than the one walked")]
     OtherMesh,
     #[error(
@@ -126,6 +128,49 @@ impl Backend {
     /// Where `method` runs on this backend: here, or on the plain CPU for the reference.
     pub fn for_method(&self, method: &Method) -> &Backend {
         if method.reference { &CPU } else { self }
+    }
+
+    /// Every hit `method` reports (a triangle of the case and its f32 `t`, in triangle order) for each
+    /// triangle case.
+    pub fn triangle_hits(
+        &self,
+        method: &TriangleMethod,
+        cases: &[HitCase],
+    ) -> Result<Vec<Vec<(u32, f32)>>, BackendError> {
+        match self {
+            Backend::Cpu { fma } => {
+                let hits = method.hits(*fma);
+                Ok(map_all(cases, |c| hits(c.tris(), &c.ray())))
+            }
+            Backend::Gpu(_) => Err(BackendError::NoGpuVersion(method.name)),
+        }
+    }
+
+    /// `method`'s nearest hit among `tris` for each ray, the rays taken `packet` at a time (each packet
+    /// sharing an origin), many packets in parallel.
+    pub fn trace_triangles(
+        &self,
+        method: &TriangleMethod,
+        tris: &[crate::tet::Tri],
+        rays: &[Ray],
+        packet: usize,
+    ) -> Result<Vec<Option<(u32, f32)>>, BackendError> {
+        match self {
+            Backend::Cpu { fma } => {
+                let trace = method.trace(*fma);
+                let chunk = packet.max(1) * 16;
+                Ok(rays
+                    .par_chunks(chunk)
+                    .flat_map_iter(|c| trace(tris, c, packet))
+                    .collect())
+            }
+            Backend::Gpu(_) => Err(BackendError::NoGpuVersion(method.name)),
+        }
+    }
+
+    /// Where ray–triangle methods run on this backend (all of them run here).
+    pub fn for_triangles(&self) -> &Backend {
+        self
     }
 
     /// `method`'s exit face for each case, in the case's own numbering.

@@ -6,6 +6,7 @@
 
 use crate::choice::Choice;
 use crate::exact::{self, ExactError};
+use crate::methods::triangle::Tri;
 use crate::scenes::Generated;
 use crate::scenes::from_bytes::WalkCase;
 pub use crate::tet::Case;
@@ -39,11 +40,101 @@ fn field_error(field: impl Into<String>, why: impl Into<String>) -> CaseError {
     }
 }
 
-/// What a line asks about: one tetrahedron, or a walk through a generated mesh.
+/// What a line asks about: one tetrahedron, a walk through a generated mesh, or a ray and triangles.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "a closed mesh inline (up to 20 triangles) keeps cases Copy; batches hold tens of them"
+)]
 pub enum Subject {
     Exit(Case),
     Walk(WalkCase),
+    Hit(HitCase),
+}
+
+/// Most triangles of a triangle case (an icosahedron's).
+pub const MAX_TRIS: usize = 20;
+
+/// A ray–triangle case: `{"tri": [[x,y,z] ×3], "org", "dir"}`, one triangle, or `{"tris": [[[x,y,z]
+/// ×3] …], "org", "dir"}`, a closed mesh (every edge shared by exactly two triangles, which run it in
+/// opposite directions) of 4 to [`MAX_TRIS`] triangles, whose first hit is asked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HitCase {
+    tris: [Tri; MAX_TRIS],
+    len: u8,
+    /// Written as `tris`: a closed mesh.
+    pub closed: bool,
+    pub org: Vec3,
+    pub dir: Vec3,
+}
+
+impl HitCase {
+    /// A one-triangle case.
+    pub fn single(tri: Tri, ray: Ray) -> HitCase {
+        let mut tris = [[Vec3::ZERO; 3]; MAX_TRIS];
+        tris[0] = tri;
+        HitCase {
+            tris,
+            len: 1,
+            closed: false,
+            org: ray.org,
+            dir: ray.dir,
+        }
+    }
+
+    /// A closed-mesh case; an error names the edge that is not shared rightly, or a count out of range.
+    pub fn closed(mesh: &[Tri], ray: Ray) -> Result<HitCase, CaseError> {
+        if !(4..=MAX_TRIS).contains(&mesh.len()) {
+            return Err(field_error(
+                "tris",
+                format!("holds {} triangles, not 4 to {MAX_TRIS}", mesh.len()),
+            ));
+        }
+        for (i, t) in mesh.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let same = edge_uses(mesh, a, b);
+                let back = edge_uses(mesh, b, a);
+                if same != 1 || back != 1 {
+                    return Err(field_error(
+                        format!("tris[{i}]"),
+                        format!(
+                            "edge {:?} -> {:?} runs so {same} time(s) and back {back} time(s); a closed mesh runs each edge once each way",
+                            a.to_array(),
+                            b.to_array()
+                        ),
+                    ));
+                }
+            }
+        }
+        let mut tris = [[Vec3::ZERO; 3]; MAX_TRIS];
+        tris[..mesh.len()].copy_from_slice(mesh);
+        Ok(HitCase {
+            tris,
+            len: mesh.len() as u8,
+            closed: true,
+            org: ray.org,
+            dir: ray.dir,
+        })
+    }
+
+    pub fn tris(&self) -> &[Tri] {
+        &self.tris[..self.len as usize]
+    }
+
+    pub fn ray(&self) -> Ray {
+        Ray {
+            org: self.org,
+            dir: self.dir,
+        }
+    }
+}
+
+/// How many triangles of `mesh` run the edge `a → b`.
+fn edge_uses(mesh: &[Tri], a: Vec3, b: Vec3) -> usize {
+    mesh.iter()
+        .filter(|t| (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b))
+        .count()
 }
 
 /// Largest grid or fan size of a walk case (a Kuhn grid of this size has 6·64³ tetrahedra).
@@ -55,6 +146,7 @@ impl Subject {
         match self {
             Subject::Exit(c) => c.ray(),
             Subject::Walk(w) => w.ray(),
+            Subject::Hit(h) => h.ray(),
         }
     }
 
@@ -71,6 +163,11 @@ impl Subject {
                 dir: ray.dir.to_array(),
                 ..w
             }),
+            Subject::Hit(h) => Subject::Hit(HitCase {
+                org: ray.org,
+                dir: ray.dir,
+                ..h
+            }),
         }
     }
 
@@ -86,6 +183,9 @@ impl Subject {
 
     /// Take the case's fields out of `obj` (a walk case has `mesh`), leaving the others to the caller.
     pub fn take(obj: &mut Map<String, Value>) -> Result<Subject, CaseError> {
+        if obj.contains_key("tri") || obj.contains_key("tris") {
+            return take_hit(obj).map(Subject::Hit);
+        }
         let walk = obj.contains_key("mesh");
         let mut field = |k: &'static str| obj.remove(k).ok_or(CaseError::Missing(k));
         if walk {
@@ -153,12 +253,72 @@ impl Subject {
                 "entry": c.entry,
             }),
             Subject::Walk(w) => serde_json::to_value(w).unwrap_or(Value::Null),
+            Subject::Hit(h) => {
+                let tris: Vec<_> = h.tris().iter().map(|t| t.map(|p| p.to_array())).collect();
+                let key = if h.closed { "tris" } else { "tri" };
+                let tris = if h.closed {
+                    serde_json::json!(tris)
+                } else {
+                    serde_json::json!(tris[0])
+                };
+                serde_json::json!({key: tris, "org": h.org.to_array(), "dir": h.dir.to_array()})
+            }
         };
         match v {
             Value::Object(m) => m,
             _ => Map::new(),
         }
     }
+}
+
+/// Take a triangle case's fields (`tri` or `tris`, `org`, `dir`) out of `obj`.
+fn take_hit(obj: &mut Map<String, Value>) -> Result<HitCase, CaseError> {
+    let tri = |v: &Value, at: &str| -> Result<Tri, CaseError> {
+        let a = v
+            .as_array()
+            .filter(|a| a.len() == 3)
+            .ok_or_else(|| field_error(at, "must hold three points"))?;
+        let mut t = [Vec3::ZERO; 3];
+        for (i, p) in a.iter().enumerate() {
+            t[i] = vec3(p).map_err(|e| field_error(format!("{at}[{i}]"), e))?;
+        }
+        Ok(t)
+    };
+    let single = obj.remove("tri");
+    let mesh = obj.remove("tris");
+    let mut field = |k: &'static str| obj.remove(k).ok_or(CaseError::Missing(k));
+    let org = vec3(&field("org")?).map_err(|e| field_error("org", e))?;
+    let dir = vec3(&field("dir")?).map_err(|e| field_error("dir", e))?;
+    let ray = Ray { org, dir };
+    let case = match (single, mesh) {
+        (Some(_), Some(_)) => return Err(field_error("tris", "give tri or tris, not both")),
+        (Some(t), None) => HitCase::single(tri(&t, "tri")?, ray),
+        (None, Some(m)) => {
+            let m = m
+                .as_array()
+                .ok_or_else(|| field_error("tris", "must be a list of triangles"))?;
+            if m.len() > MAX_TRIS {
+                return Err(field_error(
+                    "tris",
+                    format!("holds {} triangles, more than {MAX_TRIS}", m.len()),
+                ));
+            }
+            let m = m
+                .iter()
+                .enumerate()
+                .map(|(i, t)| tri(t, &format!("tris[{i}]")))
+                .collect::<Result<Vec<Tri>, _>>()?;
+            HitCase::closed(&m, ray)?
+        }
+        (None, None) => return Err(CaseError::Missing("tri")),
+    };
+    if dir == Vec3::ZERO {
+        return Err(ExactError::ZeroDirection.into());
+    }
+    for t in case.tris() {
+        exact::hit::ray_triangle(*t, &ray)?;
+    }
+    Ok(case)
 }
 
 /// A line as a JSON object.
@@ -236,4 +396,192 @@ pub fn judged(c: &exact::Classification, face: Option<usize>) -> Judged {
         exact_entry: c.entry.to_vec(),
         correct: c.meets().then(|| face.is_some_and(|f| c.exit.contains(f))),
     }
+}
+
+/// One point where a ray meets a triangle case's surface, exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HitPoint {
+    pub t: rug::Rational,
+    /// The triangles holding the point.
+    pub holding: Vec<u32>,
+    /// Whether the ray crosses the surface there: every triangle holding the point faces the same way
+    /// along the ray (`n·d` of one sign) and none whose plane holds the ray shares the point. Otherwise
+    /// it only touches it (an edge or vertex on the silhouette, or runs along a triangle) — or crosses
+    /// a saddle, which this test does not tell apart.
+    pub crosses: bool,
+    /// The triangles around the point that face the way the ray crosses there: those sharing a vertex
+    /// with a triangle holding it, with `n·d` of the same sign. A ray that crosses the surface and hits none of them passes through: a leak, unless a silhouette is near ([`HitPoint::silhouette`]).
+    pub around: Vec<u32>,
+    /// Whether the point lies inside one triangle so near a silhouette that a miss may be rounding
+    /// carrying the ray off the silhouette rather than through a crack: the triangle across its nearest
+    /// edge faces the other way (or is parallel to the ray), or the point is within 1/1000 of that edge's
+    /// length from a vertex around which a triangle does. Nearest is measured in f64: it sorts misses
+    /// into leaks and silhouette misses, and decides no answer.
+    pub silhouette: bool,
+}
+
+/// The exact answer to a triangle case.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HitTruth {
+    /// Per triangle, whether the ray hits it and on its boundary ([`exact::hit::ray_triangle`]).
+    pub each: Vec<exact::hit::RayHit>,
+    /// Where the ray meets the surface, nearest first.
+    pub points: Vec<HitPoint>,
+    pub closed: bool,
+}
+
+impl HitTruth {
+    /// The first point the ray meets.
+    pub fn first(&self) -> Option<&HitPoint> {
+        self.points.first()
+    }
+
+    /// The first point where the ray crosses the surface.
+    pub fn first_crossing(&self) -> Option<&HitPoint> {
+        self.points.iter().find(|p| p.crosses)
+    }
+
+    /// Whether a method whose hits (any `t`) are `hits` leaks: the ray crosses the surface, away from a
+    /// silhouette ([`HitPoint::silhouette`]), and none of the triangles around the first crossing that
+    /// face its way is hit.
+    pub fn leaks(&self, hits: &[u32]) -> bool {
+        self.missed_crossing(hits).is_some_and(|p| !p.silhouette)
+    }
+
+    /// The first crossing, when none of the triangles around it that face its way is among `hits`.
+    pub fn missed_crossing(&self, hits: &[u32]) -> Option<&HitPoint> {
+        self.first_crossing()
+            .filter(|p| !p.around.is_empty() && !hits.iter().any(|i| p.around.contains(i)))
+    }
+
+    /// Whether a method's nearest hit (a triangle, or none) is right. One triangle: a hit on its
+    /// boundary may be answered either way, otherwise hit or miss must match. A closed mesh: a
+    /// triangle holding the first point the ray crosses the surface at, or one holding a point before
+    /// it where the ray only touches the surface; a miss when the ray never crosses it.
+    pub fn right(&self, answer: Option<u32>) -> bool {
+        if !self.closed {
+            return self.each[0].on_boundary || answer.is_some() == self.each[0].hit;
+        }
+        let upto = self
+            .points
+            .iter()
+            .position(|p| p.crosses)
+            .map_or(self.points.len(), |k| k + 1);
+        match answer {
+            None => self.first_crossing().is_none(),
+            Some(i) => self.points[..upto].iter().any(|p| p.holding.contains(&i)),
+        }
+    }
+}
+
+/// The oracle's answer to a triangle case.
+pub fn judge_hit(case: &HitCase) -> Result<HitTruth, CaseError> {
+    let ray = case.ray();
+    let mut each = Vec::with_capacity(case.tris().len());
+    let mut points: Vec<HitPoint> = Vec::new();
+    for (i, tri) in case.tris().iter().enumerate() {
+        let h = exact::hit::ray_triangle(*tri, &ray)?;
+        each.push(h);
+        let Some(t) = exact::hit::ray_triangle_t(*tri, &ray)? else {
+            continue;
+        };
+        match points.iter_mut().find(|p| p.t == t) {
+            Some(p) => p.holding.push(i as u32),
+            None => points.push(HitPoint {
+                t,
+                holding: vec![i as u32],
+                crosses: true,
+                around: Vec::new(),
+                silhouette: false,
+            }),
+        }
+    }
+    points.sort_by(|a, b| a.t.cmp(&b.t));
+    let tris = case.tris();
+    let facing: Vec<i8> = tris
+        .iter()
+        .map(|[a, b, c]| exact::normal_dot(*a, *b, *c, ray.dir))
+        .collect();
+    for p in &mut points {
+        let way = facing[p.holding[0] as usize];
+        p.crosses = p.holding.iter().all(|&i| facing[i as usize] == way)
+            && !lies_in_at(tris, &facing, &p.holding, &ray);
+        let touches = |j: usize| {
+            p.holding
+                .iter()
+                .any(|&i| tris[i as usize].iter().any(|v| tris[j].contains(v)))
+        };
+        p.around = (0..tris.len())
+            .filter(|&j| facing[j] == way && touches(j))
+            .map(|j| j as u32)
+            .collect();
+        if let [h] = p.holding[..] {
+            p.silhouette = near_silhouette(tris, &facing, h as usize, way, &ray, &p.t);
+        }
+    }
+    Ok(HitTruth {
+        each,
+        points,
+        closed: case.closed,
+    })
+}
+
+/// Whether a triangle whose plane holds the ray shares the edge or vertex of the holding triangles the
+/// point lies on (an edge of a holder the line meets, `side = 0`; a vertex where two meet): the ray
+/// then runs along the surface there instead of crossing it.
+fn lies_in_at(tris: &[Tri], facing: &[i8], holding: &[u32], ray: &Ray) -> bool {
+    let mut edges: Vec<[Vec3; 2]> = Vec::new();
+    let mut vertices: Vec<Vec3> = Vec::new();
+    for &h in holding {
+        let t = tris[h as usize];
+        let zero: Vec<usize> = (0..3)
+            .filter(|&k| exact::side(t[k], t[(k + 1) % 3], ray) == 0)
+            .collect();
+        for &k in &zero {
+            edges.push([t[k], t[(k + 1) % 3]]);
+        }
+        if zero.len() >= 2 {
+            // Two edges meet at the vertex between them: the point is that vertex.
+            let (k0, k1) = (zero[0], zero[1]);
+            vertices.push(if (k0 + 1) % 3 == k1 { t[k1] } else { t[k0] });
+        }
+    }
+    tris.iter().zip(facing).any(|(t, &f)| {
+        f == 0
+            && crate::tet::orientation(&[t[0], t[1], t[2], ray.org]) == 0
+            && (vertices.iter().any(|v| t.contains(v))
+                || edges.iter().any(|[a, b]| t.contains(a) && t.contains(b)))
+    })
+}
+
+/// [`HitPoint::silhouette`] for a point `o + t·d` inside triangle `h`, which faces `way`.
+fn near_silhouette(
+    tris: &[Tri],
+    facing: &[i8],
+    h: usize,
+    way: i8,
+    ray: &Ray,
+    t: &rug::Rational,
+) -> bool {
+    let w = |v: Vec3| glam::DVec3::new(v.x as f64, v.y as f64, v.z as f64);
+    let p = w(ray.org) + w(ray.dir) * t.to_f64();
+    let tri = tris[h].map(w);
+    // The nearest edge, by distance from p to the edge's segment.
+    let dist = |a: glam::DVec3, b: glam::DVec3| {
+        let s = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+        (a + (b - a) * s - p).length()
+    };
+    let k = (0..3)
+        .min_by(|&i, &j| dist(tri[i], tri[(i + 1) % 3]).total_cmp(&dist(tri[j], tri[(j + 1) % 3])))
+        .unwrap_or(0);
+    let (a, b) = (tris[h][k], tris[h][(k + 1) % 3]);
+    let away = |j: usize| facing[j] != way;
+    let across = (0..tris.len()).find(|&j| j != h && tris[j].contains(&a) && tris[j].contains(&b));
+    if across.is_none_or(away) {
+        return true;
+    }
+    let len = (w(b) - w(a)).length();
+    [a, b].iter().any(|&v| {
+        (w(v) - p).length() < len * 1e-3 && (0..tris.len()).any(|j| tris[j].contains(&v) && away(j))
+    })
 }

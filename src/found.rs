@@ -5,10 +5,13 @@
 //! replay share.
 
 use crate::backend::{Backend, BackendError, BackendKind, CPU, CPU_FMA};
-use crate::cases::{CaseError, Subject, classify, object};
+use crate::cases::{CaseError, HitCase, Subject, classify, judge_hit, object};
 use crate::choice::Choice;
 use crate::exact::hit::first_hit;
-use crate::registry::{METHODS, Method, UnknownMethod, by_name, reference};
+use crate::registry::{
+    METHODS, Method, TRIANGLE_METHODS, TriangleMethod, UnknownMethod, by_name, reference,
+    triangle_by_name,
+};
 use crate::scenes::from_bytes::WalkCase;
 use crate::tet::{Case, Ray};
 use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, locate, same_result};
@@ -56,6 +59,27 @@ pub fn required_methods() -> Result<Vec<&'static Method>, FoundError> {
     }
 }
 
+/// The ray–triangle methods a fuzz run holds to exactness, from `TETWALK_FUZZ_METHOD`, and whether to
+/// their claim only: `robust` or `ours` (the default) hold the methods that claim watertightness to it
+/// (no leak: [`crate::cases::HitTruth::leaks`]); a method's name holds that method to every answer.
+pub fn required_triangle_methods() -> Result<(Vec<&'static TriangleMethod>, bool), FoundError> {
+    let default = option_env!("TETWALK_FUZZ_DEFAULT").unwrap_or("robust");
+    let choice = std::env::var("TETWALK_FUZZ_METHOD").unwrap_or_else(|_| default.into());
+    match choice.as_str() {
+        "robust" | "ours" => Ok((
+            TRIANGLE_METHODS
+                .iter()
+                .filter(|m| m.claims_watertight)
+                .collect(),
+            true,
+        )),
+        name => Ok((
+            vec![triangle_by_name(name).map_err(FoundError::FuzzMethod)?],
+            false,
+        )),
+    }
+}
+
 /// The backends a fuzz run holds the required methods to: the CPU, plain and as a GPU compiles them.
 pub const FUZZ_BACKENDS: [&Backend; 2] = [&CPU, &CPU_FMA];
 
@@ -83,8 +107,25 @@ pub fn fuzz_backends() -> Result<Vec<&'static Backend>, FoundError> {
 /// [`neighbourhood`] in one batch (one dispatch per method), so that each input does a dispatch's
 /// worth of work. The exact judge runs on the CPU.
 pub fn fuzz_find(subject: &Subject) -> Result<Option<Record>, FoundError> {
-    let methods = required_methods()?;
     let backends = fuzz_backends()?;
+    if let Subject::Hit(h) = subject {
+        let (methods, leaks_only) = required_triangle_methods()?;
+        // The watertight claim is for f32 as written: with its products fused, woop-watertight leaks
+        // (corpora/results/triangle.md), which campaigns file; the claim's fuzzing leaves cpu-fma out.
+        let backends: Vec<&Backend> = backends
+            .into_iter()
+            .filter(|b| !leaks_only || b.kind() != BackendKind::CpuFma)
+            .collect();
+        return Ok(
+            check_hits(std::slice::from_ref(h), &methods, &backends, leaks_only)?.map(|(_, f)| {
+                Record {
+                    subject: *subject,
+                    failure: Some(f),
+                }
+            }),
+        );
+    }
+    let methods = required_methods()?;
     let subjects = if backends.iter().any(|b| b.kind() == BackendKind::Gpu) {
         neighbourhood(subject)
     } else {
@@ -138,11 +179,13 @@ pub fn neighbourhood(subject: &Subject) -> Vec<Subject> {
     out
 }
 
-/// What a method answered: an exit face (or none) for one tetrahedron, a walk for a walk case.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a method answered: an exit face (or none) for one tetrahedron, a walk for a walk case, the
+/// nearest hit (a triangle and its f32 `t`, or none) for a triangle case.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Answer {
     Face(Option<u8>),
     Walk(Outcome),
+    Hit(Option<(u32, f32)>),
 }
 
 impl Answer {
@@ -152,6 +195,8 @@ impl Answer {
             Answer::Face(Some(_)) => OutcomeKind::Hit,
             Answer::Face(None) => OutcomeKind::NoExitFace,
             Answer::Walk(o) => o.kind(),
+            Answer::Hit(Some(_)) => OutcomeKind::Hit,
+            Answer::Hit(None) => OutcomeKind::LeftMesh,
         }
     }
 
@@ -159,6 +204,10 @@ impl Answer {
         match self {
             Answer::Face(f) => serde_json::json!(f),
             Answer::Walk(o) => serde_json::to_value(o).unwrap_or(Value::Null),
+            Answer::Hit(h) => h.map_or(
+                Value::Null,
+                |(tri, t)| serde_json::json!({"tri": tri, "t": t}),
+            ),
         }
     }
 }
@@ -213,9 +262,12 @@ impl Record {
         };
         let bad = |field: &'static str, why: String| FoundError::Field { field, why };
         let method = field("method")?;
-        let method = by_name(method.as_str().unwrap_or_default())?
-            .name
-            .to_string();
+        let method = method.as_str().unwrap_or_default();
+        let method = match subject {
+            Subject::Hit(_) => triangle_by_name(method)?.name,
+            _ => by_name(method)?.name,
+        }
+        .to_string();
         let backend = field("backend")?;
         let backend = backend
             .as_str()
@@ -250,6 +302,9 @@ impl Record {
             Subject::Walk(_) => Answer::Walk(
                 serde_json::from_value(answer).map_err(|e| bad("answer", e.to_string()))?,
             ),
+            Subject::Hit(h) => {
+                Answer::Hit(hit_answer(&answer, h.tris().len()).map_err(|e| bad("answer", e))?)
+            }
         };
         if answer.kind() != kind {
             return Err(bad(
@@ -305,6 +360,19 @@ impl Record {
     pub fn with_robust_failures(&self) -> Result<Vec<Record>, FoundError> {
         let mut out = vec![self.clone()];
         let mine = self.failure.as_ref().map(|f| f.method.clone());
+        if let Subject::Hit(h) = &self.subject {
+            for m in TRIANGLE_METHODS
+                .iter()
+                .filter(|m| m.claims_watertight && Some(m.name.to_string()) != mine)
+            {
+                if let Some((_, f)) =
+                    check_hits(std::slice::from_ref(h), &[m], &FUZZ_BACKENDS, true)?
+                {
+                    out.push(self.with_failure(f));
+                }
+            }
+            return Ok(out);
+        }
         for m in METHODS
             .iter()
             .filter(|m| m.claims_robust && !m.reference && Some(m.name.to_string()) != mine)
@@ -341,7 +409,7 @@ pub fn check_batch(
     };
     let mesh = |s: &Subject| match s {
         Subject::Walk(w) => Some((w.mesh, w.size, w.offset.to_bits())),
-        Subject::Exit(_) => None,
+        _ => None,
     };
     // The subjects of the first one's kind (and mesh), each with its index in `subjects`.
     let found = match first {
@@ -351,7 +419,7 @@ pub fn check_batch(
                 .enumerate()
                 .filter_map(|(i, s)| match s {
                     Subject::Exit(c) => Some((i, *c)),
-                    Subject::Walk(_) => None,
+                    _ => None,
                 })
                 .unzip();
             check_exits(&cases, methods, backends)?.map(|(i, f)| (index[i], f))
@@ -366,6 +434,12 @@ pub fn check_batch(
                 })
                 .unzip();
             check_walks(&walks, methods, backends)?.map(|(i, f)| (index[i], f))
+        }
+        Subject::Hit(_) => {
+            return Err(FoundError::Field {
+                field: "method",
+                why: "a ray-triangle case is judged by ray-triangle methods (check_hits)".into(),
+            });
         }
     };
     Ok(found)
@@ -414,6 +488,75 @@ fn failure(m: &Method, b: &Backend, answer: Answer) -> Failure {
         adapter: on.adapter(),
         answer,
     }
+}
+
+/// A triangle case's recorded answer: `{"tri": i, "t": t}` (a triangle of the case) or null.
+fn hit_answer(v: &Value, tris: usize) -> Result<Option<(u32, f32)>, String> {
+    if v.is_null() {
+        return Ok(None);
+    }
+    let tri = v
+        .get("tri")
+        .and_then(Value::as_u64)
+        .filter(|&i| (i as usize) < tris)
+        .ok_or_else(|| format!("{v}: tri must be a triangle of the case (0..{tris})"))?;
+    // The decimal text rounded once to f32, as every number of the case format is.
+    let t = v
+        .get("t")
+        .filter(|t| t.is_number())
+        .and_then(|t| t.to_string().parse::<f32>().ok())
+        .ok_or_else(|| format!("{v}: t must be a number"))?;
+    if v.as_object().is_some_and(|o| o.len() != 2) {
+        return Err(format!("{v}: holds more than tri and t"));
+    }
+    Ok(Some((tri as u32, t)))
+}
+
+/// The first of `methods` (on each of `backends` in turn) whose nearest hit on a triangle case is
+/// wrong ([`crate::cases::HitTruth::right`]), or with `leaks_only` that leaks
+/// ([`crate::cases::HitTruth::leaks`]), by index, with its nearest hit.
+pub fn check_hits(
+    cases: &[HitCase],
+    methods: &[&TriangleMethod],
+    backends: &[&Backend],
+    leaks_only: bool,
+) -> Result<Option<(usize, Failure)>, FoundError> {
+    let truths = cases.iter().map(judge_hit).collect::<Result<Vec<_>, _>>()?;
+    for m in methods {
+        for b in backends {
+            let hits = b.triangle_hits(m, cases)?;
+            for (i, (h, truth)) in hits.iter().zip(&truths).enumerate() {
+                let nearest = nearest_hit(h);
+                let wrong = if leaks_only {
+                    truth.leaks(&h.iter().map(|&(i, _)| i).collect::<Vec<_>>())
+                } else {
+                    !truth.right(nearest.map(|(tri, _)| tri))
+                };
+                if wrong {
+                    let f = Failure {
+                        method: m.name.into(),
+                        backend: b.kind(),
+                        adapter: b.adapter(),
+                        answer: Answer::Hit(nearest),
+                    };
+                    return Ok(Some((i, f)));
+                }
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// The nearest of a method's hits (in triangle order): the first with the smallest `t`, as its
+/// nearest-hit loop keeps it.
+pub fn nearest_hit(hits: &[(u32, f32)]) -> Option<(u32, f32)> {
+    let mut best: Option<(u32, f32)> = None;
+    for &(i, t) in hits {
+        if best.is_none_or(|(_, bt)| t < bt) {
+            best = Some((i, t));
+        }
+    }
+    best
 }
 
 /// A walk case's mesh, start and ray.
@@ -568,7 +711,6 @@ pub fn replay(record: &Record) -> Result<Replay, FoundError> {
             why: "not a found case (it records no failure)".into(),
         });
     };
-    let m = by_name(&f.method)?;
     let backend = match Backend::open(f.backend) {
         Ok(b) => b,
         Err(e) => return Ok(Replay::Skipped(e.to_string())),
@@ -581,7 +723,14 @@ pub fn replay(record: &Record) -> Result<Replay, FoundError> {
             "found on {want}; this GPU is {here}"
         )));
     }
-    Ok(match check(&record.subject, &[m], &[&backend])? {
+    let now = match &record.subject {
+        Subject::Hit(h) => {
+            let m = triangle_by_name(&f.method)?;
+            check_hits(std::slice::from_ref(h), &[m], &[&backend], false)?.map(|(_, f)| f)
+        }
+        s => check(s, &[by_name(&f.method)?], &[&backend])?,
+    };
+    Ok(match now {
         None => Replay::Right,
         Some(now) if now.answer == f.answer => Replay::Holds,
         Some(now) => Replay::OtherAnswer(now.answer),

@@ -9,6 +9,9 @@ pub struct Ray {
     pub dir: Vec3,
 }
 
+/// A triangle's three vertices `P0, P1, P2` (seed 004 Figure 2).
+pub type Tri = [Vec3; 3];
+
 /// Four vertices; face `i` is the face opposite vertex `i` (TetGen's convention).
 pub type Tet = [Vec3; 4];
 

@@ -8,8 +8,8 @@ mod common;
 
 use tetwalk::backend::Backend;
 use tetwalk::cases::Subject;
-use tetwalk::found::{Answer, Record, Replay, check, replay};
-use tetwalk::registry::METHODS;
+use tetwalk::found::{Answer, Record, Replay, check, check_hits, replay};
+use tetwalk::registry::{METHODS, TRIANGLE_METHODS};
 
 fn findings() -> Vec<(String, Record)> {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/found");
@@ -61,11 +61,16 @@ fn found_cases_fail_again_with_their_recorded_answer() {
 #[test]
 fn changing_one_recorded_answer_fails_the_replay() {
     let found = findings();
-    for want_walk in [false, true] {
+    let shape = |s: &Subject| match s {
+        Subject::Exit(_) => 0,
+        Subject::Walk(_) => 1,
+        Subject::Hit(_) => 2,
+    };
+    for want in 0..3 {
         let (name, r) = found
             .iter()
-            .find(|(_, r)| matches!(r.subject, Subject::Walk(_)) == want_walk)
-            .expect("found cases of both shapes");
+            .find(|(_, r)| shape(&r.subject) == want)
+            .expect("found cases of every shape");
         let mut changed = r.clone();
         let f = changed.failure.as_mut().unwrap();
         f.answer = match f.answer {
@@ -74,6 +79,10 @@ fn changing_one_recorded_answer_fails_the_replay() {
                 let (kind, tet, x) = o.parts();
                 Answer::Walk(tetwalk::walk::Outcome::from_parts(kind, tet + 1, x))
             }
+            Answer::Hit(h) => Answer::Hit(match h {
+                Some((i, t)) => Some((i ^ 1, t)),
+                None => Some((0, 1.0)),
+            }),
         };
         // Through the file format, as a hand edit would be.
         let changed = Record::parse(&changed.to_json()).unwrap();
@@ -91,6 +100,22 @@ fn robust_methods_are_right_on_every_found_case_unless_their_failure_is_filed() 
     let backends = [&Backend::Cpu { fma: false }, &Backend::Cpu { fma: true }];
     for (name, r) in &found {
         let failed = &r.failure.as_ref().unwrap().method;
+        let filed = |m: &str| {
+            found
+                .iter()
+                .any(|(_, g)| g.failure.as_ref().unwrap().method == m && g.key() == r.key())
+        };
+        if let Subject::Hit(h) = &r.subject {
+            // The watertight claim: no leak on a closed mesh.
+            for m in TRIANGLE_METHODS
+                .iter()
+                .filter(|m| m.claims_watertight && m.name != failed && !filed(m.name))
+            {
+                let now = check_hits(std::slice::from_ref(h), &[m], &backends, true).unwrap();
+                assert_eq!(now, None, "{name}: {} must not leak here", m.name);
+            }
+            continue;
+        }
         for m in METHODS
             .iter()
             .filter(|m| m.claims_robust && m.name != failed)
@@ -107,10 +132,14 @@ fn robust_methods_are_right_on_every_found_case_unless_their_failure_is_filed() 
 }
 
 #[test]
-fn every_found_file_is_read_by_tetwalk_exit_as_it_is() {
-    for (name, _) in findings() {
+fn every_found_file_is_read_by_tetwalk_exit_or_hit_as_it_is() {
+    for (name, r) in findings() {
+        let (command, methods) = match r.subject {
+            Subject::Hit(_) => ("hit", TRIANGLE_METHODS.len()),
+            _ => ("exit", METHODS.len()),
+        };
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
-            .args(["exit", "--method", "all", &name])
+            .args([command, "--method", "all", &name])
             .output()
             .unwrap();
         let text = String::from_utf8_lossy(&out.stdout);
@@ -119,7 +148,7 @@ fn every_found_file_is_read_by_tetwalk_exit_as_it_is() {
             "{name}: {}",
             String::from_utf8_lossy(&out.stderr)
         );
-        assert_eq!(text.lines().count(), METHODS.len(), "{name}: {text}");
+        assert_eq!(text.lines().count(), methods, "{name}: {text}");
         assert!(!text.contains("\"error\""), "{name}: {text}");
     }
 }
@@ -130,7 +159,10 @@ fn found_cases_replay_on_the_gpu() {
         return;
     };
     let found = findings();
-    for (name, r) in &found {
+    for (name, r) in found
+        .iter()
+        .filter(|(_, r)| !matches!(r.subject, Subject::Hit(_)))
+    {
         let failed = &r.failure.as_ref().unwrap().method;
         for m in METHODS
             .iter()

@@ -1,8 +1,9 @@
 //! `tetwalk count`: wrong rays per image, per method, on a scene.
 
 use super::{BackendArg, JsonOut, Outcome};
-use crate::registry::{by_name, parse_list};
+use crate::registry::{by_name, parse_list, parse_triangle_list};
 use crate::report::count::{self, Settings};
+use crate::report::triangle;
 use crate::report::wrong::WrongRay;
 use crate::scenes::camera::Views;
 use crate::tet::EVEN_PERMUTATIONS;
@@ -15,6 +16,15 @@ use std::process::ExitCode;
 pub struct Args {
     #[command(subcommand)]
     merge: Option<Merge>,
+    /// Which family of methods: `exit-face` (walks through the tetrahedra, seed 000 Table 4) or
+    /// `triangle` (each primary ray's nearest hit among the scene's constrained faces, every triangle
+    /// tested, seed 004's methods; judged against the reference walk's exact first hit).
+    #[arg(long, value_parser = ["exit-face", "triangle"], default_value = "exit-face")]
+    family: String,
+    /// `--family triangle`: primary rays per packet side (1, 2, 4 or 8: packets of 1, 4, 16 or 64
+    /// rays sharing the camera's origin).
+    #[arg(long, value_parser = ["1", "2", "4", "8"], default_value = "2")]
+    packet: String,
     /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, kuhn, jitter, fan and
     /// their -far), or a TetGen stem.
     #[arg(long, default_value = "bunny-quality")]
@@ -23,10 +33,12 @@ pub struct Args {
     /// leaves the mesh.
     #[arg(long)]
     no_faces: bool,
-    /// Viewpoints on a sphere around the model [default: 160, or 1282 with --preset paper].
+    /// Viewpoints on a sphere around the model [default: 160, 16 with --family triangle, or 1282 with
+    /// --preset paper].
     #[arg(long, allow_negative_numbers = true)]
     views: Option<usize>,
-    /// Image size, WxH [default: 256x256, or 1024x1024 with --preset paper].
+    /// Image size, WxH [default: 256x256 (128x128 with --family triangle), or 1024x1024 with
+    /// --preset paper].
     #[arg(long)]
     size: Option<String>,
     /// Methods to judge (comma-separated, or all); the reference always runs.
@@ -109,6 +121,9 @@ pub fn run(a: Args) -> Outcome {
     }
     let shard = shard(&a.shard)?;
     let reference = by_name(&a.reference)?;
+    if a.family == "triangle" {
+        return run_triangle(a);
+    }
     let methods: Vec<_> = parse_list(&a.methods)?
         .into_iter()
         .filter(|m| !m.reference && m.name != reference.name)
@@ -119,30 +134,12 @@ pub fn run(a: Args) -> Outcome {
         .as_deref()
         .map(|p| super::Staged::new("--dump", p))
         .transpose()?;
-    let paper = a.preset.is_some();
-    let views = a.views.unwrap_or(if paper { 1282 } else { 160 });
-    if views == 0 {
-        return Err("--views 0: a count needs at least one view".into());
-    }
-    let size = a
-        .size
-        .unwrap_or_else(|| if paper { "1024x1024" } else { "256x256" }.into());
-    let (width, height) = super::size(&size, false, 65536)?;
-    super::fits(
-        &format!("--size {width}x{height}"),
-        width as u128 * height as u128 * super::BYTES_PER_PIXEL,
-    )?;
+    let views = views(&a, 160, "256x256")?;
     let backend = a.backend.open()?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let settings = Settings {
         scene: a.scene,
-        views: Views {
-            views,
-            width,
-            height,
-            seed: a.seed,
-            fov_deg: Views::FOV_DEG,
-        },
+        views,
         reference: reference.name.to_string(),
         audit: a.audit,
         shard,
@@ -152,7 +149,7 @@ pub fn run(a: Args) -> Outcome {
     } else {
         &EVEN_PERMUTATIONS[..1]
     };
-    let bar = super::progress((views * labellings.len()) as u64, "views");
+    let bar = super::progress((views.views * labellings.len()) as u64, "views");
     let mut write = |w: &WrongRay| -> std::io::Result<()> {
         if let Some(d) = dump.as_mut() {
             serde_json::to_writer(d.writer(), w)?;
@@ -194,6 +191,56 @@ pub fn run(a: Args) -> Outcome {
     if let Some(d) = dump {
         d.finish()?;
     }
+    print!("{}", report.markdown());
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The views a count asks for: `--views` and `--size`, else seed 000's with `--preset paper`, else the
+/// defaults given.
+fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
+    let paper = a.preset.is_some();
+    let views = a.views.unwrap_or(if paper { 1282 } else { views });
+    if views == 0 {
+        return Err("--views 0: a count needs at least one view".into());
+    }
+    let size = a
+        .size
+        .clone()
+        .unwrap_or_else(|| if paper { "1024x1024" } else { size }.into());
+    let (width, height) = super::size(&size, false, 65536)?;
+    super::fits(
+        &format!("--size {width}x{height}"),
+        width as u128 * height as u128 * super::BYTES_PER_PIXEL,
+    )?;
+    Ok(Views {
+        views,
+        width,
+        height,
+        seed: a.seed,
+        fov_deg: Views::FOV_DEG,
+    })
+}
+
+/// `count --family triangle`.
+fn run_triangle(a: Args) -> Outcome {
+    if a.relabel.is_some() || a.dump.is_some() || a.shard != "0/1" {
+        return Err("--relabel, --dump and --shard are for --family exit-face".into());
+    }
+    let methods = parse_triangle_list(&a.methods)?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let views = views(&a, 16, "128x128")?;
+    let backend = a.backend.open()?;
+    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let settings = triangle::CountSettings {
+        scene: a.scene,
+        views,
+        reference: a.reference,
+        packet: a.packet.parse().expect("clap checked it"),
+    };
+    let bar = super::progress(views.views as u64, "views");
+    let report = triangle::count(&mesh, &settings, &methods, &backend, &|| bar.inc(1))?;
+    bar.finish_and_clear();
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)

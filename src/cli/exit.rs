@@ -15,18 +15,20 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::mpsc;
 
+/// The arguments of `exit` and `hit`.
 #[derive(clap::Args)]
 pub struct Args {
     /// A method name, a comma-separated list, or `all` [default: all].
     #[arg(long, default_value = "all")]
-    method: String,
+    pub(super) method: String,
     #[command(flatten)]
-    backend: BackendArg,
-    /// Also write a summary (lines, errors, per method right / wrong / missed) as JSON here.
+    pub(super) backend: BackendArg,
+    /// Also write a summary (lines, errors, per method right / wrong, and for `exit` lines missing the
+    /// tetrahedron) as JSON here.
     #[arg(long)]
-    json: Option<PathBuf>,
+    pub(super) json: Option<PathBuf>,
     /// JSON Lines file of cases (found cases too); standard input when absent.
-    file: Option<PathBuf>,
+    pub(super) file: Option<PathBuf>,
 }
 
 /// Longest line read, in bytes; a longer one is an error for that line.
@@ -35,7 +37,7 @@ const MAX_LINE: u64 = 1 << 20;
 const BATCH: usize = 4096;
 
 /// One input line: its number and its text, or why it could not be read.
-type Line = (usize, Result<String, String>);
+pub(super) type Line = (usize, Result<String, String>);
 
 /// Read lines on a thread, each at most [`MAX_LINE`] bytes, invalid UTF-8 an error for its line.
 fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
@@ -73,48 +75,20 @@ fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
     rx
 }
 
-/// Per method: lines judged right, wrong, and whose line missed the tetrahedron.
-#[derive(Clone, Default, serde::Serialize)]
-struct Tally {
-    method: String,
-    right: u64,
-    wrong: u64,
-    missed: u64,
-}
-
-#[derive(serde::Serialize)]
-struct Summary {
-    backend: String,
-    lines: u64,
-    errors: u64,
-    methods: Vec<Tally>,
-}
-
-pub fn run(a: Args) -> Outcome {
-    let methods = parse_list(&a.method)?;
-    let out = JsonOut::new(a.json.as_deref())?;
-    let backend = a.backend.open()?;
-    let input: Box<dyn BufRead + Send> = match &a.file {
+/// Answer the JSON Lines of `file` (standard input when `None`) batch by batch as they arrive: block
+/// for one line, take whatever else has arrived, write `answer`'s text for them to standard output.
+pub(super) fn answer_lines(
+    file: Option<&std::path::Path>,
+    mut answer: impl FnMut(&[Line]) -> Result<String, super::Error>,
+) -> Result<(), super::Error> {
+    let input: Box<dyn BufRead + Send> = match file {
         Some(p) => Box::new(std::io::BufReader::new(
             std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?,
         )),
         None => Box::new(std::io::BufReader::new(std::io::stdin())),
     };
     let rx = reader(input);
-    let mut summary = Summary {
-        backend: backend.describe(),
-        lines: 0,
-        errors: 0,
-        methods: methods
-            .iter()
-            .map(|m| Tally {
-                method: m.name.into(),
-                ..Tally::default()
-            })
-            .collect(),
-    };
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-    // Block for one line, then take whatever else has arrived.
     while let Ok(first) = rx.recv() {
         let mut batch = vec![first];
         while batch.len() < BATCH {
@@ -123,19 +97,83 @@ pub fn run(a: Args) -> Outcome {
                 Err(_) => break,
             }
         }
-        let text = answer(&batch, &methods, &backend, &mut summary)?;
+        let text = answer(&batch)?;
         w.write_all(text.as_bytes())?;
         w.flush()?;
     }
+    Ok(())
+}
+
+/// Per method: lines judged right, wrong, and (`exit`) whose line missed the tetrahedron.
+#[derive(Clone, Default, serde::Serialize)]
+pub(super) struct Tally {
+    method: String,
+    pub right: u64,
+    pub wrong: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub missed: Option<u64>,
+}
+
+/// What a command answering JSON Lines writes with `--json`.
+#[derive(serde::Serialize)]
+pub(super) struct Summary {
+    backend: String,
+    pub lines: u64,
+    pub errors: u64,
+    pub methods: Vec<Tally>,
+}
+
+/// Answer `file`'s lines with `answer` (given each batch and the summary), then write the summary
+/// with `--json`; exit status 1 when a line could not be answered. `missed` says whether the tallies
+/// count lines missing the tetrahedron.
+pub(super) fn answer_all(
+    command: &str,
+    names: Vec<&'static str>,
+    missed: bool,
+    backend: &Backend,
+    file: Option<&std::path::Path>,
+    json: Option<&std::path::Path>,
+    mut answer: impl FnMut(&[Line], &mut Summary) -> Result<String, super::Error>,
+) -> Outcome {
+    let out = JsonOut::new(json)?;
+    let mut summary = Summary {
+        backend: backend.describe(),
+        lines: 0,
+        errors: 0,
+        methods: names
+            .into_iter()
+            .map(|m| Tally {
+                method: m.into(),
+                missed: missed.then_some(0),
+                ..Tally::default()
+            })
+            .collect(),
+    };
+    answer_lines(file, |batch| answer(batch, &mut summary))?;
     out.finish(&summary)?;
     if summary.errors > 0 {
         eprintln!(
-            "tetwalk exit: {} line(s) could not be answered",
+            "tetwalk {command}: {} line(s) could not be answered",
             summary.errors
         );
         return Ok(ExitCode::FAILURE);
     }
     Ok(ExitCode::SUCCESS)
+}
+
+pub fn run(a: Args) -> Outcome {
+    let methods = parse_list(&a.method)?;
+    let backend = a.backend.open()?;
+    let names = methods.iter().map(|m| m.name).collect();
+    answer_all(
+        "exit",
+        names,
+        true,
+        &backend,
+        a.file.as_deref(),
+        a.json.as_deref(),
+        |batch, summary| answer(batch, &methods, &backend, summary),
+    )
 }
 
 /// What a line holds once read and judged by the oracle.
@@ -162,6 +200,9 @@ fn answer(
                         .map(|x| Parsed::Exit(c, x))
                         .map_err(|e| e.to_string()),
                     Subject::Walk(w) => Ok(Parsed::Walk(w)),
+                    Subject::Hit(_) => {
+                        Err("a ray-triangle case: tetwalk hit answers it".to_string())
+                    }
                 }
             });
             (*n, p)
@@ -196,7 +237,9 @@ fn answer(
                         let j = judged(c, f[k]);
                         t.right += (j.correct == Some(true)) as u64;
                         t.wrong += (j.correct == Some(false)) as u64;
-                        t.missed += j.correct.is_none() as u64;
+                        if let Some(m) = t.missed.as_mut() {
+                            *m += j.correct.is_none() as u64;
+                        }
                         serde_json::json!({
                             "line": n, "method": m.name, "backend": backend.for_method(m).kind().name(),
                             "face": j.face, "exact_exit": j.exact_exit, "exact_entry": j.exact_entry,

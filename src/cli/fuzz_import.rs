@@ -1,16 +1,16 @@
 //! `tetwalk fuzz-import`: turn fuzzer artifacts into readable found cases under `corpora/found/`.
 
 use super::{JsonOut, Outcome};
-use crate::cases::Subject;
+use crate::cases::{HitCase, Subject};
 use crate::found::{Record, fuzz_find, required_methods};
-use crate::scenes::from_bytes::{exit_case, walk_case};
+use crate::scenes::from_bytes::{exit_case, hit_case, walk_case};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
     /// The fuzz target that found them.
-    #[arg(long, value_parser = ["exit_face", "walk"])]
+    #[arg(long, value_parser = ["exit_face", "walk", "triangle_hit"])]
     target: String,
     /// Where found cases go (one folder per method).
     #[arg(long, default_value = "corpora/found")]
@@ -41,6 +41,11 @@ pub fn run(a: Args) -> Outcome {
             )
         } else if a.target == "exit_face" {
             exit_case(&mut u).ok().flatten().map(Subject::Exit)
+        } else if a.target == "triangle_hit" {
+            hit_case(&mut u)
+                .ok()
+                .and_then(|(mesh, ray)| HitCase::closed(&mesh, ray).ok())
+                .map(Subject::Hit)
         } else {
             walk_case(&mut u).ok().map(Subject::Walk)
         };

@@ -6,6 +6,7 @@ mod count;
 mod exit;
 mod fuzz_import;
 mod gen_cases;
+mod hit;
 mod paper;
 mod render;
 mod replay;
@@ -15,7 +16,7 @@ mod walk;
 
 use crate::backend::{Backend, BackendKind};
 use crate::choice::Choice;
-use crate::registry::{Gpu, METHODS};
+use crate::registry::{Family, Gpu, METHODS, TRIANGLE_METHODS};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand};
 use std::io::Write;
@@ -47,6 +48,8 @@ enum Command {
     },
     /// Answer cases (or found cases) from JSON Lines with each method, judged exactly.
     Exit(exit::Args),
+    /// Answer ray-triangle cases from JSON Lines with each ray-triangle method, judged exactly.
+    Hit(hit::Args),
     /// Write generated (tetrahedron, ray) cases as JSON Lines.
     GenCases(gen_cases::Args),
     /// Walk rays through a generated mesh with each method, every step judged exactly.
@@ -83,6 +86,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Methods { json } => methods(json),
         Command::Exit(a) => exit::run(a),
+        Command::Hit(a) => hit::run(a),
         Command::GenCases(a) => gen_cases::run(a),
         Command::Walk(a) => walk::run(a),
         Command::Stress(a) => stress::run(a),
@@ -138,6 +142,10 @@ fn methods(json: Option<PathBuf>) -> Outcome {
         gpu: String,
         implements: &'static str,
     }
+    let gpu = |g: Gpu| match g {
+        Gpu::Wgsl(_) => "yes".into(),
+        Gpu::CpuOnly(why) => format!("no: {why}"),
+    };
     let rows: Vec<Row> = METHODS
         .iter()
         .map(|m| Row {
@@ -145,12 +153,17 @@ fn methods(json: Option<PathBuf>) -> Outcome {
             family: m.family.name(),
             claims_robust: m.claims_robust,
             reference: m.reference,
-            gpu: match m.gpu {
-                Gpu::Wgsl(_) => "yes".into(),
-                Gpu::CpuOnly(why) => format!("no: {why}"),
-            },
+            gpu: gpu(m.gpu),
             implements: m.source,
         })
+        .chain(TRIANGLE_METHODS.iter().map(|m| Row {
+            name: m.name,
+            family: Family::Triangle.name(),
+            claims_robust: m.claims_watertight,
+            reference: false,
+            gpu: gpu(m.gpu),
+            implements: m.source,
+        }))
         .collect();
     println!("| method | family | claims robust | GPU | implements |\n|---|---|---|---|---|");
     for r in &rows {

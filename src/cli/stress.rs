@@ -7,19 +7,35 @@ use crate::choice::Choice;
 use crate::found::{Answer, Failure, Record};
 use crate::registry::Method;
 use crate::registry::parse_list;
+use crate::registry::{TriangleMethod, parse_triangle_list};
 use crate::report::stress::{self, Row, Settings};
+use crate::report::triangle::{self as tri, StressSettings};
+use crate::scenes::closed::{Aim, Place, Shape};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Cases per row.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 100_000)]
-    cases: usize,
-    /// Rows (comma-separated) [default: all of them].
+    /// Which family of methods: `exit-face` (tetrahedra, seeds 000 and 003) or `triangle` (closed
+    /// triangle meshes, seed 004: leaks, double hits, wrong first hits).
+    #[arg(long, value_parser = ["exit-face", "triangle"], default_value = "exit-face")]
+    family: String,
+    /// Cases per row [default: 100000 for exit-face, 2000 for triangle].
+    #[arg(long, allow_negative_numbers = true)]
+    cases: Option<i64>,
+    /// Rows (comma-separated) [default: all of them]; exit-face only.
     #[arg(long, value_parser = choice::<Row>(), value_delimiter = ',')]
     families: Vec<Row>,
+    /// Triangle rows: closed mesh shapes (comma-separated) [default: all].
+    #[arg(long, value_parser = choice::<Shape>(), value_delimiter = ',')]
+    shapes: Vec<Shape>,
+    /// Triangle rows: where rays are aimed (comma-separated) [default: all].
+    #[arg(long, value_parser = choice::<Aim>(), value_delimiter = ',')]
+    aims: Vec<Aim>,
+    /// Triangle rows: where meshes are placed (comma-separated) [default: all].
+    #[arg(long, value_parser = choice::<Place>(), value_delimiter = ',')]
+    places: Vec<Place>,
     /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
     methods: String,
@@ -65,12 +81,30 @@ pub fn run(a: Args) -> Outcome {
     if a.ulps < 1 {
         return Err(format!("--ulps {} is not a number of ulps (1 or more)", a.ulps).into());
     }
-    let methods = parse_list(&a.methods)?;
-    if a.cases == 0 {
-        return Err("--cases 0: a stress run needs at least one case per row".into());
+    if let Some(seconds) = a.seconds
+        && !(seconds.is_finite() && seconds >= 0.0)
+    {
+        return Err(format!("--seconds {seconds} is not a number of seconds").into());
     }
+    let triangle = a.family == "triangle";
+    let cases = a.cases.unwrap_or(if triangle { 2_000 } else { 100_000 });
+    if cases <= 0 {
+        return Err(
+            format!("--cases {cases}: a stress run needs at least one case per row").into(),
+        );
+    }
+    let cases = cases as usize;
+    if triangle {
+        return run_triangle(a, cases);
+    }
+    if !(a.shapes.is_empty() && a.aims.is_empty() && a.places.is_empty()) {
+        return Err(
+            "--shapes, --aims and --places choose triangle rows; add --family triangle".into(),
+        );
+    }
+    let methods = parse_list(&a.methods)?;
     // A row's cases, their classifications and one method's answers are held at once.
-    super::fits(&format!("--cases {}", a.cases), a.cases as u128 * 112)?;
+    super::fits(&format!("--cases {cases}"), cases as u128 * 112)?;
     let out = JsonOut::new(a.json.as_deref())?;
     let backend = if a.compare {
         if a.backend.backend != BackendKind::Cpu {
@@ -85,7 +119,7 @@ pub fn run(a: Args) -> Outcome {
         a.backend.open()?
     };
     let settings = Settings {
-        cases: a.cases,
+        cases,
         rows: if a.families.is_empty() {
             Row::ALL.to_vec()
         } else {
@@ -119,21 +153,9 @@ pub fn run(a: Args) -> Outcome {
             report.relabel_all(&methods, &backend)?;
         }
         bar.finish_and_clear();
-        print!("{}", report.markdown());
-        out.finish(&report)?;
-        return Ok(ExitCode::SUCCESS);
+        return shown(out, report.markdown(), &report);
     };
-    if !(seconds.is_finite() && seconds >= 0.0) {
-        return Err(format!("--seconds {seconds} is not a number of seconds").into());
-    }
-    let mut filing = Filing {
-        dir: a.found,
-        keep: a.keep,
-        kept: HashMap::new(),
-        seen: 0,
-        filed: Vec::new(),
-        error: None,
-    };
+    let mut filing = Filing::new(a.found, a.keep);
     let report = stress::campaign(
         &settings,
         &methods,
@@ -146,17 +168,7 @@ pub fn run(a: Args) -> Outcome {
         return Err(e.into());
     }
     print!("{}", report.markdown());
-    println!(
-        "\n{} wrong answers in {} rounds; {} new found cases filed under {} (at most {} per method, row and kind):",
-        filing.seen,
-        report.rounds,
-        filing.filed.len(),
-        filing.dir.display(),
-        filing.keep
-    );
-    for f in &filing.filed {
-        println!("  {}", f.display());
-    }
+    filing.print(report.rounds, "");
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -167,27 +179,64 @@ pub fn run(a: Args) -> Outcome {
 struct Filing {
     dir: PathBuf,
     keep: usize,
-    kept: HashMap<(String, Row, &'static str), usize>,
+    kept: HashMap<(String, String, &'static str), usize>,
     seen: u64,
     filed: Vec<PathBuf>,
     error: Option<String>,
 }
 
 impl Filing {
+    fn new(dir: PathBuf, keep: usize) -> Filing {
+        Filing {
+            dir,
+            keep,
+            kept: HashMap::new(),
+            seen: 0,
+            filed: Vec::new(),
+            error: None,
+        }
+    }
+
+    /// What the campaign filed, after its table.
+    fn print(&self, rounds: u64, note: &str) {
+        println!(
+            "\n{} wrong answers in {rounds} rounds{note}; {} new found cases filed under {} (at most {} per method, row and kind):",
+            self.seen,
+            self.filed.len(),
+            self.dir.display(),
+            self.keep
+        );
+        for f in &self.filed {
+            println!("  {}", f.display());
+        }
+    }
+
+    /// A wrong exit face of `m` on `case`.
     fn file(&mut self, row: Row, m: &Method, backend: &Backend, case: &Case, face: Option<usize>) {
-        self.seen += 1;
         let on = backend.for_method(m);
-        let record = Record {
-            subject: Subject::Exit(*case),
-            failure: Some(Failure {
-                method: m.name.to_string(),
-                backend: on.kind(),
-                adapter: on.adapter(),
-                answer: Answer::Face(face.map(|f| f as u8)),
-            }),
-        };
+        self.file_record(
+            row.name(),
+            Record {
+                subject: Subject::Exit(*case),
+                failure: Some(Failure {
+                    method: m.name.to_string(),
+                    backend: on.kind(),
+                    adapter: on.adapter(),
+                    answer: Answer::Face(face.map(|f| f as u8)),
+                }),
+            },
+        );
+    }
+
+    /// A found case of a row (named `row`).
+    fn file_record(&mut self, row: &str, record: Record) {
+        self.seen += 1;
         let kind = record.failure.as_ref().map_or("", |f| f.kind().wrong_key());
-        let key = (m.name.to_string(), row, kind);
+        let method = record
+            .failure
+            .as_ref()
+            .map_or(String::new(), |f| f.method.clone());
+        let key = (method, row.to_string(), kind);
         let n = self.kept.get(&key).copied().unwrap_or(0);
         if n >= self.keep || self.error.is_some() || self.path(row, &record).exists() {
             return;
@@ -221,7 +270,7 @@ impl Filing {
 
     /// Where a found case is filed: by method, row, kind and an FNV-1a hash of its line, so that the
     /// same failure always files under the same name, once.
-    fn path(&self, row: Row, r: &Record) -> PathBuf {
+    fn path(&self, row: &str, r: &Record) -> PathBuf {
         let line = r.to_json();
         let hash = line.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
             (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
@@ -232,6 +281,84 @@ impl Filing {
             .map_or(("", ""), |f| (f.method.as_str(), f.kind().wrong_key()));
         self.dir
             .join(method)
-            .join(format!("stress-{}-{kind}-{hash:016x}.json", row.name()))
+            .join(format!("stress-{row}-{kind}-{hash:016x}.json"))
     }
+}
+
+/// `stress --family triangle`: the closed-mesh rows, or a campaign over them with `--seconds`.
+fn run_triangle(a: Args, cases: usize) -> Outcome {
+    if a.compare || a.relabel.is_some() || !a.families.is_empty() {
+        return Err("--compare, --relabel and --families are for --family exit-face".into());
+    }
+    if !(a.flatness > 0.0 && a.flatness <= 1.0) || a.ulps < 1 {
+        return Err("--flatness must be in (0, 1] and --ulps 1 or more".into());
+    }
+    let methods: Vec<&TriangleMethod> = parse_triangle_list(&a.methods)?;
+    // A row's cases (about 1 KiB each with their exact answers) and one method's hits are held at once.
+    super::fits(&format!("--cases {cases}"), cases as u128 * 2048)?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let backend = a.backend.open()?;
+    let mut settings = StressSettings {
+        cases,
+        shapes: or_all(a.shapes),
+        aims: or_all(a.aims),
+        places: or_all(a.places),
+        seed: a.seed,
+        backend: backend.describe(),
+        flatness: a.flatness,
+        ulps: a.ulps,
+    };
+    let rows = settings.shapes.len() * settings.aims.len() * settings.places.len();
+    let Some(seconds) = a.seconds else {
+        let bar = super::progress((cases * rows) as u64, "rays");
+        let report = tri::stress(
+            &settings,
+            &methods,
+            &backend,
+            &|n| bar.inc(n),
+            &mut |_, _| {},
+        )?;
+        bar.finish_and_clear();
+        return shown(out, report.markdown(), &report);
+    };
+    let mut filing = Filing::new(a.found, a.keep);
+    let t0 = std::time::Instant::now();
+    let mut rounds = 0;
+    let mut last = None;
+    while rounds == 0 || t0.elapsed().as_secs_f64() < seconds {
+        settings.seed = a.seed + rounds;
+        let report = tri::stress(
+            &settings,
+            &methods,
+            &backend,
+            &|_| {},
+            &mut |row, record| filing.file_record(row, record),
+        )?;
+        rounds += 1;
+        last = Some(report);
+    }
+    if let Some(e) = filing.error {
+        return Err(e.into());
+    }
+    let report = last.expect("one round at least");
+    print!("{}", report.markdown());
+    filing.print(rounds, " (the table is the last round's)");
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The values given, or every value when none is.
+fn or_all<T: Choice>(given: Vec<T>) -> Vec<T> {
+    if given.is_empty() {
+        T::ALL.to_vec()
+    } else {
+        given
+    }
+}
+
+/// Print a report and write it with `--json`.
+fn shown(out: JsonOut, text: String, report: &impl serde::Serialize) -> Outcome {
+    print!("{text}");
+    out.finish(report)?;
+    Ok(ExitCode::SUCCESS)
 }

@@ -1,9 +1,10 @@
 //! Exact ray–triangle intersection with rationals, and the brute-force first hit over a mesh's
 //! constrained faces: the reference that walks are checked against.
 
+use super::ExactError;
 use super::rational::{det, neg, q3, sub};
 use crate::mesh::Mesh;
-use crate::tet::Ray;
+use crate::tet::{Ray, all_finite, orientation};
 use glam::Vec3;
 use rug::Rational;
 
@@ -35,6 +36,65 @@ pub fn line_triangle(tri: [Vec3; 3], ray: &Ray) -> Option<Crossing> {
     let inside = u.cmp0().is_ge() && v.cmp0().is_ge() && w.cmp0().is_ge();
     let on_boundary = u.cmp0().is_eq() || v.cmp0().is_eq() || w.cmp0().is_eq();
     inside.then_some(Crossing { t, on_boundary })
+}
+
+/// The exact answer for a ray and one triangle (seed 004's question): a hit is a crossing of the
+/// closed triangle at `t > 0` (an origin on the triangle is a miss; a ray parallel to the plane misses
+/// it, even in it), on its boundary when the point lies on an edge or vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RayHit {
+    pub hit: bool,
+    /// The hit point lies on an edge or a vertex (false for a miss).
+    pub on_boundary: bool,
+}
+
+/// [`RayHit`] from exact signs (filtered): `n·d` with `n = (b - a) × (c - a)` not 0, each edge's side
+/// product `det[p - o, q - o, d]` 0 or of the sign of `n·d`, and `orient3d(a, b, c, o)` (the sign of
+/// `n·(a - o)`) of that sign too. An error for a non-finite number, a zero direction or a degenerate
+/// triangle.
+pub fn ray_triangle(tri: [Vec3; 3], ray: &Ray) -> Result<RayHit, ExactError> {
+    let [a, b, c] = tri;
+    if !all_finite(&tri) || !all_finite(&[ray.org, ray.dir]) {
+        return Err(ExactError::NonFinite);
+    }
+    if ray.dir == Vec3::ZERO {
+        return Err(ExactError::ZeroDirection);
+    }
+    if (0..3).all(|k| super::normal_dot(a, b, c, super::unit(k)) == 0) {
+        return Err(ExactError::FlatTriangle);
+    }
+    let miss = RayHit {
+        hit: false,
+        on_boundary: false,
+    };
+    let nd = super::normal_dot(a, b, c, ray.dir);
+    if nd == 0 {
+        return Ok(miss);
+    }
+    let mut on_boundary = false;
+    for (p, q) in [(a, b), (b, c), (c, a)] {
+        match super::side(p, q, ray) {
+            0 => on_boundary = true,
+            s if s != nd => return Ok(miss),
+            _ => {}
+        }
+    }
+    if orientation(&[a, b, c, ray.org]) != nd {
+        return Ok(miss);
+    }
+    Ok(RayHit {
+        hit: true,
+        on_boundary,
+    })
+}
+
+/// The exact `t` of a ray's hit on a triangle ([`ray_triangle`]), `None` for a miss.
+pub fn ray_triangle_t(tri: [Vec3; 3], ray: &Ray) -> Result<Option<Rational>, ExactError> {
+    Ok(if ray_triangle(tri, ray)?.hit {
+        line_triangle(tri, ray).map(|c| c.t)
+    } else {
+        None
+    })
 }
 
 /// Whether the ray, its origin perturbed as in [`super::perturbed_exit`], crosses the triangle at

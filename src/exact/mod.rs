@@ -60,6 +60,8 @@ pub enum ExactError {
     FlatTet,
     #[error("the ray direction is zero")]
     ZeroDirection,
+    #[error("the triangle is degenerate (its vertices are collinear)")]
+    FlatTriangle,
 }
 
 /// Signs the oracle derives everything from, computed once per tetrahedron and line.

@@ -17,6 +17,7 @@ mod ms06;
 mod plucker;
 mod ray_plane;
 mod stp;
+pub mod triangle;
 
 pub use aman20::{Aman20, Aman20Scaled};
 pub use certified::Certified;

@@ -5,7 +5,7 @@ use crate::backend::{Backend, BackendError};
 use crate::mesh::Mesh;
 use crate::registry::{Method, by_name, reference};
 use crate::report::wrong::{Class, Seen, WrongRay};
-use crate::scenes::camera::Views;
+use crate::scenes::camera::{Camera, Views};
 use crate::tet::Ray;
 use crate::walk::{OutcomeKind, Walk, default_max_steps, judge, locate};
 use rayon::prelude::*;
@@ -220,6 +220,27 @@ fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
     (z % total.max(1)) < audit
 }
 
+/// The views that `holds` keeps whose camera lies inside the mesh, each with its camera and the
+/// tetrahedron holding it (located from the previous view's); `tick` is called for every view tried.
+pub fn located_views<'a>(
+    mesh: &'a Mesh,
+    views: &'a Views,
+    holds: impl Fn(usize) -> bool + 'a,
+    tick: &'a (dyn Fn() + Sync),
+) -> impl Iterator<Item = (usize, Camera, u32)> + 'a {
+    let (lo, hi) = crate::mesh::bounds(&mesh.points);
+    let mut start = 0;
+    (0..views.views)
+        .filter(move |&v| holds(v))
+        .filter_map(move |v| {
+            let cam = views.camera(lo, hi, v);
+            tick();
+            let located = locate(mesh, cam.eye, start).ok()?;
+            start = located;
+            Some((v, cam, located))
+        })
+}
+
 /// Where each wrong ray goes besides the tallies (`count --dump`).
 pub type Sink<'a> = dyn FnMut(&WrongRay) -> std::io::Result<()> + 'a;
 
@@ -237,7 +258,6 @@ pub fn run(
     let full = reference();
     let max = default_max_steps(mesh);
     let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
-    let (lo, hi) = crate::mesh::bounds(&mesh.points);
     let on = backend.mesh(mesh);
     let mut totals: Vec<MethodCount> = std::iter::once(exact)
         .chain(methods.iter().copied())
@@ -247,14 +267,7 @@ pub fn run(
         })
         .collect();
     let (mut rays_counted, mut views_counted, mut audits) = (0u64, 0usize, 0u64);
-    let mut start = 0;
-    for v in (0..s.views.views).filter(|&v| s.shard.holds(v)) {
-        let cam = s.views.camera(lo, hi, v);
-        tick();
-        let Ok(located) = locate(mesh, cam.eye, start) else {
-            continue;
-        };
-        start = located;
+    for (v, cam, located) in located_views(mesh, &s.views, |v| s.shard.holds(v), tick) {
         views_counted += 1;
         let rays = s.views.rays(&cam);
         rays_counted += rays.len() as u64;

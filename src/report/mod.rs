@@ -5,6 +5,7 @@ pub mod count;
 pub mod paper;
 pub mod scene_info;
 pub mod stress;
+pub mod triangle;
 pub mod wrong;
 
 /// Counts under the 12 orientation-preserving relabellings (`crate::tet::EVEN_PERMUTATIONS`, the

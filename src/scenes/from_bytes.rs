@@ -145,3 +145,21 @@ pub fn walk_case(u: &mut Unstructured) -> Result<WalkCase> {
         dir: dir.to_array(),
     })
 }
+
+/// A closed triangle mesh and a ray from outside it ([`super::closed::case`]: shape, aim and place from
+/// the bytes, the rest from a seed they give), the origin and direction then moved by a few ulps.
+pub fn hit_case(u: &mut Unstructured) -> Result<(Vec<crate::tet::Tri>, Ray)> {
+    use super::closed::{Aim, Place, Shape, case};
+    use crate::choice::Choice;
+    let shape = *u.choose(Shape::ALL)?;
+    let aim = *u.choose(Aim::ALL)?;
+    let place = *u.choose(Place::ALL)?;
+    let flatness = *u.choose(&[1.0, 1e-2, 1e-3, 1e-4])?;
+    let mut rng = super::rng(u.arbitrary()?);
+    let (mesh, ray) = case(shape, aim, place, flatness, 4, &mut rng);
+    let k = u.int_in_range(0..=2)?;
+    let org = nudge(u, ray.org, k)?;
+    let dir = nudge(u, ray.dir, k)?;
+    let dir = if dir == Vec3::ZERO { ray.dir } else { dir };
+    Ok((mesh, Ray { org, dir }))
+}

@@ -3,6 +3,7 @@
 
 pub mod build;
 pub mod camera;
+pub mod closed;
 pub mod from_bytes;
 pub mod meshes;
 pub mod model;

@@ -1,0 +1,106 @@
+//! `tetwalk hit`: ray–triangle cases (seed 004's question), one JSON line per case and method, each
+//! method's answer beside the exact one. Read as `exit` reads its cases: line by line as they come.
+
+use super::Outcome;
+pub use super::exit::Args;
+use super::exit::{Line, Summary, answer_all};
+use crate::backend::Backend;
+use crate::cases::{Subject, judge_hit};
+use crate::choice::Choice;
+use crate::found::{Record, nearest_hit};
+use crate::registry::{TriangleMethod, parse_triangle_list};
+use serde_json::{Value, json};
+
+pub fn run(a: Args) -> Outcome {
+    let methods = parse_triangle_list(&a.method)?;
+    let backend = a.backend.open()?;
+    let names = methods.iter().map(|m| m.name).collect();
+    answer_all(
+        "hit",
+        names,
+        false,
+        &backend,
+        a.file.as_deref(),
+        a.json.as_deref(),
+        |batch, summary| answer(batch, &methods, &backend, summary),
+    )
+}
+
+/// A rational as `p/q`.
+fn ratio(q: &rug::Rational) -> String {
+    format!("{}/{}", q.numer(), q.denom())
+}
+
+fn answer(
+    batch: &[Line],
+    methods: &[&'static TriangleMethod],
+    backend: &Backend,
+    summary: &mut Summary,
+) -> Result<String, super::Error> {
+    let parsed: Vec<(usize, Result<_, String>)> = batch
+        .iter()
+        .filter(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty()))
+        .map(|(n, l)| {
+            let p = l.clone().and_then(|l| {
+                match Record::parse(&l).map_err(|e| e.to_string())?.subject {
+                    Subject::Hit(h) => judge_hit(&h).map(|t| (h, t)).map_err(|e| e.to_string()),
+                    _ => {
+                        Err("not a ray-triangle case (tri or tris); tetwalk exit answers it".into())
+                    }
+                }
+            });
+            (*n, p)
+        })
+        .collect();
+    let cases: Vec<_> = parsed
+        .iter()
+        .filter_map(|(_, p)| p.as_ref().ok().map(|(h, _)| *h))
+        .collect();
+    let mut got = Vec::new();
+    for m in methods {
+        let hits = backend.triangle_hits(m, &cases)?;
+        got.push(hits.iter().map(|h| nearest_hit(h)).collect::<Vec<_>>());
+    }
+    let mut s = String::new();
+    let mut k = 0;
+    for (n, p) in &parsed {
+        summary.lines += 1;
+        let (case, truth) = match p {
+            Err(e) => {
+                summary.errors += 1;
+                s += &json!({"line": n, "error": e}).to_string();
+                s.push('\n');
+                continue;
+            }
+            Ok(x) => x,
+        };
+        for ((m, g), tally) in methods.iter().zip(&got).zip(&mut summary.methods) {
+            let g = g[k];
+            let correct = truth.right(g.map(|(i, _)| i));
+            tally.right += correct as u64;
+            tally.wrong += !correct as u64;
+            let first = truth.first();
+            let mut line = json!({
+                "line": n, "method": m.name, "backend": backend.kind().name(),
+                "hit": g.is_some(), "t": g.map(|(_, t)| t),
+                "exact_hit": first.is_some(), "exact_t": first.map(|p| ratio(&p.t)),
+            });
+            let o = line.as_object_mut().expect("an object");
+            if case.closed {
+                o.insert("tri".into(), json!(g.map(|(i, _)| i)));
+                let holding = first.map_or(vec![], |p| p.holding.clone());
+                let boundary = holding.iter().any(|&i| truth.each[i as usize].on_boundary);
+                o.insert("exact_tris".into(), json!(holding));
+                o.insert("on_boundary".into(), Value::Bool(boundary));
+                o.insert("crosses".into(), json!(first.map(|p| p.crosses)));
+            } else {
+                o.insert("on_boundary".into(), Value::Bool(truth.each[0].on_boundary));
+            }
+            o.insert("correct".into(), Value::Bool(correct));
+            s += &line.to_string();
+            s.push('\n');
+        }
+        k += 1;
+    }
+    Ok(s)
+}

@@ -1,0 +1,154 @@
+//! Ray–triangle intersection methods (seed 004 and the tests it names): plain functions over plain data
+//! behind one small trait, generic over [`Arith`] like the exit-face methods, each in a file of its own.
+//!
+//! A method tests a *packet* of rays sharing an origin against one triangle; a single ray is a packet of
+//! one. Methods that share work across a packet (Komatsu et al.'s and Benthin's) do it once per packet
+//! and triangle; the others test ray by ray. What every ray tracer adds around a test lives here, once:
+//! a reported hit counts when its f32 `t > 0` ([`accepts`]), and the nearest hit over many triangles is
+//! the first with the smallest `t` ([`nearest`]).
+
+mod komatsu;
+mod mt;
+mod mt_precomputed;
+mod plucker_packet;
+mod woop;
+
+pub use komatsu::KomatsuPacket;
+pub use mt::{Mt, MtTwoSided};
+pub use mt_precomputed::MtPrecomputed;
+pub use plucker_packet::PluckerPacket;
+pub use woop::WoopWatertight;
+
+use super::Arith;
+use crate::tet::Ray;
+use glam::Vec3;
+
+pub use crate::tet::Tri;
+
+/// Most rays in one packet (8×8).
+pub const MAX_PACKET: usize = 64;
+
+/// A ray–triangle method: what it computes once per triangle and once per ray, then one call per packet
+/// of rays sharing an origin and one triangle.
+pub trait HitMethod {
+    /// Precomputed per triangle (seed 004 eq. 2's `N`, `E1`, `E2`), or the vertices.
+    type TriData: Copy + Send + Sync;
+    /// Precomputed per ray (Woop et al.'s axes and shear), or the ray.
+    type RayData: Copy + Send + Sync;
+    fn tri<A: Arith>(tri: &Tri) -> Self::TriData;
+    fn ray<A: Arith>(ray: &Ray) -> Self::RayData;
+    /// For each ray of a packet whose rays all start at `org`: `Some(t)` where the method reports a hit
+    /// at parameter `t`, else `None` (`out` is as long as `rays`).
+    fn packet<A: Arith>(
+        tri: &Self::TriData,
+        org: Vec3,
+        rays: &[Self::RayData],
+        out: &mut [Option<f32>],
+    );
+}
+
+/// A method that tests ray by ray from the vertices, precomputing nothing.
+pub trait SingleRay {
+    /// `Some(t)` where the method reports a hit at parameter `t`.
+    fn test<A: Arith>(tri: &Tri, ray: &Ray) -> Option<f32>;
+}
+
+impl<M: SingleRay> HitMethod for M {
+    type TriData = Tri;
+    type RayData = Ray;
+    fn tri<A: Arith>(tri: &Tri) -> Tri {
+        *tri
+    }
+    fn ray<A: Arith>(ray: &Ray) -> Ray {
+        *ray
+    }
+    fn packet<A: Arith>(tri: &Tri, _org: Vec3, rays: &[Ray], out: &mut [Option<f32>]) {
+        for (ray, o) in rays.iter().zip(out) {
+            *o = M::test::<A>(tri, ray);
+        }
+    }
+}
+
+/// Whether a hit the method reports at `t` counts: on the ray's interval `0 < t < ∞` (a NaN does not).
+#[inline(always)]
+pub fn accepts(t: f32) -> bool {
+    t > 0.0 && t < f32::INFINITY
+}
+
+/// `M`'s answer for one ray and one triangle: the `t` of a hit that counts.
+pub fn hit<M: HitMethod, A: Arith>(tri: &Tri, ray: &Ray) -> Option<f32> {
+    let mut out = [None];
+    M::packet::<A>(&M::tri::<A>(tri), ray.org, &[M::ray::<A>(ray)], &mut out);
+    out[0].filter(|&t| accepts(t))
+}
+
+/// Calls `f(triangle, ray, t)` for every hit that counts of each ray of a packet (rays sharing `org`)
+/// with each of `tris` (prepared), triangle by triangle.
+pub fn each_hit<M: HitMethod, A: Arith>(
+    tris: &[M::TriData],
+    org: Vec3,
+    rays: &[M::RayData],
+    mut f: impl FnMut(u32, usize, f32),
+) {
+    let n = rays.len().min(MAX_PACKET);
+    let mut out = [None; MAX_PACKET];
+    for (i, tri) in tris.iter().enumerate() {
+        M::packet::<A>(tri, org, &rays[..n], &mut out[..n]);
+        for (r, o) in out[..n].iter().enumerate() {
+            if let Some(t) = *o
+                && accepts(t)
+            {
+                f(i as u32, r, t);
+            }
+        }
+    }
+}
+
+/// The nearest hit of each ray of a packet among `tris`: the first triangle with the smallest `t`.
+pub fn nearest<M: HitMethod, A: Arith>(
+    tris: &[M::TriData],
+    org: Vec3,
+    rays: &[M::RayData],
+    best: &mut [Option<(u32, f32)>],
+) {
+    each_hit::<M, A>(tris, org, rays, |i, r, t| {
+        if best[r].is_none_or(|(_, bt)| t < bt) {
+            best[r] = Some((i, t));
+        }
+    });
+}
+
+/// The nearest hit of each ray among `tris` (prepared once), the rays taken `packet` at a time; a
+/// packet ends early where the origin changes, so each shares one origin.
+pub fn trace<M: HitMethod, A: Arith>(
+    tris: &[Tri],
+    rays: &[Ray],
+    packet: usize,
+) -> Vec<Option<(u32, f32)>> {
+    let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
+    let mut best = vec![None; rays.len()];
+    let size = packet.clamp(1, MAX_PACKET);
+    let mut start = 0;
+    while start < rays.len() {
+        let org = rays[start].org;
+        let len = rays[start..]
+            .iter()
+            .take(size)
+            .take_while(|r| r.org == org)
+            .count();
+        let data: Vec<M::RayData> = rays[start..start + len].iter().map(M::ray::<A>).collect();
+        nearest::<M, A>(&prepared, org, &data, &mut best[start..start + len]);
+        start += len;
+    }
+    best
+}
+
+/// Every hit of one ray among `tris`, in triangle order.
+pub fn hits<M: HitMethod, A: Arith>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> {
+    let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
+    let mut out = Vec::new();
+    each_hit::<M, A>(&prepared, ray.org, &[M::ray::<A>(ray)], |i, _, t| {
+        out.push((i, t))
+    });
+    out
+}

@@ -1,0 +1,441 @@
+//! The ray–triangle family (seed 004): the exact oracle against plain rational arithmetic, every method
+//! on clear cases, packets against single rays, the closed meshes of the stress rows, the watertight
+//! claim held on them, and `tetwalk hit` and `count --family triangle` as a user runs them.
+
+mod common;
+
+use glam::Vec3;
+use rand::RngExt;
+use tetwalk::backend::{Backend, CPU};
+use tetwalk::cases::{HitCase, Subject, judge_hit};
+use tetwalk::choice::Choice;
+use tetwalk::exact::hit::{line_triangle, ray_triangle, ray_triangle_t};
+use tetwalk::registry::TRIANGLE_METHODS;
+use tetwalk::report::triangle::{StressSettings, stress};
+use tetwalk::scenes::closed::{Aim, Place, Shape, case, mesh};
+use tetwalk::scenes::rng;
+use tetwalk::tet::{Ray, Tri, orientation};
+
+/// A triangle of small lattice points and a ray through a lattice point of its plane or near it.
+fn lattice_case(r: &mut tetwalk::scenes::Rng) -> (Tri, Ray) {
+    let mut p = || {
+        Vec3::new(
+            r.random_range(-4..=4) as f32,
+            r.random_range(-4..=4) as f32,
+            r.random_range(-4..=4) as f32,
+        )
+    };
+    let tri = [p(), p(), p()];
+    let (org, dir) = (p() * 2.0, p());
+    (tri, Ray { org, dir })
+}
+
+/// The filtered-sign oracle gives what plain rational Cramer's rule gives: a hit where the line crosses
+/// the closed triangle at `t > 0` and is not parallel to it, on the boundary where a barycentric is 0.
+#[test]
+fn the_oracle_agrees_with_rational_arithmetic() {
+    let mut r = rng(7);
+    let (mut hits, mut boundary) = (0, 0);
+    for _ in 0..20_000 {
+        let (tri, ray) = lattice_case(&mut r);
+        let Ok(h) = ray_triangle(tri, &ray) else {
+            continue;
+        };
+        let want = line_triangle(tri, &ray).filter(|c| c.t.cmp0().is_gt());
+        assert_eq!(h.hit, want.is_some(), "{tri:?} {ray:?}");
+        assert_eq!(
+            h.on_boundary,
+            want.as_ref().is_some_and(|c| c.on_boundary),
+            "{tri:?} {ray:?}"
+        );
+        assert_eq!(
+            ray_triangle_t(tri, &ray).unwrap(),
+            want.map(|c| c.t),
+            "{tri:?} {ray:?}"
+        );
+        hits += h.hit as u32;
+        boundary += h.on_boundary as u32;
+    }
+    assert!(
+        hits > 200 && boundary > 50,
+        "{hits} hits, {boundary} on a boundary"
+    );
+}
+
+/// A random well-shaped triangle and a ray through a point well inside it (or well outside), from the
+/// side its counterclockwise order faces (the only side `mt` sees).
+fn clear_case(r: &mut tetwalk::scenes::Rng, inside: bool) -> (Tri, Ray) {
+    let p = |r: &mut tetwalk::scenes::Rng| {
+        Vec3::new(
+            r.random_range(-1.0..1.0),
+            r.random_range(-1.0..1.0),
+            r.random_range(-1.0..1.0),
+        )
+    };
+    loop {
+        let tri = [p(r), p(r), p(r)];
+        let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
+        if n.length() < 0.3 {
+            continue;
+        }
+        let (u, v) = if inside {
+            (r.random_range(0.1..0.4), r.random_range(0.1..0.4))
+        } else {
+            (r.random_range(0.7..1.0), r.random_range(0.7..1.0))
+        };
+        let target = tri[0] + (tri[1] - tri[0]) * u + (tri[2] - tri[0]) * v;
+        let org = target + n.normalize() * r.random_range(0.5..3.0) + p(r) * 0.2;
+        return (
+            tri,
+            Ray {
+                org,
+                dir: target - org,
+            },
+        );
+    }
+}
+
+#[test]
+fn every_method_is_right_on_clear_hits_and_misses() {
+    let mut r = rng(3);
+    for inside in [true, false] {
+        for _ in 0..2_000 {
+            let (tri, ray) = clear_case(&mut r, inside);
+            assert!(ray_triangle(tri, &ray).unwrap().hit == inside);
+            for m in TRIANGLE_METHODS {
+                for fma in [false, true] {
+                    let got = m.hit(fma)(&tri, &ray);
+                    assert_eq!(
+                        got.is_some(),
+                        inside,
+                        "{} fma {fma}: {tri:?} {ray:?}",
+                        m.name
+                    );
+                    if let Some(t) = got {
+                        assert!((t - 1.0).abs() < 1e-4, "{}: t = {t}", m.name);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Packets share work, never answers: each method's nearest hits over a view of rays sharing an origin
+/// are the same taken 1, 4, 16 or 64 rays at a time, and equal its single-ray test's.
+#[test]
+fn packets_answer_as_single_rays_do() {
+    let mut r = rng(11);
+    let tris: Vec<Tri> = (0..64).map(|_| clear_case(&mut r, true).0).collect();
+    let org = Vec3::new(0.1, 0.2, 3.0);
+    let rays: Vec<Ray> = (0..256)
+        .map(|i| Ray {
+            org,
+            dir: Vec3::new(
+                (i % 16) as f32 / 8.0 - 1.0,
+                (i / 16) as f32 / 8.0 - 1.0,
+                -1.5,
+            ) - Vec3::new(0.1, 0.2, 0.0),
+        })
+        .collect();
+    for m in TRIANGLE_METHODS {
+        for fma in [false, true] {
+            let one = m.trace(fma)(&tris, &rays, 1);
+            assert!(
+                one.iter().filter(|h| h.is_some()).count() > 20,
+                "{}",
+                m.name
+            );
+            for p in [4, 16, 64] {
+                assert_eq!(
+                    m.trace(fma)(&tris, &rays, p),
+                    one,
+                    "{} packets of {p}",
+                    m.name
+                );
+            }
+            for (ray, h) in rays.iter().zip(&one) {
+                let single = tris
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, t)| m.hit(fma)(t, ray).map(|t| (i as u32, t)))
+                    .fold(None, |b: Option<(u32, f32)>, (i, t)| match b {
+                        Some((_, bt)) if bt <= t => b,
+                        _ => Some((i, t)),
+                    });
+                assert_eq!(*h, single, "{}", m.name);
+            }
+        }
+    }
+}
+
+/// Every stress shape is closed (each edge run once each way), convex with outward faces, and has its
+/// face count; its vertices are integers or halves.
+#[test]
+fn the_stress_meshes_are_closed_and_outward() {
+    let mut r = rng(5);
+    for shape in Shape::ALL.iter().copied() {
+        for _ in 0..20 {
+            let m = mesh(shape, 1e-3, &mut r);
+            let want = match shape {
+                Shape::Octahedron => 8,
+                Shape::Icosahedron => 20,
+                _ => 4,
+            };
+            assert_eq!(m.len(), want, "{shape:?}");
+            HitCase::closed(
+                &m,
+                Ray {
+                    org: Vec3::ZERO,
+                    dir: Vec3::X,
+                },
+            )
+            .unwrap();
+            let c: Vec3 = m.iter().flatten().sum::<Vec3>() / (3 * m.len()) as f32;
+            for t in &m {
+                assert!(
+                    orientation(&[t[0], t[1], t[2], c]) > 0,
+                    "{shape:?}: an inward face"
+                );
+                assert!(t.iter().all(|p| (*p * 2.0).round() == *p * 2.0));
+            }
+        }
+    }
+}
+
+/// The rays aimed exactly through an edge or vertex meet it exactly, and most of them cross the
+/// surface there (the others touch it).
+#[test]
+fn exact_rays_meet_their_edge_or_vertex() {
+    let mut r = rng(9);
+    for aim in [Aim::Edge, Aim::Vertex, Aim::Grazing] {
+        let (mut crossing, mut boundary) = (0, 0);
+        for place in Place::ALL.iter().copied() {
+            for _ in 0..100 {
+                let (m, ray) = case(Shape::Icosahedron, aim, place, 1e-3, 4, &mut r);
+                let truth = judge_hit(&HitCase::closed(&m, ray).unwrap()).unwrap();
+                let first = truth.first().expect("aimed at the surface");
+                boundary += first
+                    .holding
+                    .iter()
+                    .all(|&i| truth.each[i as usize].on_boundary)
+                    as u32;
+                crossing += first.crosses as u32;
+            }
+        }
+        assert_eq!(
+            boundary, 300,
+            "{aim:?}: every first point is an edge or a vertex"
+        );
+        assert!(crossing > 150, "{aim:?}: {crossing} of 300 cross");
+    }
+}
+
+fn stress_settings(cases: usize, aims: Vec<Aim>) -> StressSettings {
+    StressSettings {
+        cases,
+        shapes: Shape::ALL.to_vec(),
+        aims,
+        places: Place::ALL.to_vec(),
+        seed: 1,
+        backend: "cpu".into(),
+        flatness: 1e-3,
+        ulps: 4,
+    }
+}
+
+/// Woop et al.'s claim, held exactly: on every stress row, in f32 as written, no ray leaks through a
+/// closed mesh; the methods without the claim do leak through exact edges and vertices, and Woop's
+/// does once its 2x2 determinants are fused (as a GPU compiler may).
+#[test]
+fn woop_watertight_never_leaks_and_the_others_do() {
+    let s = stress_settings(150, Aim::ALL.to_vec());
+    let methods: Vec<_> = TRIANGLE_METHODS.iter().collect();
+    for (backend, fma) in [(&CPU, false), (&Backend::Cpu { fma: true }, true)] {
+        let r = stress(&s, &methods, backend, &|_| {}, &mut |_, _| {}).unwrap();
+        for (k, m) in methods.iter().enumerate() {
+            let leaks: u64 = r.rows.iter().map(|row| row.tallies[k].leaks).sum();
+            if m.claims_watertight && !fma {
+                assert_eq!(leaks, 0, "{} leaks", m.name);
+            } else if m.name != "plucker-packet" || fma {
+                assert!(leaks > 0, "{} (fma {fma}) never leaks here", m.name);
+            }
+        }
+        assert!(r.rows.iter().all(|row| row.crossing > 0));
+    }
+}
+
+fn lines(out: &str) -> Vec<serde_json::Value> {
+    out.lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+const TRI: &str = r#""tri": [[0,0,0],[1,0,0],[0,1,0]]"#;
+
+#[test]
+fn hit_answers_each_case_and_method_with_the_exact_fields() {
+    let input = format!(
+        "{{{TRI}, \"org\": [0.25,0.25,1], \"dir\": [0,0,-3]}}\n\
+         {{{TRI}, \"org\": [0.5,0.5,1], \"dir\": [0,0,-1]}}\n\
+         {{{TRI}, \"org\": [0.25,0.25,-1], \"dir\": [0,0,-1]}}\n\
+         {{{TRI}, \"org\": [0.25,0.25,0], \"dir\": [0,0,-1]}}\n\
+         {{{TRI}, \"org\": [-1,0.25,0], \"dir\": [1,0,0]}}\n\
+         {{{TRI}, \"org\": [0.1,0.1,1], \"dir\": [0,0,-0.125]}}\n"
+    );
+    let (code, out, _) = common::run_tetwalk(&["hit", "--method", "all"], input.as_bytes());
+    assert_eq!(code, 0);
+    let v = lines(&out);
+    let n = TRIANGLE_METHODS.len();
+    assert_eq!(v.len(), 6 * n);
+    let want = [
+        (true, Some("1/3"), false),
+        (true, Some("1/1"), true),
+        (false, None, false),
+        (false, None, false),
+        (false, None, false),
+        (true, Some("8/1"), false),
+    ];
+    for (line, (hit, t, boundary)) in want.iter().enumerate() {
+        for x in &v[line * n..(line + 1) * n] {
+            assert_eq!(x["line"], line + 1);
+            assert_eq!(x["exact_hit"], *hit, "{x}");
+            assert_eq!(x["exact_t"], serde_json::json!(t), "{x}");
+            assert_eq!(x["on_boundary"], *boundary, "{x}");
+            assert_eq!(x["correct"], *boundary || x["hit"] == *hit, "{x}");
+        }
+    }
+    // Parallel in the plane, and an origin on the triangle: misses every method must see.
+    for x in &v[3 * n..5 * n] {
+        assert_eq!(x["correct"], true, "{x}");
+    }
+}
+
+#[test]
+fn hit_answers_bad_lines_with_an_error_and_the_others() {
+    let input = format!(
+        "{{{TRI}, \"org\": [0.25,0.25,1], \"dir\": [0,0,-1]}}\n\
+         {{\"tri\": [[0,0,0],[1,1,1],[2,2,2]], \"org\": [0,0,1], \"dir\": [0,0,-1]}}\n\
+         {{{TRI}, \"org\": [0.25,0.25,1], \"dir\": [0,0,0]}}\n\
+         {{{TRI}, \"org\": [0.25,0.25,1e39], \"dir\": [0,0,-1]}}\n\
+         {{\"tris\": [[[0,0,0],[1,0,0],[0,1,0]]], \"org\": [0,0,1], \"dir\": [0,0,-1]}}\n\
+         {{\"tet\": [[0,0,0],[0,1,0],[1,0,0],[0,0,1]], \"org\": [0.2,0.2,-1], \"dir\": [0,0,1]}}\n\
+         not json\n"
+    );
+    let (code, out, err) = common::run_tetwalk(&["hit", "--method", "mt"], input.as_bytes());
+    assert_eq!(code, 1, "{err}");
+    let v = lines(&out);
+    assert_eq!(v.len(), 7);
+    assert_eq!(v[0]["correct"], true);
+    for (x, says) in v[1..].iter().zip([
+        "degenerate",
+        "direction is zero",
+        "not finite",
+        "tris",
+        "tetwalk exit",
+        "JSON",
+    ]) {
+        assert!(x["error"].as_str().unwrap().contains(says), "{x}");
+    }
+}
+
+/// A closed mesh case: the first hit's triangles, whether the ray crosses there, and each method's
+/// nearest hit; and a mesh that is not closed is refused, naming the edge.
+#[test]
+fn hit_judges_a_closed_mesh_by_its_first_crossing() {
+    let tet = r#""tris": [[[0,0,0],[0,1,0],[1,0,0]],[[0,0,0],[1,0,0],[0,0,1]],[[0,0,0],[0,0,1],[0,1,0]],[[1,0,0],[0,1,0],[0,0,1]]]"#;
+    let input = format!(
+        "{{{tet}, \"org\": [2.5,-2,2.5], \"dir\": [-1,1,-1]}}\n\
+         {{{tet}, \"org\": [0.5,0.5,3], \"dir\": [0,0,-1]}}\n\
+         {{{tet}, \"org\": [0.25,0.25,3], \"dir\": [0,0,-1]}}\n\
+         {{\"tris\": [[[0,0,0],[0,1,0],[1,0,0]],[[0,0,0],[1,0,0],[0,0,1]],[[0,0,0],[0,0,1],[0,1,0]],[[1,0,0],[0,0,1],[0,1,0]]], \"org\": [0,0,3], \"dir\": [0,0,-1]}}\n"
+    );
+    let (code, out, _) =
+        common::run_tetwalk(&["hit", "--method", "woop-watertight"], input.as_bytes());
+    assert_eq!(code, 1);
+    let v = lines(&out);
+    // Through the edge between faces 1 and 3, into the tetrahedron: a crossing.
+    assert_eq!(v[0]["exact_tris"], serde_json::json!([1, 3]));
+    assert_eq!(v[0]["exact_t"], "2/1");
+    assert_eq!(v[0]["crosses"], true);
+    assert_eq!(v[0]["on_boundary"], true);
+    assert_eq!(v[0]["correct"], true);
+    // Down onto the edge between faces 0 and 3, which face opposite ways along it: it only touches.
+    assert_eq!(v[1]["exact_tris"], serde_json::json!([0, 3]));
+    assert_eq!(v[1]["crosses"], false);
+    assert_eq!(v[2]["exact_tris"], serde_json::json!([3]));
+    assert_eq!(v[2]["tri"], 3);
+    assert_eq!(v[2]["exact_t"], "5/2");
+    let why = v[3]["error"].as_str().unwrap();
+    assert!(why.contains("runs so 2 time(s)"), "{why}");
+}
+
+/// A triangle case in the case format reads back as the same f32 case, and a found case's recorded
+/// nearest hit is compared on replay: changing it is noticed.
+#[test]
+fn a_triangle_case_reads_back_and_its_recorded_answer_is_compared() {
+    let (m, ray) = case(
+        Shape::Tetrahedron,
+        Aim::Edge,
+        Place::Embree,
+        1e-3,
+        4,
+        &mut rng(2),
+    );
+    let subject = Subject::Hit(HitCase::closed(&m, ray).unwrap());
+    let line = serde_json::Value::Object(subject.to_json()).to_string();
+    assert_eq!(Subject::parse(&line).unwrap(), subject);
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/found/mt");
+    let file = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|f| std::fs::read_to_string(f.path()).unwrap())
+        .find(|t| t.contains("\"tris\"") && t.contains("\"tri\":"))
+        .expect("a wrong-triangle finding of mt");
+    let r = tetwalk::found::Record::parse(file.trim()).unwrap();
+    assert_eq!(
+        tetwalk::found::replay(&r).unwrap(),
+        tetwalk::found::Replay::Holds
+    );
+    let mut other = r.clone();
+    if let Some(f) = other.failure.as_mut()
+        && let tetwalk::found::Answer::Hit(Some((i, t))) = f.answer
+    {
+        f.answer = tetwalk::found::Answer::Hit(Some((i, t.next_up())));
+    }
+    let other = tetwalk::found::Record::parse(&other.to_json()).unwrap();
+    assert!(matches!(
+        tetwalk::found::replay(&other).unwrap(),
+        tetwalk::found::Replay::OtherAnswer(_)
+    ));
+}
+
+/// `count --family triangle` on the bunny: every primary ray judged per method, the scene's 3,686
+/// constrained faces as triangles.
+#[test]
+fn count_family_triangle_judges_every_ray() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("t.json");
+    let (code, out, err) = common::run_tetwalk(
+        &[
+            "count",
+            "--family",
+            "triangle",
+            "--views",
+            "2",
+            "--size",
+            "32x32",
+            "--methods",
+            "mt,woop-watertight",
+            "--json",
+            json.to_str().unwrap(),
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("packets of 2x2"), "{out}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["rays"], 2 * 32 * 32);
+    assert_eq!(r["triangles"], 3686);
+    assert_eq!(r["methods"].as_array().unwrap().len(), 2);
+}
