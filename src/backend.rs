@@ -33,8 +33,6 @@ crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", Gpu => "gpu" });
 pub enum BackendError {
     #[error(transparent)]
     Gpu(#[from] GpuError),
-    #[error("method '{0}' has no GPU version yet")]
-    NoGpuVersion(&'static str),
     #[error("the GPU holds another mesh than the one walked")]
     OtherMesh,
     #[error(
@@ -142,7 +140,33 @@ impl Backend {
                 let hits = method.hits(*fma);
                 Ok(map_all(cases, |c| hits(c.tris(), &c.ray())))
             }
-            Backend::Gpu(_) => Err(BackendError::NoGpuVersion(method.name)),
+            Backend::Gpu(g) => {
+                // Every case's triangles in one list, one (ray, triangle) pair each.
+                let tris: Vec<crate::tet::Tri> = cases
+                    .iter()
+                    .flat_map(|c| c.tris().iter().copied())
+                    .collect();
+                let mut pairs = Vec::with_capacity(tris.len());
+                for c in cases {
+                    let first = pairs.len() as u32;
+                    pairs.extend((0..c.tris().len() as u32).map(|k| (c.ray(), first + k)));
+                }
+                let ts = g.triangle_pairs(method, &tris, &pairs)?;
+                let mut out = Vec::with_capacity(cases.len());
+                let mut at = 0;
+                for c in cases {
+                    let n = c.tris().len();
+                    out.push(
+                        ts[at..at + n]
+                            .iter()
+                            .enumerate()
+                            .filter_map(|(k, t)| t.map(|t| (k as u32, t)))
+                            .collect(),
+                    );
+                    at += n;
+                }
+                Ok(out)
+            }
         }
     }
 
@@ -164,7 +188,8 @@ impl Backend {
                     .flat_map_iter(|c| trace(tris, c, packet))
                     .collect())
             }
-            Backend::Gpu(_) => Err(BackendError::NoGpuVersion(method.name)),
+            // A GPU thread answers one ray (each packet's terms computed in every thread).
+            Backend::Gpu(g) => Ok(g.nearest_triangles(method, tris, rays)?.items),
         }
     }
 

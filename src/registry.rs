@@ -127,11 +127,6 @@ impl Method {
         }
     }
 
-    /// The name as a WGSL identifier (`-` becomes `_`).
-    pub fn ident(&self) -> String {
-        self.name.replace('-', "_")
-    }
-
     /// The exit function, plain or as a GPU compiles it (`fma`).
     pub fn exit(&self, fma: bool) -> ExitFn {
         self.exit[fma as usize]
@@ -242,6 +237,11 @@ pub static METHODS: &[Method] = &[
 /// A registered method of any family, by name.
 pub trait Named: Sync + 'static {
     fn name(&self) -> &'static str;
+
+    /// The name as a WGSL identifier (`-` becomes `_`).
+    fn ident(&self) -> String {
+        self.name().replace('-', "_")
+    }
 }
 
 impl Named for Method {
@@ -379,8 +379,11 @@ impl TriangleMethod {
     }
 }
 
-/// Why the ray–triangle methods have no GPU version yet.
-const NO_TRIANGLE_GPU: Gpu = Gpu::CpuOnly("no WGSL version yet");
+const TRI_MT: &str = include_str!("methods/triangle/mt.wgsl");
+const TRI_MT_PRECOMPUTED: &str = include_str!("methods/triangle/mt_precomputed.wgsl");
+const TRI_KOMATSU: &str = include_str!("methods/triangle/komatsu.wgsl");
+const TRI_PLUCKER_PACKET: &str = include_str!("methods/triangle/plucker_packet.wgsl");
+const TRI_WOOP: &str = include_str!("methods/triangle/woop.wgsl");
 
 /// Every ray–triangle method, in the order reports list them.
 pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
@@ -389,41 +392,41 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         "Möller & Trumbore 1997 as seed 004 eq. 1 describes it: front side tested first (back faces culled), then u, v, t",
         false,
         false,
-        NO_TRIANGLE_GPU,
+        Gpu::Wgsl(&[TRI_MT]),
     ),
     TriangleMethod::of::<MtTwoSided>(
         "mt-two-sided",
         "Möller & Trumbore 1997, seed 004 eq. 1's other reading: both sides, 1/det first",
         false,
         false,
-        NO_TRIANGLE_GPU,
+        Gpu::Wgsl(&[TRI_MT]),
     ),
     TriangleMethod::of::<MtPrecomputed>(
         "mt-precomputed",
         "seed 004 eq. 2: N, E1, E2 precomputed per triangle (Barzel's jgt collection)",
         false,
         false,
-        NO_TRIANGLE_GPU,
+        Gpu::Wgsl(&[TRI_MT_PRECOMPUTED]),
     ),
     TriangleMethod::of::<KomatsuPacket>(
         "komatsu-packet",
         "Komatsu et al., seed 004 eq. 3 and Figure 3: N·S, -S×E2, S×E1 once per packet, early termination",
         false,
         true,
-        NO_TRIANGLE_GPU,
+        Gpu::Wgsl(&[TRI_MT_PRECOMPUTED, TRI_KOMATSU]),
     ),
     TriangleMethod::of::<PluckerPacket>(
         "plucker-packet",
         "Benthin 2006 as seed 004 §2 describes it: packet origin at the coordinate origin, three dot products per ray",
         false,
         true,
-        NO_TRIANGLE_GPU,
+        Gpu::Wgsl(&[TRI_PLUCKER_PACKET]),
     ),
     TriangleMethod::of::<WoopWatertight>(
         "woop-watertight",
         "Woop, Benthin, Wald 2013, Listing 1: sheared ray space, f64 edge functions when one is 0 (the robustness anchor)",
         true,
         false,
-        NO_TRIANGLE_GPU,
+        Gpu::Wgsl(&[TRI_WOOP]),
     ),
 ];

@@ -3,7 +3,7 @@
 //! (`TETWALK_BLESS=1` rewrites it), and every registered method must have a GPU version or say why not.
 
 use tetwalk::gpu::shader::{self, COMMITTED, generate};
-use tetwalk::registry::{Gpu, METHODS};
+use tetwalk::registry::{Gpu, METHODS, Named, TRIANGLE_METHODS};
 use tetwalk::walk::OutcomeKind;
 
 #[test]
@@ -43,6 +43,28 @@ fn every_method_has_a_gpu_version_or_says_why_not() {
                 "{} has no GPU version and must say why",
                 m.name
             ),
+        }
+    }
+}
+
+#[test]
+fn every_triangle_method_has_its_wgsl_and_entry_points() {
+    for m in TRIANGLE_METHODS {
+        let Gpu::Wgsl(sources) = m.gpu else {
+            panic!("{} has no WGSL", m.name);
+        };
+        let f = format!("fn {}_hit(", m.ident());
+        assert!(
+            sources.concat().contains(&f),
+            "{}: its WGSL lacks `{f}`",
+            m.name
+        );
+        for e in shader::triangle_entry_points(m) {
+            assert!(
+                COMMITTED.contains(&format!("fn {e}(")),
+                "{}: no {e}",
+                m.name
+            );
         }
     }
 }

@@ -29,3 +29,9 @@ fn leaves(s: vec3f) -> bool {
 fn edge_of(i: u32, j: u32) -> vec2i {
     return vec2i(edge_index(min(i, j), max(i, j)), select(1, -1, i > j));
 }
+
+// Whether a hit a ray-triangle method reports at t counts: 0 < t < infinity
+// (tetwalk::methods::triangle::accepts).
+fn accepts(t: f32) -> bool {
+    return t > 0.0 && t <= MAX_F32;
+}

@@ -5,7 +5,7 @@
 use crate::choice::Choice;
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
-use crate::registry::{Gpu as GpuSupport, Method};
+use crate::registry::{Gpu as GpuSupport, Method, TriangleMethod};
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};
@@ -315,7 +315,7 @@ impl Gpu {
         );
         let params = Params {
             count: count as u32,
-            max_steps,
+            limit: max_steps,
             pad0: 0,
             pad1: 0,
         };
@@ -555,6 +555,74 @@ impl Gpu {
 }
 
 impl Gpu {
+    /// The entry points of a ray–triangle method, or why it has none.
+    fn triangle_entry_points(method: &TriangleMethod) -> Result<[String; 2], GpuError> {
+        match method.gpu {
+            GpuSupport::Wgsl(_) => Ok(shader::triangle_entry_points(method)),
+            GpuSupport::CpuOnly(why) => Err(GpuError::NoGpuMethod {
+                method: method.name,
+                why,
+            }),
+        }
+    }
+
+    /// Triangles as the shader reads them: three `points` each.
+    fn triangle_points(&self, tris: &[crate::tet::Tri]) -> wgpu::Buffer {
+        let points: Vec<[f32; 4]> = tris
+            .iter()
+            .flatten()
+            .map(|p| [p.x, p.y, p.z, 0.0])
+            .collect();
+        self.storage(bytemuck::cast_slice(&points))
+    }
+
+    /// `method`'s answer for each (ray, triangle) pair, the triangle an index into `tris`: the `t` of a
+    /// hit that counts, or `None`.
+    pub fn triangle_pairs(
+        &self,
+        method: &TriangleMethod,
+        tris: &[crate::tet::Tri],
+        pairs: &[(Ray, u32)],
+    ) -> Result<Vec<Option<f32>>, GpuError> {
+        let [hit, _] = Self::triangle_entry_points(method)?;
+        let points = self.triangle_points(tris);
+        let ray = |i: usize| shader::WalkRay::new(&pairs[i].0, pairs[i].1);
+        let out: Dispatched<Ending> =
+            self.dispatch(&hit, pairs.len(), 0, (3, &ray), &[(8, &points)], 6)?;
+        out.items
+            .iter()
+            .map(|e| Ok(e.triangle_hit()?.map(|(_, t)| t)))
+            .collect()
+    }
+
+    /// `method`'s nearest hit among `tris` (every one tried) for each ray: the triangle and its `t`.
+    pub fn nearest_triangles(
+        &self,
+        method: &TriangleMethod,
+        tris: &[crate::tet::Tri],
+        rays: &[Ray],
+    ) -> Result<Dispatched<Option<(u32, f32)>>, GpuError> {
+        let [_, nearest] = Self::triangle_entry_points(method)?;
+        let points = self.triangle_points(tris);
+        let ray = |i: usize| shader::WalkRay::new(&rays[i], 0);
+        let out: Dispatched<Ending> = self.dispatch(
+            &nearest,
+            rays.len(),
+            tris.len() as u32,
+            (3, &ray),
+            &[(8, &points)],
+            6,
+        )?;
+        Ok(Dispatched {
+            items: out
+                .items
+                .iter()
+                .map(Ending::triangle_hit)
+                .collect::<Result<_, _>>()?,
+            kernel_seconds: out.kernel_seconds,
+        })
+    }
+
     /// Upload seed 003's three layouts of a mesh and its points for [`Gpu::layout_walks`].
     pub fn upload_layout(&self, layout: &Layout, points: &[glam::Vec3]) -> GpuLayout {
         let tet32: Vec<u32> = layout
@@ -636,6 +704,15 @@ impl Ending {
 }
 
 impl Ending {
+    /// A ray–triangle answer: `HIT` with the triangle and the bits of its `t`, or `LEFT_MESH` for none.
+    pub fn triangle_hit(&self) -> Result<Option<(u32, f32)>, GpuError> {
+        match OutcomeKind::from_code(self.kind) {
+            Some(OutcomeKind::Hit) => Ok(Some((self.tet, f32::from_bits(self.x)))),
+            Some(OutcomeKind::LeftMesh) => Ok(None),
+            _ => Err(GpuError::BadOutcome(self.kind)),
+        }
+    }
+
     /// The walk this ending says, or `None` for a ray the method flagged (a step its f32 stage could
     /// not settle), which the CPU must walk. Codes are checked by [`Gpu::walks`].
     pub fn walk(&self) -> Option<Walk> {

@@ -6,7 +6,7 @@
 use crate::choice::Choice;
 use crate::mesh::HULL;
 use crate::mesh::layout::{BOUNDARY, STOP, Tet16, Tet20, Tet32};
-use crate::registry::{Gpu, METHODS, Method};
+use crate::registry::{Gpu, METHODS, Method, Named, TRIANGLE_METHODS, TriangleMethod};
 use crate::tet::{EDGES, FACE_VERTICES, edge_index};
 use crate::walk::OutcomeKind;
 use crate::walk::layouts::Kind;
@@ -43,10 +43,11 @@ macro_rules! shared_struct {
 
 shared_struct! {
     /// The uniform parameters of a dispatch (items are numbered across a 2-D grid of workgroups, so one
-    /// dispatch covers any count).
+    /// dispatch covers any count): `limit` is a walk's step bound, or the triangles a nearest-hit
+    /// search tries.
     Params {
         count: u32 => "u32",
-        max_steps: u32 => "u32",
+        limit: u32 => "u32",
         pad0: u32 => "u32",
         pad1: u32 => "u32",
     }
@@ -194,7 +195,7 @@ fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = IDENT_exit(&t, r, entry);
@@ -231,7 +232,7 @@ fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 ";
 
@@ -285,7 +286,7 @@ fn layout_IDENT_KIND(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wor
             power = power * 2u;
             lam = 0u;
         }
-        if steps >= params.max_steps {
+        if steps >= params.limit {
             endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
             return;
         }
@@ -303,6 +304,59 @@ fn layout_IDENT_KIND(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wor
     }
 }
 ";
+
+/// The entry points of one ray–triangle method (`IDENT` replaced): `hit_IDENT` answers one (ray,
+/// triangle) pair per item (the ray's `start` names the triangle, three `points` each), `nearest_IDENT`
+/// one ray's nearest hit among the first `params.limit` triangles, every one tried, as
+/// `crate::methods::triangle::nearest` keeps it (the first with the smallest accepted `t`). The answer
+/// is an [`Ending`]: `HIT` with the triangle and the bits of `t`, or `LEFT_MESH` for none.
+const TRIANGLE_ENTRY_POINTS: &str = "\
+@compute @workgroup_size(GROUP)
+fn hit_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    let k = 3u * ray.start;
+    let t = IDENT_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
+    if accepts(t) {
+        endings[i] = Ending(HIT, ray.start, bitcast<u32>(t), 1u);
+    } else {
+        endings[i] = Ending(LEFT_MESH, ray.start, 0u, 1u);
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn nearest_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    var best = HULL;
+    var best_t = 0.0;
+    for (var k = 0u; k < params.limit; k++) {
+        let t = IDENT_hit(points[3u * k].xyz, points[3u * k + 1u].xyz, points[3u * k + 2u].xyz, ray.org, ray.dir);
+        if accepts(t) && (best == HULL || t < best_t) {
+            best = k;
+            best_t = t;
+        }
+    }
+    if best == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, params.limit);
+    } else {
+        endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
+    }
+}
+";
+
+/// The entry points of a ray–triangle method: `hit_IDENT` over (ray, triangle) pairs, `nearest_IDENT`
+/// over rays and a list of triangles.
+pub fn triangle_entry_points(m: &TriangleMethod) -> [String; 2] {
+    let id = m.ident();
+    [format!("hit_{id}"), format!("nearest_{id}")]
+}
 
 /// The layout entry point of `m` over `kind`: `layout_IDENT_KIND`.
 pub fn layout_entry_point(m: &Method, kind: Kind) -> String {
@@ -327,6 +381,8 @@ pub fn generate() -> String {
         crate::methods::certified::UNDERFLOW
     );
     let _ = writeln!(s, "const HULL: u32 = {HULL:#x}u;");
+    s += "// What a ray-triangle method's WGSL answers for no hit (a t no ray accepts).\nconst NO_HIT: f32 = -1.0;\n";
+    let _ = writeln!(s, "const MAX_F32: f32 = {:e}f;", f32::MAX);
     s += "\n// Outcome kinds (tetwalk::walk::OutcomeKind).\n";
     for k in OutcomeKind::ALL {
         let _ = writeln!(s, "const {}: u32 = {}u;", k.wgsl_name(), k.code());
@@ -375,8 +431,12 @@ pub fn generate() -> String {
     s += "\n";
     s += include_str!("common.wgsl");
     let mut included: Vec<&str> = Vec::new();
-    for m in METHODS {
-        if let Gpu::Wgsl(sources) = m.gpu {
+    let gpus = METHODS
+        .iter()
+        .map(|m| m.gpu)
+        .chain(TRIANGLE_METHODS.iter().map(|m| m.gpu));
+    for g in gpus {
+        if let Gpu::Wgsl(sources) = g {
             for src in sources {
                 if !included.contains(src) {
                     included.push(src);
@@ -418,6 +478,12 @@ pub fn generate() -> String {
                         .replace("KIND", kind.name());
                 }
             }
+        }
+    }
+    for m in TRIANGLE_METHODS {
+        if let Gpu::Wgsl(_) = m.gpu {
+            let _ = write!(s, "\n// ---- {} ----\n\n", m.name);
+            s += &TRIANGLE_ENTRY_POINTS.replace("IDENT", &m.ident());
         }
     }
     s

@@ -10,6 +10,9 @@ const FLAGGED: u32 = 255u;
 const O3DERRBOUND_A: f32 = 4.172327e-7f;
 const CERTIFIED_UNDERFLOW: f32 = 7.523164e-37f;
 const HULL: u32 = 0xffffffffu;
+// What a ray-triangle method's WGSL answers for no hit (a t no ray accepts).
+const NO_HIT: f32 = -1.0;
+const MAX_F32: f32 = 3.4028235e38f;
 
 // Outcome kinds (tetwalk::walk::OutcomeKind).
 const HIT: u32 = 0u;
@@ -20,7 +23,7 @@ const STEP_LIMIT: u32 = 4u;
 
 struct Params {
     count: u32,
-    max_steps: u32,
+    limit: u32,
     pad0: u32,
     pad1: u32,
 }
@@ -181,6 +184,12 @@ fn leaves(s: vec3f) -> bool {
 // Edge index and direction (+1, or -1 when it runs j -> i) of the edge joining vertices i and j.
 fn edge_of(i: u32, j: u32) -> vec2i {
     return vec2i(edge_index(min(i, j), max(i, j)), select(1, -1, i > j));
+}
+
+// Whether a hit a ray-triangle method reports at t counts: 0 < t < infinity
+// (tetwalk::methods::triangle::accepts).
+fn accepts(t: f32) -> bool {
+    return t > 0.0 && t <= MAX_F32;
 }
 
 // ray-plane (Lagae & Dutré 2008 after Garrity 1990), as src/methods/ray_plane.rs.
@@ -655,6 +664,215 @@ fn certified_exit(t: ptr<function, array<vec3f, 4>>, r: CertifiedRay, entry: i32
     return UNSETTLED;
 }
 
+// mt and mt-two-sided: Möller & Trumbore 1997 as seed 004 eq. 1 reads (src/methods/triangle/mt.rs).
+// Each returns the t of the hit it reports, or NO_HIT.
+
+fn mt_hit(p0: vec3f, p1: vec3f, p2: vec3f, o: vec3f, d: vec3f) -> f32 {
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let pvec = cross3(d, e2);
+    let det = dot3(e1, pvec);
+    if det < 0.0 {
+        return NO_HIT;
+    }
+    let tvec = o - p0;
+    let u = dot3(tvec, pvec);
+    if u < 0.0 || u > det {
+        return NO_HIT;
+    }
+    let qvec = cross3(tvec, e1);
+    let v = dot3(d, qvec);
+    if v < 0.0 || u + v > det {
+        return NO_HIT;
+    }
+    return dot3(e2, qvec) * (1.0 / det);
+}
+
+fn mt_two_sided_hit(p0: vec3f, p1: vec3f, p2: vec3f, o: vec3f, d: vec3f) -> f32 {
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let pvec = cross3(d, e2);
+    let inv_det = 1.0 / dot3(e1, pvec);
+    let tvec = o - p0;
+    let u = dot3(tvec, pvec) * inv_det;
+    if u < 0.0 || u > 1.0 {
+        return NO_HIT;
+    }
+    let qvec = cross3(tvec, e1);
+    let v = dot3(d, qvec) * inv_det;
+    if v < 0.0 || u + v > 1.0 {
+        return NO_HIT;
+    }
+    return dot3(e2, qvec) * inv_det;
+}
+
+// mt-precomputed: seed 004 eq. 2 (src/methods/triangle/mt_precomputed.rs). A GPU thread answers one ray,
+// so the triangle's terms are computed where they are used, by the same expressions.
+
+struct Precomputed {
+    p0: vec3f,
+    e1: vec3f,
+    e2: vec3f,
+    n: vec3f,
+}
+
+fn precompute(p0: vec3f, p1: vec3f, p2: vec3f) -> Precomputed {
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    return Precomputed(p0, e1, e2, cross3(e1, e2));
+}
+
+fn barycentric_inside(u: f32, v: f32) -> bool {
+    return u >= 0.0 && v >= 0.0 && u + v <= 1.0;
+}
+
+fn mt_precomputed_hit(p0: vec3f, p1: vec3f, p2: vec3f, o: vec3f, d: vec3f) -> f32 {
+    let p = precompute(p0, p1, p2);
+    let r = -1.0 / dot3(p.n, d);
+    let s = o - p.p0;
+    let ds = cross3(d, s);
+    let u = r * -dot3(ds, p.e2);
+    let v = r * dot3(ds, p.e1);
+    if barycentric_inside(u, v) {
+        return r * dot3(p.n, s);
+    }
+    return NO_HIT;
+}
+
+// komatsu-packet: seed 004 eq. 3 (src/methods/triangle/komatsu.rs). A GPU thread answers one ray: the
+// packet's terms (N·S, -S × E2, S × E1) are computed by the same expressions in each thread.
+
+fn komatsu_packet_hit(p0: vec3f, p1: vec3f, p2: vec3f, o: vec3f, d: vec3f) -> f32 {
+    let p = precompute(p0, p1, p2);
+    let s = o - p.p0;
+    let ns = dot3(p.n, s);
+    let a = -cross3(s, p.e2);
+    let b = cross3(s, p.e1);
+    let r = -1.0 / dot3(p.n, d);
+    let u = r * dot3(d, a);
+    if u < 0.0 {
+        return NO_HIT;
+    }
+    let v = r * dot3(d, b);
+    if v < 0.0 || u + v > 1.0 {
+        return NO_HIT;
+    }
+    return r * ns;
+}
+
+// plucker-packet: Benthin 2006's packet test as seed 004 describes it
+// (src/methods/triangle/plucker_packet.rs); the packet's terms computed in each thread.
+
+fn plucker_packet_hit(p0: vec3f, p1: vec3f, p2: vec3f, o: vec3f, d: vec3f) -> f32 {
+    let n = cross3(p1 - p0, p2 - p0);
+    let a = p0 - o;
+    let b = p1 - o;
+    let c = p2 - o;
+    let na = dot3(n, a);
+    let s = vec3f(dot3(d, cross3(a, b)), dot3(d, cross3(b, c)), dot3(d, cross3(c, a)));
+    if all(s >= vec3f(0.0)) || all(s <= vec3f(0.0)) {
+        return na / dot3(n, d);
+    }
+    return NO_HIT;
+}
+
+// woop-watertight: Woop, Benthin, Wald 2013, Listing 1 (src/methods/triangle/woop.rs). WGSL has no f64:
+// where an edge function is exactly 0 it is recomputed from exact products (Dekker's, in f32), whose
+// sign is exact, like the listing's double-precision fallback.
+
+// a + b as a rounded sum and its exact error (Knuth's TwoSum).
+fn two_sum(a: f32, b: f32) -> vec2f {
+    let x = a + b;
+    let bv = x - a;
+    let av = x - bv;
+    return vec2f(x, (a - av) + (b - bv));
+}
+
+// a · b as a rounded product and its exact error (Dekker's, with Veltkamp's split).
+fn two_product(a: f32, b: f32) -> vec2f {
+    let x = a * b;
+    let ca = 4097.0 * a;
+    let ah = ca - (ca - a);
+    let al = a - ah;
+    let cb = 4097.0 * b;
+    let bh = cb - (cb - b);
+    let bl = b - bh;
+    return vec2f(x, al * bl - (((x - ah * bh) - al * bh) - ah * bl));
+}
+
+// a·b - c·d from exact products: the four terms summed so that the sign is exact.
+fn det2_exact(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let p = two_product(a, b);
+    let q = two_product(c, d);
+    let hi = two_sum(p.x, -q.x);
+    let lo = two_sum(p.y, -q.y);
+    let mid = two_sum(hi.y, lo.x);
+    let top = two_sum(hi.x, mid.x);
+    // Nonoverlapping parts, largest first: the first that is not 0 gives the sign.
+    let rest = (top.y + mid.y) + lo.y;
+    return top.x + rest;
+}
+
+// The listing's per-ray precomputation: the axes and the shear.
+struct Sheared {
+    k: vec3u,
+    s: vec3f,
+}
+
+fn woop_shear(d: vec3f) -> Sheared {
+    let a = abs(d);
+    var kz = 2u;
+    if a.x >= a.y && a.x >= a.z {
+        kz = 0u;
+    } else if a.y >= a.z {
+        kz = 1u;
+    }
+    var kx = (kz + 1u) % 3u;
+    var ky = (kz + 2u) % 3u;
+    if d[kz] < 0.0 {
+        let t = kx;
+        kx = ky;
+        ky = t;
+    }
+    return Sheared(vec3u(kx, ky, kz), vec3f(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]));
+}
+
+fn woop_watertight_hit(p0: vec3f, p1: vec3f, p2: vec3f, o: vec3f, d: vec3f) -> f32 {
+    let r = woop_shear(d);
+    let kx = r.k.x;
+    let ky = r.k.y;
+    let kz = r.k.z;
+    let a = p0 - o;
+    let b = p1 - o;
+    let c = p2 - o;
+    let ax = a[kx] - r.s.x * a[kz];
+    let ay = a[ky] - r.s.y * a[kz];
+    let bx = b[kx] - r.s.x * b[kz];
+    let by = b[ky] - r.s.y * b[kz];
+    let cx = c[kx] - r.s.x * c[kz];
+    let cy = c[ky] - r.s.y * c[kz];
+    var u = cx * by - cy * bx;
+    var v = ax * cy - ay * cx;
+    var w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        u = det2_exact(cx, by, cy, bx);
+        v = det2_exact(ax, cy, ay, cx);
+        w = det2_exact(bx, ay, by, ax);
+    }
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return NO_HIT;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return NO_HIT;
+    }
+    let t_scaled = u * (r.s.z * a[kz]) + v * (r.s.z * b[kz]) + w * (r.s.z * c[kz]);
+    if (t_scaled < 0.0 && det > 0.0) || (t_scaled > 0.0 && det < 0.0) {
+        return NO_HIT;
+    }
+    return t_scaled * (1.0 / det);
+}
+
 // Seed 003's layouts (tetwalk::mesh::layout).
 const TET32_WORDS: u32 = 8u;
 const TET20_WORDS: u32 = 5u;
@@ -744,7 +962,7 @@ fn walk_ray_plane(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = ray_plane_exit(&t, r, entry);
@@ -781,7 +999,7 @@ fn walk_ray_plane(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 // ---- halfspace ----
@@ -811,7 +1029,7 @@ fn walk_halfspace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = halfspace_exit(&t, r, entry);
@@ -848,7 +1066,7 @@ fn walk_halfspace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 // ---- plucker ----
@@ -878,7 +1096,7 @@ fn walk_plucker(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = plucker_exit(&t, r, entry);
@@ -915,7 +1133,7 @@ fn walk_plucker(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 // ---- stp ----
@@ -945,7 +1163,7 @@ fn walk_stp(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) 
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = stp_exit(&t, r, entry);
@@ -982,7 +1200,7 @@ fn walk_stp(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) 
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 // ---- ms06 ----
@@ -1012,7 +1230,7 @@ fn walk_ms06(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups)
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = ms06_exit(&t, r, entry);
@@ -1049,7 +1267,7 @@ fn walk_ms06(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups)
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 // ---- maria17 ----
@@ -1079,7 +1297,7 @@ fn walk_maria17(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = maria17_exit(&t, r, entry);
@@ -1116,7 +1334,7 @@ fn walk_maria17(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 // ---- maria17-translated ----
@@ -1146,7 +1364,7 @@ fn walk_maria17_translated(@builtin(global_invocation_id) gid: vec3u, @builtin(n
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = maria17_translated_exit(&t, r, entry);
@@ -1183,7 +1401,7 @@ fn walk_maria17_translated(@builtin(global_invocation_id) gid: vec3u, @builtin(n
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 // ---- aman20 ----
@@ -1213,7 +1431,7 @@ fn walk_aman20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = aman20_exit(&t, r, entry);
@@ -1250,7 +1468,7 @@ fn walk_aman20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 @compute @workgroup_size(GROUP)
@@ -1298,7 +1516,7 @@ fn layout_aman20_tet32(@builtin(global_invocation_id) gid: vec3u, @builtin(num_w
             power = power * 2u;
             lam = 0u;
         }
-        if steps >= params.max_steps {
+        if steps >= params.limit {
             endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
             return;
         }
@@ -1361,7 +1579,7 @@ fn layout_aman20_tet20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_w
             power = power * 2u;
             lam = 0u;
         }
-        if steps >= params.max_steps {
+        if steps >= params.limit {
             endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
             return;
         }
@@ -1424,7 +1642,7 @@ fn layout_aman20_tet16(@builtin(global_invocation_id) gid: vec3u, @builtin(num_w
             power = power * 2u;
             lam = 0u;
         }
-        if steps >= params.max_steps {
+        if steps >= params.limit {
             endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
             return;
         }
@@ -1469,7 +1687,7 @@ fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wo
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = aman20_scaled_exit(&t, r, entry);
@@ -1506,7 +1724,7 @@ fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wo
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
 }
 
 @compute @workgroup_size(GROUP)
@@ -1554,7 +1772,7 @@ fn layout_aman20_scaled_tet32(@builtin(global_invocation_id) gid: vec3u, @builti
             power = power * 2u;
             lam = 0u;
         }
-        if steps >= params.max_steps {
+        if steps >= params.limit {
             endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
             return;
         }
@@ -1617,7 +1835,7 @@ fn layout_aman20_scaled_tet20(@builtin(global_invocation_id) gid: vec3u, @builti
             power = power * 2u;
             lam = 0u;
         }
-        if steps >= params.max_steps {
+        if steps >= params.limit {
             endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
             return;
         }
@@ -1680,7 +1898,7 @@ fn layout_aman20_scaled_tet16(@builtin(global_invocation_id) gid: vec3u, @builti
             power = power * 2u;
             lam = 0u;
         }
-        if steps >= params.max_steps {
+        if steps >= params.limit {
             endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
             return;
         }
@@ -1725,7 +1943,7 @@ fn walk_certified(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
     var saved_entry = entry;
     var power = 1u;
     var lam = 0u;
-    for (var steps = 1u; steps <= params.max_steps; steps++) {
+    for (var steps = 1u; steps <= params.limit; steps++) {
         let c = cells[tet];
         var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
         let f = certified_exit(&t, r, entry);
@@ -1762,5 +1980,251 @@ fn walk_certified(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
             lam = 0u;
         }
     }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.max_steps);
+    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
+}
+
+// ---- mt ----
+
+@compute @workgroup_size(GROUP)
+fn hit_mt(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    let k = 3u * ray.start;
+    let t = mt_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
+    if accepts(t) {
+        endings[i] = Ending(HIT, ray.start, bitcast<u32>(t), 1u);
+    } else {
+        endings[i] = Ending(LEFT_MESH, ray.start, 0u, 1u);
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn nearest_mt(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    var best = HULL;
+    var best_t = 0.0;
+    for (var k = 0u; k < params.limit; k++) {
+        let t = mt_hit(points[3u * k].xyz, points[3u * k + 1u].xyz, points[3u * k + 2u].xyz, ray.org, ray.dir);
+        if accepts(t) && (best == HULL || t < best_t) {
+            best = k;
+            best_t = t;
+        }
+    }
+    if best == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, params.limit);
+    } else {
+        endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
+    }
+}
+
+// ---- mt-two-sided ----
+
+@compute @workgroup_size(GROUP)
+fn hit_mt_two_sided(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    let k = 3u * ray.start;
+    let t = mt_two_sided_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
+    if accepts(t) {
+        endings[i] = Ending(HIT, ray.start, bitcast<u32>(t), 1u);
+    } else {
+        endings[i] = Ending(LEFT_MESH, ray.start, 0u, 1u);
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn nearest_mt_two_sided(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    var best = HULL;
+    var best_t = 0.0;
+    for (var k = 0u; k < params.limit; k++) {
+        let t = mt_two_sided_hit(points[3u * k].xyz, points[3u * k + 1u].xyz, points[3u * k + 2u].xyz, ray.org, ray.dir);
+        if accepts(t) && (best == HULL || t < best_t) {
+            best = k;
+            best_t = t;
+        }
+    }
+    if best == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, params.limit);
+    } else {
+        endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
+    }
+}
+
+// ---- mt-precomputed ----
+
+@compute @workgroup_size(GROUP)
+fn hit_mt_precomputed(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    let k = 3u * ray.start;
+    let t = mt_precomputed_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
+    if accepts(t) {
+        endings[i] = Ending(HIT, ray.start, bitcast<u32>(t), 1u);
+    } else {
+        endings[i] = Ending(LEFT_MESH, ray.start, 0u, 1u);
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn nearest_mt_precomputed(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    var best = HULL;
+    var best_t = 0.0;
+    for (var k = 0u; k < params.limit; k++) {
+        let t = mt_precomputed_hit(points[3u * k].xyz, points[3u * k + 1u].xyz, points[3u * k + 2u].xyz, ray.org, ray.dir);
+        if accepts(t) && (best == HULL || t < best_t) {
+            best = k;
+            best_t = t;
+        }
+    }
+    if best == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, params.limit);
+    } else {
+        endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
+    }
+}
+
+// ---- komatsu-packet ----
+
+@compute @workgroup_size(GROUP)
+fn hit_komatsu_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    let k = 3u * ray.start;
+    let t = komatsu_packet_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
+    if accepts(t) {
+        endings[i] = Ending(HIT, ray.start, bitcast<u32>(t), 1u);
+    } else {
+        endings[i] = Ending(LEFT_MESH, ray.start, 0u, 1u);
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn nearest_komatsu_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    var best = HULL;
+    var best_t = 0.0;
+    for (var k = 0u; k < params.limit; k++) {
+        let t = komatsu_packet_hit(points[3u * k].xyz, points[3u * k + 1u].xyz, points[3u * k + 2u].xyz, ray.org, ray.dir);
+        if accepts(t) && (best == HULL || t < best_t) {
+            best = k;
+            best_t = t;
+        }
+    }
+    if best == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, params.limit);
+    } else {
+        endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
+    }
+}
+
+// ---- plucker-packet ----
+
+@compute @workgroup_size(GROUP)
+fn hit_plucker_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    let k = 3u * ray.start;
+    let t = plucker_packet_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
+    if accepts(t) {
+        endings[i] = Ending(HIT, ray.start, bitcast<u32>(t), 1u);
+    } else {
+        endings[i] = Ending(LEFT_MESH, ray.start, 0u, 1u);
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn nearest_plucker_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    var best = HULL;
+    var best_t = 0.0;
+    for (var k = 0u; k < params.limit; k++) {
+        let t = plucker_packet_hit(points[3u * k].xyz, points[3u * k + 1u].xyz, points[3u * k + 2u].xyz, ray.org, ray.dir);
+        if accepts(t) && (best == HULL || t < best_t) {
+            best = k;
+            best_t = t;
+        }
+    }
+    if best == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, params.limit);
+    } else {
+        endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
+    }
+}
+
+// ---- woop-watertight ----
+
+@compute @workgroup_size(GROUP)
+fn hit_woop_watertight(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    let k = 3u * ray.start;
+    let t = woop_watertight_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
+    if accepts(t) {
+        endings[i] = Ending(HIT, ray.start, bitcast<u32>(t), 1u);
+    } else {
+        endings[i] = Ending(LEFT_MESH, ray.start, 0u, 1u);
+    }
+}
+
+@compute @workgroup_size(GROUP)
+fn nearest_woop_watertight(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    var best = HULL;
+    var best_t = 0.0;
+    for (var k = 0u; k < params.limit; k++) {
+        let t = woop_watertight_hit(points[3u * k].xyz, points[3u * k + 1u].xyz, points[3u * k + 2u].xyz, ray.org, ray.dir);
+        if accepts(t) && (best == HULL || t < best_t) {
+            best = k;
+            best_t = t;
+        }
+    }
+    if best == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, params.limit);
+    } else {
+        endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
+    }
 }
