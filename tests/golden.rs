@@ -273,3 +273,37 @@ fn a_small_stress_table_is_unchanged() {
     );
     settings().bind(|| insta::assert_snapshot!("stress_small", report.markdown()));
 }
+
+/// Leak maps (seed 004's question, pictured): around an edge shared by two triangles of a closed
+/// octahedron at Embree's offset, seen from the coordinate origin, which of the two each ray–triangle
+/// method reports as the ray's direction moves by ulp steps — one (a, b), both (2), neither where the
+/// exact ray meets one (0, a leak), neither as the exact ray (.) — on the CPU plain and fused, beside the
+/// exact map; as text and as a PNG sheet (exact | cpu | cpu-fma).
+#[test]
+fn leak_maps_are_unchanged() {
+    use tetwalk::render::{leak_case, leak_grid, leak_image};
+    use tetwalk::scenes::closed::{Place, Shape};
+    const SIZE: u32 = 48;
+    let (case, pair) = leak_case(Shape::Octahedron, Place::Embree, 1).unwrap();
+    let cpu = Backend::Cpu { fma: false };
+    let exact = leak_grid(&case, pair, SIZE, None, &cpu).unwrap();
+    let text = |cells: &[tetwalk::render::EdgeHit]| {
+        rows(SIZE, cells.iter().map(|c| c.letter().to_string()))
+    };
+    settings().bind(|| {
+        insta::assert_snapshot!("leak_exact", text(&exact));
+        for m in tetwalk::registry::TRIANGLE_METHODS {
+            let mut sheet = vec![leak_image(&exact, SIZE)];
+            for fma in [false, true] {
+                let cells = leak_grid(&case, pair, SIZE, Some(m), &Backend::Cpu { fma }).unwrap();
+                let tag = if fma { "fma" } else { "cpu" };
+                insta::assert_snapshot!(format!("leak_{}_{tag}", m.name), text(&cells));
+                sheet.push(leak_image(&cells, SIZE));
+            }
+            insta::assert_binary_snapshot!(
+                &format!("leak_{}.png", m.name),
+                Image::sheet(&sheet, 2).png().unwrap()
+            );
+        }
+    });
+}

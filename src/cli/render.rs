@@ -3,9 +3,10 @@
 use super::{BackendArg, JsonOut, Outcome, choice};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::Case;
-use crate::registry::{parse_list, reference};
+use crate::registry::{parse_list, parse_triangle_list, reference};
 use crate::render::{self, Image};
 use crate::scenes::camera::Views;
+use crate::scenes::closed::{Place, Shape};
 use crate::scenes::tets::{self, Family, Target};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -20,6 +21,10 @@ pub enum What {
     Heat,
     /// Exit faces over a grid of ulp steps of the ray origin, per method beside the exact answer.
     Predicate,
+    /// Ray–triangle methods around a shared edge of a closed mesh: which of its two triangles each
+    /// reports over a grid of ulp steps of the ray origin (one, the other, both, or neither: a leak),
+    /// per method beside the exact answer.
+    Leak,
 }
 
 #[derive(clap::Args)]
@@ -55,7 +60,13 @@ pub struct Args {
     /// Predicate maps: what the ray goes exactly through.
     #[arg(long, value_parser = ["edge", "vertex"], default_value = "edge")]
     through: String,
-    /// Seed: of the viewpoints (as `tetwalk count --seed`), or of the predicate map's case.
+    /// Leak maps: the closed mesh.
+    #[arg(long, value_parser = choice::<Shape>(), default_value = "octahedron")]
+    shape: Shape,
+    /// Leak maps: where the mesh is placed.
+    #[arg(long, value_parser = choice::<Place>(), default_value = "embree")]
+    place: Place,
+    /// Seed: of the viewpoints (as `tetwalk count --seed`), or of the predicate or leak map's case.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
     /// Output PNG (per-method images are written beside it, suffixed with the method).
@@ -91,6 +102,9 @@ fn beside(out: &Path, suffix: &str) -> PathBuf {
 }
 
 pub fn run(a: Args) -> Outcome {
+    if a.what == What::Leak {
+        return leak(a);
+    }
     let methods: Vec<_> = parse_list(&a.methods)?
         .into_iter()
         .filter(|m| !m.reference)
@@ -191,6 +205,41 @@ pub fn run(a: Args) -> Outcome {
             }
         }
     }
+    print!("{}", drawn.legend);
+    json.finish(&drawn)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `render leak`: a sheet per ray–triangle method, exact | cpu | cpu-fma (| gpu).
+fn leak(a: Args) -> Outcome {
+    let methods = parse_triangle_list(&a.methods)?;
+    let json = JsonOut::new(a.json.as_deref())?;
+    let (w, _) = super::size(&a.size, true, 4096)?;
+    let (case, pair) = render::leak_case(a.shape, a.place, a.seed)
+        .ok_or("no edge between two triangles facing the ray's origin could be found")?;
+    let cpu = Backend::Cpu { fma: false };
+    let exact = render::leak_image(&render::leak_grid(&case, pair, w, None, &cpu)?, w);
+    let mut backends = vec![cpu, Backend::Cpu { fma: true }];
+    let gpu = Backend::open(BackendKind::Gpu).ok();
+    let gpu_name = gpu.as_ref().map(|g| g.describe());
+    backends.extend(gpu);
+    let mut drawn = Drawn::default();
+    for m in &methods {
+        let mut row = vec![exact.clone()];
+        for b in &backends {
+            row.push(render::leak_image(
+                &render::leak_grid(&case, pair, w, Some(m), b)?,
+                w,
+            ));
+        }
+        write(&beside(&a.out, m.name), &Image::sheet(&row, 4), &mut drawn)?;
+    }
+    drawn.legend = render::leak_legend();
+    println!(
+        "each sheet: exact | cpu | cpu-fma{}; direction moved ±{} steps (an ulp of the larger) in its two components other than the largest",
+        gpu_name.map_or(String::new(), |g| format!(" | {g}")),
+        w / 2
+    );
     print!("{}", drawn.legend);
     json.finish(&drawn)?;
     Ok(ExitCode::SUCCESS)

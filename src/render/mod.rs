@@ -4,10 +4,11 @@
 pub mod text;
 
 use crate::backend::{Backend, BackendError};
-use crate::cases::Case;
+use crate::cases::{Case, HitCase};
 use crate::mesh::{HULL, Mesh, bounds};
-use crate::registry::{Method, reference};
+use crate::registry::{Method, TriangleMethod, reference};
 use crate::scenes::camera::Views;
+use crate::scenes::closed::{self, Place, Shape};
 use crate::scenes::tets::ulps;
 use crate::walk::{LocateError, Outcome, OutcomeKind, Walk, default_max_steps, judge, locate};
 use rayon::prelude::*;
@@ -320,6 +321,184 @@ pub fn predicate_grid(
         })
         .collect();
     Ok(backend.exit_faces(method, &cases)?)
+}
+
+/// Which of the two triangles sharing an edge report a hit: a leak map's cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeHit {
+    First,
+    Second,
+    /// Both: a double hit (right where the ray meets the edge itself).
+    Both,
+    /// Neither, where the exact ray meets one of them: a leak.
+    Neither,
+    /// Neither, as the exact ray: it passes beside both.
+    Beside,
+}
+
+impl EdgeHit {
+    fn of(first: bool, second: bool) -> EdgeHit {
+        match (first, second) {
+            (true, true) => EdgeHit::Both,
+            (true, false) => EdgeHit::First,
+            (false, true) => EdgeHit::Second,
+            (false, false) => EdgeHit::Neither,
+        }
+    }
+
+    /// Its letter in the golden text and its colour in the PNG.
+    pub fn letter(self) -> char {
+        ['a', 'b', '2', '0', '.'][self as usize]
+    }
+
+    pub fn colour(self) -> [u8; 3] {
+        [
+            [40, 110, 255],
+            [40, 200, 80],
+            [250, 210, 0],
+            [230, 30, 30],
+            [0, 0, 0],
+        ][self as usize]
+    }
+}
+
+/// A leak map: the triangle case's direction moved on a `size × size` grid of steps around itself, in
+/// its two components other than the largest (so each step moves the ray across the surface), a step
+/// an ulp of the larger of the two (exact in both), each
+/// cell which of the triangles `pair` (two sharing an edge) report a hit — by `method` on `backend`, or
+/// exactly (`None`: both on the edge itself).
+pub fn leak_grid(
+    case: &HitCase,
+    pair: [u32; 2],
+    size: u32,
+    method: Option<&TriangleMethod>,
+    backend: &Backend,
+) -> Result<Vec<EdgeHit>, RenderError> {
+    let half = (size / 2) as i32;
+    let k = case.dir.abs().max_position();
+    let (ax, ay) = ((k + 1) % 3, (k + 2) % 3);
+    // One step: an ulp of the larger of the two components, the same length along both.
+    let ulp = |x: f32| ulps(x.abs(), 1) - x.abs();
+    let step = ulp(case.dir[ax]).max(ulp(case.dir[ay]));
+    let cases: Vec<HitCase> = (0..size)
+        .flat_map(|y| (0..size).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let mut c = *case;
+            c.dir[ax] += (x as i32 - half) as f32 * step;
+            c.dir[ay] += (half - y as i32) as f32 * step;
+            c
+        })
+        .collect();
+    let cell = |hit: &dyn Fn(u32) -> bool| EdgeHit::of(hit(pair[0]), hit(pair[1]));
+    let exact: Vec<EdgeHit> = cases
+        .par_iter()
+        .map(|c| {
+            let ray = c.ray();
+            cell(&|i| {
+                crate::exact::hit::ray_triangle(c.tris()[i as usize], &ray).is_ok_and(|h| h.hit)
+            })
+        })
+        .collect();
+    let beside = |cells: Vec<EdgeHit>| -> Vec<EdgeHit> {
+        cells
+            .into_iter()
+            .zip(&exact)
+            .map(|(c, e)| match (c, e) {
+                (EdgeHit::Neither, EdgeHit::Neither) => EdgeHit::Beside,
+                _ => c,
+            })
+            .collect()
+    };
+    Ok(match method {
+        Some(m) => beside(
+            backend
+                .triangle_hits(m, &cases)?
+                .iter()
+                .map(|h| cell(&|i| h.iter().any(|&(k, _)| k == i)))
+                .collect(),
+        ),
+        None => beside(exact.clone()),
+    })
+}
+
+/// A leak map's case: a closed mesh of `shape` at `place` seen from far away, as in Embree's test (from
+/// the coordinate origin for the far places, from `(-2^18, -2^18, -2^18)` near the origin): a ray
+/// exactly through the midpoint of an edge whose two triangles (the pair) both face it. Seeded; `None`
+/// if 1,000 draws found no such edge.
+pub fn leak_case(shape: Shape, place: Place, seed: u64) -> Option<(HitCase, [u32; 2])> {
+    let org = if place == Place::Origin {
+        glam::Vec3::splat(-262144.0)
+    } else {
+        glam::Vec3::ZERO
+    };
+    (seed..seed + 1000).find_map(|s| {
+        let mesh: Vec<_> = closed::mesh(shape, 1e-3, &mut crate::scenes::rng(s))
+            .iter()
+            .map(|t| t.map(|p| p + place.offset()))
+            .collect();
+        // Of the edges the ray can cross between two triangles facing it, the one seen most face-on.
+        let facing = |t: &crate::tet::Tri, d: glam::Vec3| {
+            -(t[1] - t[0])
+                .cross(t[2] - t[0])
+                .normalize()
+                .dot(d.normalize())
+        };
+        (0..mesh.len())
+            .filter_map(|i| {
+                let (a, b) = (mesh[i][0], mesh[i][1]);
+                let ray = crate::tet::Ray {
+                    org,
+                    dir: (a + b) * 0.5 - org,
+                };
+                let case = HitCase::closed(&mesh, ray).ok()?;
+                let truth = crate::cases::judge_hit(&case).ok()?;
+                let first = truth.first()?;
+                let [p, q] = first.holding[..] else {
+                    return None;
+                };
+                let seen =
+                    facing(&mesh[p as usize], ray.dir).min(facing(&mesh[q as usize], ray.dir));
+                first.crosses.then_some((seen, case, [p, q]))
+            })
+            .max_by(|x, y| x.0.total_cmp(&y.0))
+            .map(|(_, case, pair)| (case, pair))
+    })
+}
+
+/// A leak map as an image ([`EdgeHit::colour`]).
+pub fn leak_image(cells: &[EdgeHit], size: u32) -> Image {
+    let mut im = Image::new(size, size);
+    for (i, c) in cells.iter().enumerate() {
+        im.set(i as u32 % size, i as u32 / size, c.colour());
+    }
+    im
+}
+
+/// The leak maps' legend.
+pub fn leak_legend() -> String {
+    let names = [
+        "the first triangle only",
+        "the second only",
+        "both (a double hit)",
+        "neither where the exact ray meets one (a leak)",
+        "neither, as the exact ray",
+    ];
+    let cells = [
+        EdgeHit::First,
+        EdgeHit::Second,
+        EdgeHit::Both,
+        EdgeHit::Neither,
+        EdgeHit::Beside,
+    ];
+    let parts: Vec<String> = cells
+        .iter()
+        .zip(names)
+        .map(|(c, n)| format!("{n} rgb{:?}", c.colour()))
+        .collect();
+    format!(
+        "leak maps: hits on the two triangles sharing the edge: {}\n",
+        parts.join("; ")
+    )
 }
 
 /// A grid of faces as an image ([`FACE_COLOURS`], black for none).

@@ -82,7 +82,7 @@ impl Family {
 }
 
 /// A random rotation.
-fn rotation(rng: &mut Rng) -> Mat3 {
+pub(crate) fn rotation(rng: &mut Rng) -> Mat3 {
     let q = Quat::from_xyzw(
         rng.random_range(-1.0..1.0),
         rng.random_range(-1.0..1.0),
