@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A fuzz campaign: every target for SECONDS each (default 600) holding `exact` and the methods that claim
-# robustness to exactness, then each other method on its own; every failure is minimised, filed as a
+# robustness to exactness, then each other method on its own (TRIANGLE_METHODS for triangle_hit); every failure is minimised, filed as a
 # readable case under corpora/found/<method>/ (replayed by `cargo test`), and a table printed: executions,
 # time to first failure, failures by kind. Usage: fuzz/campaign.sh [SECONDS] [METHODS...]
 # TETWALK_FUZZ_BACKEND=gpu holds the methods on the GPU instead (WGPU_ADAPTER_NAME picks the adapter):
@@ -48,6 +48,11 @@ run mesh_load robust
 for target in exit_face walk; do
     run "$target" robust
     for m in $others; do run "$target" "$m"; done
+done
+# The ray-triangle target: woop-watertight held to its claim (no leak), then each method on its own.
+run triangle_hit robust
+for m in ${TRIANGLE_METHODS:-mt mt-two-sided mt-precomputed komatsu-packet plucker-packet woop-watertight}; do
+    run triangle_hit "$m"
 done
 cat "$log/table"
 echo "found cases: corpora/found/ (replayed by cargo test); logs: $log"

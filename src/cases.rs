@@ -412,12 +412,22 @@ pub struct HitPoint {
     /// The triangles around the point that face the way the ray crosses there: those sharing a vertex
     /// with a triangle holding it, with `n·d` of the same sign. A ray that crosses the surface and hits none of them passes through: a leak, unless a silhouette is near ([`HitPoint::silhouette`]).
     pub around: Vec<u32>,
-    /// Whether the point lies inside one triangle so near a silhouette that a miss may be rounding
-    /// carrying the ray off the silhouette rather than through a crack: the triangle across its nearest
-    /// edge faces the other way (or is parallel to the ray), or the point is within 1/1000 of that edge's
-    /// length from a vertex around which a triangle does. Nearest is measured in f64: it sorts misses
-    /// into leaks and silhouette misses, and decides no answer.
+    /// Whether the point lies so near a silhouette that a miss may be rounding carrying the ray off it
+    /// rather than through a crack: a triangle around it is seen within 2^-10 radians of edge-on, or,
+    /// for a point inside one triangle, the triangle across its nearest edge faces the other way (or
+    /// is parallel to the ray), or the point is within 1/1000 of that edge's length from a vertex around
+    /// which a triangle does. Measured in f64: it sorts misses into leaks and misses beside the
+    /// object, and decides no answer.
     pub silhouette: bool,
+}
+
+/// How a method misses where a ray crosses a closed surface ([`HitTruth::missed`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Missed {
+    /// Through the surface: a crack at a shared edge or vertex, or between triangles.
+    Leak,
+    /// Beside the object as the method rounds the ray: near a silhouette, or no hit on it at all.
+    Beside,
 }
 
 /// The exact answer to a triangle case.
@@ -441,17 +451,34 @@ impl HitTruth {
         self.points.iter().find(|p| p.crosses)
     }
 
-    /// Whether a method whose hits (any `t`) are `hits` leaks: the ray crosses the surface, away from a
-    /// silhouette ([`HitPoint::silhouette`]), and none of the triangles around the first crossing that
-    /// face its way is hit.
-    pub fn leaks(&self, hits: &[u32]) -> bool {
-        self.missed_crossing(hits).is_some_and(|p| !p.silhouette)
+    /// How a method whose hits (any `t`) are `hits` misses where the ray crosses the surface: `None`
+    /// when it hits a triangle around the first crossing that faces the ray's way. A leak where the
+    /// crossing is at a shared edge or vertex, or where the method sees the surface elsewhere along the
+    /// ray (it passed through); [`Missed::Beside`] where rounding may have carried the ray off the
+    /// object: a silhouette near ([`HitPoint::silhouette`]), a chord inside the object shorter than
+    /// 2^-10 of the way to it (the ray only clips a corner), or, inside a triangle, no hit at all.
+    pub fn missed(&self, hits: &[u32]) -> Option<Missed> {
+        let k = self.points.iter().position(|p| p.crosses)?;
+        let p = &self.points[k];
+        if p.around.is_empty() || hits.iter().any(|i| p.around.contains(i)) {
+            return None;
+        }
+        let at_edge =
+            p.holding.len() > 1 || p.holding.iter().any(|&h| self.each[h as usize].on_boundary);
+        let thin = self
+            .points
+            .get(k + 1)
+            .is_some_and(|q| rug::Rational::from(&q.t - &p.t) * rug::Rational::from(1024) < p.t);
+        Some(if !p.silhouette && !thin && (at_edge || !hits.is_empty()) {
+            Missed::Leak
+        } else {
+            Missed::Beside
+        })
     }
 
-    /// The first crossing, when none of the triangles around it that face its way is among `hits`.
-    pub fn missed_crossing(&self, hits: &[u32]) -> Option<&HitPoint> {
-        self.first_crossing()
-            .filter(|p| !p.around.is_empty() && !hits.iter().any(|i| p.around.contains(i)))
+    /// Whether the method leaks ([`HitTruth::missed`]).
+    pub fn leaks(&self, hits: &[u32]) -> bool {
+        self.missed(hits) == Some(Missed::Leak)
     }
 
     /// Whether a method's nearest hit (a triangle, or none) is right. One triangle: a hit on its
@@ -515,9 +542,10 @@ pub fn judge_hit(case: &HitCase) -> Result<HitTruth, CaseError> {
             .filter(|&j| facing[j] == way && touches(j))
             .map(|j| j as u32)
             .collect();
-        if let [h] = p.holding[..] {
-            p.silhouette = near_silhouette(tris, &facing, h as usize, way, &ray, &p.t);
-        }
+        // A triangle around the point seen within 2^-10 radians of edge-on: rounding may turn it.
+        let edge_on = (0..tris.len()).any(|j| touches(j) && edge_on(&tris[j], ray.dir));
+        p.silhouette = edge_on
+            || matches!(p.holding[..], [h] if near_silhouette(tris, &facing, h as usize, way, &ray, &p.t));
     }
     Ok(HitTruth {
         each,
@@ -552,6 +580,13 @@ fn lies_in_at(tris: &[Tri], facing: &[i8], holding: &[u32], ray: &Ray) -> bool {
             && (vertices.iter().any(|v| t.contains(v))
                 || edges.iter().any(|[a, b]| t.contains(a) && t.contains(b)))
     })
+}
+
+/// Whether the ray sees the triangle within 2^-10 radians of edge-on (in f64: it only sorts misses).
+fn edge_on(t: &Tri, d: Vec3) -> bool {
+    let w = |v: Vec3| glam::DVec3::new(v.x as f64, v.y as f64, v.z as f64);
+    let n = (w(t[1]) - w(t[0])).cross(w(t[2]) - w(t[0]));
+    n.dot(w(d)).abs() <= n.length() * w(d).length() * 2f64.powi(-10)
 }
 
 /// [`HitPoint::silhouette`] for a point `o + t·d` inside triangle `h`, which faces `way`.

@@ -108,7 +108,12 @@ pub fn fuzz_backends() -> Result<Vec<&'static Backend>, FoundError> {
 /// worth of work. The exact judge runs on the CPU.
 pub fn fuzz_find(subject: &Subject) -> Result<Option<Record>, FoundError> {
     let backends = fuzz_backends()?;
-    if let Subject::Hit(h) = subject {
+    let subjects = if backends.iter().any(|b| b.kind() == BackendKind::Gpu) {
+        neighbourhood(subject)
+    } else {
+        vec![*subject]
+    };
+    let found = if let Subject::Hit(_) = subject {
         let (methods, leaks_only) = required_triangle_methods()?;
         // The watertight claim is for f32 as written: with its products fused, woop-watertight leaks
         // (corpora/results/triangle.md), which campaigns file; the claim's fuzzing leaves cpu-fma out.
@@ -116,27 +121,21 @@ pub fn fuzz_find(subject: &Subject) -> Result<Option<Record>, FoundError> {
             .into_iter()
             .filter(|b| !leaks_only || b.kind() != BackendKind::CpuFma)
             .collect();
-        return Ok(
-            check_hits(std::slice::from_ref(h), &methods, &backends, leaks_only)?.map(|(_, f)| {
-                Record {
-                    subject: *subject,
-                    failure: Some(f),
-                }
-            }),
-        );
-    }
-    let methods = required_methods()?;
-    let subjects = if backends.iter().any(|b| b.kind() == BackendKind::Gpu) {
-        neighbourhood(subject)
+        let cases: Vec<HitCase> = subjects
+            .iter()
+            .filter_map(|s| match s {
+                Subject::Hit(h) => Some(*h),
+                _ => None,
+            })
+            .collect();
+        check_hits(&cases, &methods, &backends, leaks_only)?
     } else {
-        vec![*subject]
+        check_batch(&subjects, &required_methods()?, &backends)?
     };
-    Ok(
-        check_batch(&subjects, &methods, &backends)?.map(|(i, f)| Record {
-            subject: subjects[i],
-            failure: Some(f),
-        }),
-    )
+    Ok(found.map(|(i, f)| Record {
+        subject: subjects[i],
+        failure: Some(f),
+    }))
 }
 
 /// A fuzz target's check of one decoded case ([`fuzz_find`]); a bad environment stops the run.

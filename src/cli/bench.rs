@@ -2,26 +2,31 @@
 
 use super::{JsonOut, Outcome};
 use crate::backend::Backend;
-use crate::registry::parse_list;
-use crate::report::bench;
+use crate::registry::{parse_list, parse_triangle_list};
+use crate::report::{bench, triangle};
 use crate::scenes::camera::Views;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
+    /// Which family: `exit-face` (walks) or `triangle` (seed 004 Figure 5's measure: every primary
+    /// ray of one view against every triangle, one thread, packets of 1x1 to 8x8, speedups over
+    /// mt-precomputed on single rays).
+    #[arg(long, value_parser = ["exit-face", "triangle"], default_value = "exit-face")]
+    family: String,
     /// A built-in scene or a TetGen stem (as `count` takes).
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
     /// Accept a TetGen scene without constrained faces.
     #[arg(long)]
     no_faces: bool,
-    /// Viewpoints on a sphere around the model.
+    /// Viewpoints on a sphere around the model (`--family triangle` times the first inside the mesh).
     #[arg(long, allow_negative_numbers = true, default_value_t = 16)]
     views: usize,
-    /// Image size, WxH.
-    #[arg(long, default_value = "1024x1024")]
-    size: String,
+    /// Image size, WxH [default: 1024x1024, or 256x256 (seed 004's) with --family triangle].
+    #[arg(long)]
+    size: Option<String>,
     /// Methods to time (comma-separated, or all); on a GPU, those with a GPU version.
     #[arg(long, default_value = "all")]
     methods: String,
@@ -47,6 +52,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Outcome {
+    if a.family == "triangle" {
+        return run_triangle(a);
+    }
     let methods = parse_list(&a.methods)?;
     let kinds = super::backend_list(&a.backend)?;
     if a.views == 0 {
@@ -55,7 +63,7 @@ pub fn run(a: Args) -> Outcome {
     if a.batch == 0 {
         return Err("--batch 0: a batch holds at least one ray".into());
     }
-    let (width, height) = super::size(&a.size, false, 65536)?;
+    let (width, height) = super::size(a.size.as_deref().unwrap_or("1024x1024"), false, 65536)?;
     let per_view = width as u128 * height as u128;
     super::fits(
         &format!("--size {width}x{height} --batch {}", a.batch),
@@ -89,6 +97,31 @@ pub fn run(a: Args) -> Outcome {
         &|| bar.inc(1),
     )?;
     bar.finish_and_clear();
+    print!("{}", report.markdown());
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `bench --family triangle`.
+fn run_triangle(a: Args) -> Outcome {
+    if a.backend != "cpu" || a.layouts || a.hilbert {
+        return Err("--family triangle times the CPU, plain f32; leave out --backend, --layouts and --hilbert".into());
+    }
+    if a.views == 0 {
+        return Err("--views 0: a bench needs at least one view".into());
+    }
+    let methods = parse_triangle_list(&a.methods)?;
+    let (width, height) = super::size(a.size.as_deref().unwrap_or("256x256"), false, 4096)?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let views = Views {
+        views: a.views,
+        width,
+        height,
+        seed: a.seed,
+        fov_deg: Views::FOV_DEG,
+    };
+    let report = triangle::speed(&mesh, &a.scene, &views, &methods, 3)?;
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
