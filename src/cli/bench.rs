@@ -78,13 +78,7 @@ pub fn run(a: Args) -> Outcome {
     if a.hilbert {
         mesh = crate::mesh::reorder::hilbert_sorted(&mesh);
     }
-    let views = Views {
-        views: a.views,
-        width,
-        height,
-        seed: a.seed,
-        fov_deg: Views::FOV_DEG,
-    };
+    let views = views(&a, width, height);
     let bar = super::progress(a.views as u64, "views");
     let report = bench::run(
         &a.scene,
@@ -114,15 +108,20 @@ fn run_triangle(a: Args) -> Outcome {
     let (width, height) = super::size(a.size.as_deref().unwrap_or("256x256"), false, 4096)?;
     let out = JsonOut::new(a.json.as_deref())?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-    let views = Views {
+    let views = views(&a, width, height);
+    let report = triangle::speed(&mesh, &a.scene, &views, &methods, 3)?;
+    print!("{}", report.markdown());
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The views of a bench of `width × height`.
+fn views(a: &Args, width: u32, height: u32) -> Views {
+    Views {
         views: a.views,
         width,
         height,
         seed: a.seed,
         fov_deg: Views::FOV_DEG,
-    };
-    let report = triangle::speed(&mesh, &a.scene, &views, &methods, 3)?;
-    print!("{}", report.markdown());
-    out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    }
 }
