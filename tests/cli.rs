@@ -569,7 +569,8 @@ fn stress_relabel_all_reruns_every_row_under_every_labelling() {
 }
 
 /// `tetwalk paper` writes the seeds' tables beside ours, whole: seed 000 Tables 3, 4 (one column per
-/// backend) and 5, seed 003 Table 4; the file holds what was printed, and a bad backend writes nothing.
+/// backend) and 5, seed 003 Table 4, seed 004 Figure 5; the file holds what was printed, and a bad
+/// backend writes nothing.
 #[test]
 fn paper_writes_the_seeds_tables_beside_ours() {
     let dir = tempfile::tempdir().unwrap();
@@ -592,6 +593,7 @@ fn paper_writes_the_seeds_tables_beside_ours() {
         "## Seed 000 Table 4",
         "## Seed 000 Table 5",
         "## Seed 003 Table 4",
+        "## Seed 004 Figure 5",
         "| ours, cpu | ours, cpu-fma |",
     ] {
         assert!(text.contains(title), "{title} missing from\n{text}");
@@ -604,6 +606,12 @@ fn paper_writes_the_seeds_tables_beside_ours() {
         .find(|q| q["method"] == "maria17")
         .unwrap();
     assert!(maria17["ns_per_query"].as_f64().unwrap() > 0.0);
+    let figure5 = r["figure5"]["rows"].as_array().unwrap();
+    assert_eq!(
+        figure5.len(),
+        6 * 4,
+        "six methods, packets of 1, 4, 16 and 64 rays"
+    );
     let elsewhere = dir.path().join("nothing.md");
     let (code, _, err) = tetwalk(
         &[

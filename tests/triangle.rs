@@ -523,3 +523,40 @@ fn the_gpu_answers_as_the_cpu_does() {
         );
     }
 }
+
+/// The README's register of claims, `woop-watertight`'s row: in f32 as written it hits one of the two
+/// triangles sharing the edge the ray crosses; fused, it leaks through the edge and first reports the
+/// triangle where the ray leaves.
+#[test]
+fn the_claims_register_woop_counterexample_replays() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/corpora/found/woop-watertight/stress-tetrahedron-edge-origin-wrong_face-15054ba8dc6ab2ef.json"
+    ))
+    .unwrap();
+    let r = tetwalk::found::Record::parse(text.trim()).unwrap();
+    let Subject::Hit(case) = r.subject else {
+        panic!("a triangle case")
+    };
+    let truth = judge_hit(&case).unwrap();
+    let first = truth.first_crossing().unwrap();
+    assert_eq!(first.holding, vec![0, 2]);
+    assert_eq!(first.t, rug::Rational::from(1));
+    let woop = tetwalk::registry::triangle_by_name("woop-watertight").unwrap();
+    let hits = |fma| {
+        Backend::Cpu { fma }
+            .triangle_hits(woop, std::slice::from_ref(&case))
+            .unwrap()
+            .remove(0)
+    };
+    let ids = |h: &[(u32, f32)]| h.iter().map(|&(i, _)| i).collect::<Vec<_>>();
+    let plain = hits(false);
+    assert!(!truth.leaks(&ids(&plain)), "{plain:?}");
+    let fused = hits(true);
+    assert!(truth.leaks(&ids(&fused)), "{fused:?}");
+    assert_eq!(
+        tetwalk::found::nearest_hit(&fused),
+        Some((3, 1.589068)),
+        "as the register writes it"
+    );
+}

@@ -1,13 +1,14 @@
 //! `tetwalk paper`: the seeds' tables that tetwalk reproduces, ours beside theirs, with what differs —
-//! seed 000 Tables 3, 4 and 5 and seed 003 Table 4 so far (seed 003's GPU Table 3 is
-//! `tetwalk bench --layouts` on a GPU; seeds 001 and 004 have no methods yet).
+//! seed 000 Tables 3, 4 and 5, seed 003 Table 4 and seed 004 Figure 5 so far (seed 003's GPU Table 3
+//! is `tetwalk bench --layouts` on a GPU; seed 001 has no methods yet).
 
 use crate::backend::Backend;
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
-use crate::registry::{METHODS, Method};
+use crate::registry::{METHODS, Method, TRIANGLE_METHODS};
 use crate::report::count::{self, CountError, CountReport};
 use crate::report::scene_info::SceneInfo;
+use crate::report::triangle::{self, SpeedReport};
 
 /// Seed 000 Table 3, the BUNNY column: tetrahedra, occlusive faces, non-occlusive faces, memory (MB).
 const SEED000_TABLE3_BUNNY: (usize, usize, usize, f64) = (682_733, 222_775, 1_142_650, 62.0);
@@ -48,6 +49,8 @@ pub struct Size {
     /// Tetrahedra and rays per tetrahedron of Table 5 (seed 000: 10,000 × 16,384).
     pub tets: usize,
     pub rays: usize,
+    /// Image side of seed 004 Figure 5's view (seed 004: 256²).
+    pub triangle_side: u32,
 }
 
 impl Size {
@@ -57,6 +60,7 @@ impl Size {
         side: 256,
         tets: 1_000,
         rays: 512,
+        triangle_side: 64,
     };
     /// The papers' sizes, but Table 5 at a tenth of the rays per tetrahedron (the whole would hold
     /// about 40 GB of queries at once).
@@ -65,6 +69,7 @@ impl Size {
         side: 1024,
         tets: 10_000,
         rays: 1_638,
+        triangle_side: 256,
     };
 }
 
@@ -86,6 +91,8 @@ pub struct PaperReport {
     pub counts: Vec<CountReport>,
     /// Seed 000 Table 5 (CPU, one thread).
     pub table5: Vec<QueryTime>,
+    /// Seed 004 Figure 5 (CPU, one thread).
+    pub figure5: SpeedReport,
 }
 
 /// Run every reproducible table on `mesh` (scene `scene`) with the counts on `backends`.
@@ -130,6 +137,13 @@ pub fn run(
             }
         })
         .collect();
+    let views = crate::scenes::camera::Views {
+        width: size.triangle_side,
+        height: size.triangle_side,
+        ..settings.views
+    };
+    let triangle_methods: Vec<_> = TRIANGLE_METHODS.iter().collect();
+    let figure5 = triangle::speed(mesh, scene, &views, &triangle_methods, 3)?;
     Ok(PaperReport {
         date: today(),
         scene: scene.to_string(),
@@ -137,6 +151,7 @@ pub fn run(
         scene_info: SceneInfo::of(mesh),
         counts,
         table5,
+        figure5,
     })
 }
 
@@ -221,6 +236,9 @@ impl PaperReport {
             );
         }
         out += "\nThe paper's sizes include the points and the constrained-face data; ours count the tetrahedra only.\nSeed 003's GPU Table 3: `tetwalk bench --layouts` on a GPU (`corpora/results/h100-layouts.md`).\n";
+        out += "\n## Seed 004 Figure 5: packet intersection speed, ratio to the improved Möller test\n\n";
+        out += "The paper's figure gives bars, its text \"about 1.1x to 1.4x\" for its packet method over the improved Möller test (2x2 packets) and the Plücker packet test below it. Ours: ";
+        out += &self.figure5.markdown();
         out
     }
 }
