@@ -182,7 +182,8 @@ impl Backend {
         match self {
             Backend::Cpu { fma } => {
                 let trace = method.trace(*fma);
-                let chunk = packet.max(1) * 16;
+                // Each task prepares the triangles once for 256 packets.
+                let chunk = packet.max(1) * 256;
                 Ok(rays
                     .par_chunks(chunk)
                     .flat_map_iter(|c| trace(tris, c, packet))

@@ -560,3 +560,35 @@ fn the_claims_register_woop_counterexample_replays() {
         "as the register writes it"
     );
 }
+
+/// `gen-cases --shape` writes closed-mesh cases that `hit` reads back, every one answered; the rays
+/// aimed exactly at edges meet the surface first at an edge (two triangles hold the point, or, where
+/// the ray runs along one, that one), and woop-watertight is right on all of them here.
+#[test]
+fn gen_cases_writes_closed_meshes_that_hit_reads() {
+    let (code, cases, err) = common::run_tetwalk(
+        &[
+            "gen-cases",
+            "--shape",
+            "icosahedron",
+            "--aim",
+            "edge",
+            "--place",
+            "embree",
+            "--count",
+            "50",
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(cases.lines().count(), 50);
+    let (code, out, err) =
+        common::run_tetwalk(&["hit", "--method", "woop-watertight"], cases.as_bytes());
+    assert_eq!(code, 0, "{err}");
+    let v = lines(&out);
+    assert_eq!(v.len(), 50);
+    for x in &v {
+        assert_eq!(x["on_boundary"], true, "{x}");
+        assert_eq!(x["correct"], true, "{x}");
+    }
+}

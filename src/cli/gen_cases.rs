@@ -1,8 +1,10 @@
-//! `tetwalk gen-cases`: generated (tetrahedron, ray) cases as JSON Lines, for `tetwalk exit`.
+//! `tetwalk gen-cases`: generated (tetrahedron, ray) cases as JSON Lines, for `tetwalk exit`, or, with
+//! `--shape`, closed triangle meshes and rays for `tetwalk hit`.
 
 use super::{JsonOut, Outcome, choice};
-use crate::cases::{Case, Subject};
+use crate::cases::{Case, HitCase, Subject};
 use crate::exact::classify;
+use crate::scenes::closed::{self, Aim, Place, Shape};
 use crate::scenes::rng;
 use crate::scenes::tets::{self, Family, Target};
 use glam::Vec3;
@@ -52,6 +54,16 @@ pub struct Args {
     /// Give each case its exact entry face (the lowest one) when it has one.
     #[arg(long)]
     with_entry: bool,
+    /// Write ray–triangle cases for `tetwalk hit` instead: closed meshes of this shape (`tris` lines;
+    /// the stress rows' generator), with `--aim`, `--place`, `--flatness` and `--ulps`.
+    #[arg(long, value_parser = choice::<Shape>(), conflicts_with_all = ["family", "rays", "offset", "with_entry"])]
+    shape: Option<Shape>,
+    /// With `--shape`: where the rays are aimed.
+    #[arg(long, value_parser = choice::<Aim>(), default_value = "edge", requires = "shape")]
+    aim: Aim,
+    /// With `--shape`: where the mesh is placed.
+    #[arg(long, value_parser = choice::<Place>(), default_value = "origin", requires = "shape")]
+    place: Place,
     /// Also write what was generated (settings and count) as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -85,6 +97,23 @@ pub fn run(a: Args) -> Outcome {
     let out = JsonOut::new(a.json.as_deref())?;
     let mut r = rng(a.seed);
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    if let Some(shape) = a.shape {
+        for _ in 0..a.count {
+            let (mesh, ray) = closed::case(shape, a.aim, a.place, a.flatness, a.ulps, &mut r);
+            let case = HitCase::closed(&mesh, ray).map_err(|e| e.to_string())?;
+            writeln!(
+                w,
+                "{}",
+                serde_json::Value::Object(Subject::Hit(case).to_json())
+            )?;
+        }
+        w.flush()?;
+        out.finish(&serde_json::json!({
+            "shape": shape, "aim": a.aim, "place": a.place, "flatness": a.flatness,
+            "ulps": a.ulps, "seed": a.seed, "written": a.count,
+        }))?;
+        return Ok(ExitCode::SUCCESS);
+    }
     let mut written = 0;
     for _ in 0..a.count.saturating_mul(100) {
         if written == a.count {

@@ -144,24 +144,35 @@ pub fn run_tetwalk(args: &[&str], stdin: &[u8]) -> (i32, String, String) {
         .unwrap();
     let mut input = child.stdin.take().unwrap();
     let stdin = stdin.to_vec();
-    // Fed on a thread, so that a large input cannot block against a full output pipe.
+    // Fed and read on threads, so that large input or output cannot block against a full pipe.
     let feeder = std::thread::spawn(move || {
         let _ = input.write_all(&stdin);
     });
+    let drain = |mut r: Box<dyn std::io::Read + Send>| {
+        std::thread::spawn(move || {
+            let mut b = Vec::new();
+            let _ = r.read_to_end(&mut b);
+            b
+        })
+    };
+    let stdout = drain(Box::new(child.stdout.take().unwrap()));
+    let stderr = drain(Box::new(child.stderr.take().unwrap()));
     let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
         if start.elapsed() > Duration::from_secs(60) {
             child.kill().unwrap();
             panic!("tetwalk {args:?} hung");
         }
         std::thread::sleep(Duration::from_millis(5));
-    }
+    };
     feeder.join().unwrap();
-    let out = child.wait_with_output().unwrap();
     let text = |b: Vec<u8>| String::from_utf8_lossy(&b).to_string();
     (
-        out.status.code().unwrap_or(-1),
-        text(out.stdout),
-        text(out.stderr),
+        status.code().unwrap_or(-1),
+        text(stdout.join().unwrap()),
+        text(stderr.join().unwrap()),
     )
 }

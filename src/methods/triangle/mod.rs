@@ -4,8 +4,8 @@
 //! A method tests a *packet* of rays sharing an origin against one triangle; a single ray is a packet of
 //! one. Methods that share work across a packet (Komatsu et al.'s and Benthin's) do it once per packet
 //! and triangle; the others test ray by ray. What every ray tracer adds around a test lives here, once:
-//! a reported hit counts when its f32 `t > 0` ([`accepts`]), and the nearest hit over many triangles is
-//! the first with the smallest `t` ([`nearest`]).
+//! a reported hit counts when its f32 `t` lies in `0 < t < ∞` ([`accepts`]), and the nearest hit over
+//! many triangles is the first with the smallest `t` ([`nearest`]).
 
 mod komatsu;
 mod mt;
