@@ -627,3 +627,108 @@ fn paper_writes_the_seeds_tables_beside_ours() {
     assert!(err.contains("'tpu'"), "{err}");
     assert!(!elsewhere.exists(), "nothing half-written");
 }
+
+/// `tetwalk judge`: answers computed elsewhere, dumped one JSON line per case, get the verdict lines
+/// tetwalk's own methods get — the same, field for field, as `exit` and `hit` write for a method that
+/// answered the same; a case without an answer is an error line, an answer without a case an error.
+#[test]
+fn judge_gives_answers_from_anywhere_the_verdicts_of_exit_and_hit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = dir.path().join("cases.jsonl");
+    let mut text = String::new();
+    for line in tetwalk(
+        &[
+            "gen-cases",
+            "--family",
+            "sliver",
+            "--rays",
+            "near-edge",
+            "--count",
+            "40",
+        ],
+        "",
+    )
+    .1
+    .lines()
+    .chain(
+        tetwalk(
+            &[
+                "gen-cases",
+                "--shape",
+                "tetrahedron",
+                "--aim",
+                "edge",
+                "--count",
+                "20",
+            ],
+            "",
+        )
+        .1
+        .lines(),
+    ) {
+        text += line;
+        text.push('\n');
+    }
+    std::fs::write(&cases, &text).unwrap();
+    // maria17's and mt's own answers, written out as a user's kernel would dump them.
+    let exit = json_lines(
+        &tetwalk(
+            &["exit", "--method", "maria17", cases.to_str().unwrap()],
+            "",
+        )
+        .1,
+    );
+    let hit = json_lines(&tetwalk(&["hit", "--method", "mt", cases.to_str().unwrap()], "").1);
+    let mut answers = String::new();
+    for v in exit.iter().filter(|v| v.get("face").is_some()) {
+        answers += &format!(
+            "{}\n",
+            serde_json::json!({"line": v["line"], "face": v["face"]})
+        );
+    }
+    for v in hit.iter().filter(|v| v.get("tri").is_some()) {
+        answers += &format!(
+            "{}\n",
+            serde_json::json!({"line": v["line"], "tri": v["tri"], "t": v["t"]})
+        );
+    }
+    let given = dir.path().join("answers.jsonl");
+    std::fs::write(&given, &answers).unwrap();
+    let (code, out, err) = tetwalk(
+        &["judge", cases.to_str().unwrap(), given.to_str().unwrap()],
+        "",
+    );
+    assert_eq!(code, 0, "{err}");
+    let judged = json_lines(&out);
+    assert_eq!(judged.len(), 60);
+    let own = exit
+        .iter()
+        .filter(|v| v.get("face").is_some())
+        .chain(hit.iter().filter(|v| v.get("tri").is_some()));
+    for (mine, theirs) in judged.iter().zip(own) {
+        let mut mine = mine.clone();
+        let mut theirs = theirs.clone();
+        for v in [&mut mine, &mut theirs] {
+            let o = v.as_object_mut().unwrap();
+            o.remove("method");
+            o.remove("backend");
+        }
+        assert_eq!(mine, theirs);
+    }
+    // One answer fewer: that case is an error line; one for a line with no case: an error.
+    let fewer: String = answers.lines().skip(1).map(|l| format!("{l}\n")).collect();
+    std::fs::write(&given, &fewer).unwrap();
+    let (code, out, _) = tetwalk(
+        &["judge", cases.to_str().unwrap(), given.to_str().unwrap()],
+        "",
+    );
+    assert_eq!(code, 1);
+    assert!(out.contains("no answer for this line"), "{out}");
+    std::fs::write(&given, answers + "{\"line\": 999, \"face\": 1}\n").unwrap();
+    let (code, _, err) = tetwalk(
+        &["judge", cases.to_str().unwrap(), given.to_str().unwrap()],
+        "",
+    );
+    assert_eq!(code, 2);
+    assert!(err.contains("[999]"), "{err}");
+}

@@ -128,22 +128,22 @@ pub(super) struct Summary {
 /// count lines missing the tetrahedron.
 pub(super) fn answer_all(
     command: &str,
-    names: Vec<&'static str>,
+    names: Vec<String>,
     missed: bool,
-    backend: &Backend,
+    backend: String,
     file: Option<&std::path::Path>,
     json: Option<&std::path::Path>,
     mut answer: impl FnMut(&[Line], &mut Summary) -> Result<String, super::Error>,
 ) -> Outcome {
     let out = JsonOut::new(json)?;
     let mut summary = Summary {
-        backend: backend.describe(),
+        backend,
         lines: 0,
         errors: 0,
         methods: names
             .into_iter()
-            .map(|m| Tally {
-                method: m.into(),
+            .map(|method| Tally {
+                method,
                 missed: missed.then_some(0),
                 ..Tally::default()
             })
@@ -164,12 +164,12 @@ pub(super) fn answer_all(
 pub fn run(a: Args) -> Outcome {
     let methods = parse_list(&a.method)?;
     let backend = a.backend.open()?;
-    let names = methods.iter().map(|m| m.name).collect();
+    let names = methods.iter().map(|m| m.name.to_string()).collect();
     answer_all(
         "exit",
         names,
         true,
-        &backend,
+        backend.describe(),
         a.file.as_deref(),
         a.json.as_deref(),
         |batch, summary| answer(batch, &methods, &backend, summary),
@@ -234,17 +234,8 @@ fn answer(
                     .zip(&faces)
                     .zip(&mut summary.methods)
                     .map(|((m, f), t)| {
-                        let j = judged(c, f[k]);
-                        t.right += (j.correct == Some(true)) as u64;
-                        t.wrong += (j.correct == Some(false)) as u64;
-                        if let Some(m) = t.missed.as_mut() {
-                            *m += j.correct.is_none() as u64;
-                        }
-                        serde_json::json!({
-                            "line": n, "method": m.name, "backend": backend.for_method(m).kind().name(),
-                            "face": j.face, "exact_exit": j.exact_exit, "exact_entry": j.exact_entry,
-                            "correct": j.correct,
-                        })
+                        let on = backend.for_method(m).kind().name();
+                        exit_verdict(*n, m.name, on, c, f[k], t)
                     })
                     .collect();
                 k += 1;
@@ -264,6 +255,29 @@ fn answer(
         }
     }
     Ok(s)
+}
+
+/// An exit-face verdict line: `face` (in the case's numbering) beside the exact answer, counted in
+/// `tally`.
+pub(super) fn exit_verdict(
+    n: usize,
+    method: &str,
+    backend: &str,
+    c: &Classification,
+    face: Option<usize>,
+    tally: &mut Tally,
+) -> serde_json::Value {
+    let j = judged(c, face);
+    tally.right += (j.correct == Some(true)) as u64;
+    tally.wrong += (j.correct == Some(false)) as u64;
+    if let Some(m) = tally.missed.as_mut() {
+        *m += j.correct.is_none() as u64;
+    }
+    serde_json::json!({
+        "line": n, "method": method, "backend": backend,
+        "face": j.face, "exact_exit": j.exact_exit, "exact_entry": j.exact_entry,
+        "correct": j.correct,
+    })
 }
 
 /// A walk case: each method's walk beside the `exact` one.

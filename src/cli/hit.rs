@@ -3,9 +3,9 @@
 
 use super::Outcome;
 pub use super::exit::Args;
-use super::exit::{Line, Summary, answer_all};
+use super::exit::{Line, Summary, Tally, answer_all};
 use crate::backend::Backend;
-use crate::cases::{Subject, judge_hit};
+use crate::cases::{HitCase, HitTruth, Subject, judge_hit};
 use crate::choice::Choice;
 use crate::found::{Record, nearest_hit};
 use crate::registry::{TriangleMethod, parse_triangle_list};
@@ -14,16 +14,51 @@ use serde_json::{Value, json};
 pub fn run(a: Args) -> Outcome {
     let methods = parse_triangle_list(&a.method)?;
     let backend = a.backend.open()?;
-    let names = methods.iter().map(|m| m.name).collect();
+    let names = methods.iter().map(|m| m.name.to_string()).collect();
     answer_all(
         "hit",
         names,
         false,
-        &backend,
+        backend.describe(),
         a.file.as_deref(),
         a.json.as_deref(),
         |batch, summary| answer(batch, &methods, &backend, summary),
     )
+}
+
+/// A ray–triangle verdict line: the nearest hit `g` (a triangle of the case and its `t`, or none)
+/// beside the exact answer, counted in `tally`.
+pub(super) fn hit_verdict(
+    n: usize,
+    method: &str,
+    backend: &str,
+    case: &HitCase,
+    truth: &HitTruth,
+    g: Option<(u32, f32)>,
+    tally: &mut Tally,
+) -> Value {
+    let correct = truth.right(g.map(|(i, _)| i));
+    tally.right += correct as u64;
+    tally.wrong += !correct as u64;
+    let first = truth.first();
+    let mut line = json!({
+        "line": n, "method": method, "backend": backend,
+        "hit": g.is_some(), "t": g.map(|(_, t)| t),
+        "exact_hit": first.is_some(), "exact_t": first.map(|p| ratio(&p.t)),
+    });
+    let o = line.as_object_mut().expect("an object");
+    if case.closed {
+        o.insert("tri".into(), json!(g.map(|(i, _)| i)));
+        let holding = first.map_or(vec![], |p| p.holding.clone());
+        let boundary = holding.iter().any(|&i| truth.each[i as usize].on_boundary);
+        o.insert("exact_tris".into(), json!(holding));
+        o.insert("on_boundary".into(), Value::Bool(boundary));
+        o.insert("crosses".into(), json!(first.map(|p| p.crosses)));
+    } else {
+        o.insert("on_boundary".into(), Value::Bool(truth.each[0].on_boundary));
+    }
+    o.insert("correct".into(), Value::Bool(correct));
+    line
 }
 
 /// A rational as `p/q`.
@@ -75,28 +110,7 @@ fn answer(
             Ok(x) => x,
         };
         for ((m, g), tally) in methods.iter().zip(&got).zip(&mut summary.methods) {
-            let g = g[k];
-            let correct = truth.right(g.map(|(i, _)| i));
-            tally.right += correct as u64;
-            tally.wrong += !correct as u64;
-            let first = truth.first();
-            let mut line = json!({
-                "line": n, "method": m.name, "backend": backend.kind().name(),
-                "hit": g.is_some(), "t": g.map(|(_, t)| t),
-                "exact_hit": first.is_some(), "exact_t": first.map(|p| ratio(&p.t)),
-            });
-            let o = line.as_object_mut().expect("an object");
-            if case.closed {
-                o.insert("tri".into(), json!(g.map(|(i, _)| i)));
-                let holding = first.map_or(vec![], |p| p.holding.clone());
-                let boundary = holding.iter().any(|&i| truth.each[i as usize].on_boundary);
-                o.insert("exact_tris".into(), json!(holding));
-                o.insert("on_boundary".into(), Value::Bool(boundary));
-                o.insert("crosses".into(), json!(first.map(|p| p.crosses)));
-            } else {
-                o.insert("on_boundary".into(), Value::Bool(truth.each[0].on_boundary));
-            }
-            o.insert("correct".into(), Value::Bool(correct));
+            let line = hit_verdict(*n, m.name, backend.kind().name(), case, truth, g[k], tally);
             s += &line.to_string();
             s.push('\n');
         }

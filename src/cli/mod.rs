@@ -7,6 +7,7 @@ mod exit;
 mod fuzz_import;
 mod gen_cases;
 mod hit;
+mod judge;
 mod paper;
 mod render;
 mod replay;
@@ -50,6 +51,9 @@ enum Command {
     Exit(exit::Args),
     /// Answer ray-triangle cases from JSON Lines with each ray-triangle method, judged exactly.
     Hit(hit::Args),
+    /// Judge answers computed anywhere (one JSON line per case) exactly, as exit and hit judge
+    /// tetwalk's own methods.
+    Judge(judge::Args),
     /// Write generated (tetrahedron, ray) cases as JSON Lines.
     GenCases(gen_cases::Args),
     /// Walk rays through a generated mesh with each method, every step judged exactly.
@@ -87,6 +91,7 @@ pub fn main() -> ExitCode {
         Command::Methods { json } => methods(json),
         Command::Exit(a) => exit::run(a),
         Command::Hit(a) => hit::run(a),
+        Command::Judge(a) => judge::run(a),
         Command::GenCases(a) => gen_cases::run(a),
         Command::Walk(a) => walk::run(a),
         Command::Stress(a) => stress::run(a),
