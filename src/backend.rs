@@ -194,11 +194,6 @@ impl Backend {
         }
     }
 
-    /// Where ray–triangle methods run on this backend (all of them run here).
-    pub fn for_triangles(&self) -> &Backend {
-        self
-    }
-
     /// `method`'s exit face for each case, in the case's own numbering.
     pub fn exit_faces(
         &self,

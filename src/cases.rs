@@ -330,7 +330,7 @@ pub fn object(line: &str) -> Result<Map<String, Value>, CaseError> {
 }
 
 /// The nearest f32 to a JSON number's decimal text; an error when it is not finite in f32.
-fn number(x: &Value) -> Result<f32, String> {
+pub fn number(x: &Value) -> Result<f32, String> {
     let Value::Number(n) = x else {
         return Err(format!("{x} is not a number"));
     };

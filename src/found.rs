@@ -5,9 +5,10 @@
 //! replay share.
 
 use crate::backend::{Backend, BackendError, BackendKind, CPU, CPU_FMA};
-use crate::cases::{CaseError, HitCase, Subject, classify, judge_hit, object};
+use crate::cases::{CaseError, HitCase, Subject, classify, judge_hit, number, object};
 use crate::choice::Choice;
 use crate::exact::hit::first_hit;
+use crate::methods::triangle::nearest_of;
 use crate::registry::{
     METHODS, Method, TRIANGLE_METHODS, TriangleMethod, UnknownMethod, by_name, reference,
     triangle_by_name,
@@ -502,9 +503,8 @@ fn hit_answer(v: &Value, tris: usize) -> Result<Option<(u32, f32)>, String> {
     // The decimal text rounded once to f32, as every number of the case format is.
     let t = v
         .get("t")
-        .filter(|t| t.is_number())
-        .and_then(|t| t.to_string().parse::<f32>().ok())
-        .ok_or_else(|| format!("{v}: t must be a number"))?;
+        .ok_or_else(|| format!("{v}: t must be a number"))
+        .and_then(|t| number(t).map_err(|e| format!("{v}: t: {e}")))?;
     if v.as_object().is_some_and(|o| o.len() != 2) {
         return Err(format!("{v}: holds more than tri and t"));
     }
@@ -525,7 +525,7 @@ pub fn check_hits(
         for b in backends {
             let hits = b.triangle_hits(m, cases)?;
             for (i, (h, truth)) in hits.iter().zip(&truths).enumerate() {
-                let nearest = nearest_hit(h);
+                let nearest = nearest_of(h);
                 let wrong = if leaks_only {
                     truth.leaks(&h.iter().map(|&(i, _)| i).collect::<Vec<_>>())
                 } else {
@@ -544,18 +544,6 @@ pub fn check_hits(
         }
     }
     Ok(None)
-}
-
-/// The nearest of a method's hits (in triangle order): the first with the smallest `t`, as its
-/// nearest-hit loop keeps it.
-pub fn nearest_hit(hits: &[(u32, f32)]) -> Option<(u32, f32)> {
-    let mut best: Option<(u32, f32)> = None;
-    for &(i, t) in hits {
-        if best.is_none_or(|(_, bt)| t < bt) {
-            best = Some((i, t));
-        }
-    }
-    best
 }
 
 /// A walk case's mesh, start and ray.

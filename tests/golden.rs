@@ -281,21 +281,21 @@ fn a_small_stress_table_is_unchanged() {
 /// exact map; as text and as a PNG sheet (exact | cpu | cpu-fma).
 #[test]
 fn leak_maps_are_unchanged() {
-    use tetwalk::render::{leak_case, leak_grid, leak_image};
+    use tetwalk::render::{LeakGrid, leak_case, leak_image};
     use tetwalk::scenes::closed::{Place, Shape};
     const SIZE: u32 = 48;
     let (case, pair) = leak_case(Shape::Octahedron, Place::Embree, 1).unwrap();
-    let cpu = Backend::Cpu { fma: false };
-    let exact = leak_grid(&case, pair, SIZE, None, &cpu).unwrap();
+    let grid = LeakGrid::new(&case, pair, SIZE);
+    let exact = grid.exact();
     let text = |cells: &[tetwalk::render::EdgeHit]| {
         rows(SIZE, cells.iter().map(|c| c.letter().to_string()))
     };
     settings().bind(|| {
-        insta::assert_snapshot!("leak_exact", text(&exact));
+        insta::assert_snapshot!("leak_exact", text(exact));
         for m in tetwalk::registry::TRIANGLE_METHODS {
-            let mut sheet = vec![leak_image(&exact, SIZE)];
+            let mut sheet = vec![leak_image(exact, SIZE)];
             for fma in [false, true] {
-                let cells = leak_grid(&case, pair, SIZE, Some(m), &Backend::Cpu { fma }).unwrap();
+                let cells = grid.of(m, &Backend::Cpu { fma }).unwrap();
                 let tag = if fma { "fma" } else { "cpu" };
                 insta::assert_snapshot!(format!("leak_{}_{tag}", m.name), text(&cells));
                 sheet.push(leak_image(&cells, SIZE));

@@ -555,7 +555,7 @@ fn the_claims_register_woop_counterexample_replays() {
     let fused = hits(true);
     assert!(truth.leaks(&ids(&fused)), "{fused:?}");
     assert_eq!(
-        tetwalk::found::nearest_hit(&fused),
+        tetwalk::methods::triangle::nearest_of(&fused),
         Some((3, 1.589068)),
         "as the register writes it"
     );

@@ -40,7 +40,7 @@ const BATCH: usize = 4096;
 pub(super) type Line = (usize, Result<String, String>);
 
 /// Read lines on a thread, each at most [`MAX_LINE`] bytes, invalid UTF-8 an error for its line.
-fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
+pub(super) fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
     let (tx, rx) = mpsc::sync_channel(BATCH);
     std::thread::spawn(move || {
         let mut n = 0;

@@ -7,7 +7,8 @@ use super::exit::{Line, Summary, Tally, answer_all};
 use crate::backend::Backend;
 use crate::cases::{HitCase, HitTruth, Subject, judge_hit};
 use crate::choice::Choice;
-use crate::found::{Record, nearest_hit};
+use crate::found::Record;
+use crate::methods::triangle::nearest_of;
 use crate::registry::{TriangleMethod, parse_triangle_list};
 use serde_json::{Value, json};
 
@@ -94,7 +95,7 @@ fn answer(
     let mut got = Vec::new();
     for m in methods {
         let hits = backend.triangle_hits(m, &cases)?;
-        got.push(hits.iter().map(|h| nearest_hit(h)).collect::<Vec<_>>());
+        got.push(hits.iter().map(|h| nearest_of(h)).collect::<Vec<_>>());
     }
     let mut s = String::new();
     let mut k = 0;

@@ -2,13 +2,12 @@
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
 use super::Outcome;
-use super::exit::{Line, Summary, answer_all, exit_verdict};
+use super::exit::{Line, Summary, answer_all, exit_verdict, reader};
 use super::hit::hit_verdict;
-use crate::cases::{Subject, classify, judge_hit};
+use crate::cases::{Subject, classify, judge_hit, number};
 use crate::found::Record;
 use serde_json::{Value, json};
 use std::collections::HashMap;
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -41,7 +40,8 @@ pub enum JudgeError {
     File { file: String, why: String },
 }
 
-/// The answers by case line, read whole (each a JSON object with a `line`).
+/// The answers by case line, read whole (each a JSON object with a `line`), line by line through
+/// `exit`'s reader (each line at most its length bound).
 fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, JudgeError> {
     let file = path.display().to_string();
     let f = std::fs::File::open(path).map_err(|e| JudgeError::File {
@@ -49,13 +49,13 @@ fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, JudgeError> {
         why: e.to_string(),
     })?;
     let mut out = HashMap::new();
-    for (i, l) in std::io::BufReader::new(f).lines().enumerate() {
+    for (i, l) in reader(Box::new(std::io::BufReader::new(f))) {
         let bad = |why: String| JudgeError::Answer {
             file: file.clone(),
-            line: i + 1,
+            line: i,
             why,
         };
-        let l = l.map_err(|e| bad(e.to_string()))?;
+        let l = l.map_err(bad)?;
         if l.trim().is_empty() {
             continue;
         }
@@ -73,16 +73,11 @@ fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, JudgeError> {
     Ok(out)
 }
 
-/// A number field as the nearest f32 to its decimal text, or null.
+/// A number field as the nearest f32 to its decimal text ([`number`]), or null.
 fn f32_field(v: &Value, k: &str) -> Result<Option<f32>, String> {
     match v.get(k) {
         None | Some(Value::Null) => Ok(None),
-        Some(x) if x.is_number() => x
-            .to_string()
-            .parse::<f32>()
-            .map(Some)
-            .map_err(|_| format!("{k}: {x} is not a number")),
-        Some(x) => Err(format!("{k}: {x} is not a number or null")),
+        Some(x) => number(x).map(Some).map_err(|e| format!("{k}: {e}")),
     }
 }
 

@@ -217,9 +217,9 @@ fn leak(a: Args) -> Outcome {
     let (w, _) = super::size(&a.size, true, 4096)?;
     let (case, pair) = render::leak_case(a.shape, a.place, a.seed)
         .ok_or("no edge between two triangles facing the ray's origin could be found")?;
-    let cpu = Backend::Cpu { fma: false };
-    let exact = render::leak_image(&render::leak_grid(&case, pair, w, None, &cpu)?, w);
-    let mut backends = vec![cpu, Backend::Cpu { fma: true }];
+    let grid = render::LeakGrid::new(&case, pair, w);
+    let exact = render::leak_image(grid.exact(), w);
+    let mut backends = vec![Backend::Cpu { fma: false }, Backend::Cpu { fma: true }];
     let gpu = Backend::open(BackendKind::Gpu).ok();
     let gpu_name = gpu.as_ref().map(|g| g.describe());
     backends.extend(gpu);
@@ -227,10 +227,7 @@ fn leak(a: Args) -> Outcome {
     for m in &methods {
         let mut row = vec![exact.clone()];
         for b in &backends {
-            row.push(render::leak_image(
-                &render::leak_grid(&case, pair, w, Some(m), b)?,
-                w,
-            ));
+            row.push(render::leak_image(&grid.of(m, b)?, w));
         }
         write(&beside(&a.out, m.name), &Image::sheet(&row, 4), &mut drawn)?;
     }

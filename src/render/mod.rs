@@ -362,63 +362,75 @@ impl EdgeHit {
     }
 }
 
-/// A leak map: the triangle case's direction moved on a `size × size` grid of steps around itself, in
-/// its two components other than the largest (so each step moves the ray across the surface), a step
-/// an ulp of the larger of the two (exact in both), each
-/// cell which of the triangles `pair` (two sharing an edge) report a hit — by `method` on `backend`, or
-/// exactly (`None`: both on the edge itself).
-pub fn leak_grid(
-    case: &HitCase,
+/// A leak map's grid: the triangle case's direction moved on a `size × size` grid of steps around
+/// itself, in its two components other than the largest (so each step moves the ray across the
+/// surface), a step an ulp of the larger of the two (exact in both); each cell says which of the
+/// triangles `pair` (two sharing an edge) report a hit. The exact cells are judged once, when the grid
+/// is made; every method's are set beside them.
+pub struct LeakGrid {
+    cases: Vec<HitCase>,
     pair: [u32; 2],
-    size: u32,
-    method: Option<&TriangleMethod>,
-    backend: &Backend,
-) -> Result<Vec<EdgeHit>, RenderError> {
-    let half = (size / 2) as i32;
-    let k = case.dir.abs().max_position();
-    let (ax, ay) = ((k + 1) % 3, (k + 2) % 3);
-    // One step: an ulp of the larger of the two components, the same length along both.
-    let ulp = |x: f32| ulps(x.abs(), 1) - x.abs();
-    let step = ulp(case.dir[ax]).max(ulp(case.dir[ay]));
-    let cases: Vec<HitCase> = (0..size)
-        .flat_map(|y| (0..size).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let mut c = *case;
-            c.dir[ax] += (x as i32 - half) as f32 * step;
-            c.dir[ay] += (half - y as i32) as f32 * step;
-            c
-        })
-        .collect();
-    let cell = |hit: &dyn Fn(u32) -> bool| EdgeHit::of(hit(pair[0]), hit(pair[1]));
-    let exact: Vec<EdgeHit> = cases
-        .par_iter()
-        .map(|c| {
-            let ray = c.ray();
-            cell(&|i| {
-                crate::exact::hit::ray_triangle(c.tris()[i as usize], &ray).is_ok_and(|h| h.hit)
+    exact: Vec<EdgeHit>,
+}
+
+impl LeakGrid {
+    pub fn new(case: &HitCase, pair: [u32; 2], size: u32) -> LeakGrid {
+        let half = (size / 2) as i32;
+        let k = case.dir.abs().max_position();
+        let (ax, ay) = ((k + 1) % 3, (k + 2) % 3);
+        // One step: an ulp of the larger of the two components, the same length along both.
+        let ulp = |x: f32| ulps(x.abs(), 1) - x.abs();
+        let step = ulp(case.dir[ax]).max(ulp(case.dir[ay]));
+        let cases: Vec<HitCase> = (0..size)
+            .flat_map(|y| (0..size).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let mut c = *case;
+                c.dir[ax] += (x as i32 - half) as f32 * step;
+                c.dir[ay] += (half - y as i32) as f32 * step;
+                c
             })
-        })
-        .collect();
-    let beside = |cells: Vec<EdgeHit>| -> Vec<EdgeHit> {
-        cells
-            .into_iter()
-            .zip(&exact)
-            .map(|(c, e)| match (c, e) {
-                (EdgeHit::Neither, EdgeHit::Neither) => EdgeHit::Beside,
-                _ => c,
+            .collect();
+        let exact = cases
+            .par_iter()
+            .map(|c| {
+                let ray = c.ray();
+                let hit = |i: u32| {
+                    crate::exact::hit::ray_triangle(c.tris()[i as usize], &ray).is_ok_and(|h| h.hit)
+                };
+                match EdgeHit::of(hit(pair[0]), hit(pair[1])) {
+                    EdgeHit::Neither => EdgeHit::Beside,
+                    e => e,
+                }
             })
-            .collect()
-    };
-    Ok(match method {
-        Some(m) => beside(
-            backend
-                .triangle_hits(m, &cases)?
-                .iter()
-                .map(|h| cell(&|i| h.iter().any(|&(k, _)| k == i)))
-                .collect(),
-        ),
-        None => beside(exact.clone()),
-    })
+            .collect();
+        LeakGrid { cases, pair, exact }
+    }
+
+    /// The exact cells (both on the edge itself).
+    pub fn exact(&self) -> &[EdgeHit] {
+        &self.exact
+    }
+
+    /// `method`'s cells on `backend`: neither where the exact ray meets one is a leak.
+    pub fn of(
+        &self,
+        method: &TriangleMethod,
+        backend: &Backend,
+    ) -> Result<Vec<EdgeHit>, RenderError> {
+        let [p, q] = self.pair;
+        Ok(backend
+            .triangle_hits(method, &self.cases)?
+            .iter()
+            .zip(&self.exact)
+            .map(|(h, e)| {
+                let hit = |i: u32| h.iter().any(|&(k, _)| k == i);
+                match (EdgeHit::of(hit(p), hit(q)), e) {
+                    (EdgeHit::Neither, EdgeHit::Beside) => EdgeHit::Beside,
+                    (c, _) => c,
+                }
+            })
+            .collect())
+    }
 }
 
 /// A leak map's case: a closed mesh of `shape` at `place` seen from far away, as in Embree's test (from

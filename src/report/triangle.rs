@@ -5,8 +5,9 @@ use super::count::{CountError, located_views};
 use crate::backend::{Backend, BackendError};
 use crate::cases::{HitCase, HitTruth, Missed, Subject, judge_hit};
 use crate::choice::Choice;
-use crate::found::{Answer, Failure, Record, nearest_hit};
+use crate::found::{Answer, Failure, Record};
 use crate::mesh::{HULL, Mesh};
+use crate::methods::triangle::nearest_of;
 use crate::registry::TriangleMethod;
 use crate::registry::by_name;
 use crate::scenes::camera::Views;
@@ -48,7 +49,8 @@ pub struct HitTally {
 
 impl HitTally {
     /// Count one ray: `hits` are every triangle the method reports, with `t`, in triangle order.
-    pub fn add(&mut self, truth: &HitTruth, hits: &[(u32, f32)]) {
+    /// Whether its nearest hit is wrong.
+    pub fn add(&mut self, truth: &HitTruth, hits: &[(u32, f32)]) -> bool {
         let crossing = truth.first_crossing();
         let holding: &[u32] = crossing.map_or(&[], |p| &p.holding);
         let right = |i: u32| holding.contains(&i);
@@ -60,7 +62,9 @@ impl HitTally {
         }
         let false_hit = hits.iter().any(|&(i, _)| !truth.each[i as usize].hit);
         self.double_hits += (false_hit && hits.iter().any(|&(i, _)| right(i))) as u64;
-        self.wrong_first_hits += !truth.right(nearest_hit(hits).map(|(i, _)| i)) as u64;
+        let wrong = !truth.right(nearest_of(hits).map(|(i, _)| i));
+        self.wrong_first_hits += wrong as u64;
+        wrong
     }
 }
 
@@ -131,19 +135,16 @@ pub fn stress(
                     };
                     let row = format!("{}-{}-{}", shape.name(), aim.name(), place.name());
                     for ((case, truth), h) in judged.iter().zip(&hits) {
-                        t.add(truth, h);
-                        let first = nearest_hit(h);
-                        if !truth.right(first.map(|(i, _)| i)) {
-                            let on = backend.for_triangles();
+                        if t.add(truth, h) {
                             wrong(
                                 &row,
                                 Record {
                                     subject: Subject::Hit(*case),
                                     failure: Some(Failure {
                                         method: m.name.into(),
-                                        backend: on.kind(),
-                                        adapter: on.adapter(),
-                                        answer: Answer::Hit(first),
+                                        backend: backend.kind(),
+                                        adapter: backend.adapter(),
+                                        answer: Answer::Hit(nearest_of(h)),
                                     }),
                                 },
                             );
@@ -279,11 +280,10 @@ pub struct TriangleCountReport {
 /// A scene's triangles, and the `(tetrahedron, face)` each came from.
 pub type SceneTriangles = (Vec<Tri>, Vec<(u32, u8)>);
 
-/// The scene's constrained faces once each as triangles facing the region that holds `start` (the
-/// camera's): a face between that region and another is seen from it, as a renderer's outward normal
-/// would have it; with the `(tet, face)` each came from.
-pub fn scene_triangles(mesh: &Mesh, start: u32) -> SceneTriangles {
-    let seen = region_of(mesh, start);
+/// The scene's constrained faces once each as triangles facing `region` (the camera's, [`region_of`]):
+/// a face between that region and another is seen from it, as a renderer's outward normal would have
+/// it; with the `(tet, face)` each came from.
+pub fn scene_triangles(mesh: &Mesh, region: &[bool]) -> SceneTriangles {
     let mut tris = Vec::new();
     let mut from = Vec::new();
     for t in 0..mesh.tets.len() as u32 {
@@ -294,7 +294,7 @@ pub fn scene_triangles(mesh: &Mesh, start: u32) -> SceneTriangles {
             }
             // Counterclockwise seen from outside `t`: reversed when `t` is in the region.
             let [a, b, c] = mesh.face(t, f).map(|i| mesh.points[i as usize]);
-            tris.push(if seen[t as usize] {
+            tris.push(if region[t as usize] {
                 [a, c, b]
             } else {
                 [a, b, c]
@@ -353,7 +353,9 @@ pub fn count(
             .as_ref()
             .is_none_or(|(region, _)| !region[located as usize])
         {
-            scene = Some((region_of(mesh, located), scene_triangles(mesh, located)));
+            let region = region_of(mesh, located);
+            let tris = scene_triangles(mesh, &region);
+            scene = Some((region, tris));
         }
         let (_, (tris, from)) = scene.as_ref().expect("set above");
         let all = s.views.rays(&cam);
@@ -402,7 +404,7 @@ pub fn count(
 }
 
 /// The tetrahedra reached from `start` without crossing a constrained face.
-fn region_of(mesh: &Mesh, start: u32) -> Vec<bool> {
+pub fn region_of(mesh: &Mesh, start: u32) -> Vec<bool> {
     let mut seen = vec![false; mesh.tets.len()];
     let mut stack = vec![start];
     seen[start as usize] = true;
@@ -488,7 +490,7 @@ pub fn speed(
     let (_, cam, located) = located_views(mesh, views, |_| true, &|| {})
         .next()
         .ok_or(CountError::NoView(views.views))?;
-    let (tris, _) = scene_triangles(mesh, located);
+    let (tris, _) = scene_triangles(mesh, &region_of(mesh, located));
     let all = views.rays(&cam);
     let mut times = Vec::new();
     for m in methods {

@@ -104,6 +104,20 @@ pub fn each_hit<M: HitMethod, A: Arith>(
     }
 }
 
+/// Whether a hit at `t` replaces `best` as the nearest: the first with the smallest `t` is kept.
+#[inline(always)]
+fn nearer(best: Option<(u32, f32)>, t: f32) -> bool {
+    best.is_none_or(|(_, bt)| t < bt)
+}
+
+/// The nearest of a method's hits (triangle, `t`) in triangle order, as [`nearest`] keeps it.
+pub fn nearest_of(hits: &[(u32, f32)]) -> Option<(u32, f32)> {
+    hits.iter().fold(
+        None,
+        |best, &(i, t)| if nearer(best, t) { Some((i, t)) } else { best },
+    )
+}
+
 /// The nearest hit of each ray of a packet among `tris`: the first triangle with the smallest `t`.
 pub fn nearest<M: HitMethod, A: Arith>(
     tris: &[M::TriData],
@@ -112,7 +126,7 @@ pub fn nearest<M: HitMethod, A: Arith>(
     best: &mut [Option<(u32, f32)>],
 ) {
     each_hit::<M, A>(tris, org, rays, |i, r, t| {
-        if best[r].is_none_or(|(_, bt)| t < bt) {
+        if nearer(best[r], t) {
             best[r] = Some((i, t));
         }
     });
