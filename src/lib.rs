@@ -3,12 +3,13 @@
 //! Data flows one way, and so do the imports (tests/layering.rs checks it): geometry (`tet`, with the
 //! named value sets of `choice`) → `mesh` → oracle (`exact`) → `scenes` (generators, cameras) →
 //! `methods` → `walk` (outcomes, judging) → `registry` → the case format (`cases`) → `gpu` →
-//! `backend` → `found` → `report` → `render` → `cli`.
+//! `backend` → `found` → `report` → `conformance` (the kit that judges users' methods) → `render` → `cli`.
 
 pub mod backend;
 pub mod cases;
 pub mod choice;
 pub mod cli;
+pub mod conformance;
 pub mod exact;
 pub mod found;
 pub mod gpu;

@@ -127,6 +127,20 @@ impl Method {
         }
     }
 
+    /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's): judged
+    /// on the CPU, plain or fused, like the registered ones.
+    pub fn outside<M: ExitMethod>(name: &'static str) -> Self {
+        Method {
+            published: false,
+            ..Self::of::<M>(
+                name,
+                "a method outside tetwalk",
+                false,
+                Gpu::CpuOnly("written in Rust outside tetwalk"),
+            )
+        }
+    }
+
     /// The exit function, plain or as a GPU compiles it (`fma`).
     pub fn exit(&self, fma: bool) -> ExitFn {
         self.exit[fma as usize]
@@ -361,6 +375,17 @@ impl TriangleMethod {
             trace: [triangle::trace::<M, Plain>, triangle::trace::<M, Fused>],
             hits: [triangle::hits::<M, Plain>, triangle::hits::<M, Fused>],
         }
+    }
+
+    /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
+    pub fn outside<M: HitMethod>(name: &'static str) -> Self {
+        Self::of::<M>(
+            name,
+            "a method outside tetwalk",
+            false,
+            false,
+            Gpu::CpuOnly("written in Rust outside tetwalk"),
+        )
     }
 
     /// The test of one ray and one triangle, plain or as a GPU compiles it (`fma`).

@@ -6,9 +6,23 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 /// The data flow, upstream first, as src/lib.rs states it.
-const ORDER: [&str; 15] = [
-    "tet", "choice", "mesh", "exact", "scenes", "methods", "walk", "registry", "cases", "gpu",
-    "backend", "found", "report", "render", "cli",
+const ORDER: [&str; 16] = [
+    "tet",
+    "choice",
+    "mesh",
+    "exact",
+    "scenes",
+    "methods",
+    "walk",
+    "registry",
+    "cases",
+    "gpu",
+    "backend",
+    "found",
+    "report",
+    "conformance",
+    "render",
+    "cli",
 ];
 
 fn sources(dir: &Path, out: &mut Vec<(String, String)>) {

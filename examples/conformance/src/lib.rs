@@ -1,0 +1,149 @@
+//! A user's traversal code, as it would live in their own crate: two exit-face methods and two
+//! ray–triangle tests, written against tetwalk's traits only. `tests/conformance.rs` judges them with
+//! `tetwalk::conformance`: the exact ones pass, the f32 ones are caught.
+
+use glam::Vec3;
+use rug::Rational;
+use std::cmp::Ordering;
+use tetwalk::methods::triangle::SingleRay;
+use tetwalk::methods::{Arith, ExitMethod};
+use tetwalk::tet::{FACE_VERTICES, Ray, Tet, Tri};
+
+/// A vector of exact rationals (every f32 is one).
+fn exact(v: Vec3) -> [Rational; 3] {
+    v.to_array()
+        .map(|x| Rational::from_f32(x).expect("finite coordinates"))
+}
+
+fn sub(a: &[Rational; 3], b: &[Rational; 3]) -> [Rational; 3] {
+    std::array::from_fn(|i| Rational::from(&a[i] - &b[i]))
+}
+
+fn cross(a: &[Rational; 3], b: &[Rational; 3]) -> [Rational; 3] {
+    std::array::from_fn(|i| {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        Rational::from(&a[j] * &b[k]) - Rational::from(&a[k] * &b[j])
+    })
+}
+
+fn dot(a: &[Rational; 3], b: &[Rational; 3]) -> Rational {
+    (0..3).map(|i| Rational::from(&a[i] * &b[i])).sum()
+}
+
+/// The sign of the side product `det[a - o, b - o, d] = d · ((a - o) × (b - o))`, exactly.
+pub fn side_sign(a: Vec3, b: Vec3, o: Vec3, d: Vec3) -> Ordering {
+    let o = exact(o);
+    let (a, b) = (sub(&exact(a), &o), sub(&exact(b), &o));
+    dot(&exact(d), &cross(&a, &b)).cmp0()
+}
+
+/// The side sign under Simulation of Simplicity: the origin moved to `o + ε·x + ε²·y + ε³·z`, so a
+/// zero side takes the first nonzero component of `-((b - a) × d)`.
+fn perturbed_side(a: Vec3, b: Vec3, o: Vec3, d: Vec3) -> Ordering {
+    match side_sign(a, b, o, d) {
+        Ordering::Equal => cross(&sub(&exact(b), &exact(a)), &exact(d))
+            .iter()
+            .map(|c| c.cmp0().reverse())
+            .find(|c| c.is_ne())
+            .unwrap_or(Ordering::Equal),
+        s => s,
+    }
+}
+
+/// Plücker exit test with exact, perturbed side signs: face `f` is left when the three sides along
+/// its outward cycle are positive. Consistent between neighbours, so walks neither cycle nor stop.
+/// Where the perturbed line misses (the line only touches the tetrahedron), Platis & Theoharis' rule
+/// on the exact signs: `≥ 0` and not all zero.
+pub struct ExactPlucker;
+
+impl ExitMethod for ExactPlucker {
+    type RayData = Ray;
+
+    fn prepare<A: Arith>(ray: &Ray) -> Ray {
+        *ray
+    }
+
+    fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, _entry: Option<usize>) -> Option<usize> {
+        let sides = |f: usize, side: fn(Vec3, Vec3, Vec3, Vec3) -> Ordering| {
+            let v = FACE_VERTICES[f].map(|i| tet[i]);
+            [0, 1, 2].map(|k| side(v[k], v[(k + 1) % 3], ray.org, ray.dir))
+        };
+        (0..4)
+            .find(|&f| sides(f, perturbed_side).iter().all(|s| s.is_gt()))
+            .or_else(|| {
+                (0..4).find(|&f| {
+                    let s = sides(f, side_sign);
+                    s.iter().all(|s| s.is_ge()) && s.iter().any(|s| s.is_ne())
+                })
+            })
+    }
+}
+
+/// The textbook f32 Plücker test (six side products, Platis & Theoharis' `≥ 0, not all zero`):
+/// rounding decides the sign of side products near zero, so it picks wrong faces and walks cycle.
+pub struct F32Plucker;
+
+impl ExitMethod for F32Plucker {
+    type RayData = (Vec3, Vec3);
+
+    fn prepare<A: Arith>(ray: &Ray) -> (Vec3, Vec3) {
+        (ray.dir, A::cross(ray.org, ray.dir))
+    }
+
+    fn exit_face<A: Arith>(
+        tet: &Tet,
+        &(u, v): &(Vec3, Vec3),
+        _entry: Option<usize>,
+    ) -> Option<usize> {
+        let side = |a: Vec3, b: Vec3| A::dot(u, A::cross(a, b)) + A::dot(v, b - a);
+        (0..4).find(|&f| {
+            let p = FACE_VERTICES[f].map(|i| tet[i]);
+            let s = [side(p[0], p[1]), side(p[1], p[2]), side(p[2], p[0])];
+            s.iter().all(|&x| x >= 0.0) && s.iter().any(|&x| x != 0.0)
+        })
+    }
+}
+
+/// A two-sided ray–triangle test whose hit decision is exact (the three edge sides of the same sign,
+/// not all zero), so it never leaks through a shared edge or vertex; `t` in f32.
+pub struct ExactEdges;
+
+impl SingleRay for ExactEdges {
+    fn test<A: Arith>(tri: &Tri, ray: &Ray) -> Option<f32> {
+        let s = [0, 1, 2].map(|k| side_sign(tri[k], tri[(k + 1) % 3], ray.org, ray.dir));
+        let all = |p: fn(Ordering) -> bool| s.iter().all(|&x| p(x));
+        if !(all(Ordering::is_ge) || all(Ordering::is_le)) || all(Ordering::is_eq) {
+            return None;
+        }
+        let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
+        let t = n.dot(tri[0] - ray.org) / n.dot(ray.dir);
+        t.is_finite().then_some(t)
+    }
+}
+
+/// Möller & Trumbore 1997 as it is usually copied: two-sided, f32, no epsilon. Rounding can reject a
+/// ray through a shared edge on both sides: a leak.
+pub struct F32MollerTrumbore;
+
+impl SingleRay for F32MollerTrumbore {
+    fn test<A: Arith>(tri: &Tri, ray: &Ray) -> Option<f32> {
+        let (e1, e2) = (tri[1] - tri[0], tri[2] - tri[0]);
+        let p = ray.dir.cross(e2);
+        let det = e1.dot(p);
+        if det == 0.0 {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let s = ray.org - tri[0];
+        let u = s.dot(p) * inv;
+        if !(0.0..=1.0).contains(&u) {
+            return None;
+        }
+        let q = s.cross(e1);
+        let v = ray.dir.dot(q) * inv;
+        if v < 0.0 || u + v > 1.0 {
+            return None;
+        }
+        Some(e2.dot(q) * inv)
+    }
+}
