@@ -39,6 +39,12 @@ pub enum BackendError {
         "method '{0}' has no layout walk (seed 003's layouts are walked by the 2-D frame methods)"
     )]
     NoLayoutWalk(&'static str),
+    #[error("method '{0}' runs only on the GPU (a user's WGSL): use --backend gpu")]
+    GpuOnly(&'static str),
+    #[error(
+        "method '{0}' answered UNSETTLED (-2), which asks the CPU to finish, and it has no CPU version"
+    )]
+    Unsettled(&'static str),
 }
 
 /// Fewer items than this are answered on the calling thread: handing a few to the thread pool costs
@@ -92,6 +98,12 @@ impl Backend {
             BackendKind::CpuFma => Backend::Cpu { fma: true },
             BackendKind::Gpu => Backend::Gpu(Box::new(gpu::Gpu::new()?)),
         })
+    }
+
+    /// The GPU with a user's WGSL exit-face functions spliced in as method
+    /// [`crate::registry::USER_WGSL`] (`--wgsl`; `path` names the file in compiler messages).
+    pub fn gpu_with_user(path: &str, source: &str) -> Result<Backend, BackendError> {
+        Ok(Backend::Gpu(Box::new(gpu::Gpu::with_user(path, source)?)))
     }
 
     pub fn kind(&self) -> BackendKind {
@@ -201,6 +213,7 @@ impl Backend {
         cases: &[Case],
     ) -> Result<Vec<Option<usize>>, BackendError> {
         match self.for_method(method) {
+            Backend::Cpu { .. } if !method.runs_on_cpu => Err(BackendError::GpuOnly(method.name)),
             Backend::Cpu { fma } => {
                 let exit = method.exit(*fma);
                 Ok(map_all(cases, |c| {
@@ -216,6 +229,9 @@ impl Backend {
                     .map(|(c, (tet, entry, _))| gpu::shader::Case::new(tet, &c.ray(), *entry))
                     .collect();
                 let faces = g.exit_faces(method, &input)?;
+                if !method.runs_on_cpu && faces.contains(&gpu::shader::UNSETTLED) {
+                    return Err(BackendError::Unsettled(method.name));
+                }
                 // What the GPU could not settle, the CPU answers.
                 let exit = method.exit(false);
                 Ok(faces
@@ -322,6 +338,7 @@ impl Backend {
         max_steps: u32,
     ) -> Result<Walked, BackendError> {
         match self.for_method(method) {
+            Backend::Cpu { .. } if !method.runs_on_cpu => Err(BackendError::GpuOnly(method.name)),
             Backend::Cpu { fma } => {
                 let walks = method.walks(*fma);
                 Ok(Walked {
@@ -343,6 +360,9 @@ impl Backend {
                 }
                 let done = g.walks(method, uploaded, rays, max_steps)?;
                 let flagged = done.items.par_iter().filter(|e| e.walk().is_none()).count();
+                if flagged > 0 && !method.runs_on_cpu {
+                    return Err(BackendError::Unsettled(method.name));
+                }
                 // Flagged rays (a step the GPU could not settle) are walked on the CPU.
                 let walk = method.walk(false);
                 Ok(Walked {

@@ -40,11 +40,21 @@ pub enum FoundError {
     FuzzBackend(String),
 }
 
-/// Which methods a fuzz run holds to exactness, from `TETWALK_FUZZ_METHOD`: `robust` (every method
+/// The variable naming a user's WGSL exit-face function to fuzz (`--wgsl`'s file, on the GPU).
+pub const FUZZ_WGSL: &str = "TETWALK_FUZZ_WGSL";
+
+/// Which methods a fuzz run holds to exactness: with `TETWALK_FUZZ_WGSL=FILE`, the user's WGSL
+/// function (method `user`) and the reference; else from `TETWALK_FUZZ_METHOD`: `robust` (every method
 /// that claims robustness: the reference, `certified`, and the published ones whose papers claim it),
 /// `ours` (tetwalk's own, which must never fail), or one method's name (with the reference). Unset, the
 /// default compiled in with `TETWALK_FUZZ_DEFAULT` (ClusterFuzzLite's build uses `ours`), else `robust`.
 pub fn required_methods() -> Result<Vec<&'static Method>, FoundError> {
+    if std::env::var_os(FUZZ_WGSL).is_some() {
+        return Ok(vec![
+            crate::registry::reference(),
+            &crate::registry::USER_WGSL,
+        ]);
+    }
     let default = option_env!("TETWALK_FUZZ_DEFAULT").unwrap_or("robust");
     let choice = std::env::var("TETWALK_FUZZ_METHOD").unwrap_or_else(|_| default.into());
     match choice.as_str() {
@@ -88,12 +98,23 @@ pub const FUZZ_BACKENDS: [&Backend; 2] = [&CPU, &CPU_FMA];
 static FUZZ_GPU: std::sync::OnceLock<Result<Backend, String>> = std::sync::OnceLock::new();
 
 /// The backends a fuzz run holds the required methods to, from `TETWALK_FUZZ_BACKEND`: `cpu` (the
-/// default: [`FUZZ_BACKENDS`]) or `gpu` (the adapter `WGPU_ADAPTER_NAME` names, or the default one).
+/// default: [`FUZZ_BACKENDS`]) or `gpu` (the adapter `WGPU_ADAPTER_NAME` names, or the default one;
+/// opened with the `TETWALK_FUZZ_WGSL` function spliced in, when set).
 pub fn fuzz_backends() -> Result<Vec<&'static Backend>, FoundError> {
     match std::env::var("TETWALK_FUZZ_BACKEND").as_deref() {
+        Err(_) | Ok("cpu") if std::env::var_os(FUZZ_WGSL).is_some() => {
+            Err(FoundError::FuzzBackend(format!(
+                "{FUZZ_WGSL} fuzzes a WGSL function: set TETWALK_FUZZ_BACKEND=gpu"
+            )))
+        }
         Err(_) | Ok("cpu") => Ok(FUZZ_BACKENDS.to_vec()),
         Ok("gpu") => FUZZ_GPU
-            .get_or_init(|| Backend::open(BackendKind::Gpu).map_err(|e| e.to_string()))
+            .get_or_init(|| match std::env::var(FUZZ_WGSL) {
+                Ok(path) => std::fs::read_to_string(&path)
+                    .map_err(|e| format!("{FUZZ_WGSL}={path}: {e}"))
+                    .and_then(|src| Backend::gpu_with_user(&path, &src).map_err(|e| e.to_string())),
+                Err(_) => Backend::open(BackendKind::Gpu).map_err(|e| e.to_string()),
+            })
             .as_ref()
             .map(|g| vec![g])
             .map_err(|why| FoundError::FuzzBackend(why.clone())),

@@ -74,6 +74,9 @@ pub struct Method {
     pub reference: bool,
     /// Whether a paper publishes it (the others are tetwalk's own: the reference and `certified`).
     pub published: bool,
+    /// Whether it has a CPU version: every method but a user's WGSL ([`USER_WGSL`]), which the
+    /// backend runs only on a GPU.
+    pub runs_on_cpu: bool,
     pub gpu: Gpu,
     exit: [ExitFn; 2],
     walk: [WalkFn; 2],
@@ -100,6 +103,7 @@ impl Method {
             claims_robust,
             reference: false,
             published: true,
+            runs_on_cpu: true,
             gpu,
             exit: [exit_fn::<M, Plain>, exit_fn::<M, Fused>],
             walk: [walk::walk::<M, Plain>, walk::walk::<M, Fused>],
@@ -247,6 +251,32 @@ pub static METHODS: &[Method] = &[
         )
     },
 ];
+
+/// A user's WGSL exit-face functions (`--wgsl FILE`, [`crate::gpu::shader::USER_SIGNATURE`]), spliced
+/// into the GPU's module as method `user` when the backend is opened with them; judged like every
+/// method, on the GPU only.
+pub static USER_WGSL: Method = Method {
+    published: false,
+    runs_on_cpu: false,
+    ..Method::of::<WgslOnly>(
+        "user",
+        "a user's WGSL exit-face function (--wgsl FILE)",
+        false,
+        Gpu::Wgsl(&[]),
+    )
+};
+
+/// The CPU side of [`USER_WGSL`], which has none: the backend refuses to run it on a CPU
+/// ([`Method::runs_on_cpu`]), so this answer is never asked for.
+struct WgslOnly;
+
+impl ExitMethod for WgslOnly {
+    type RayData = ();
+    fn prepare<A: Arith>(_: &Ray) {}
+    fn exit_face<A: Arith>(_: &Tet, _: &(), _: Option<usize>) -> Option<usize> {
+        None
+    }
+}
 
 /// A registered method of any family, by name.
 pub trait Named: Sync + 'static {

@@ -1,7 +1,7 @@
 //! `tetwalk count`: wrong rays per image, per method, on a scene.
 
-use super::{BackendArg, JsonOut, Outcome};
-use crate::registry::{by_name, parse_list, parse_triangle_list};
+use super::{BackendArg, JsonOut, Outcome, WgslArg};
+use crate::registry::{by_name, parse_triangle_list};
 use crate::report::count::{self, Settings};
 use crate::report::triangle;
 use crate::report::wrong::WrongRay;
@@ -54,6 +54,8 @@ pub struct Args {
     audit: u64,
     #[command(flatten)]
     backend: BackendArg,
+    #[command(flatten)]
+    wgsl: WgslArg,
     /// Seed of the viewpoints' rotation (`render` places views the same way for the same seed).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
@@ -124,7 +126,8 @@ pub fn run(a: Args) -> Outcome {
     if a.family == "triangle" {
         return run_triangle(a);
     }
-    let methods: Vec<_> = parse_list(&a.methods)?
+    let (backend, methods) = a.wgsl.open(a.backend, &a.methods)?;
+    let methods: Vec<_> = methods
         .into_iter()
         .filter(|m| !m.reference && m.name != reference.name)
         .collect();
@@ -135,7 +138,6 @@ pub fn run(a: Args) -> Outcome {
         .map(|p| super::Staged::new("--dump", p))
         .transpose()?;
     let views = views(&a, 160, "256x256")?;
-    let backend = a.backend.open()?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let settings = Settings {
         scene: a.scene,
@@ -224,8 +226,8 @@ fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
 
 /// `count --family triangle`.
 fn run_triangle(a: Args) -> Outcome {
-    if a.relabel.is_some() || a.dump.is_some() || a.shard != "0/1" {
-        return Err("--relabel, --dump and --shard are for --family exit-face".into());
+    if a.relabel.is_some() || a.dump.is_some() || a.shard != "0/1" || a.wgsl.wgsl.is_some() {
+        return Err("--relabel, --dump, --shard and --wgsl are for --family exit-face".into());
     }
     let methods = parse_triangle_list(&a.methods)?;
     let out = JsonOut::new(a.json.as_deref())?;

@@ -2,13 +2,13 @@
 //! as they come (a reader thread; whatever has arrived is answered as one batch), so a stream gets its
 //! answers as it goes and memory stays bounded.
 
-use super::{BackendArg, JsonOut, Outcome};
+use super::{BackendArg, JsonOut, Outcome, WgslArg};
 use crate::backend::Backend;
 use crate::cases::{Subject, classify, judged};
 use crate::choice::Choice;
 use crate::exact::Classification;
 use crate::found::{Record, WalkSetup};
-use crate::registry::{Method, parse_list, reference};
+use crate::registry::{Method, reference};
 use crate::tet::Case;
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
@@ -23,6 +23,8 @@ pub struct Args {
     pub(super) method: String,
     #[command(flatten)]
     pub(super) backend: BackendArg,
+    #[command(flatten)]
+    pub(super) wgsl: WgslArg,
     /// Also write a summary (lines, errors, per method right / wrong, and for `exit` lines missing the
     /// tetrahedron) as JSON here.
     #[arg(long)]
@@ -162,8 +164,7 @@ pub(super) fn answer_all(
 }
 
 pub fn run(a: Args) -> Outcome {
-    let methods = parse_list(&a.method)?;
-    let backend = a.backend.open()?;
+    let (backend, methods) = a.wgsl.open(a.backend, &a.method)?;
     let names = methods.iter().map(|m| m.name.to_string()).collect();
     answer_all(
         "exit",

@@ -13,6 +13,9 @@ use crate::registry::{TriangleMethod, parse_triangle_list};
 use serde_json::{Value, json};
 
 pub fn run(a: Args) -> Outcome {
+    if a.wgsl.wgsl.is_some() {
+        return Err("--wgsl takes an exit-face function (exit, stress, walk, count); hit judges ray-triangle methods".into());
+    }
     let methods = parse_triangle_list(&a.method)?;
     let backend = a.backend.open()?;
     let names = methods.iter().map(|m| m.name.to_string()).collect();

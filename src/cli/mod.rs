@@ -239,6 +239,57 @@ impl BackendArg {
     }
 }
 
+/// Largest WGSL file `--wgsl` reads.
+const MAX_WGSL: u64 = 1 << 20;
+
+/// `--wgsl FILE`: a user's exit-face function in WGSL, judged on the GPU as method `user`.
+#[derive(clap::Args)]
+struct WgslArg {
+    /// A WGSL file defining `user_prepare` and `user_exit` (README, "Judging your own traversal"),
+    /// spliced into the GPU's shader and judged as method `user` beside the methods listed (needs
+    /// --backend gpu).
+    #[arg(long, value_name = "FILE")]
+    wgsl: Option<PathBuf>,
+}
+
+impl WgslArg {
+    /// The backend `b` asks for and the methods `list` names, the user's WGSL method first when
+    /// `--wgsl` gives one (the GPU opened with it, after the compiler has checked it).
+    fn open(
+        &self,
+        b: BackendArg,
+        list: &str,
+    ) -> Result<(Backend, Vec<&'static crate::registry::Method>), Error> {
+        let mut methods = crate::registry::parse_list(list)?;
+        let Some(path) = &self.wgsl else {
+            return Ok((b.open()?, methods));
+        };
+        if b.fma || b.backend != BackendKind::Gpu {
+            return Err(format!(
+                "--wgsl {} runs a WGSL function on the GPU: add --backend gpu",
+                path.display()
+            )
+            .into());
+        }
+        let size = std::fs::metadata(path)
+            .map_err(|e| format!("--wgsl {}: {e}", path.display()))?
+            .len();
+        if size > MAX_WGSL {
+            return Err(format!(
+                "--wgsl {}: {size} bytes, more than the {MAX_WGSL} a shader function may hold",
+                path.display()
+            )
+            .into());
+        }
+        let source =
+            std::fs::read_to_string(path).map_err(|e| format!("--wgsl {}: {e}", path.display()))?;
+        let backend = Backend::gpu_with_user(&path.display().to_string(), &source)?;
+        eprintln!("tetwalk: {}", backend.describe());
+        methods.insert(0, &crate::registry::USER_WGSL);
+        Ok((backend, methods))
+    }
+}
+
 /// A file written under a temporary name beside its target, made when the command starts (so an
 /// unwritable place fails before any work) and renamed onto the target when it is complete (so nothing
 /// half-written is left).

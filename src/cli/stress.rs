@@ -1,6 +1,6 @@
 //! `tetwalk stress`: the failure table over tetrahedron families and ray kinds.
 
-use super::{BackendArg, JsonOut, Outcome, choice};
+use super::{BackendArg, JsonOut, Outcome, WgslArg, choice};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::{Case, Subject};
 use crate::choice::Choice;
@@ -44,6 +44,8 @@ pub struct Args {
     seed: u64,
     #[command(flatten)]
     backend: BackendArg,
+    #[command(flatten)]
+    wgsl: WgslArg,
     /// Instead of judging, count how often cpu, cpu-fma and gpu answer differently (needs a GPU).
     #[arg(long)]
     compare: bool,
@@ -87,6 +89,9 @@ pub fn run(a: Args) -> Outcome {
         return Err(format!("--seconds {seconds} is not a number of seconds").into());
     }
     let triangle = a.family == "triangle";
+    if a.wgsl.wgsl.is_some() && (triangle || a.seconds.is_some()) {
+        return Err("--wgsl judges an exit-face function in a stress table (a campaign files found cases for tetwalk's own methods: fuzz a --wgsl function with TETWALK_FUZZ_WGSL)".into());
+    }
     let cases = a.cases.unwrap_or(if triangle { 2_000 } else { 100_000 });
     if cases <= 0 {
         return Err(
@@ -102,21 +107,23 @@ pub fn run(a: Args) -> Outcome {
             "--shapes, --aims and --places choose triangle rows; add --family triangle".into(),
         );
     }
-    let methods = parse_list(&a.methods)?;
+    if a.compare && a.wgsl.wgsl.is_some() {
+        return Err("--compare runs every method on cpu and cpu-fma too; a --wgsl function runs on the GPU only".into());
+    }
     // A row's cases, their classifications and one method's answers are held at once.
     super::fits(&format!("--cases {cases}"), cases as u128 * 112)?;
     let out = JsonOut::new(a.json.as_deref())?;
-    let backend = if a.compare {
+    let (backend, methods) = if a.compare {
         if a.backend.backend != BackendKind::Cpu {
             return Err("--compare runs cpu, cpu-fma and gpu itself; leave out --backend".into());
         }
-        BackendArg {
+        let gpu = BackendArg {
             backend: BackendKind::Gpu,
             ..a.backend
-        }
-        .open()?
+        };
+        (gpu.open()?, parse_list(&a.methods)?)
     } else {
-        a.backend.open()?
+        a.wgsl.open(a.backend, &a.methods)?
     };
     let settings = Settings {
         cases,

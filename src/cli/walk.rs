@@ -1,11 +1,11 @@
 //! `tetwalk walk`: rays through a generated mesh, each method's walk judged step by step.
 
-use super::{BackendArg, JsonOut, Outcome, choice};
+use super::{BackendArg, JsonOut, Outcome, WgslArg, choice};
 use crate::backend::Backend;
 use crate::choice::Choice;
 use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
-use crate::registry::{parse_list, reference};
+use crate::registry::reference;
 use crate::report::relabel_spread;
 use crate::scenes::{self, Generated};
 use crate::tet::EVEN_PERMUTATIONS;
@@ -37,6 +37,8 @@ pub struct Args {
     /// GPU has no place here; `count --backend gpu` walks on it).
     #[command(flatten)]
     backend: BackendArg,
+    #[command(flatten)]
+    wgsl: WgslArg,
     /// Seed of the rays (and of the jittered grid).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
@@ -100,17 +102,27 @@ struct WalkReport {
 }
 
 pub fn run(a: Args) -> Outcome {
-    let methods = parse_list(&a.methods)?;
+    let (backend, methods) = a.wgsl.open(a.backend, &a.methods)?;
     // Every ray keeps one tally per method until the table is made.
     super::fits(
         &format!("--rays {}", a.rays),
         a.rays as u128 * (32 + 64 * methods.len() as u128),
     )?;
     let out = JsonOut::new(a.json.as_deref())?;
-    let fma = match a.backend.open()? {
-        Backend::Cpu { fma } => fma,
+    // `None`: a --wgsl function's walks, on the GPU, judged by their endings.
+    let fma = match &backend {
+        Backend::Cpu { fma } => Some(*fma),
+        Backend::Gpu(_) if a.wgsl.wgsl.is_some() => {
+            if a.relabel.is_some() || a.layout.is_some() {
+                return Err(
+                    "--wgsl walks the plain mesh on the GPU; leave out --relabel and --layout"
+                        .into(),
+                );
+            }
+            None
+        }
         Backend::Gpu(_) => {
-            return Err("walk judges every step with the oracle on the CPU: use --backend cpu or cpu-fma (count --backend gpu walks on the GPU)".into());
+            return Err("walk judges every step with the oracle on the CPU: use --backend cpu or cpu-fma (count --backend gpu walks on the GPU; a --wgsl function walks there too)".into());
         }
     };
     let offset = Vec3::splat(a.offset);
@@ -125,14 +137,19 @@ pub fn run(a: Args) -> Outcome {
     }
     let layout = a.layout.map(|_| Layout::build(&mesh));
     let rays = scenes::rays(a.mesh, &mesh, offset, a.rays, a.seed);
-    let per_ray = walk_tallies(
-        &mesh,
-        &rays,
-        &methods,
-        fma,
-        a.layout.zip(layout.as_ref()),
-        true,
-    );
+    let per_ray = match fma {
+        Some(fma) => walk_tallies(
+            &mesh,
+            &rays,
+            &methods,
+            fma,
+            a.layout.zip(layout.as_ref()),
+            true,
+        ),
+        None => gpu_tallies(&backend, &mesh, &rays, &methods)?,
+    };
+    let checked = fma.is_some();
+    let fma = fma.unwrap_or(false);
     let outside = per_ray.iter().filter(|r| r.is_none()).count();
     println!(
         "mesh {:?} size {} offset {} ({} tetrahedra), {} rays, seed {}, {}{}\n",
@@ -142,7 +159,13 @@ pub fn run(a: Args) -> Outcome {
         mesh.tets.len(),
         rays.len() - outside,
         a.seed,
-        if fma { "fma" } else { "plain f32" },
+        if !checked {
+            backend.describe()
+        } else if fma {
+            "fma".into()
+        } else {
+            "plain f32".into()
+        },
         if outside > 0 {
             format!(", {outside} rays starting outside skipped")
         } else {
@@ -178,7 +201,7 @@ pub fn run(a: Args) -> Outcome {
         let k = s.kinds;
         let on_layout = a.layout.filter(|_| m.layout_walk(fma).is_some());
         let name = on_layout.map_or(m.name.to_string(), |k| format!("{} ({k:?})", m.name));
-        let diverged = if on_layout.is_some() {
+        let diverged = if on_layout.is_some() || !checked {
             "-".to_string()
         } else {
             s.diverged.to_string()
@@ -248,20 +271,73 @@ fn walk_tallies(
                         None if checked => m.walk_checked(fma)(mesh, ray, start, max),
                         None => (m.walk(fma)(mesh, ray, start, max), None),
                     };
-                    let mut t = Tally {
-                        rays: 1,
-                        steps: w.steps as u64,
-                        ..Tally::default()
-                    };
-                    t.kinds[w.outcome.kind().code() as usize] = 1;
-                    t.wrong = !same_result(mesh, ray, &w, &reference) as u64;
-                    t.diverged = div.is_some() as u64;
-                    t
+                    tally(mesh, ray, &w, &reference, div.is_some())
                 })
                 .collect();
             Some(tallies)
         })
         .collect()
+}
+
+/// One ray's tally: how walk `w` ended, whether wrongly (against the `exact` walk), whether it
+/// diverged.
+fn tally(
+    mesh: &crate::mesh::Mesh,
+    ray: &crate::tet::Ray,
+    w: &Walk,
+    exact: &Walk,
+    diverged: bool,
+) -> Tally {
+    let mut t = Tally {
+        rays: 1,
+        steps: w.steps as u64,
+        wrong: !same_result(mesh, ray, w, exact) as u64,
+        diverged: diverged as u64,
+        ..Tally::default()
+    };
+    t.kinds[w.outcome.kind().code() as usize] = 1;
+    t
+}
+
+/// Per ray (none when its origin is outside the mesh), each method's tally from walks on the GPU
+/// (`--wgsl`), judged by their endings against the `exact` walk on the CPU ("diverged" unmeasured).
+fn gpu_tallies(
+    backend: &Backend,
+    mesh: &crate::mesh::Mesh,
+    rays: &[crate::tet::Ray],
+    methods: &[&'static crate::registry::Method],
+) -> Result<Vec<Option<Vec<Tally>>>, super::Error> {
+    let max = default_max_steps(mesh);
+    let starts: Vec<Option<u32>> = rays
+        .par_iter()
+        .map(|r| locate(mesh, r.org, 0).ok())
+        .collect();
+    let asked: Vec<(crate::tet::Ray, u32)> = rays
+        .iter()
+        .zip(&starts)
+        .filter_map(|(r, s)| Some((*r, (*s)?)))
+        .collect();
+    let on = backend.mesh(mesh);
+    let mut walks = Vec::new();
+    for m in std::iter::once(&reference()).chain(methods) {
+        walks.push(backend.walks_from(m, &on, &asked, max)?.walks);
+    }
+    let mut k = 0;
+    Ok(starts
+        .iter()
+        .map(|s| {
+            s.map(|_| {
+                let (ray, _) = asked[k];
+                let exact = &walks[0][k];
+                let t = walks[1..]
+                    .iter()
+                    .map(|w| tally(mesh, &ray, &w[k], exact, false))
+                    .collect();
+                k += 1;
+                t
+            })
+        })
+        .collect())
 }
 
 /// Every method's wrong results and cycles under each of the 12 orientation-preserving relabellings

@@ -31,6 +31,9 @@ pub enum GpuError {
     Device(String),
     #[error("the shader did not compile on this adapter: {0}")]
     Shader(String),
+    /// A user's WGSL (`--wgsl`) that does not compile, with the compiler's message.
+    #[error("{0}")]
+    UserWgsl(String),
     #[error("method '{method}' has no GPU version: {why}")]
     NoGpuMethod {
         method: &'static str,
@@ -44,6 +47,55 @@ pub enum GpuError {
     Readback(String),
     #[error("the GPU wrote outcome code {0}, which no outcome kind has")]
     BadOutcome(u32),
+}
+
+/// The module with a user's WGSL spliced in, parsed and validated: an error in their lines is shown
+/// with their file's name and line numbers; one in tetwalk's part (their functions missing or of
+/// another type than the call expects) says what the call expects.
+fn user_module(path: &str, source: &str) -> Result<String, GpuError> {
+    use wgpu::naga;
+    let module = shader::with_user(source);
+    let theirs = source.lines().count() as u32;
+    let explain = |at: Option<naga::SourceLocation>, snippet: String, message: String| {
+        if at.is_some_and(|l| l.line_number <= theirs) {
+            GpuError::UserWgsl(snippet)
+        } else {
+            GpuError::UserWgsl(format!(
+                "{path}: tetwalk's call of your functions does not compile: {message}\n{path} must define\n{}",
+                shader::USER_SIGNATURE
+            ))
+        }
+    };
+    let parsed = naga::front::wgsl::parse_str(&module).map_err(|e| {
+        explain(
+            e.location(&module),
+            e.emit_to_string_with_path(&module, path),
+            e.to_string(),
+        )
+    })?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&parsed)
+    .map_err(|e| {
+        explain(
+            e.location(&module),
+            e.emit_to_string_with_path(&module, path),
+            {
+                // The validator's reason is at the end of its error's chain.
+                let mut m = e.as_inner().to_string();
+                let mut at: Option<&dyn std::error::Error> =
+                    std::error::Error::source(e.as_inner());
+                while let Some(x) = at {
+                    m += &format!(": {x}");
+                    at = x.source();
+                }
+                m
+            },
+        )
+    })?;
+    Ok(module)
 }
 
 impl shader::Case {
@@ -116,6 +168,17 @@ pub struct Dispatched<T> {
 impl Gpu {
     /// Open the adapter named by `WGPU_ADAPTER_NAME` (substring, any case), or the default one.
     pub fn new() -> Result<Gpu, GpuError> {
+        Self::with_module(shader::COMMITTED.into())
+    }
+
+    /// The same with a user's exit-face functions spliced in as method `user`
+    /// ([`shader::with_user`]), checked first by the WGSL compiler: its message names `path` and the
+    /// user's own line numbers.
+    pub fn with_user(path: &str, source: &str) -> Result<Gpu, GpuError> {
+        Self::with_module(user_module(path, source)?)
+    }
+
+    fn with_module(source: String) -> Result<Gpu, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
@@ -154,7 +217,7 @@ impl Gpu {
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("tetwalk.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shader::COMMITTED.into()),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(GpuError::Shader(e.to_string()));

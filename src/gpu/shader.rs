@@ -489,5 +489,23 @@ pub fn generate() -> String {
     s
 }
 
+/// What a user's WGSL file (`--wgsl FILE`) must define, with `R` any type it chooses: the ray prepared
+/// once (`o`, `d` as the case gives them), then for each tetrahedron (its four vertices, positively
+/// oriented, face `i` opposite vertex `i`) and the face the walk entered through (`-1` in the starting
+/// tetrahedron) the exit face `0..3`, or `-1` for none. It may use tetwalk's WGSL helpers
+/// (`face_vertices`, `edge_points`, …) and must not redefine their names.
+pub const USER_SIGNATURE: &str = "fn user_prepare(o: vec3f, d: vec3f) -> R\n\
+     fn user_exit(t: ptr<function, array<vec3f, 4>>, r: R, entry: i32) -> i32";
+
+/// The module with a user's exit-face functions spliced in as method `user`: their source first, so
+/// that the compiler's line numbers are theirs, then tetwalk's module and the entry points of
+/// [`crate::registry::USER_WGSL`].
+pub fn with_user(source: &str) -> String {
+    format!(
+        "{source}\n{COMMITTED}\n// ---- user ----\n\n{}",
+        ENTRY_POINTS.replace("IDENT", "user")
+    )
+}
+
 /// The committed module, which [`generate`] must reproduce.
 pub const COMMITTED: &str = include_str!("tetwalk.wgsl");
