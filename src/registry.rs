@@ -252,7 +252,7 @@ pub static METHODS: &[Method] = &[
     },
 ];
 
-/// A user's WGSL exit-face functions (`--wgsl FILE`, [`crate::gpu::shader::USER_SIGNATURE`]), spliced
+/// A user's WGSL exit-face functions (`--wgsl FILE`; the signature is `gpu::shader::USER_SIGNATURE`), spliced
 /// into the GPU's module as method `user` when the backend is opened with them; judged like every
 /// method, on the GPU only.
 pub static USER_WGSL: Method = Method {

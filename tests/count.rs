@@ -164,8 +164,8 @@ fn the_count_judges_and_tallies_every_kind_as_it_is() {
         scene: "kuhn",
         view: 0,
         pixel: [0, 0],
-        method: by_name("maria17").unwrap(),
-        backend: BackendKind::Cpu,
+        name: "maria17",
+        walked: Some((by_name("maria17").unwrap(), BackendKind::Cpu)),
     };
     let wrong = wrong_rays(&mesh, &seen, 7, &rays, &walks, &reference, start, max);
     let kinds: Vec<_> = wrong.iter().map(|w| w.kind().unwrap()).collect();

@@ -74,6 +74,12 @@ pub struct Args {
     /// Also write the report as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
+    /// Instead of counting, write the exact inputs of every ray the count would walk, for another
+    /// program's kernel: a header line (scene, views, shard), then per ray `{"view", "pixel": [x, y],
+    /// "org", "dir", "start"}` (`start`: the tetrahedron holding the camera). `tetwalk scene export`
+    /// writes the mesh; `tetwalk judge FILE ANSWERS` judges the walks.
+    #[arg(long, value_name = "FILE")]
+    rays_out: Option<PathBuf>,
     /// Write every wrong ray here, one JSON line each (view, pixel, the ray, where the method and the
     /// `exact` walk stopped, the first wrong step, the distance from the edge); `tetwalk replay` reads it.
     #[arg(long)]
@@ -126,17 +132,16 @@ pub fn run(a: Args) -> Outcome {
     if a.family == "triangle" {
         return run_triangle(a);
     }
+    if let Some(path) = &a.rays_out {
+        return rays_out(&a, shard, path);
+    }
     let (backend, methods) = a.wgsl.open(a.backend, &a.methods)?;
     let methods: Vec<_> = methods
         .into_iter()
         .filter(|m| !m.reference && m.name != reference.name)
         .collect();
     let out = JsonOut::new(a.json.as_deref())?;
-    let mut dump = a
-        .dump
-        .as_deref()
-        .map(|p| super::Staged::new("--dump", p))
-        .transpose()?;
+    let mut dump = Dump::new(a.dump.as_deref())?;
     let views = views(&a, 160, "256x256")?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let settings = Settings {
@@ -152,13 +157,7 @@ pub fn run(a: Args) -> Outcome {
         &EVEN_PERMUTATIONS[..1]
     };
     let bar = super::progress((views.views * labellings.len()) as u64, "views");
-    let mut write = |w: &WrongRay| -> std::io::Result<()> {
-        if let Some(d) = dump.as_mut() {
-            serde_json::to_writer(d.writer(), w)?;
-            d.writer().write_all(b"\n")?;
-        }
-        Ok(())
-    };
+    let mut write = |w: &WrongRay| dump.write(w);
     // The mesh's own labelling (the identity, first) gives the report and the dump.
     let mut report = count::run(
         &mesh,
@@ -190,11 +189,91 @@ pub fn run(a: Args) -> Outcome {
         }
     }
     bar.finish_and_clear();
-    if let Some(d) = dump {
-        d.finish()?;
-    }
+    dump.finish()?;
     print!("{}", report.markdown());
     out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--dump FILE`: every wrong ray, one JSON line each, the file complete or absent.
+pub(super) struct Dump(Option<super::Staged>);
+
+impl Dump {
+    pub(super) fn new(path: Option<&std::path::Path>) -> Result<Dump, super::Error> {
+        Ok(Dump(
+            path.map(|p| super::Staged::new("--dump", p)).transpose()?,
+        ))
+    }
+
+    pub(super) fn write(&mut self, w: &WrongRay) -> std::io::Result<()> {
+        if let Some(d) = self.0.as_mut() {
+            serde_json::to_writer(d.writer(), w)?;
+            d.writer().write_all(b"\n")?;
+        }
+        Ok(())
+    }
+
+    pub(super) fn finish(self) -> Result<(), super::Error> {
+        self.0.map_or(Ok(()), |d| d.finish())
+    }
+}
+
+/// The header line of `count --rays-out`, which `tetwalk judge` reads back.
+#[derive(serde::Serialize, serde::Deserialize)]
+pub(super) struct RaysHeader {
+    pub scene: String,
+    pub views: Views,
+    pub shard: count::Shard,
+    pub tetrahedra: usize,
+    /// Loaded with `--no-faces`.
+    #[serde(default)]
+    pub no_faces: bool,
+}
+
+/// `count --rays-out FILE`: every ray of the views the shard holds whose camera is inside the mesh,
+/// with its view, pixel and starting tetrahedron.
+fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
+    if a.family == "triangle" || a.wgsl.wgsl.is_some() || a.relabel.is_some() || a.dump.is_some() {
+        return Err("--rays-out writes the inputs of an exit-face count: leave out --family triangle, --wgsl, --relabel and --dump".into());
+    }
+    let views = views(a, 160, "256x256")?;
+    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let mut staged = super::Staged::new("--rays-out", path)?;
+    let mut w = std::io::BufWriter::new(staged.writer());
+    let header = RaysHeader {
+        scene: a.scene.clone(),
+        views,
+        shard,
+        tetrahedra: mesh.tets.len(),
+        no_faces: a.no_faces,
+    };
+    serde_json::to_writer(&mut w, &header)?;
+    w.write_all(b"\n")?;
+    let (mut rays, mut counted) = (0u64, 0usize);
+    for (v, cam, start) in count::located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
+        counted += 1;
+        for (i, r) in views.rays(&cam).iter().enumerate() {
+            let pixel = [i as u32 % views.width, i as u32 / views.width];
+            let line = serde_json::json!({
+                "view": v, "pixel": pixel, "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
+            });
+            serde_json::to_writer(&mut w, &line)?;
+            w.write_all(b"\n")?;
+            rays += 1;
+        }
+    }
+    if counted == 0 {
+        return Err(count::CountError::NoView(views.views).into());
+    }
+    w.into_inner().map_err(|e| e.into_error())?;
+    staged.finish()?;
+    println!(
+        "{}: {rays} rays of {counted} views of scene {} (walk them through `tetwalk scene export {}` and judge your answers with `tetwalk judge {} ANSWERS`)",
+        path.display(),
+        a.scene,
+        a.scene,
+        path.display()
+    );
     Ok(ExitCode::SUCCESS)
 }
 

@@ -112,6 +112,13 @@ pub fn run(a: Args) -> Outcome {
         }
         summary.lines += 1;
         let d: WrongRay = serde_json::from_str(&line).map_err(|e| place(&e))?;
+        let Some(kind) = d.backend else {
+            return Err(place(&format!(
+                "a wrong ray of walks given to tetwalk judge (method {}): replay it with the kernel that walked it",
+                d.method
+            ))
+            .into());
+        };
         let m = by_name(&d.method).map_err(|e| place(&e))?;
         if !scenes.contains_key(&d.scene) {
             let mesh =
@@ -120,16 +127,13 @@ pub fn run(a: Args) -> Outcome {
         }
         let mesh = &scenes[&d.scene];
         let backend = backends
-            .entry(d.backend)
-            .or_insert_with(|| Backend::open(d.backend).map_err(|e| e.to_string()));
+            .entry(kind)
+            .or_insert_with(|| Backend::open(kind).map_err(|e| e.to_string()));
         let backend = match backend {
             Ok(b) => b,
             Err(why) => {
                 summary.skipped += 1;
-                eprintln!(
-                    "tetwalk replay: line {n} skipped: recorded on {:?}: {why}",
-                    d.backend
-                );
+                eprintln!("tetwalk replay: line {n} skipped: recorded on {kind:?}: {why}");
                 continue;
             }
         };

@@ -1,4 +1,4 @@
-//! `tetwalk scene build` and `tetwalk scene info`.
+//! `tetwalk scene build`, `scene export` and `scene info`.
 
 use super::{JsonOut, Outcome};
 use crate::mesh::Mesh;
@@ -30,6 +30,17 @@ pub enum Scene {
         /// Also write the built scene's info as JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
+    },
+    /// Write a scene's mesh for another program's kernel (`count --rays-out` gives the rays, `judge`
+    /// judges the walks): one JSON object in tetwalk's conventions (stated in its `convention` field).
+    Export {
+        /// A built-in scene name or a TetGen stem.
+        scene: String,
+        /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one).
+        #[arg(long)]
+        no_faces: bool,
+        /// Where to write it (written whole, or not at all).
+        out: PathBuf,
     },
     /// Counts, memory per layout and flatness of a scene.
     Info {
@@ -73,6 +84,23 @@ pub fn run(s: Scene) -> Outcome {
             json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
         }
+        Scene::Export {
+            scene,
+            no_faces,
+            out,
+        } => {
+            let mesh: Mesh = crate::scenes::load(&scene, super::faces(no_faces))?;
+            let mut staged = super::Staged::new("scene export", &out)?;
+            serde_json::to_writer(staged.writer(), &Exported::of(&scene, &mesh))?;
+            staged.finish()?;
+            println!(
+                "{}: scene {scene}, {} points, {} tetrahedra",
+                out.display(),
+                mesh.points.len(),
+                mesh.tets.len()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
         Scene::Info {
             scene,
             no_faces,
@@ -85,6 +113,39 @@ pub fn run(s: Scene) -> Outcome {
             print!("{}", info.markdown());
             json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+/// A mesh as `scene export` writes it, with tetwalk's conventions stated once.
+#[derive(serde::Serialize)]
+struct Exported<'a> {
+    scene: &'a str,
+    convention: String,
+    points: Vec<[f32; 3]>,
+    tets: &'a [[u32; 4]],
+    neighbors: Vec<[i64; 4]>,
+    constrained: Vec<[bool; 4]>,
+}
+
+impl<'a> Exported<'a> {
+    fn of(scene: &'a str, mesh: &'a Mesh) -> Exported<'a> {
+        Exported {
+            scene,
+            convention: format!(
+                "every tetrahedron [v0, v1, v2, v3] is positively oriented: Shewchuk's orient3d(v0, v1, v2, v3) > 0 (v3 below the plane of v0, v1, v2 seen counterclockwise from above); face i is opposite vertex i, its vertices {:?} (face 0 to 3) counterclockwise seen from outside; neighbors[t][i] is the tetrahedron across face i, -1 on the boundary; constrained[t][i]: face i is a face of the scene, where a walk stops (kind hit)",
+                crate::tet::FACE_VERTICES
+            ),
+            points: mesh.points.iter().map(|p| p.to_array()).collect(),
+            tets: &mesh.tets,
+            neighbors: mesh
+                .neighbors
+                .iter()
+                .map(|n| n.map(|x| if x == crate::mesh::HULL { -1 } else { x as i64 }))
+                .collect(),
+            constrained: (0..mesh.tets.len() as u32)
+                .map(|t| std::array::from_fn(|f| mesh.is_constrained(t, f)))
+                .collect(),
         }
     }
 }

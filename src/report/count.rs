@@ -50,6 +50,9 @@ pub enum CountError {
     NoReference(#[from] crate::registry::UnknownMethod),
     #[error("writing the dump: {0}")]
     Dump(std::io::Error),
+    /// Walks given from outside that do not fit the view (`tetwalk judge`).
+    #[error("{0}")]
+    Given(String),
     #[error(
         "audit: the reference {reference} and the exact walk disagree on view {view} pixel {pixel:?}: {got:?} against {want:?}"
     )]
@@ -125,7 +128,7 @@ pub struct MethodCount {
     pub per_image: PerImage,
     /// Wall-clock seconds spent walking.
     pub seconds: f64,
-    /// Rays walked per second, in millions.
+    /// Rays walked per second, in millions (0 for walks given from outside, not timed here).
     pub mrays_per_second: f64,
     /// Wrong rays under each of the 12 orientation-preserving relabellings of the tetrahedra
     /// (`crate::tet::EVEN_PERMUTATIONS`, the mesh's own labelling first), with `count --relabel all`.
@@ -192,7 +195,11 @@ impl MethodCount {
             wrong_face_elsewhere: self.wrong_face_elsewhere as f64 / v,
             tetrahedra: self.steps as f64 / v,
         };
-        self.mrays_per_second = rays as f64 / self.seconds.max(1e-9) / 1e6;
+        self.mrays_per_second = if self.seconds > 0.0 {
+            rays as f64 / self.seconds / 1e6
+        } else {
+            0.0
+        };
     }
 }
 
@@ -252,6 +259,40 @@ pub fn run(
     methods: &[&Method],
     backend: &Backend,
     tick: &(dyn Fn() + Sync),
+    sink: Option<&mut Sink>,
+) -> Result<CountReport, CountError> {
+    let walkers: Vec<Walker> = methods.iter().map(|m| Walker::Method(m)).collect();
+    run_walkers(mesh, s, &walkers, backend, tick, sink)
+}
+
+/// Whose walks a count judges.
+#[derive(Clone, Copy)]
+pub enum Walker<'a> {
+    /// A method, walked on the count's backend.
+    Method(&'a Method),
+    /// Walks computed elsewhere (`tetwalk judge`), named: given a view, every pixel's walk, row by row.
+    Given(&'a str, &'a GivenWalks<'a>),
+}
+
+/// Walks given from outside for one view (its index and its rays).
+pub type GivenWalks<'a> = dyn Fn(usize, &[Ray]) -> Result<Vec<Walk>, CountError> + 'a;
+
+impl Walker<'_> {
+    fn name(&self) -> &str {
+        match self {
+            Walker::Method(m) => m.name,
+            Walker::Given(name, _) => name,
+        }
+    }
+}
+
+/// [`run`] over walkers: methods on `backend`, or walks given from outside.
+pub fn run_walkers(
+    mesh: &Mesh,
+    s: &Settings,
+    methods: &[Walker],
+    backend: &Backend,
+    tick: &(dyn Fn() + Sync),
     mut sink: Option<&mut Sink>,
 ) -> Result<CountReport, CountError> {
     let exact = by_name(&s.reference)?;
@@ -260,9 +301,10 @@ pub fn run(
     let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
     let on = backend.mesh(mesh);
     let mut totals: Vec<MethodCount> = std::iter::once(exact)
-        .chain(methods.iter().copied())
-        .map(|m| MethodCount {
-            method: m.name.to_string(),
+        .map(|m| m.name.to_string())
+        .chain(methods.iter().map(|w| w.name().to_string()))
+        .map(|method| MethodCount {
+            method,
             ..Default::default()
         })
         .collect();
@@ -297,15 +339,25 @@ pub fn run(
         }
         for (m, total) in methods.iter().zip(&mut totals[1..]) {
             let t0 = Instant::now();
-            let walks = backend.walks(m, &on, &rays, located, max)?;
-            total.seconds += t0.elapsed().as_secs_f64();
+            // Given walks were timed elsewhere, if at all: their speed is not measured here.
+            let walks = match m {
+                Walker::Method(m) => {
+                    let w = backend.walks(m, &on, &rays, located, max)?;
+                    total.seconds += t0.elapsed().as_secs_f64();
+                    w
+                }
+                Walker::Given(_, given) => given(v, &rays)?,
+            };
             total.steps += walks.iter().map(|w| w.steps as u64).sum::<u64>();
             let seen = Seen {
                 scene: &s.scene,
                 view: v,
                 pixel: [0, 0],
-                method: m,
-                backend: backend.for_method(m).kind(),
+                name: m.name(),
+                walked: match m {
+                    Walker::Method(m) => Some((*m, backend.for_method(m).kind())),
+                    Walker::Given(..) => None,
+                },
             };
             let described = wrong_rays(
                 mesh,
@@ -378,15 +430,19 @@ impl CountReport {
         for m in &self.methods {
             let p = &m.per_image;
             let kinds: Vec<String> = p.by_kind.0.iter().map(|w| format!("{w:.3}")).collect();
+            let speed = if m.seconds > 0.0 {
+                format!("{:.2}", m.mrays_per_second)
+            } else {
+                "-".into()
+            };
             out += &format!(
-                "| {} | {:.3} | {} | {:.3} | {:.3} | {:.0} | {:.2} |\n",
+                "| {} | {:.3} | {} | {:.3} | {:.3} | {:.0} | {speed} |\n",
                 m.method,
                 p.wrong,
                 kinds.join(" | "),
                 p.wrong_face_adjacent,
                 p.wrong_face_elsewhere,
                 p.tetrahedra,
-                m.mrays_per_second
             );
         }
         out += &format!(

@@ -120,7 +120,8 @@ pub struct WrongRay {
     pub org: [f32; 3],
     pub dir: [f32; 3],
     pub method: String,
-    pub backend: BackendKind,
+    /// Where the method walked; none for walks given from outside (`tetwalk judge`).
+    pub backend: Option<BackendKind>,
     /// The kind of wrong ending ([`OutcomeKind::wrong_key`]).
     pub kind: String,
     /// For a wrong face: adjacent to the exact hit, or elsewhere.
@@ -131,20 +132,21 @@ pub struct WrongRay {
     /// Where the `exact` walk stopped.
     pub exact: Stop,
     /// The first step at which the method's face was not an exact exit face (the CPU walk of the same
-    /// arithmetic; none for a GPU run, whose steps are not observed).
+    /// arithmetic; none for a GPU run or given walks, whose steps are not observed).
     pub divergence: Option<Divergence>,
     /// Distance of the exact hit point from the nearest edge of the method's triangle, in f32 ulps.
     pub ulps_from_edge: Option<f64>,
 }
 
-/// Where in a count a ray was, and how it was walked.
+/// Where in a count a ray was, and who walked it: a method on a backend, or walks given from outside
+/// (`tetwalk judge`), named.
 #[derive(Clone, Copy)]
 pub struct Seen<'a> {
     pub scene: &'a str,
     pub view: usize,
     pub pixel: [u32; 2],
-    pub method: &'a Method,
-    pub backend: BackendKind,
+    pub name: &'a str,
+    pub walked: Option<(&'a Method, BackendKind)>,
 }
 
 impl WrongRay {
@@ -158,12 +160,11 @@ impl WrongRay {
         start: u32,
         max_steps: u32,
     ) -> WrongRay {
-        let divergence = match seen.backend {
-            BackendKind::Gpu => None,
-            b => {
-                let fma = b == BackendKind::CpuFma;
-                seen.method.walk_checked(fma)(mesh, ray, start, max_steps).1
+        let divergence = match seen.walked {
+            Some((m, b)) if b != BackendKind::Gpu => {
+                m.walk_checked(b == BackendKind::CpuFma)(mesh, ray, start, max_steps).1
             }
+            _ => None,
         };
         // For a wrong face: adjacent or elsewhere, and how far from its edge the exact hit lies (the
         // exact hit found once, since on a boundary that means trying every constrained face).
@@ -186,8 +187,8 @@ impl WrongRay {
             pixel: seen.pixel,
             org: ray.org.to_array(),
             dir: ray.dir.to_array(),
-            method: seen.method.name.to_string(),
-            backend: seen.backend,
+            method: seen.name.to_string(),
+            backend: seen.walked.map(|(_, b)| b),
             kind: w.outcome.kind().wrong_key().to_string(),
             class,
             stopped: Stop::of(mesh, w),

@@ -79,8 +79,9 @@ impl ExitMethod for ExactPlucker {
     }
 }
 
-/// The textbook f32 Plücker test (six side products, Platis & Theoharis' `≥ 0, not all zero`):
-/// rounding decides the sign of side products near zero, so it picks wrong faces and walks cycle.
+/// The textbook f32 Plücker test (side products, Platis & Theoharis' `≥ 0, not all zero`), in the
+/// operation order of tetwalk's `plucker`: rounding decides the sign of side products near zero, so it
+/// picks wrong faces and walks cycle.
 pub struct F32Plucker;
 
 impl ExitMethod for F32Plucker {
@@ -95,7 +96,15 @@ impl ExitMethod for F32Plucker {
         &(u, v): &(Vec3, Vec3),
         _entry: Option<usize>,
     ) -> Option<usize> {
-        let side = |a: Vec3, b: Vec3| A::dot(u, A::cross(a, b)) + A::dot(v, b - a);
+        // u·(a × b) + v·(b - a), summed left to right as tetwalk's `plucker` sums it.
+        let side = |a: Vec3, b: Vec3| {
+            let e = b - a;
+            A::mad(
+                v.z,
+                e.z,
+                A::mad(v.y, e.y, A::mad(v.x, e.x, A::dot(u, A::cross(a, b)))),
+            )
+        };
         (0..4).find(|&f| {
             let p = FACE_VERTICES[f].map(|i| tet[i]);
             let s = [side(p[0], p[1]), side(p[1], p[2]), side(p[2], p[0])];
