@@ -142,6 +142,42 @@ fn exit_judges_the_users_wgsl_as_it_judges_plucker() {
 }
 
 #[test]
+fn the_users_names_may_be_tetwalks_own() {
+    if common::gpu_or_skip().is_none() {
+        return;
+    }
+    // The example with its names changed to names tetwalk's module uses itself.
+    let src = std::fs::read_to_string(MY_PLUCKER)
+        .unwrap()
+        .replace("MyPluckerRay", "Ray")
+        .replace("my_cross", "cross3")
+        .replace("my_side", "side")
+        .replace("MY_FACES", "NONE");
+    let f = tempfile::Builder::new().suffix(".wgsl").tempfile().unwrap();
+    std::fs::write(f.path(), src).unwrap();
+    let (code, out, err) = run_tetwalk(
+        &[
+            "exit",
+            "--wgsl",
+            f.path().to_str().unwrap(),
+            "--backend",
+            "gpu",
+            "--method",
+            "plucker",
+        ],
+        &near_edge_cases(),
+    );
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    for pair in lines.chunks(2) {
+        assert_eq!(pair[0]["face"], pair[1]["face"], "{pair:?}");
+    }
+}
+
+#[test]
 fn stress_and_walk_tables_give_the_users_wgsl_pluckers_counts() {
     if common::gpu_or_skip().is_none() {
         return;
