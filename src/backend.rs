@@ -39,6 +39,8 @@ pub enum BackendError {
         "method '{0}' has no layout walk (seed 003's layouts are walked by the 2-D frame methods)"
     )]
     NoLayoutWalk(&'static str),
+    #[error("{0} run on the CPU so far: use --backend cpu or cpu-fma")]
+    CpuOnly(&'static str),
     #[error("method '{0}' runs only on the GPU (a user's WGSL): use --backend gpu")]
     GpuOnly(&'static str),
     #[error(

@@ -50,6 +50,26 @@ pub enum Subject {
     Exit(Case),
     Walk(WalkCase),
     Hit(HitCase),
+    Box(BoxCase),
+}
+
+/// An octree cell case: `{"box": [[lx, ly, lz], [hx, hy, hz]], "org", "dir"}`, a closed axis-aligned
+/// box (`lo < hi` on every axis) and a ray whose exit face and quarter are asked (seed 001).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoxCase {
+    pub lo: Vec3,
+    pub hi: Vec3,
+    pub org: Vec3,
+    pub dir: Vec3,
+}
+
+impl BoxCase {
+    pub fn ray(&self) -> Ray {
+        Ray {
+            org: self.org,
+            dir: self.dir,
+        }
+    }
 }
 
 /// Most triangles of a triangle case (an icosahedron's).
@@ -147,6 +167,7 @@ impl Subject {
             Subject::Exit(c) => c.ray(),
             Subject::Walk(w) => w.ray(),
             Subject::Hit(h) => h.ray(),
+            Subject::Box(b) => b.ray(),
         }
     }
 
@@ -168,6 +189,11 @@ impl Subject {
                 dir: ray.dir,
                 ..h
             }),
+            Subject::Box(b) => Subject::Box(BoxCase {
+                org: ray.org,
+                dir: ray.dir,
+                ..b
+            }),
         }
     }
 
@@ -185,6 +211,9 @@ impl Subject {
     pub fn take(obj: &mut Map<String, Value>) -> Result<Subject, CaseError> {
         if obj.contains_key("tri") || obj.contains_key("tris") {
             return take_hit(obj).map(Subject::Hit);
+        }
+        if obj.contains_key("box") {
+            return take_box(obj).map(Subject::Box);
         }
         let walk = obj.contains_key("mesh");
         let mut field = |k: &'static str| obj.remove(k).ok_or(CaseError::Missing(k));
@@ -263,6 +292,11 @@ impl Subject {
                 };
                 serde_json::json!({key: tris, "org": h.org.to_array(), "dir": h.dir.to_array()})
             }
+            Subject::Box(b) => serde_json::json!({
+                "box": [b.lo.to_array(), b.hi.to_array()],
+                "org": b.org.to_array(),
+                "dir": b.dir.to_array(),
+            }),
         };
         match v {
             Value::Object(m) => m,
@@ -319,6 +353,35 @@ fn take_hit(obj: &mut Map<String, Value>) -> Result<HitCase, CaseError> {
         exact::hit::ray_triangle(*t, &ray)?;
     }
     Ok(case)
+}
+
+/// Take a box case's fields (`box`, `org`, `dir`) out of `obj`; the box must be closed and not flat.
+fn take_box(obj: &mut Map<String, Value>) -> Result<BoxCase, CaseError> {
+    let mut field = |k: &'static str| obj.remove(k).ok_or(CaseError::Missing(k));
+    let b = field("box")?;
+    let corners = b
+        .as_array()
+        .filter(|a| a.len() == 2)
+        .ok_or_else(|| field_error("box", "must hold two corners, [[lx, ly, lz], [hx, hy, hz]]"))?;
+    let lo = vec3(&corners[0]).map_err(|e| field_error("box[0]", e))?;
+    let hi = vec3(&corners[1]).map_err(|e| field_error("box[1]", e))?;
+    let org = vec3(&field("org")?).map_err(|e| field_error("org", e))?;
+    let dir = vec3(&field("dir")?).map_err(|e| field_error("dir", e))?;
+    if let Some(a) = (0..3).find(|&a| lo[a] >= hi[a]) {
+        return Err(field_error(
+            "box",
+            format!(
+                "the lower corner's {} ({}) is not below the upper one's ({})",
+                ["x", "y", "z"][a],
+                lo[a],
+                hi[a]
+            ),
+        ));
+    }
+    if dir == Vec3::ZERO {
+        return Err(ExactError::ZeroDirection.into());
+    }
+    Ok(BoxCase { lo, hi, org, dir })
 }
 
 /// A line as a JSON object.

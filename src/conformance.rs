@@ -180,6 +180,11 @@ fn describe(a: &Answer) -> String {
         Answer::Walk(o) => outcome(o),
         Answer::Hit(Some((tri, t))) => format!("triangle {tri} at t = {t:e}"),
         Answer::Hit(None) => "no hit".into(),
+        Answer::Box(Some((f, q))) => format!(
+            "exit face {} quarter {q:?}",
+            crate::octree::cell::FACE_NAMES[*f as usize]
+        ),
+        Answer::Box(None) => "no exit face".into(),
     }
 }
 

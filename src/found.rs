@@ -5,13 +5,13 @@
 //! replay share.
 
 use crate::backend::{Backend, BackendError, BackendKind, CPU, CPU_FMA};
-use crate::cases::{CaseError, HitCase, Subject, classify, judge_hit, number, object};
+use crate::cases::{BoxCase, CaseError, HitCase, Subject, classify, judge_hit, number, object};
 use crate::choice::Choice;
 use crate::exact::hit::first_hit;
 use crate::methods::triangle::nearest_of;
 use crate::registry::{
-    METHODS, Method, TRIANGLE_METHODS, TriangleMethod, UnknownMethod, by_name, reference,
-    triangle_by_name,
+    METHODS, Method, OctreeMethod, TRIANGLE_METHODS, TriangleMethod, UnknownMethod, by_name,
+    octree_by_name, reference, triangle_by_name,
 };
 use crate::scenes::from_bytes::WalkCase;
 use crate::tet::{Case, Ray};
@@ -207,6 +207,8 @@ pub enum Answer {
     Face(Option<u8>),
     Walk(Outcome),
     Hit(Option<(u32, f32)>),
+    /// An octree cell's exit face (seed 001's numbering) and quarter signs, or none.
+    Box(Option<(u8, [i8; 2])>),
 }
 
 impl Answer {
@@ -218,6 +220,8 @@ impl Answer {
             Answer::Walk(o) => o.kind(),
             Answer::Hit(Some(_)) => OutcomeKind::Hit,
             Answer::Hit(None) => OutcomeKind::LeftMesh,
+            Answer::Box(Some(_)) => OutcomeKind::Hit,
+            Answer::Box(None) => OutcomeKind::NoExitFace,
         }
     }
 
@@ -229,6 +233,9 @@ impl Answer {
                 Value::Null,
                 |(tri, t)| serde_json::json!({"tri": tri, "t": t}),
             ),
+            Answer::Box(b) => b.map_or(Value::Null, |(f, q)| {
+                serde_json::json!({"face": crate::octree::cell::FACE_NAMES[f as usize], "quarter": q})
+            }),
         }
     }
 }
@@ -286,6 +293,7 @@ impl Record {
         let method = method.as_str().unwrap_or_default();
         let method = match subject {
             Subject::Hit(_) => triangle_by_name(method)?.name,
+            Subject::Box(_) => octree_by_name(method)?.name,
             _ => by_name(method)?.name,
         }
         .to_string();
@@ -326,6 +334,7 @@ impl Record {
             Subject::Hit(h) => {
                 Answer::Hit(hit_answer(&answer, h.tris().len()).map_err(|e| bad("answer", e))?)
             }
+            Subject::Box(_) => Answer::Box(box_answer(&answer).map_err(|e| bad("answer", e))?),
         };
         if answer.kind() != kind {
             return Err(bad(
@@ -381,6 +390,10 @@ impl Record {
     pub fn with_robust_failures(&self) -> Result<Vec<Record>, FoundError> {
         let mut out = vec![self.clone()];
         let mine = self.failure.as_ref().map(|f| f.method.clone());
+        // No octree method's paper claims robustness.
+        if let Subject::Box(_) = &self.subject {
+            return Ok(out);
+        }
         if let Subject::Hit(h) = &self.subject {
             for m in TRIANGLE_METHODS
                 .iter()
@@ -462,6 +475,12 @@ pub fn check_batch(
                 why: "a ray-triangle case is judged by ray-triangle methods (check_hits)".into(),
             });
         }
+        Subject::Box(_) => {
+            return Err(FoundError::Field {
+                field: "method",
+                why: "an octree cell case is judged by octree methods (check_boxes)".into(),
+            });
+        }
     };
     Ok(found)
 }
@@ -502,13 +521,75 @@ fn check_exits(
 
 /// What `m` answered wrongly on `b`, recorded with the adapter where `b` is a GPU.
 fn failure(m: &Method, b: &Backend, answer: Answer) -> Failure {
-    let on = b.for_method(m);
+    failure_on(m.name, b.for_method(m), answer)
+}
+
+/// What method `name` answered wrongly on `on`, with the adapter where `on` is a GPU.
+fn failure_on(name: &str, on: &Backend, answer: Answer) -> Failure {
     Failure {
-        method: m.name.into(),
+        method: name.into(),
         backend: on.kind(),
         adapter: on.adapter(),
         answer,
     }
+}
+
+/// A box case's answer: `{"face": "-x"|"+x"|…, "quarter": [su, sv]}` (signs −1 or +1) or null.
+pub fn box_answer(v: &Value) -> Result<Option<(u8, [i8; 2])>, String> {
+    if v.is_null() {
+        return Ok(None);
+    }
+    let face = v
+        .get("face")
+        .and_then(Value::as_str)
+        .and_then(crate::octree::cell::face_named)
+        .ok_or_else(|| format!("{v}: face must be one of -x, +x, -y, +y, -z, +z"))?;
+    let quarter = v
+        .get("quarter")
+        .and_then(|q| serde_json::from_value::<[i8; 2]>(q.clone()).ok())
+        .filter(|q| q.iter().all(|s| s.abs() == 1))
+        .ok_or_else(|| format!("{v}: quarter must be [su, sv], each -1 or 1"))?;
+    if v.as_object().is_some_and(|o| o.len() != 2) {
+        return Err(format!("{v}: holds more than face and quarter"));
+    }
+    Ok(Some((face as u8, quarter)))
+}
+
+/// The first of `methods` (on each CPU backend of `backends` in turn) whose exit face and quarter of
+/// a box case is not an exact one, by index, with its answer.
+pub fn check_boxes(
+    cases: &[BoxCase],
+    methods: &[&OctreeMethod],
+    backends: &[&Backend],
+) -> Result<Option<(usize, Failure)>, FoundError> {
+    let truths = cases
+        .iter()
+        .map(|c| crate::exact::boxes::box_exit(c.lo, c.hi, &c.ray()))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| FoundError::Field {
+            field: "box",
+            why: e.to_string(),
+        })?;
+    for m in methods {
+        for b in backends {
+            let Backend::Cpu { fma } = b else {
+                return Err(FoundError::FuzzBackend(format!(
+                    "octree method {} runs on the CPU only so far",
+                    m.name
+                )));
+            };
+            let exit = m.exit(*fma);
+            for (i, (c, truth)) in cases.iter().zip(&truths).enumerate() {
+                let got = exit(c.lo, c.hi, &c.ray());
+                let signs = got.map(|(f, q)| (f, crate::octree::cell::quarter_signs(q)));
+                if truth.right(signs) == Some(false) {
+                    let answer = Answer::Box(signs.map(|(f, q)| (f as u8, q)));
+                    return Ok(Some((i, failure_on(m.name, b, answer))));
+                }
+            }
+        }
+    }
+    Ok(None)
 }
 
 /// A triangle case's recorded answer: `{"tri": i, "t": t}` (a triangle of the case) or null.
@@ -735,6 +816,10 @@ pub fn replay(record: &Record) -> Result<Replay, FoundError> {
         Subject::Hit(h) => {
             let m = triangle_by_name(&f.method)?;
             check_hits(std::slice::from_ref(h), &[m], &[&backend], false)?.map(|(_, f)| f)
+        }
+        Subject::Box(c) => {
+            let m = octree_by_name(&f.method)?;
+            check_boxes(std::slice::from_ref(c), &[m], &[&backend])?.map(|(_, f)| f)
         }
         s => check(s, &[by_name(&f.method)?], &[&backend])?,
     };

@@ -1,7 +1,7 @@
 //! tetwalk: finds out, with proof, when ray traversal of tetrahedral meshes goes wrong in f32.
 //!
 //! Data flows one way, and so do the imports (tests/layering.rs checks it): geometry (`tet`, with the
-//! named value sets of `choice`) → `mesh` → oracle (`exact`) → `scenes` (generators, cameras) →
+//! named value sets of `choice`) → `mesh` → `octree` → oracle (`exact`) → `scenes` (generators, cameras) →
 //! `methods` → `walk` (outcomes, judging) → `registry` → the case format (`cases`) → `gpu` →
 //! `backend` → `found` → `report` → `conformance` (the kit that judges users' methods) → `render` → `cli`.
 
@@ -15,6 +15,7 @@ pub mod found;
 pub mod gpu;
 pub mod mesh;
 pub mod methods;
+pub mod octree;
 pub mod registry;
 pub mod render;
 pub mod report;

@@ -8,8 +8,8 @@ mod common;
 
 use tetwalk::backend::Backend;
 use tetwalk::cases::Subject;
-use tetwalk::found::{Answer, Record, Replay, check, check_hits, replay};
-use tetwalk::registry::{METHODS, TRIANGLE_METHODS};
+use tetwalk::found::{Answer, Record, Replay, check, check_boxes, check_hits, replay};
+use tetwalk::registry::{METHODS, OCTREE_METHODS, TRIANGLE_METHODS, octree_by_name};
 
 fn findings() -> Vec<(String, Record)> {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/found");
@@ -65,8 +65,9 @@ fn changing_one_recorded_answer_fails_the_replay() {
         Subject::Exit(_) => 0,
         Subject::Walk(_) => 1,
         Subject::Hit(_) => 2,
+        Subject::Box(_) => 3,
     };
-    for want in 0..3 {
+    for want in 0..4 {
         let (name, r) = found
             .iter()
             .find(|(_, r)| shape(&r.subject) == want)
@@ -82,6 +83,10 @@ fn changing_one_recorded_answer_fails_the_replay() {
             Answer::Hit(h) => Answer::Hit(match h {
                 Some((i, t)) => Some((i ^ 1, t)),
                 None => Some((0, 1.0)),
+            }),
+            Answer::Box(b) => Answer::Box(match b {
+                Some((f, q)) => Some(((f + 1) % 6, q)),
+                None => Some((0, [1, 1])),
             }),
         };
         // Through the file format, as a hand edit would be.
@@ -116,6 +121,16 @@ fn robust_methods_are_right_on_every_found_case_unless_their_failure_is_filed() 
             }
             continue;
         }
+        if let Subject::Box(c) = &r.subject {
+            // No octree method's paper claims robustness; the exact reference must be right.
+            let exact = octree_by_name("exact").unwrap();
+            let now = check_boxes(std::slice::from_ref(c), &[exact], &backends).unwrap();
+            assert_eq!(
+                now, None,
+                "{name}: the exact octree exit must be right here"
+            );
+            continue;
+        }
         for m in METHODS
             .iter()
             .filter(|m| m.claims_robust && m.name != failed)
@@ -132,10 +147,11 @@ fn robust_methods_are_right_on_every_found_case_unless_their_failure_is_filed() 
 }
 
 #[test]
-fn every_found_file_is_read_by_tetwalk_exit_or_hit_as_it_is() {
+fn every_found_file_is_read_by_tetwalk_exit_hit_or_box_exit_as_it_is() {
     for (name, r) in findings() {
         let (command, methods) = match r.subject {
             Subject::Hit(_) => ("hit", TRIANGLE_METHODS.len()),
+            Subject::Box(_) => ("box-exit", OCTREE_METHODS.len()),
             _ => ("exit", METHODS.len()),
         };
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
@@ -166,6 +182,10 @@ fn found_cases_replay_on_the_gpu() {
                 let now = check_hits(std::slice::from_ref(h), &[m], &[&gpu], true).unwrap();
                 assert_eq!(now, None, "{name}: {} leaks on the GPU", m.name);
             }
+            continue;
+        }
+        if let Subject::Box(_) = &r.subject {
+            // The octree methods run on the CPU only so far.
             continue;
         }
         for m in METHODS

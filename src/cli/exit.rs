@@ -204,6 +204,9 @@ fn answer(
                     Subject::Hit(_) => {
                         Err("a ray-triangle case: tetwalk hit answers it".to_string())
                     }
+                    Subject::Box(_) => {
+                        Err("an octree cell case: tetwalk box-exit answers it".to_string())
+                    }
                 }
             });
             (*n, p)

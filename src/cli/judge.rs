@@ -22,7 +22,8 @@ pub struct Args {
     /// JSON Lines of answers, one per case, by the case's line number (1-based): `{"line": n,
     /// "face": 0..3|null}` for a tetrahedron (in the case's own numbering), `{"line": n, "hit":
     /// true|false, "t": number|null}` for one triangle, `{"line": n, "tri": i|null, "t": number|null}`
-    /// for a closed mesh (the nearest hit). For a scene's rays, one walk per ray: `{"view": v,
+    /// for a closed mesh (the nearest hit), `{"line": n, "face": "-x"|"+x"|…|null, "quarter": [su, sv]}`
+    /// for an octree cell (`box-exit`'s cases). For a scene's rays, one walk per ray: `{"view": v,
     /// "pixel": [x, y], "kind": "hit"|"left_mesh"|"no_exit_face"|"cycle"|"step_limit", "tet": t,
     /// "face": f (hit, left_mesh), "period": p (cycle), "steps": n (optional)}`, judged as `count`
     /// judges (the same table; `--json` the same report).
@@ -210,8 +211,22 @@ fn verdict(
             };
             Ok(hit_verdict(n, name, "given", &h, &truth, g, tally))
         }
+        Subject::Box(c) => {
+            let x =
+                crate::exact::boxes::box_exit(c.lo, c.hi, &c.ray()).map_err(|e| e.to_string())?;
+            let given = match answer.get("face") {
+                None | Some(Value::Null) => None,
+                Some(f) => {
+                    crate::found::box_answer(&json!({"face": f, "quarter": answer.get("quarter")}))?
+                }
+            };
+            let given = given.map(|(f, q)| (f as usize, q));
+            Ok(super::box_exit::box_verdict(
+                n, name, "given", &x, given, tally,
+            ))
+        }
         Subject::Walk(_) => {
-            Err("judge answers tetrahedron and triangle cases, not walk cases".into())
+            Err("judge answers tetrahedron, triangle and octree cell cases, not walk cases".into())
         }
     }
 }

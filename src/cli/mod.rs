@@ -2,6 +2,7 @@
 //! value, prints it, and can write it as JSON (`--json FILE`, checked writable before the run starts).
 
 mod bench;
+mod box_exit;
 mod count;
 mod exit;
 mod fuzz_import;
@@ -49,6 +50,8 @@ enum Command {
     },
     /// Answer cases (or found cases) from JSON Lines with each method, judged exactly.
     Exit(exit::Args),
+    /// The exit face and quarter of octree cells (seed 001), each method's beside the exact ones.
+    BoxExit(box_exit::Args),
     /// Answer ray-triangle cases from JSON Lines with each ray-triangle method, judged exactly.
     Hit(hit::Args),
     /// Judge answers computed anywhere (one JSON line per case) exactly, as exit and hit judge
@@ -92,6 +95,7 @@ pub fn main() -> ExitCode {
         Command::Exit(a) => exit::run(a),
         Command::Hit(a) => hit::run(a),
         Command::Judge(a) => judge::run(a),
+        Command::BoxExit(a) => box_exit::run(a),
         Command::GenCases(a) => gen_cases::run(a),
         Command::Walk(a) => walk::run(a),
         Command::Stress(a) => stress::run(a),

@@ -6,10 +6,12 @@ use crate::cases::{Case, Subject};
 use crate::choice::Choice;
 use crate::found::{Answer, Failure, Record};
 use crate::registry::Method;
-use crate::registry::parse_list;
 use crate::registry::{TriangleMethod, parse_triangle_list};
+use crate::registry::{parse_list, parse_octree_list};
+use crate::report::octree as cell_report;
 use crate::report::stress::{self, Row, Settings};
 use crate::report::triangle::{self as tri, StressSettings};
+use crate::scenes::cells;
 use crate::scenes::closed::{Aim, Place, Shape};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -17,9 +19,10 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Which family of methods: `exit-face` (tetrahedra, seeds 000 and 003) or `triangle` (closed
-    /// triangle meshes, seed 004: leaks, double hits, wrong first hits).
-    #[arg(long, value_parser = ["exit-face", "triangle"], default_value = "exit-face")]
+    /// Which family of methods: `exit-face` (tetrahedra, seeds 000 and 003), `triangle` (closed
+    /// triangle meshes, seed 004: leaks, double hits, wrong first hits) or `octree` (octree cells,
+    /// seed 001: wrong exit faces and quarters).
+    #[arg(long, value_parser = ["exit-face", "triangle", "octree"], default_value = "exit-face")]
     family: String,
     /// Cases per row [default: 100000 for exit-face, 2000 for triangle].
     #[arg(long, allow_negative_numbers = true)]
@@ -33,6 +36,12 @@ pub struct Args {
     /// Triangle rows: where rays are aimed (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<Aim>(), value_delimiter = ',')]
     aims: Vec<Aim>,
+    /// Octree rows: where rays leave the cell (comma-separated) [default: all].
+    #[arg(long, value_parser = choice::<cells::Aim>(), value_delimiter = ',')]
+    cell_aims: Vec<cells::Aim>,
+    /// Octree rows: where cells are placed (comma-separated) [default: all].
+    #[arg(long, value_parser = choice::<cells::Place>(), value_delimiter = ',')]
+    cell_places: Vec<cells::Place>,
     /// Triangle rows: where meshes are placed (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<Place>(), value_delimiter = ',')]
     places: Vec<Place>,
@@ -101,6 +110,12 @@ pub fn run(a: Args) -> Outcome {
     let cases = cases as usize;
     if triangle {
         return run_triangle(a, cases);
+    }
+    if a.family == "octree" {
+        return run_octree(a, cases);
+    }
+    if !(a.cell_aims.is_empty() && a.cell_places.is_empty()) {
+        return Err("--cell-aims and --cell-places choose octree rows; add --family octree".into());
     }
     if !(a.shapes.is_empty() && a.aims.is_empty() && a.places.is_empty()) {
         return Err(
@@ -341,6 +356,50 @@ fn run_triangle(a: Args, cases: usize) -> Outcome {
             &|_| {},
             &mut |row, record| filing.file_record(row, record),
         )?;
+        rounds += 1;
+        last = Some(report);
+    }
+    if let Some(e) = filing.error {
+        return Err(e.into());
+    }
+    let report = last.expect("one round at least");
+    print!("{}", report.markdown());
+    filing.print(rounds, " (the table is the last round's)");
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `stress --family octree`.
+fn run_octree(a: Args, cases: usize) -> Outcome {
+    if a.compare || a.relabel.is_some() || !a.families.is_empty() || a.ulps < 1 {
+        return Err("--compare, --relabel and --families are for --family exit-face; --ulps must be 1 or more".into());
+    }
+    let methods = parse_octree_list(&a.methods)?;
+    // A row's cases with their exact answers (about 200 bytes each) are held at once.
+    super::fits(&format!("--cases {cases}"), cases as u128 * 256)?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let backend = a.backend.open()?;
+    let mut settings = cell_report::StressSettings {
+        cases,
+        aims: or_all(a.cell_aims),
+        places: or_all(a.cell_places),
+        seed: a.seed,
+        backend: backend.describe(),
+        ulps: a.ulps,
+    };
+    let Some(seconds) = a.seconds else {
+        let report = cell_report::stress(&settings, &methods, &backend, &mut |_, _| {})?;
+        return shown(out, report.markdown(), &report);
+    };
+    let mut filing = Filing::new(a.found, a.keep);
+    let t0 = std::time::Instant::now();
+    let mut rounds = 0;
+    let mut last = None;
+    while rounds == 0 || t0.elapsed().as_secs_f64() < seconds {
+        settings.seed = a.seed + rounds;
+        let report = cell_report::stress(&settings, &methods, &backend, &mut |row, record| {
+            filing.file_record(row, record)
+        })?;
         rounds += 1;
         last = Some(report);
     }

@@ -1,6 +1,7 @@
 //! The exact oracle: through which faces a line enters and leaves a tetrahedron, decided exactly from
 //! the signs of Plücker side products and face normals (filtered f64, then exact integers).
 
+pub mod boxes;
 pub mod clip;
 pub mod hit;
 mod rational;
@@ -62,6 +63,8 @@ pub enum ExactError {
     ZeroDirection,
     #[error("the triangle is degenerate (its vertices are collinear)")]
     FlatTriangle,
+    #[error("the box is empty or flat (every lower corner coordinate must be below the upper one)")]
+    FlatBox,
 }
 
 /// Signs the oracle derives everything from, computed once per tetrahedron and line.

@@ -15,6 +15,7 @@ mod halfspace;
 pub mod maria17;
 mod ms06;
 mod plucker;
+pub mod portalez16;
 mod ray_plane;
 mod stp;
 pub mod triangle;

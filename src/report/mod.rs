@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod count;
+pub mod octree;
 pub mod paper;
 pub mod scene_info;
 pub mod stress;

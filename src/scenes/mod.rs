@@ -3,6 +3,7 @@
 
 pub mod build;
 pub mod camera;
+pub mod cells;
 pub mod closed;
 pub mod from_bytes;
 pub mod meshes;

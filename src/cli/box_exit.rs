@@ -1,0 +1,129 @@
+//! `tetwalk box-exit`: octree cell cases (seed 001), one JSON line per case and method: the exit face
+//! and quarter each method answers, beside every exact exit face and quarter. Read as `exit` reads its
+//! cases: line by line as they come.
+
+use super::Outcome;
+use super::exit::{Line, Summary, Tally, answer_all};
+use crate::backend::Backend;
+use crate::cases::Subject;
+use crate::exact::boxes::{BoxExit, box_exit};
+use crate::found::Record;
+use crate::octree::cell::{FACE_NAMES, quarter_signs};
+use crate::registry::{OctreeMethod, parse_octree_list};
+use serde_json::{Map, Value, json};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// A method name, a comma-separated list, or `all` [default: all].
+    #[arg(long, default_value = "all")]
+    method: String,
+    /// Where the methods run: `cpu` (plain f32) or `cpu-fma` (as a GPU compiles them).
+    #[command(flatten)]
+    backend: super::BackendArg,
+    /// Also write a summary (lines, errors, per method right / wrong / lines not crossing the open
+    /// box) as JSON here.
+    #[arg(long)]
+    json: Option<std::path::PathBuf>,
+    /// JSON Lines file of cases `{"box": [[lx, ly, lz], [hx, hy, hz]], "org", "dir"}` (found cases
+    /// too); standard input when absent.
+    file: Option<std::path::PathBuf>,
+}
+
+pub fn run(a: Args) -> Outcome {
+    let methods = parse_octree_list(&a.method)?;
+    let Backend::Cpu { fma } = a.backend.open()? else {
+        return Err(
+            "box-exit runs the octree methods on the CPU so far: use --backend cpu or cpu-fma"
+                .into(),
+        );
+    };
+    let names = methods.iter().map(|m| m.name.to_string()).collect();
+    let backend = if fma { "cpu-fma" } else { "cpu" };
+    answer_all(
+        "box-exit",
+        names,
+        true,
+        backend.to_string(),
+        a.file.as_deref(),
+        a.json.as_deref(),
+        |batch, summary| Ok(answer(batch, &methods, fma, summary)),
+    )
+}
+
+fn answer(batch: &[Line], methods: &[&OctreeMethod], fma: bool, summary: &mut Summary) -> String {
+    let mut s = String::new();
+    for (n, l) in batch {
+        if l.as_ref().is_ok_and(|t| t.trim().is_empty()) {
+            continue;
+        }
+        summary.lines += 1;
+        let case = l.clone().and_then(|text| {
+            match Record::parse(&text).map_err(|e| e.to_string())?.subject {
+                Subject::Box(c) => {
+                    let x = box_exit(c.lo, c.hi, &c.ray()).map_err(|e| e.to_string())?;
+                    Ok((c, x))
+                }
+                _ => Err(
+                    "not an octree cell case: box-exit answers {\"box\", \"org\", \"dir\"}".into(),
+                ),
+            }
+        });
+        let lines: Vec<Value> = match case {
+            Err(e) => {
+                summary.errors += 1;
+                vec![json!({"line": n, "error": e})]
+            }
+            Ok((c, x)) => methods
+                .iter()
+                .zip(&mut summary.methods)
+                .map(|(m, t)| {
+                    let got = m.exit(fma)(c.lo, c.hi, &c.ray());
+                    let answer = got.map(|(f, q)| (f, quarter_signs(q)));
+                    box_verdict(
+                        *n,
+                        m.name,
+                        if fma { "cpu-fma" } else { "cpu" },
+                        &x,
+                        answer,
+                        t,
+                    )
+                })
+                .collect(),
+        };
+        for l in lines {
+            s += &l.to_string();
+            s.push('\n');
+        }
+    }
+    s
+}
+
+/// An octree cell verdict line: the exit face and quarter answered, beside every exact one, counted
+/// in `tally`.
+pub(super) fn box_verdict(
+    n: usize,
+    method: &str,
+    backend: &str,
+    x: &BoxExit,
+    answer: Option<(usize, [i8; 2])>,
+    tally: &mut Tally,
+) -> Value {
+    let correct = x.right(answer);
+    tally.right += (correct == Some(true)) as u64;
+    tally.wrong += (correct == Some(false)) as u64;
+    if let Some(m) = tally.missed.as_mut() {
+        *m += correct.is_none() as u64;
+    }
+    let mut quarters = Map::new();
+    for (f, q) in x.faces.iter().zip(&x.quarters) {
+        quarters.insert(FACE_NAMES[*f].into(), json!(q));
+    }
+    json!({
+        "line": n, "method": method, "backend": backend,
+        "face": answer.map(|(f, _)| FACE_NAMES[f]),
+        "quarter": answer.map(|(_, q)| q),
+        "exact_faces": x.faces.iter().map(|&f| FACE_NAMES[f]).collect::<Vec<_>>(),
+        "exact_quarters": quarters,
+        "correct": correct,
+    })
+}
