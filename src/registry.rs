@@ -12,8 +12,10 @@ use crate::methods::{
     Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Fused, HalfSpace, Maria17,
     MomentFirst, Ms06, OriginFirst, Plain, Plucker, Query, RayPlane, Stp, time_queries,
 };
+use crate::octree::Octree;
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{self, LayoutWalkFn};
+use crate::walk::octree::{self as walk_octree, OctreeWalk};
 use crate::walk::{self, CheckedWalkFn, WalkFn, WalksFn};
 use glam::Vec3;
 
@@ -516,6 +518,14 @@ fn exact_box_exit(lo: Vec3, hi: Vec3, ray: &Ray) -> Option<(usize, usize)> {
     Some((f, crate::octree::cell::quarter_of(x.quarters[0][0])))
 }
 
+/// One octree method's walk of a ray through an octree over `tris`, each leaf's triangles tested with
+/// a ray–triangle method's [`HitFn`], at most so many cells.
+pub type OctreeWalkFn = fn(&Octree, &[Tri], HitFn, &Ray, u32) -> OctreeWalk;
+
+fn exact_octree_walk(o: &Octree, tris: &[Tri], _: HitFn, ray: &Ray, max: u32) -> OctreeWalk {
+    walk_octree::walk_exact(o, tris, ray, max)
+}
+
 /// A registered octree method (the [`Family::Octree`] family).
 pub struct OctreeMethod {
     pub name: &'static str,
@@ -525,12 +535,18 @@ pub struct OctreeMethod {
     pub reference: bool,
     pub gpu: Gpu,
     exit: [BoxExitFn; 2],
+    walk: [OctreeWalkFn; 2],
 }
 
 impl OctreeMethod {
     /// The exit face and quarter of one cell, plain or as a GPU compiles it (`fma`).
     pub fn exit(&self, fma: bool) -> BoxExitFn {
         self.exit[fma as usize]
+    }
+
+    /// The walk through an octree (seed 001 §4.2.3), plain or with `fma`.
+    pub fn walk(&self, fma: bool) -> OctreeWalkFn {
+        self.walk[fma as usize]
     }
 }
 
@@ -542,6 +558,7 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
         reference: true,
         gpu: Gpu::CpuOnly("the oracle needs exact rational arithmetic (rug), which WGSL lacks"),
         exit: [exact_box_exit, exact_box_exit],
+        walk: [exact_octree_walk, exact_octree_walk],
     },
     OctreeMethod {
         name: "portalez16",
@@ -552,6 +569,10 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
             portalez16_exit::<portalez16::Points, Plain>,
             portalez16_exit::<portalez16::Points, Fused>,
         ],
+        walk: [
+            walk_octree::walk::<portalez16::Points, Plain>,
+            walk_octree::walk::<portalez16::Points, Fused>,
+        ],
     },
     OctreeMethod {
         name: "portalez16-direction",
@@ -561,6 +582,10 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
         exit: [
             portalez16_exit::<portalez16::Direction, Plain>,
             portalez16_exit::<portalez16::Direction, Fused>,
+        ],
+        walk: [
+            walk_octree::walk::<portalez16::Direction, Plain>,
+            walk_octree::walk::<portalez16::Direction, Fused>,
         ],
     },
 ];

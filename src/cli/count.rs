@@ -1,8 +1,9 @@
 //! `tetwalk count`: wrong rays per image, per method, on a scene.
 
 use super::{BackendArg, JsonOut, Outcome, WgslArg};
-use crate::registry::{by_name, parse_triangle_list};
+use crate::registry::{by_name, parse_octree_list, parse_triangle_list};
 use crate::report::count::{self, Settings};
+use crate::report::octree as octree_report;
 use crate::report::triangle;
 use crate::report::wrong::WrongRay;
 use crate::scenes::camera::Views;
@@ -18,9 +19,19 @@ pub struct Args {
     merge: Option<Merge>,
     /// Which family of methods: `exit-face` (walks through the tetrahedra, seed 000 Table 4) or
     /// `triangle` (each primary ray's nearest hit among the scene's constrained faces, every triangle
-    /// tested, seed 004's methods; judged against the reference walk's exact first hit).
-    #[arg(long, value_parser = ["exit-face", "triangle"], default_value = "exit-face")]
+    /// tested, seed 004's methods; judged against the reference walk's exact first hit) or `octree`
+    /// (each primary ray walked through seed 001's octree over those faces, judged the same way).
+    #[arg(long, value_parser = ["exit-face", "triangle", "octree"], default_value = "exit-face")]
     family: String,
+    /// `--family octree`: the octree's deepest level (seed 001: 8 for the bunny).
+    #[arg(long, default_value_t = 8)]
+    depth: u32,
+    /// `--family octree`: split a node while it holds more triangles than this.
+    #[arg(long, default_value_t = 6)]
+    capacity: usize,
+    /// `--family octree`: the ray–triangle method testing each leaf's triangles.
+    #[arg(long, default_value = "mt")]
+    triangle_method: String,
     /// `--family triangle`: primary rays per packet side (1, 2, 4 or 8: packets of 1, 4, 16 or 64
     /// rays sharing the camera's origin).
     #[arg(long, value_parser = ["1", "2", "4", "8"], default_value = "2")]
@@ -131,6 +142,9 @@ pub fn run(a: Args) -> Outcome {
     let reference = by_name(&a.reference)?;
     if a.family == "triangle" {
         return run_triangle(a);
+    }
+    if a.family == "octree" {
+        return run_octree(a);
     }
     if let Some(path) = &a.rays_out {
         return rays_out(&a, shard, path);
@@ -301,6 +315,40 @@ fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
         seed: a.seed,
         fov_deg: Views::FOV_DEG,
     })
+}
+
+/// `count --family octree`.
+fn run_octree(a: Args) -> Outcome {
+    if a.relabel.is_some() || a.dump.is_some() || a.shard != "0/1" || a.wgsl.wgsl.is_some() {
+        return Err("--relabel, --dump, --shard and --wgsl are for --family exit-face".into());
+    }
+    if a.backend.backend != crate::backend::BackendKind::Cpu {
+        return Err("the octree methods run on the CPU so far: leave out --backend".into());
+    }
+    let methods: Vec<_> = parse_octree_list(&a.methods)?
+        .into_iter()
+        .filter(|m| !m.reference)
+        .collect();
+    let out = JsonOut::new(a.json.as_deref())?;
+    let views = views(&a, 16, "256x256")?;
+    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let settings = octree_report::CountSettings {
+        scene: a.scene,
+        views,
+        reference: a.reference,
+        octree: crate::octree::Settings {
+            depth: a.depth,
+            capacity: a.capacity,
+        },
+        triangle_method: a.triangle_method,
+        audit: a.audit,
+    };
+    let bar = super::progress(views.views as u64, "views");
+    let report = octree_report::count(&mesh, &settings, &methods, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    print!("{}", report.markdown());
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
 }
 
 /// `count --family triangle`.

@@ -50,6 +50,9 @@ pub enum CountError {
     NoReference(#[from] crate::registry::UnknownMethod),
     #[error("writing the dump: {0}")]
     Dump(std::io::Error),
+    /// The octree of a scene could not be built.
+    #[error("octree: {0}")]
+    Octree(String),
     /// Walks given from outside that do not fit the view (`tetwalk judge`).
     #[error("{0}")]
     Given(String),
@@ -219,7 +222,7 @@ pub struct CountReport {
 }
 
 /// Whether ray `index` (counted over all views) is audited: about `audit` of `total`, chosen by `seed`.
-fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
+pub fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
     let mut z = seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);

@@ -1,15 +1,24 @@
 //! Octree reports (seed 001): wrong exit faces and quarters per million cells and rays, per method
-//! and row ([`stress`]), every answer judged exactly.
+//! and row ([`stress`]), and wrong rays per image on a scene ([`count`]), every answer judged exactly.
 
+use super::count::{CountError, located_views};
+use super::triangle::{SceneTriangles, region_of, scene_triangles};
 use crate::backend::{Backend, BackendError};
 use crate::cases::{BoxCase, Subject};
 use crate::choice::Choice;
 use crate::exact::boxes::{BoxExit, box_exit};
 use crate::found::{Answer, Failure, Record};
+use crate::mesh::Mesh;
 use crate::octree::cell::quarter_signs;
+use crate::octree::{Octree, Settings};
 use crate::registry::OctreeMethod;
+use crate::registry::{by_name, octree_by_name, triangle_by_name};
+use crate::scenes::camera::Views;
 use crate::scenes::cells::{Aim, Place, case};
+use crate::walk::octree::{self as walk_octree, OctreeWalk};
+use crate::walk::{OutcomeKind, Walk, default_max_steps, same_result};
 use rayon::prelude::*;
+use std::time::Instant;
 
 /// Settings of an octree stress run.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -167,6 +176,207 @@ impl CellStressReport {
             }
             out += "\n";
         }
+        out
+    }
+}
+
+/// Settings of an octree count.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct CountSettings {
+    pub scene: String,
+    pub views: Views,
+    /// The tetrahedral walk whose stopping face is the exact first hit (`certified` or `exact`).
+    pub reference: String,
+    pub octree: Settings,
+    /// The ray–triangle method testing each leaf's triangles.
+    pub triangle_method: String,
+    /// Rays also walked by the exact octree walk, which must end where the reference ends.
+    pub audit: u64,
+}
+
+/// One method's count over the views.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct OctreeCount {
+    pub method: String,
+    pub wrong_total: u64,
+    /// Wrong rays by the kind of their ending ([`OutcomeKind::ALL`] order): wrong triangle, false
+    /// miss, no exit face, cycle, step limit.
+    pub wrong: [u64; 5],
+    pub wrong_per_image: f64,
+    /// Cells visited, summed over rays (Φ).
+    pub cells: u64,
+    pub mrays_per_second: f64,
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct OctreeCountReport {
+    pub settings: CountSettings,
+    /// The scene's triangles (its constrained faces facing the cameras).
+    pub triangles: usize,
+    pub leaves: usize,
+    pub unconstrained_leaves: usize,
+    pub rays: u64,
+    pub views_counted: usize,
+    /// Rays the exact octree walk re-walked, all ending where the reference ends.
+    pub audited: u64,
+    pub methods: Vec<OctreeCount>,
+}
+
+/// Count, per octree method, the primary rays whose walk through the octree over the scene's
+/// triangles ends wrongly, judged against the reference walk's exact first hit as `count` judges
+/// walks ([`same_result`]); `tick` is called once per view.
+pub fn count(
+    mesh: &Mesh,
+    s: &CountSettings,
+    methods: &[&OctreeMethod],
+    tick: &(dyn Fn() + Sync),
+) -> Result<OctreeCountReport, CountError> {
+    let reference = by_name(&s.reference)?;
+    let hit = triangle_by_name(&s.triangle_method)?.hit(false);
+    let exact = octree_by_name("exact")?.walk(false);
+    let max = default_max_steps(mesh);
+    let backend = &crate::backend::CPU;
+    let on = backend.mesh(mesh);
+    let mut totals: Vec<(OctreeCount, f64)> = methods
+        .iter()
+        .map(|m| {
+            let c = OctreeCount {
+                method: m.name.into(),
+                ..OctreeCount::default()
+            };
+            (c, 0.0)
+        })
+        .collect();
+    let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
+    let (mut rays_counted, mut views_counted, mut audited) = (0u64, 0usize, 0u64);
+    let mut scene: Option<(Vec<bool>, SceneTriangles, Octree)> = None;
+    for (v, cam, located) in located_views(mesh, &s.views, |_| true, tick) {
+        views_counted += 1;
+        if scene
+            .as_ref()
+            .is_none_or(|(region, ..)| !region[located as usize])
+        {
+            let region = region_of(mesh, located);
+            let tris = scene_triangles(mesh, &region);
+            let octree =
+                Octree::build(&tris.0, s.octree).map_err(|e| CountError::Octree(e.to_string()))?;
+            scene = Some((region, tris, octree));
+        }
+        let (_, (tris, from), octree) = scene.as_ref().expect("set above");
+        let cap = walk_octree::default_max_steps(octree);
+        let rays = s.views.rays(&cam);
+        rays_counted += rays.len() as u64;
+        let walks = backend.walks(reference, &on, &rays, located, max)?;
+        let first = v as u64 * rays.len() as u64;
+        let picked: Vec<usize> = (0..rays.len())
+            .filter(|&i| super::count::audited(s.views.seed, first + i as u64, s.audit, total_rays))
+            .collect();
+        for &i in &picked {
+            let w = exact(octree, tris, hit, &rays[i], cap);
+            let got = Walk {
+                outcome: w.end.outcome(from),
+                steps: w.cells,
+            };
+            if !same_result(mesh, &rays[i], &got, &walks[i]) {
+                return Err(CountError::Audit {
+                    reference: "the exact octree walk".into(),
+                    view: v,
+                    pixel: [i as u32 % s.views.width, i as u32 / s.views.width],
+                    got,
+                    want: walks[i],
+                });
+            }
+        }
+        audited += picked.len() as u64;
+        for (m, (total, seconds)) in methods.iter().zip(&mut totals) {
+            let walk = m.walk(false);
+            let t0 = Instant::now();
+            let ends: Vec<OctreeWalk> = rays
+                .par_iter()
+                .map(|r| walk(octree, tris, hit, r, cap))
+                .collect();
+            *seconds += t0.elapsed().as_secs_f64();
+            for ((ray, w), reference) in rays.iter().zip(&ends).zip(&walks) {
+                total.cells += w.cells as u64;
+                let mine = Walk {
+                    outcome: w.end.outcome(from),
+                    steps: w.cells,
+                };
+                if !same_result(mesh, ray, &mine, reference) {
+                    total.wrong_total += 1;
+                    total.wrong[w.end.kind().code() as usize] += 1;
+                }
+            }
+        }
+    }
+    if views_counted == 0 {
+        return Err(CountError::NoView(s.views.views));
+    }
+    let (triangles, leaves, unconstrained_leaves) =
+        scene.as_ref().map_or((0, 0, 0), |(_, (t, _), o)| {
+            (t.len(), o.leaves.len(), o.unconstrained_leaves)
+        });
+    Ok(OctreeCountReport {
+        settings: s.clone(),
+        triangles,
+        leaves,
+        unconstrained_leaves,
+        rays: rays_counted,
+        views_counted,
+        audited,
+        methods: totals
+            .into_iter()
+            .map(|(mut c, secs)| {
+                c.wrong_per_image = c.wrong_total as f64 / views_counted as f64;
+                c.mrays_per_second = rays_counted as f64 / secs.max(1e-12) / 1e6;
+                c
+            })
+            .collect(),
+    })
+}
+
+impl OctreeCountReport {
+    pub fn markdown(&self) -> String {
+        let s = &self.settings;
+        let mut out = format!(
+            "scene {} ({} triangles: its constrained faces, each facing the cameras' side), octree of depth {} and leaf capacity {} ({} leaves; {} without the regularity constraint), {} views of {}x{}, seed {}, each leaf's triangles tested with {}; each walk judged against the {} walk's exact first hit (the exact octree walk audited against it on {} rays, all agreeing)\n\n",
+            s.scene,
+            self.triangles,
+            s.octree.depth,
+            s.octree.capacity,
+            self.leaves,
+            self.unconstrained_leaves,
+            self.views_counted,
+            s.views.width,
+            s.views.height,
+            s.views.seed,
+            s.triangle_method,
+            s.reference,
+            self.audited
+        );
+        out += &format!(
+            "| method | wrong rays per image | {} | cells per ray | Mrays/s |\n|---|---|---|---|---|---|---|---|---|\n",
+            OutcomeKind::ALL.map(|k| k.wrong()).join(" | ")
+        );
+        for m in &self.methods {
+            out += &format!(
+                "| {} | {:.3} | {} | {:.2} | {:.3} |\n",
+                m.method,
+                m.wrong_per_image,
+                m.wrong.map(|n| n.to_string()).join(" | "),
+                m.cells as f64 / self.rays.max(1) as f64,
+                m.mrays_per_second
+            );
+        }
+        out += &format!(
+            "\ntotals over {} rays: {}\n",
+            self.rays,
+            self.methods
+                .iter()
+                .map(|m| format!("{} {}", m.method, m.wrong_total))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
         out
     }
 }

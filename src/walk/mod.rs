@@ -3,6 +3,7 @@
 
 pub mod layouts;
 mod locate;
+pub mod octree;
 
 pub use locate::{LocateError, locate};
 
