@@ -31,7 +31,7 @@ fn bunny_scenes_load_and_their_counts_check_out() {
     assert_eq!(model_triangles, 3674);
     for name in tetwalk::scenes::BUILT_IN {
         let mesh = tetwalk::scenes::load(name, tetwalk::mesh::Faces::Required).unwrap();
-        let info = SceneInfo::of(&mesh);
+        let info = SceneInfo::of(&mesh, tetwalk::octree::Settings::PAPER);
         assert_eq!(
             info.tetrahedra,
             header_count(&format!("{SCENES}/{name}.ele")),
@@ -139,7 +139,7 @@ fn scene_build_runs_tetgen_and_refuses_bad_models() {
     );
     assert!(ok, "{out}");
     let mesh = tetwalk::mesh::load_tetgen(std::path::Path::new(&d("two"))).unwrap();
-    let info = SceneInfo::of(&mesh);
+    let info = SceneInfo::of(&mesh, tetwalk::octree::Settings::PAPER);
     assert_eq!(
         info.constrained_faces,
         24 + 12,

@@ -42,10 +42,17 @@ pub enum Scene {
         /// Where to write it (written whole, or not at all).
         out: PathBuf,
     },
-    /// Counts, memory per layout and flatness of a scene.
+    /// Counts, memory per layout and flatness of a scene, and seed 001's octree over its constrained
+    /// faces (leaves with and without the regularity constraint, bytes per cell, the four arrays).
     Info {
         /// A built-in scene name or a TetGen stem.
         scene: String,
+        /// The octree's deepest level.
+        #[arg(long, default_value_t = 8)]
+        depth: u32,
+        /// Split an octree node while it holds more triangles than this.
+        #[arg(long, default_value_t = 6)]
+        capacity: usize,
         /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one).
         #[arg(long)]
         no_faces: bool,
@@ -79,7 +86,7 @@ pub fn run(s: Scene) -> Outcome {
                 std::time::Duration::from_secs_f64(tetgen_seconds),
             )?;
             println!("{}: {} tetrahedra", out.display(), mesh.tets.len());
-            let info = SceneInfo::of(&mesh);
+            let info = SceneInfo::of(&mesh, crate::octree::Settings::PAPER);
             print!("{}", info.markdown());
             json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
@@ -103,12 +110,21 @@ pub fn run(s: Scene) -> Outcome {
         }
         Scene::Info {
             scene,
+            depth,
+            capacity,
             no_faces,
             json,
         } => {
+            if depth > crate::octree::MAX_DEPTH || capacity == 0 {
+                return Err(format!(
+                    "--depth {depth} --capacity {capacity}: the depth is at most {} and the capacity at least 1",
+                    crate::octree::MAX_DEPTH
+                )
+                .into());
+            }
             let json = JsonOut::new(json.as_deref())?;
             let mesh: Mesh = crate::scenes::load(&scene, super::faces(no_faces))?;
-            let info = SceneInfo::of(&mesh);
+            let info = SceneInfo::of(&mesh, crate::octree::Settings { depth, capacity });
             println!("scene {scene}\n");
             print!("{}", info.markdown());
             json.finish(&info)?;

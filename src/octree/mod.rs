@@ -24,6 +24,14 @@ pub struct Settings {
     pub capacity: usize,
 }
 
+impl Settings {
+    /// Seed 001's bunny: depth 8, about 6 triangles per leaf.
+    pub const PAPER: Settings = Settings {
+        depth: 8,
+        capacity: 6,
+    };
+}
+
 /// Deepest level an octree may have (the cube map holds `6 · 4^depth` cells).
 pub const MAX_DEPTH: u32 = 10;
 

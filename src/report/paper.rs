@@ -148,7 +148,7 @@ pub fn run(
         date: today(),
         scene: scene.to_string(),
         size,
-        scene_info: SceneInfo::of(mesh),
+        scene_info: SceneInfo::of(mesh, crate::octree::Settings::PAPER),
         counts,
         table5,
         figure5,

@@ -1,5 +1,5 @@
-//! `tetwalk scene info`: what seed 000 Table 3 and seed 003 Table 4 report of a scene, and how flat
-//! its tetrahedra are.
+//! `tetwalk scene info`: what seed 000 Table 3 and seed 003 Table 4 report of a scene, how flat its
+//! tetrahedra are, and seed 001's octree over its constrained faces (Tables 1 and 3).
 
 use crate::mesh::layout::Layout;
 use crate::mesh::{HULL, Mesh};
@@ -20,6 +20,79 @@ pub struct SceneInfo {
     pub min_dihedral_deg_5: Vec<usize>,
     /// Tetrahedra per decade of volume / (longest edge)³: bin k holds [10^-(k+1), 10^-k).
     pub volume_ratio_decades: Vec<usize>,
+    /// Seed 001's octree over the constrained faces (Tables 1 and 3, §5.1), if it could be built.
+    pub octree: Option<OctreeInfo>,
+}
+
+/// What seed 001 reports of its octrees: leaves with and without the regularity constraint (Table
+/// 1), neighbours and bytes per cell (§5.1), and the four arrays' sizes (Table 3).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct OctreeInfo {
+    pub settings: crate::octree::Settings,
+    pub triangles: usize,
+    pub leaves_unconstrained: usize,
+    pub leaves: usize,
+    /// Mean neighbour links per leaf.
+    pub mean_neighbors: f64,
+    /// Mean bytes of a leaf in eq. 3: four words and its neighbour addresses.
+    pub bytes_per_cell: f64,
+    /// Bytes of the cube map, the octree (eq. 3), the triangles (three f32 points per reference) and
+    /// the boxes.
+    pub bytes: [(String, usize); 4],
+}
+
+impl OctreeInfo {
+    pub fn of(mesh: &Mesh, settings: crate::octree::Settings) -> Option<OctreeInfo> {
+        let (tris, _) =
+            crate::report::triangle::scene_triangles(mesh, &vec![false; mesh.tets.len()]);
+        let o = crate::octree::Octree::build(&tris, settings).ok()?;
+        let [octree, triangles, boxes, cube_map] = o.bytes();
+        Some(OctreeInfo {
+            settings,
+            triangles: tris.len(),
+            leaves_unconstrained: o.unconstrained_leaves,
+            leaves: o.leaves.len(),
+            mean_neighbors: o.mean_neighbors(),
+            bytes_per_cell: octree as f64 / o.leaves.len() as f64,
+            bytes: [
+                ("cube map".into(), cube_map),
+                ("octree".into(), octree),
+                ("triangles".into(), triangles),
+                ("boxes".into(), boxes),
+            ],
+        })
+    }
+
+    pub fn markdown(&self) -> String {
+        let mb = |b: usize| b as f64 / 1e6;
+        let total: usize = self.bytes.iter().map(|(_, b)| b).sum();
+        let mut s = format!(
+            "seed 001's octree over the {} constrained faces, depth {}, leaf capacity {}\n\n\
+             | | leaves, unconstrained | constrained | ratio | neighbours per cell | bytes per cell |\n|---|---|---|---|---|---|\n\
+             | this scene | {} | {} | {:.0}% | {:.1} | {:.1} |\n\
+             | seed 001's bunny (69k triangles, depth 8) | 69k | 83k | 120% | about 7 | about 44 |\n\n| MB | ",
+            self.triangles,
+            self.settings.depth,
+            self.settings.capacity,
+            self.leaves_unconstrained,
+            self.leaves,
+            100.0 * self.leaves as f64 / self.leaves_unconstrained.max(1) as f64,
+            self.mean_neighbors,
+            self.bytes_per_cell
+        );
+        for (n, _) in &self.bytes {
+            s += &format!("{n} | ");
+        }
+        s += "total |\n|---|---|---|---|---|---|\n| this scene | ";
+        for (_, b) in &self.bytes {
+            s += &format!("{:.2} | ", mb(*b));
+        }
+        s += &format!(
+            "{:.2} |\n| seed 001's bunny (Table 3) | 1.5 | 3.6 | 12.2 | 1.3 | 18.6 |\n",
+            mb(total)
+        );
+        s
+    }
 }
 
 /// The smallest dihedral angle of a tetrahedron, in degrees (f64).
@@ -41,7 +114,8 @@ pub fn min_dihedral(t: &crate::tet::Tet) -> f64 {
 }
 
 impl SceneInfo {
-    pub fn of(mesh: &Mesh) -> SceneInfo {
+    /// The scene's counts, with seed 001's octree over its constrained faces built as `octree` says.
+    pub fn of(mesh: &Mesh, octree: crate::octree::Settings) -> SceneInfo {
         let (mut constrained, mut other) = (0, 0);
         for t in 0..mesh.tets.len() as u32 {
             for f in 0..4 {
@@ -80,6 +154,7 @@ impl SceneInfo {
                 .collect(),
             min_dihedral_deg_5: dihedral,
             volume_ratio_decades: decades,
+            octree: OctreeInfo::of(mesh, octree),
         }
     }
 
@@ -109,6 +184,10 @@ impl SceneInfo {
             .filter(|(_, n)| **n > 0)
         {
             s += &format!("| 1e-{}–1e-{} | {n} |\n", k + 1, k);
+        }
+        if let Some(o) = &self.octree {
+            s += "\n";
+            s += &o.markdown();
         }
         s
     }
