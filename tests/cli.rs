@@ -569,8 +569,8 @@ fn stress_relabel_all_reruns_every_row_under_every_labelling() {
 }
 
 /// `tetwalk paper` writes the seeds' tables beside ours, whole: seed 000 Tables 3, 4 (one column per
-/// backend) and 5, seed 003 Table 4, seed 004 Figure 5; the file holds what was printed, and a bad
-/// backend writes nothing.
+/// backend) and 5, seed 003 Table 4, seed 004 Figure 5, seed 001 Tables 1 and 3 and its octree walk's
+/// count; the file holds what was printed, and a bad backend writes nothing.
 #[test]
 fn paper_writes_the_seeds_tables_beside_ours() {
     let dir = tempfile::tempdir().unwrap();
@@ -594,11 +594,15 @@ fn paper_writes_the_seeds_tables_beside_ours() {
         "## Seed 000 Table 5",
         "## Seed 003 Table 4",
         "## Seed 004 Figure 5",
+        "## Seed 001 Tables 1 and 3",
+        "## Seed 001: the octree walk",
         "| ours, cpu | ours, cpu-fma |",
     ] {
         assert!(text.contains(title), "{title} missing from\n{text}");
     }
     assert_eq!(r["counts"].as_array().unwrap().len(), 2);
+    assert_eq!(r["octree"]["methods"].as_array().unwrap().len(), 2);
+    assert!(r["scene_info"]["octree"]["leaves"].as_u64().unwrap() > 0);
     let maria17 = r["table5"]
         .as_array()
         .unwrap()

@@ -36,7 +36,8 @@ pub fn run(a: Args) -> Outcome {
         .collect::<Result<Vec<_>, _>>()?;
     let mesh = crate::scenes::load(&a.scene, crate::mesh::Faces::Required)?;
     let size = if a.full { Size::FULL } else { Size::REDUCED };
-    let bar = super::progress((size.views * backends.len()) as u64, "views");
+    // The counts on each backend, then the octree count.
+    let bar = super::progress((size.views * (backends.len() + 1)) as u64, "views");
     let report = paper::run(&a.scene, &mesh, size, &backends, &|| bar.inc(1))?;
     bar.finish_and_clear();
     let text = report.markdown();
