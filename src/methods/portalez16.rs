@@ -92,9 +92,9 @@ pub fn orientations<A: Arith>(pi: &Pi, p: Vec3) -> [f32; 3] {
 }
 
 /// Seed 001 eq. 6, `Π^P(R) = Π_x | Π_y | Π_z`: bit `k` of the table index is set where the `k`-th
-/// orientation is negative. (With the other sign, no numbering of Figure 4 makes eqs. 8 and 9 right:
-/// the figure's axes are presumably left-handed; `tests/octree.rs` checks this reading.) An exact zero
-/// reads as 0.
+/// orientation is negative. (With "1 = positive" and this bit order, no numbering of Figure 4 makes
+/// eq. 8 right; it works only in a left-handed frame. `tests/octree.rs` checks this reading.) An exact
+/// zero reads as 0.
 #[inline(always)]
 pub fn index(o: [f32; 3]) -> usize {
     (o[0] < 0.0) as usize | ((o[1] < 0.0) as usize) << 1 | ((o[2] < 0.0) as usize) << 2

@@ -7,8 +7,8 @@ use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::registry::{METHODS, Method, OCTREE_METHODS, TRIANGLE_METHODS};
 use crate::report::count::{self, CountError, CountReport};
-use crate::report::scene_info::SceneInfo;
 use crate::report::octree::{self, OctreeCountReport};
+use crate::report::scene_info::SceneInfo;
 use crate::report::triangle::{self, SpeedReport};
 
 /// Seed 000 Table 3, the BUNNY column: tetrahedra, occlusive faces, non-occlusive faces, memory (MB).
