@@ -54,5 +54,9 @@ run triangle_hit robust
 for m in ${TRIANGLE_METHODS:-mt mt-two-sided mt-precomputed komatsu-packet plucker-packet woop-watertight}; do
     run triangle_hit "$m"
 done
+# The octree cell target: each octree method on its own (no paper claims robustness).
+for m in portalez16 portalez16-direction; do
+    run octree_cell "$m"
+done
 cat "$log/table"
 echo "found cases: corpora/found/ (replayed by cargo test); logs: $log"

@@ -10,8 +10,8 @@ use crate::choice::Choice;
 use crate::exact::hit::first_hit;
 use crate::methods::triangle::nearest_of;
 use crate::registry::{
-    METHODS, Method, OctreeMethod, TRIANGLE_METHODS, TriangleMethod, UnknownMethod, by_name,
-    octree_by_name, reference, triangle_by_name,
+    METHODS, Method, OCTREE_METHODS, OctreeMethod, TRIANGLE_METHODS, TriangleMethod, UnknownMethod,
+    by_name, octree_by_name, reference, triangle_by_name,
 };
 use crate::scenes::from_bytes::WalkCase;
 use crate::tet::{Case, Ray};
@@ -91,6 +91,18 @@ pub fn required_triangle_methods() -> Result<(Vec<&'static TriangleMethod>, bool
     }
 }
 
+/// The octree methods a fuzz run holds to exactness, from `TETWALK_FUZZ_METHOD`: `robust` or `ours`
+/// (the default) hold the reference only (no octree method's paper claims robustness); a method's
+/// name holds that method to every answer.
+pub fn required_octree_methods() -> Result<Vec<&'static OctreeMethod>, FoundError> {
+    let default = option_env!("TETWALK_FUZZ_DEFAULT").unwrap_or("robust");
+    let choice = std::env::var("TETWALK_FUZZ_METHOD").unwrap_or_else(|_| default.into());
+    match choice.as_str() {
+        "robust" | "ours" => Ok(OCTREE_METHODS.iter().filter(|m| m.reference).collect()),
+        name => Ok(vec![octree_by_name(name).map_err(FoundError::FuzzMethod)?]),
+    }
+}
+
 /// The backends a fuzz run holds the required methods to: the CPU, plain and as a GPU compiles them.
 pub const FUZZ_BACKENDS: [&Backend; 2] = [&CPU, &CPU_FMA];
 
@@ -135,7 +147,16 @@ pub fn fuzz_find(subject: &Subject) -> Result<Option<Record>, FoundError> {
     } else {
         vec![*subject]
     };
-    let found = if let Subject::Hit(_) = subject {
+    let found = if let Subject::Box(_) = subject {
+        let cases: Vec<BoxCase> = subjects
+            .iter()
+            .filter_map(|s| match s {
+                Subject::Box(b) => Some(*b),
+                _ => None,
+            })
+            .collect();
+        check_boxes(&cases, &required_octree_methods()?, &backends)?
+    } else if let Subject::Hit(_) = subject {
         let (methods, leaks_only) = required_triangle_methods()?;
         // The watertight claim is for f32 as written: with its products fused, woop-watertight leaks
         // (corpora/results/triangle.md), which campaigns file; the claim's fuzzing leaves cpu-fma out.

@@ -2,15 +2,17 @@
 
 use super::{JsonOut, Outcome};
 use crate::cases::{HitCase, Subject};
-use crate::found::{Record, fuzz_find, required_methods};
-use crate::scenes::from_bytes::{exit_case, hit_case, walk_case};
+use crate::found::{
+    Record, fuzz_find, required_methods, required_octree_methods, required_triangle_methods,
+};
+use crate::scenes::from_bytes::{cell_case, exit_case, hit_case, walk_case};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
     /// The fuzz target that found them.
-    #[arg(long, value_parser = ["exit_face", "walk", "triangle_hit"])]
+    #[arg(long, value_parser = ["exit_face", "walk", "triangle_hit", "octree_cell"])]
     target: String,
     /// Where found cases go (one folder per method).
     #[arg(long, default_value = "corpora/found")]
@@ -26,7 +28,15 @@ pub fn run(a: Args) -> Outcome {
     // The same methods the fuzz run held to exactness (TETWALK_FUZZ_METHOD), on the same backend
     // (TETWALK_FUZZ_BACKEND: the CPU plain and fused, or a GPU with each case's neighbourhood), as the
     // fuzz targets do.
-    let methods = required_methods()?;
+    let held: Vec<&str> = match a.target.as_str() {
+        "triangle_hit" => required_triangle_methods()?
+            .0
+            .iter()
+            .map(|m| m.name)
+            .collect(),
+        "octree_cell" => required_octree_methods()?.iter().map(|m| m.name).collect(),
+        _ => required_methods()?.iter().map(|m| m.name).collect(),
+    };
     let json = JsonOut::new(a.json.as_deref())?;
     let mut filed = Vec::new();
     for path in &a.artifacts {
@@ -41,6 +51,15 @@ pub fn run(a: Args) -> Outcome {
             )
         } else if a.target == "exit_face" {
             exit_case(&mut u).ok().flatten().map(Subject::Exit)
+        } else if a.target == "octree_cell" {
+            cell_case(&mut u).ok().map(|(lo, hi, r)| {
+                Subject::Box(crate::cases::BoxCase {
+                    lo,
+                    hi,
+                    org: r.org,
+                    dir: r.dir,
+                })
+            })
         } else if a.target == "triangle_hit" {
             hit_case(&mut u)
                 .ok()
@@ -57,7 +76,7 @@ pub fn run(a: Args) -> Outcome {
             eprintln!(
                 "{}: does not fail (any more) for {:?}",
                 path.display(),
-                methods.iter().map(|m| m.name).collect::<Vec<_>>()
+                held
             );
             continue;
         };

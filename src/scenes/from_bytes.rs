@@ -163,3 +163,19 @@ pub fn hit_case(u: &mut Unstructured) -> Result<(Vec<crate::tet::Tri>, Ray)> {
     let dir = if dir == Vec3::ZERO { ray.dir } else { dir };
     Ok((mesh, Ray { org, dir }))
 }
+
+/// An octree cell and a ray ([`super::cells::case`]: aim and place from the bytes, the rest from a seed
+/// they give), the origin and direction then moved by a few ulps.
+pub fn cell_case(u: &mut Unstructured) -> Result<(Vec3, Vec3, Ray)> {
+    use super::cells::{Aim, Place, case};
+    use crate::choice::Choice;
+    let aim = *u.choose(Aim::ALL)?;
+    let place = *u.choose(Place::ALL)?;
+    let mut rng = super::rng(u.arbitrary()?);
+    let (lo, hi, ray) = case(aim, place, 4, &mut rng);
+    let k = u.int_in_range(0..=2)?;
+    let org = nudge(u, ray.org, k)?;
+    let dir = nudge(u, ray.dir, k)?;
+    let dir = if dir == Vec3::ZERO { ray.dir } else { dir };
+    Ok((lo, hi, Ray { org, dir }))
+}
