@@ -307,3 +307,33 @@ fn leak_maps_are_unchanged() {
         }
     });
 }
+
+/// Seed 001's octree cells per pixel on the bunny's view 3 (`portalez16-direction`, leaves tested with
+/// `mt`, depth 8, capacity 6): the heat map of the paper's Figure 6.
+#[test]
+fn octree_heat_is_unchanged() {
+    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let views = Views {
+        views: 160,
+        width: 96,
+        height: 96,
+        seed: 1,
+        fov_deg: Views::FOV_DEG,
+    };
+    let method = tetwalk::registry::octree_by_name("portalez16-direction").unwrap();
+    let hit = tetwalk::registry::triangle_by_name("mt")
+        .unwrap()
+        .hit(false);
+    let im = render::octree_heat(
+        &mesh,
+        &views,
+        3,
+        method,
+        hit,
+        tetwalk::octree::Settings::PAPER,
+    )
+    .unwrap();
+    settings().bind(|| {
+        insta::assert_binary_snapshot!("bunny_view3_octree_heat.png", im.png().unwrap());
+    });
+}

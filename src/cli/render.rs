@@ -19,6 +19,9 @@ pub enum What {
     Failures,
     /// Tetrahedra traversed per pixel.
     Heat,
+    /// Seed 001's octree cells traversed per pixel by the first octree method of `--methods` (each
+    /// leaf's triangles tested with `mt`), the octree of depth 8 and leaf capacity 6.
+    OctreeHeat,
     /// Exit faces over a grid of ulp steps of the ray origin, per method beside the exact answer.
     Predicate,
     /// Ray–triangle methods around a shared edge of a closed mesh: which of its two triangles each
@@ -104,6 +107,9 @@ fn beside(out: &Path, suffix: &str) -> PathBuf {
 pub fn run(a: Args) -> Outcome {
     if a.what == What::Leak {
         return leak(a);
+    }
+    if a.what == What::OctreeHeat {
+        return octree_heat(a);
     }
     let methods: Vec<_> = parse_list(&a.methods)?
         .into_iter()
@@ -205,6 +211,43 @@ pub fn run(a: Args) -> Outcome {
             }
         }
     }
+    print!("{}", drawn.legend);
+    json.finish(&drawn)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `render octree-heat`: octree cells per pixel.
+fn octree_heat(a: Args) -> Outcome {
+    let names = if a.methods == "all" {
+        "portalez16-direction"
+    } else {
+        &a.methods
+    };
+    let method = *crate::registry::parse_octree_list(names)?
+        .first()
+        .ok_or("--methods names no octree method")?;
+    let json = JsonOut::new(a.json.as_deref())?;
+    let (w, h) = super::size(&a.size, false, 4096)?;
+    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let views = Views {
+        views: a.views,
+        width: w,
+        height: h,
+        seed: a.seed,
+        fov_deg: Views::FOV_DEG,
+    };
+    let hit = crate::registry::triangle_by_name("mt")?.hit(false);
+    let im = render::octree_heat(
+        &mesh,
+        &views,
+        a.view,
+        method,
+        hit,
+        crate::octree::Settings::PAPER,
+    )?;
+    let mut drawn = Drawn::default();
+    write(&a.out, &im, &mut drawn)?;
+    drawn.legend = render::OCTREE_HEAT_LEGEND.into();
     print!("{}", drawn.legend);
     json.finish(&drawn)?;
     Ok(ExitCode::SUCCESS)

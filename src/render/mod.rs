@@ -6,7 +6,7 @@ pub mod text;
 use crate::backend::{Backend, BackendError};
 use crate::cases::{Case, HitCase};
 use crate::mesh::{HULL, Mesh, bounds};
-use crate::registry::{Method, TriangleMethod, reference};
+use crate::registry::{Method, OctreeMethod, TriangleMethod, reference};
 use crate::scenes::camera::Views;
 use crate::scenes::closed::{self, Place, Shape};
 use crate::scenes::tets::ulps;
@@ -22,6 +22,8 @@ pub enum RenderError {
     Outside { view: usize, why: LocateError },
     #[error("view {view} does not exist: there are {views} views (0..{views})")]
     NoSuchView { view: usize, views: usize },
+    #[error("octree: {0}")]
+    Octree(String),
     #[error("an image of {width}x{height} pixels cannot be written as PNG: {why}")]
     Png {
         width: u32,
@@ -253,52 +255,92 @@ impl Frame {
         im
     }
 
-    /// Tetrahedra traversed per pixel by the exact walk, black (few) to yellow (most), with a colour
-    /// scale on the right labelled with the fewest and the most.
+    /// Tetrahedra traversed per pixel by the exact walk ([`heat_map`]).
     pub fn heat(&self) -> Image {
-        let steps = self.exact.iter().map(|w| w.steps);
-        let (fewest, most) = (
-            steps.clone().min().unwrap_or(0),
-            steps.max().unwrap_or(1).max(1),
-        );
-        let colour = |t: f32| {
-            let t = t.clamp(0.0, 1.0).sqrt();
-            [
-                (255.0 * t) as u8,
-                (255.0 * (t * t)) as u8,
-                (120.0 * (1.0 - t)) as u8,
-            ]
-        };
-        let probe = Image::new(self.width, self.height);
-        let scale = probe.scale();
-        let labels = [most.to_string(), fewest.to_string()];
-        let label_w = labels
-            .iter()
-            .map(|l| text::width(l, scale))
-            .max()
-            .unwrap_or(0);
-        let bar = 6 * scale;
-        let mut im = Image::new(self.width + bar + label_w + 6 * scale, self.height);
-        for (i, w) in self.exact.iter().enumerate() {
-            im.set(
-                i as u32 % self.width,
-                i as u32 / self.width,
-                colour(w.steps as f32 / most as f32),
-            );
-        }
-        let x0 = self.width + 2 * scale;
-        for y in 0..self.height {
-            let t = 1.0 - y as f32 / (self.height.max(2) - 1) as f32;
-            for x in x0..x0 + bar {
-                im.set(x, y, colour(t));
-            }
-        }
-        let lx = x0 + bar + scale;
-        text::label(&mut im, lx, 0, &labels[0], scale, [255, 255, 255]);
-        let bottom = self.height.saturating_sub(text::line_height(scale));
-        text::label(&mut im, lx, bottom, &labels[1], scale, [255, 255, 255]);
-        im
+        let steps: Vec<u32> = self.exact.iter().map(|w| w.steps).collect();
+        heat_map(self.width, self.height, &steps)
     }
+}
+
+/// A count per pixel (row-major), black (few) to yellow (most), with a colour scale on the right
+/// labelled with the fewest and the most.
+pub fn heat_map(width: u32, height: u32, counts: &[u32]) -> Image {
+    let (fewest, most) = (
+        counts.iter().copied().min().unwrap_or(0),
+        counts.iter().copied().max().unwrap_or(1).max(1),
+    );
+    let colour = |t: f32| {
+        let t = t.clamp(0.0, 1.0).sqrt();
+        [
+            (255.0 * t) as u8,
+            (255.0 * (t * t)) as u8,
+            (120.0 * (1.0 - t)) as u8,
+        ]
+    };
+    let probe = Image::new(width, height);
+    let scale = probe.scale();
+    let labels = [most.to_string(), fewest.to_string()];
+    let label_w = labels
+        .iter()
+        .map(|l| text::width(l, scale))
+        .max()
+        .unwrap_or(0);
+    let bar = 6 * scale;
+    let mut im = Image::new(width + bar + label_w + 6 * scale, height);
+    for (i, &n) in counts.iter().enumerate() {
+        im.set(
+            i as u32 % width,
+            i as u32 / width,
+            colour(n as f32 / most as f32),
+        );
+    }
+    let x0 = width + 2 * scale;
+    for y in 0..height {
+        let t = 1.0 - y as f32 / (height.max(2) - 1) as f32;
+        for x in x0..x0 + bar {
+            im.set(x, y, colour(t));
+        }
+    }
+    let lx = x0 + bar + scale;
+    text::label(&mut im, lx, 0, &labels[0], scale, [255, 255, 255]);
+    let bottom = height.saturating_sub(text::line_height(scale));
+    text::label(&mut im, lx, bottom, &labels[1], scale, [255, 255, 255]);
+    im
+}
+
+/// Seed 001's octree cells traversed per pixel of view `index` by octree method `method` (each leaf's
+/// triangles tested with `hit`), the octree built as `settings` says over the scene's constrained
+/// faces facing the camera ([`heat_map`]).
+pub fn octree_heat(
+    mesh: &Mesh,
+    views: &Views,
+    index: usize,
+    method: &OctreeMethod,
+    hit: crate::registry::HitFn,
+    settings: crate::octree::Settings,
+) -> Result<Image, RenderError> {
+    if index >= views.views {
+        return Err(RenderError::NoSuchView {
+            view: index,
+            views: views.views,
+        });
+    }
+    let (lo, hi) = bounds(&mesh.points);
+    let cam = views.camera(lo, hi, index);
+    let start =
+        locate(mesh, cam.eye, 0).map_err(|why| RenderError::Outside { view: index, why })?;
+    let region = crate::report::triangle::region_of(mesh, start);
+    let (tris, _) = crate::report::triangle::scene_triangles(mesh, &region);
+    let octree = crate::octree::Octree::build(&tris, settings)
+        .map_err(|e| RenderError::Octree(e.to_string()))?;
+    let cap = crate::walk::octree::default_max_steps(&octree);
+    let walk = method.walk(false);
+    let cells: Vec<u32> = views
+        .rays(&cam)
+        .par_iter()
+        .map(|r| walk(&octree, &tris, hit, r, cap).cells)
+        .collect();
+    Ok(heat_map(views.width, views.height, &cells))
 }
 
 /// A predicate map (after Kettner et al.'s classroom examples): the case's origin moved on a
@@ -552,3 +594,6 @@ pub fn predicate_legend() -> String {
 
 /// The heat maps' legend.
 pub const HEAT_LEGEND: &str = "heat maps: tetrahedra traversed by the exact walk, black (few) to yellow (most); the scale on the right is labelled with the fewest and the most\n";
+
+/// What an octree heat map shows.
+pub const OCTREE_HEAT_LEGEND: &str = "octree heat maps: seed 001's octree cells visited per pixel, black (few) to yellow (most); the scale on the right is labelled with the fewest and the most\n";
