@@ -169,13 +169,7 @@ pub fn run(a: Args) -> Outcome {
         what => {
             let backend = a.backend.open()?;
             let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-            let views = Views {
-                views: a.views,
-                width: w,
-                height: h,
-                seed: a.seed,
-                fov_deg: Views::FOV_DEG,
-            };
+            let views = views_of(&a, w, h);
             let f = render::frame(&mesh, &views, a.view, &methods, &backend)?;
             match what {
                 What::Shaded => write(&a.out, &f.shaded(), &mut drawn)?,
@@ -216,6 +210,17 @@ pub fn run(a: Args) -> Outcome {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The views `--views` and `--seed` place, of `w × h` pixels, as `count` places them.
+fn views_of(a: &Args, w: u32, h: u32) -> Views {
+    Views {
+        views: a.views,
+        width: w,
+        height: h,
+        seed: a.seed,
+        fov_deg: Views::FOV_DEG,
+    }
+}
+
 /// `render octree-heat`: octree cells per pixel.
 fn octree_heat(a: Args) -> Outcome {
     let names = if a.methods == "all" {
@@ -229,13 +234,7 @@ fn octree_heat(a: Args) -> Outcome {
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = super::size(&a.size, false, 4096)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-    let views = Views {
-        views: a.views,
-        width: w,
-        height: h,
-        seed: a.seed,
-        fov_deg: Views::FOV_DEG,
-    };
+    let views = views_of(&a, w, h);
     let hit = crate::registry::triangle_by_name("mt")?.hit(false);
     let im = render::octree_heat(
         &mesh,

@@ -130,15 +130,12 @@ pub struct Frame {
     pub shade: Vec<(u8, bool)>,
 }
 
-/// Render view `index` of `views` (placed as `tetwalk count` places them) with the exact walk and
-/// `methods` on `backend`.
-pub fn frame(
+/// View `index`'s camera (placed as `tetwalk count` places it) and the tetrahedron holding it.
+fn view(
     mesh: &Mesh,
     views: &Views,
     index: usize,
-    methods: &[&Method],
-    backend: &Backend,
-) -> Result<Frame, RenderError> {
+) -> Result<(crate::scenes::camera::Camera, u32), RenderError> {
     if index >= views.views {
         return Err(RenderError::NoSuchView {
             view: index,
@@ -149,6 +146,19 @@ pub fn frame(
     let cam = views.camera(lo, hi, index);
     let start =
         locate(mesh, cam.eye, 0).map_err(|why| RenderError::Outside { view: index, why })?;
+    Ok((cam, start))
+}
+
+/// Render view `index` of `views` (placed as `tetwalk count` places them) with the exact walk and
+/// `methods` on `backend`.
+pub fn frame(
+    mesh: &Mesh,
+    views: &Views,
+    index: usize,
+    methods: &[&Method],
+    backend: &Backend,
+) -> Result<Frame, RenderError> {
+    let (cam, start) = view(mesh, views, index)?;
     let max = default_max_steps(mesh);
     let rays = views.rays(&cam);
     let on = backend.mesh(mesh);
@@ -319,16 +329,7 @@ pub fn octree_heat(
     hit: crate::registry::HitFn,
     settings: crate::octree::Settings,
 ) -> Result<Image, RenderError> {
-    if index >= views.views {
-        return Err(RenderError::NoSuchView {
-            view: index,
-            views: views.views,
-        });
-    }
-    let (lo, hi) = bounds(&mesh.points);
-    let cam = views.camera(lo, hi, index);
-    let start =
-        locate(mesh, cam.eye, 0).map_err(|why| RenderError::Outside { view: index, why })?;
+    let (cam, start) = view(mesh, views, index)?;
     let region = crate::report::triangle::region_of(mesh, start);
     let (tris, _) = crate::report::triangle::scene_triangles(mesh, &region);
     let octree = crate::octree::Octree::build(&tris, settings)
