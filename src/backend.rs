@@ -3,15 +3,17 @@
 //! command, the fuzz targets and the tests ask for answers here. The reference method runs on the CPU
 //! whatever the backend (it has no GPU version), and reports say so.
 
-use crate::cases::{Case, HitCase, normalized};
+use crate::cases::{BoxCase, Case, HitCase, normalized};
 use crate::choice::Choice;
 use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
-use crate::registry::{Method, TriangleMethod};
+use crate::octree::Octree;
+use crate::registry::{Method, OctreeMethod, TriangleMethod};
 use crate::tet::Ray;
 use crate::walk::Walk;
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
+use crate::walk::octree::OctreeWalk;
 use rayon::prelude::*;
 
 /// Which backend: the one spelling used by every command (`--backend`), found cases and reports.
@@ -245,6 +247,71 @@ impl Backend {
                         f => usize::try_from(f).ok().map(|f| map[f]),
                     })
                     .collect())
+            }
+        }
+    }
+
+    /// `method`'s exit face and quarter (neighbour index) for each octree cell case; the reference runs
+    /// on the CPU whatever the backend.
+    pub fn box_exits(
+        &self,
+        method: &OctreeMethod,
+        cases: &[BoxCase],
+    ) -> Result<Vec<Option<(usize, usize)>>, BackendError> {
+        match self {
+            Backend::Gpu(g) if !method.reference => {
+                let input: Vec<gpu::shader::Case> = cases
+                    .iter()
+                    .map(|c| gpu::shader::Case::new(&[c.lo, c.hi, c.lo, c.hi], &c.ray(), None))
+                    .collect();
+                Ok(g.box_exits(method, &input)?
+                    .into_iter()
+                    .map(|x| usize::try_from(x).ok().map(|x| (x / 4, x % 4)))
+                    .collect())
+            }
+            Backend::Cpu { fma } => {
+                let exit = method.exit(*fma);
+                Ok(map_all(cases, |c| exit(c.lo, c.hi, &c.ray())))
+            }
+            Backend::Gpu(_) => {
+                let exit = method.exit(false);
+                Ok(map_all(cases, |c| exit(c.lo, c.hi, &c.ray())))
+            }
+        }
+    }
+
+    /// `method`'s walks of `rays` through the octree `o` over `tris` (seed 001 §4.2.3), each leaf's
+    /// triangles tested with `tri`; the reference runs on the CPU whatever the backend. On a GPU the
+    /// entry cell comes from the cube map on the CPU, the loop runs in WGSL.
+    pub fn octree_walks(
+        &self,
+        method: &OctreeMethod,
+        tri: &TriangleMethod,
+        o: &Octree,
+        tris: &[crate::tet::Tri],
+        rays: &[Ray],
+        max_steps: u32,
+    ) -> Result<Vec<OctreeWalk>, BackendError> {
+        let cpu = |fma: bool| {
+            let (walk, hit) = (method.walk(fma), tri.hit(fma));
+            map_all(rays, |r| walk(o, tris, hit, r, max_steps))
+        };
+        match self {
+            Backend::Cpu { fma } => Ok(cpu(*fma)),
+            Backend::Gpu(_) if method.reference => Ok(cpu(false)),
+            Backend::Gpu(g) => {
+                let asked: Vec<(Ray, u32)> = rays
+                    .par_iter()
+                    .map(|r| {
+                        (
+                            *r,
+                            crate::walk::octree::entry(o, r).unwrap_or(crate::mesh::HULL),
+                        )
+                    })
+                    .collect();
+                let up = g.upload_octree(o, tris);
+                let ends = g.octree_walks(method, tri, &up, &asked, max_steps)?;
+                Ok(ends.iter().map(|e| e.octree_walk()).collect())
             }
         }
     }

@@ -576,8 +576,8 @@ pub fn box_answer(v: &Value) -> Result<Option<(u8, [i8; 2])>, String> {
     Ok(Some((face as u8, quarter)))
 }
 
-/// The first of `methods` (on each CPU backend of `backends` in turn) whose exit face and quarter of
-/// a box case is not an exact one, by index, with its answer.
+/// The first of `methods` (on each of `backends` in turn; the reference on the CPU) whose exit face and
+/// quarter of a box case is not an exact one, by index, with its answer.
 pub fn check_boxes(
     cases: &[BoxCase],
     methods: &[&OctreeMethod],
@@ -593,19 +593,12 @@ pub fn check_boxes(
         })?;
     for m in methods {
         for b in backends {
-            let Backend::Cpu { fma } = b else {
-                return Err(FoundError::FuzzBackend(format!(
-                    "octree method {} runs on the CPU only so far",
-                    m.name
-                )));
-            };
-            let exit = m.exit(*fma);
-            for (i, (c, truth)) in cases.iter().zip(&truths).enumerate() {
-                let got = exit(c.lo, c.hi, &c.ray());
+            let on = if m.reference { &CPU } else { *b };
+            for (i, (got, truth)) in b.box_exits(m, cases)?.into_iter().zip(&truths).enumerate() {
                 let signs = got.map(|(f, q)| (f, crate::octree::cell::quarter_signs(q)));
                 if truth.right(signs) == Some(false) {
                     let answer = Answer::Box(signs.map(|(f, q)| (f as u8, q)));
-                    return Ok(Some((i, failure_on(m.name, b, answer))));
+                    return Ok(Some((i, failure_on(m.name, on, answer))));
                 }
             }
         }

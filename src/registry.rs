@@ -60,6 +60,7 @@ const MARIA17_TRANSLATED: &str = include_str!("methods/maria17_translated.wgsl")
 const AMAN20: &str = include_str!("methods/aman20.wgsl");
 const AMAN20_SCALED: &str = include_str!("methods/aman20_scaled.wgsl");
 const CERTIFIED: &str = include_str!("methods/certified.wgsl");
+const PORTALEZ16: &str = include_str!("methods/portalez16.wgsl");
 
 /// A method's exit function with its arithmetic fixed, for callers that pick methods at run time.
 pub type ExitFn = fn(&Tet, &Ray, Option<usize>) -> Option<usize>;
@@ -526,7 +527,8 @@ fn exact_octree_walk(o: &Octree, tris: &[Tri], _: HitFn, ray: &Ray, max: u32) ->
     walk_octree::walk_exact(o, tris, ray, max)
 }
 
-/// A registered octree method (the [`Family::Octree`] family).
+/// A registered octree method (the [`Family::Octree`] family). Its WGSL defines `fn IDENT_pi(o: vec3f,
+/// d: vec3f) -> array<f32, 6>` (eq. 1) and uses the shared cell test, `portalez16_cell`.
 pub struct OctreeMethod {
     pub name: &'static str,
     /// Paper and algorithm it implements.
@@ -564,7 +566,7 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
         name: "portalez16",
         source: "Portalez & Duguet 2016, eqs. 1 (Q = o + d rounded to f32, as printed), 4-10 and §4.2.3",
         reference: false,
-        gpu: Gpu::CpuOnly("not yet in WGSL"),
+        gpu: Gpu::Wgsl(&[PORTALEZ16]),
         exit: [
             portalez16_exit::<portalez16::Points, Plain>,
             portalez16_exit::<portalez16::Points, Fused>,
@@ -578,7 +580,7 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
         name: "portalez16-direction",
         source: "Portalez & Duguet 2016 as portalez16, eq. 1 read with Q - P = d substituted (pi2 = dx, ...)",
         reference: false,
-        gpu: Gpu::CpuOnly("not yet in WGSL"),
+        gpu: Gpu::Wgsl(&[PORTALEZ16]),
         exit: [
             portalez16_exit::<portalez16::Direction, Plain>,
             portalez16_exit::<portalez16::Direction, Fused>,

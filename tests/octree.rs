@@ -256,3 +256,90 @@ fn box_exit_answers_each_method_beside_the_exact_faces_and_quarters() {
     assert_eq!(lines[1]["correct"], false);
     assert!(lines[2]["error"].as_str().unwrap().contains("box"));
 }
+
+/// The octree methods' WGSL answers the stress rows' cells as the CPU does, plain (llvmpipe does not
+/// fuse; another GPU's compiler may), but for a few near ties.
+#[test]
+fn the_cell_test_on_the_gpu_answers_as_the_cpu() {
+    let Some(gpu) = common::gpu_or_skip() else {
+        return;
+    };
+    use tetwalk::choice::Choice;
+    use tetwalk::scenes::cells::{Aim, Place, case};
+    let mut r = rng(17);
+    let mut cases = Vec::new();
+    for i in 0..4000 {
+        let (lo, hi, ray) = case(Aim::ALL[i % Aim::ALL.len()], Place::ALL[i % 3], 4, &mut r);
+        cases.push(tetwalk::cases::BoxCase {
+            lo,
+            hi,
+            org: ray.org,
+            dir: ray.dir,
+        });
+    }
+    let cpu = tetwalk::backend::Backend::Cpu { fma: false };
+    for m in tetwalk::registry::OCTREE_METHODS {
+        let (a, b) = (
+            gpu.box_exits(m, &cases).unwrap(),
+            cpu.box_exits(m, &cases).unwrap(),
+        );
+        let same = a.iter().zip(&b).filter(|(x, y)| x == y).count();
+        println!("{}: {same} of {} as on the CPU", m.name, cases.len());
+        assert!(
+            same * 100 >= cases.len() * 99,
+            "{}: {same} of {}",
+            m.name,
+            cases.len()
+        );
+    }
+}
+
+/// The octree walk in WGSL ends as the CPU's walk ends on a bunny view, ray for ray, but for a few near
+/// ties (llvmpipe does not fuse; another GPU's compiler may).
+#[test]
+fn the_octree_walk_on_the_gpu_ends_as_on_the_cpu() {
+    let Some(gpu) = common::gpu_or_skip() else {
+        return;
+    };
+    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let views = tetwalk::scenes::camera::Views {
+        views: 160,
+        width: 64,
+        height: 64,
+        seed: 1,
+        fov_deg: tetwalk::scenes::camera::Views::FOV_DEG,
+    };
+    let (lo, hi) = tetwalk::mesh::bounds(&mesh.points);
+    let cam = views.camera(lo, hi, 3);
+    let start = tetwalk::walk::locate(&mesh, cam.eye, 0).unwrap();
+    let region = tetwalk::report::triangle::region_of(&mesh, start);
+    let (tris, _) = tetwalk::report::triangle::scene_triangles(&mesh, &region);
+    let o = Octree::build(&tris, Settings::PAPER).unwrap();
+    let rays = views.rays(&cam);
+    let mt = tetwalk::registry::triangle_by_name("mt").unwrap();
+    let cap = tetwalk::walk::octree::default_max_steps(&o);
+    let cpu = tetwalk::backend::Backend::Cpu { fma: false };
+    for m in tetwalk::registry::OCTREE_METHODS
+        .iter()
+        .filter(|m| !m.reference)
+    {
+        let a = gpu.octree_walks(m, mt, &o, &tris, &rays, cap).unwrap();
+        let b = cpu.octree_walks(m, mt, &o, &tris, &rays, cap).unwrap();
+        let same = a
+            .iter()
+            .zip(&b)
+            .filter(|(x, y)| x.end.kind() == y.end.kind() && x.cells == y.cells)
+            .count();
+        println!("{}: {same} of {} as on the CPU", m.name, rays.len());
+        assert!(
+            same * 100 >= rays.len() * 99,
+            "{}: {same} of {}",
+            m.name,
+            rays.len()
+        );
+        assert!(
+            a.iter()
+                .any(|w| matches!(w.end, tetwalk::walk::octree::End::Hit { .. }))
+        );
+    }
+}

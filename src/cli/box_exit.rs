@@ -5,7 +5,8 @@
 use super::Outcome;
 use super::exit::{Line, Summary, Tally, answer_all};
 use crate::backend::Backend;
-use crate::cases::Subject;
+use crate::cases::{BoxCase, Subject};
+use crate::choice::Choice;
 use crate::exact::boxes::{BoxExit, box_exit};
 use crate::found::Record;
 use crate::octree::cell::{FACE_NAMES, quarter_signs};
@@ -17,7 +18,8 @@ pub struct Args {
     /// A method name, a comma-separated list, or `all` [default: all].
     #[arg(long, default_value = "all")]
     method: String,
-    /// Where the methods run: `cpu` (plain f32) or `cpu-fma` (as a GPU compiles them).
+    /// Where the methods run: `cpu` (plain f32), `cpu-fma` (as a GPU compiles them) or `gpu` (WGSL;
+    /// the `exact` reference stays on the CPU).
     #[command(flatten)]
     backend: super::BackendArg,
     /// Also write a summary (lines, errors, per method right / wrong / lines not crossing the open
@@ -31,71 +33,89 @@ pub struct Args {
 
 pub fn run(a: Args) -> Outcome {
     let methods = parse_octree_list(&a.method)?;
-    let Backend::Cpu { fma } = a.backend.open()? else {
-        return Err(
-            "box-exit runs the octree methods on the CPU so far: use --backend cpu or cpu-fma"
-                .into(),
-        );
-    };
+    let backend = a.backend.open()?;
     let names = methods.iter().map(|m| m.name.to_string()).collect();
-    let backend = if fma { "cpu-fma" } else { "cpu" };
     answer_all(
         "box-exit",
         names,
         true,
-        backend.to_string(),
+        backend.describe(),
         a.file.as_deref(),
         a.json.as_deref(),
-        |batch, summary| Ok(answer(batch, &methods, fma, summary)),
+        |batch, summary| answer(batch, &methods, &backend, summary),
     )
 }
 
-fn answer(batch: &[Line], methods: &[&OctreeMethod], fma: bool, summary: &mut Summary) -> String {
-    let mut s = String::new();
-    for (n, l) in batch {
-        if l.as_ref().is_ok_and(|t| t.trim().is_empty()) {
-            continue;
-        }
-        summary.lines += 1;
-        let case = l.clone().and_then(|text| {
-            match Record::parse(&text).map_err(|e| e.to_string())?.subject {
-                Subject::Box(c) => {
-                    let x = box_exit(c.lo, c.hi, &c.ray()).map_err(|e| e.to_string())?;
-                    Ok((c, x))
+/// A line read and judged by the oracle, or why it could not be.
+type Parsed = Result<(BoxCase, BoxExit), String>;
+
+fn answer(
+    batch: &[Line],
+    methods: &[&OctreeMethod],
+    backend: &Backend,
+    summary: &mut Summary,
+) -> Result<String, super::Error> {
+    let parsed: Vec<(usize, Parsed)> = batch
+        .iter()
+        .filter(|(_, l)| l.as_ref().map_or(true, |t| !t.trim().is_empty()))
+        .map(|(n, l)| {
+            let case = l.clone().and_then(|text| {
+                match Record::parse(&text).map_err(|e| e.to_string())?.subject {
+                    Subject::Box(c) => {
+                        let x = box_exit(c.lo, c.hi, &c.ray()).map_err(|e| e.to_string())?;
+                        Ok((c, x))
+                    }
+                    _ => Err(
+                        "not an octree cell case: box-exit answers {\"box\", \"org\", \"dir\"}"
+                            .into(),
+                    ),
                 }
-                _ => Err(
-                    "not an octree cell case: box-exit answers {\"box\", \"org\", \"dir\"}".into(),
-                ),
-            }
-        });
-        let lines: Vec<Value> = match case {
+            });
+            (*n, case)
+        })
+        .collect();
+    let cases: Vec<BoxCase> = parsed
+        .iter()
+        .filter_map(|(_, p)| p.as_ref().ok().map(|(c, _)| *c))
+        .collect();
+    let mut answers = Vec::new();
+    for m in methods {
+        answers.push(backend.box_exits(m, &cases)?);
+    }
+    let mut s = String::new();
+    let mut k = 0;
+    for (n, p) in &parsed {
+        summary.lines += 1;
+        let lines: Vec<Value> = match p {
             Err(e) => {
                 summary.errors += 1;
                 vec![json!({"line": n, "error": e})]
             }
-            Ok((c, x)) => methods
-                .iter()
-                .zip(&mut summary.methods)
-                .map(|(m, t)| {
-                    let got = m.exit(fma)(c.lo, c.hi, &c.ray());
-                    let answer = got.map(|(f, q)| (f, quarter_signs(q)));
-                    box_verdict(
-                        *n,
-                        m.name,
-                        if fma { "cpu-fma" } else { "cpu" },
-                        &x,
-                        answer,
-                        t,
-                    )
-                })
-                .collect(),
+            Ok((_, x)) => {
+                let v = methods
+                    .iter()
+                    .zip(&answers)
+                    .zip(&mut summary.methods)
+                    .map(|((m, a), t)| {
+                        let on = if m.reference {
+                            "cpu"
+                        } else {
+                            backend.kind().name()
+                        };
+                        let answer = a[k].map(|(f, q)| (f, quarter_signs(q)));
+                        box_verdict(*n, m.name, on, x, answer, t)
+                    })
+                    .collect();
+                k += 1;
+                v
+            }
         };
         for l in lines {
             s += &l.to_string();
             s.push('\n');
         }
     }
-    s
+    Ok(s)
 }
 
 /// An octree cell verdict line: the exit face and quarter answered, beside every exact one, counted

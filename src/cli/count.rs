@@ -322,9 +322,6 @@ fn run_octree(a: Args) -> Outcome {
     if a.relabel.is_some() || a.dump.is_some() || a.shard != "0/1" || a.wgsl.wgsl.is_some() {
         return Err("--relabel, --dump, --shard and --wgsl are for --family exit-face".into());
     }
-    if a.backend.backend != crate::backend::BackendKind::Cpu {
-        return Err("the octree methods run on the CPU so far: leave out --backend".into());
-    }
     let methods: Vec<_> = parse_octree_list(&a.methods)?
         .into_iter()
         .filter(|m| !m.reference)
@@ -344,7 +341,8 @@ fn run_octree(a: Args) -> Outcome {
         audit: a.audit,
     };
     let bar = super::progress(views.views as u64, "views");
-    let report = octree_report::count(&mesh, &settings, &methods, &|| bar.inc(1))?;
+    let backend = a.backend.open()?;
+    let report = octree_report::count(&mesh, &settings, &methods, &backend, &|| bar.inc(1))?;
     bar.finish_and_clear();
     print!("{}", report.markdown());
     out.finish(&report)?;

@@ -5,7 +5,7 @@
 use crate::choice::Choice;
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
-use crate::registry::{Gpu as GpuSupport, Method, TriangleMethod};
+use crate::registry::{Gpu as GpuSupport, Method, OctreeMethod, TriangleMethod};
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};
@@ -556,6 +556,75 @@ impl Gpu {
             .items)
     }
 
+    /// The exit face and quarter of each octree cell case (`v0`, `v1` the corners) with `method`:
+    /// `4 f + q`, or negative for none.
+    pub fn box_exits(
+        &self,
+        method: &OctreeMethod,
+        cases: &[shader::Case],
+    ) -> Result<Vec<i32>, GpuError> {
+        if let GpuSupport::CpuOnly(why) = method.gpu {
+            return Err(GpuError::NoGpuMethod {
+                method: method.name,
+                why,
+            });
+        }
+        let entry = shader::cell_entry_point(method);
+        Ok(self
+            .dispatch::<_, i32>(&entry, cases.len(), 0, (1, &|i| cases[i]), &[], 2)?
+            .items)
+    }
+
+    /// Upload an octree and its triangles for [`Gpu::octree_walks`].
+    pub fn upload_octree(&self, o: &crate::octree::Octree, tris: &[crate::tet::Tri]) -> GpuOctree {
+        let boxes: Vec<[f32; 4]> = o
+            .boxes
+            .iter()
+            .flat_map(|[lo, hi]| [lo.extend(0.0).to_array(), hi.extend(0.0).to_array()])
+            .collect();
+        GpuOctree {
+            words: self.storage(bytemuck::cast_slice(&o.words)),
+            boxes: self.storage(bytemuck::cast_slice(&boxes)),
+            triangles: self.storage(bytemuck::cast_slice(&o.triangles)),
+            points: self.triangle_points(tris),
+        }
+    }
+
+    /// Walk every ray from its entry cell's address (`HULL`: a miss) through the uploaded octree with
+    /// `method`, each leaf's triangles tested with `tri`.
+    pub fn octree_walks(
+        &self,
+        method: &OctreeMethod,
+        tri: &TriangleMethod,
+        o: &GpuOctree,
+        rays: &[(Ray, u32)],
+        max_steps: u32,
+    ) -> Result<Vec<Ending>, GpuError> {
+        for (name, gpu) in [(method.name, method.gpu), (tri.name, tri.gpu)] {
+            if let GpuSupport::CpuOnly(why) = gpu {
+                return Err(GpuError::NoGpuMethod { method: name, why });
+            }
+        }
+        let entry = shader::octree_entry_point(method, tri);
+        let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
+        let bound = [
+            (10, &o.words),
+            (11, &o.boxes),
+            (12, &o.triangles),
+            (8, &o.points),
+        ];
+        let out: Dispatched<Ending> =
+            self.dispatch(&entry, rays.len(), max_steps, (3, &ray), &bound, 6)?;
+        if let Some(bad) = out
+            .items
+            .iter()
+            .find(|e| OutcomeKind::from_code(e.kind).is_none())
+        {
+            return Err(GpuError::BadOutcome(bad.kind));
+        }
+        Ok(out.items)
+    }
+
     /// Upload a mesh for [`Gpu::walks`].
     pub fn upload(&self, mesh: &Mesh) -> GpuMesh {
         let cells: Vec<shader::Cell> = mesh
@@ -776,6 +845,28 @@ impl Ending {
         }
     }
 
+    /// The octree walk this ending says (its code checked by [`Gpu::octree_walks`]).
+    pub fn octree_walk(&self) -> crate::walk::octree::OctreeWalk {
+        use crate::walk::octree::End;
+        let end = match OutcomeKind::from_code(self.kind) {
+            Some(OutcomeKind::Hit) => End::Hit {
+                tri: self.tet,
+                t: f32::from_bits(self.x),
+            },
+            Some(OutcomeKind::LeftMesh) => End::Miss,
+            Some(OutcomeKind::NoExitFace) => End::NoExitFace { cell: self.tet },
+            Some(OutcomeKind::Cycle) => End::Cycle {
+                cell: self.tet,
+                period: self.x,
+            },
+            _ => End::StepLimit { cell: self.tet },
+        };
+        crate::walk::octree::OctreeWalk {
+            end,
+            cells: self.steps,
+        }
+    }
+
     /// The walk this ending says, or `None` for a ray the method flagged (a step its f32 stage could
     /// not settle), which the CPU must walk. Codes are checked by [`Gpu::walks`].
     pub fn walk(&self) -> Option<Walk> {
@@ -804,6 +895,14 @@ pub struct GpuMesh {
     cells: wgpu::Buffer,
     info: wgpu::Buffer,
     pub tetrahedra: usize,
+}
+
+/// An octree uploaded for [`Gpu::octree_walks`].
+pub struct GpuOctree {
+    words: wgpu::Buffer,
+    boxes: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    points: wgpu::Buffer,
 }
 
 /// Whether tests must have an adapter (`TETWALK_REQUIRE_GPU=1`, as CI sets).

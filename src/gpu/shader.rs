@@ -6,7 +6,9 @@
 use crate::choice::Choice;
 use crate::mesh::HULL;
 use crate::mesh::layout::{BOUNDARY, STOP, Tet16, Tet20, Tet32};
-use crate::registry::{Gpu, METHODS, Method, Named, TRIANGLE_METHODS, TriangleMethod};
+use crate::registry::{
+    Gpu, METHODS, Method, Named, OCTREE_METHODS, OctreeMethod, TRIANGLE_METHODS, TriangleMethod,
+};
 use crate::tet::{EDGES, FACE_VERTICES, edge_index};
 use crate::walk::OutcomeKind;
 use crate::walk::layouts::Kind;
@@ -154,6 +156,11 @@ const BINDINGS: &str = "\
 @group(0) @binding(7) var<storage, read> layout_words: array<u32>;
 @group(0) @binding(8) var<storage, read> points: array<vec4f>;
 @group(0) @binding(9) var<storage, read> layout_rays: array<LayoutRay>;
+// Seed 001's octree: eq. 3's words, each leaf's box (two points), the triangle array (ids into
+// `points`, three points a triangle).
+@group(0) @binding(10) var<storage, read> octree: array<u32>;
+@group(0) @binding(11) var<storage, read> octree_boxes: array<vec4f>;
+@group(0) @binding(12) var<storage, read> octree_tris: array<u32>;
 
 // The item a thread answers, numbered across the 2-D grid of workgroups.
 fn item(gid: vec3u, groups: vec3u) -> u32 {
@@ -425,6 +432,44 @@ fn prelude() -> String {
         "vec3u",
         &crate::methods::maria17::GET_FACE,
     );
+    s += "\n// Seed 001 eqs. 8 and 9 (tetwalk::methods::portalez16), an entry per nibble and per two bits,\n// and the cell's face axes and sides (tetwalk::octree::cell).\n";
+    let packed = |rows: &[[u8; 8]], bits: usize| -> String {
+        rows.iter()
+            .map(|r| {
+                let w = r
+                    .iter()
+                    .enumerate()
+                    .fold(0u32, |w, (i, &v)| w | (v as u32) << (bits * i));
+                format!("{w:#x}u")
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    use crate::methods::portalez16::{FACE_TO_NEIGHBOR_INDEX, OUT_FACES_LOOKUP};
+    let _ = writeln!(
+        s,
+        "const PORTALEZ16_OUT_FACES = array<u32, 8>({});",
+        packed(&OUT_FACES_LOOKUP, 4)
+    );
+    let _ = writeln!(
+        s,
+        "const PORTALEZ16_NEIGHBOR = array<u32, 6>({});",
+        packed(&FACE_TO_NEIGHBOR_INDEX, 2)
+    );
+    let _ = writeln!(
+        s,
+        "const PORTALEZ16_FACE_AXIS = array<u32, 6>({});",
+        crate::octree::cell::FACE_AXIS
+            .map(|a| format!("{a}u"))
+            .join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "const PORTALEZ16_FACE_HIGH = array<u32, 6>({});",
+        crate::octree::cell::FACE_HIGH
+            .map(|h| format!("{}u", h as u32))
+            .join(", ")
+    );
     s += "\n";
     s += include_str!("common.wgsl");
     s
@@ -442,7 +487,8 @@ pub fn generate() -> String {
     let gpus = METHODS
         .iter()
         .map(|m| m.gpu)
-        .chain(TRIANGLE_METHODS.iter().map(|m| m.gpu));
+        .chain(TRIANGLE_METHODS.iter().map(|m| m.gpu))
+        .chain(OCTREE_METHODS.iter().map(|m| m.gpu));
     for g in gpus {
         if let Gpu::Wgsl(sources) = g {
             for src in sources {
@@ -494,7 +540,117 @@ pub fn generate() -> String {
             s += &TRIANGLE_ENTRY_POINTS.replace("IDENT", &m.ident());
         }
     }
+    for m in OCTREE_METHODS {
+        if let Gpu::Wgsl(_) = m.gpu {
+            let _ = write!(s, "\n// ---- {} ----\n\n", m.name);
+            s += &CELL_ENTRY_POINT.replace("IDENT", &m.ident());
+            for t in TRIANGLE_METHODS {
+                if let Gpu::Wgsl(_) = t.gpu {
+                    s += "\n";
+                    s += &OCTREE_ENTRY_POINT
+                        .replace("IDENT", &m.ident())
+                        .replace("TRI", &t.ident());
+                }
+            }
+        }
+    }
     s
+}
+
+/// The octree walk of an octree method with a ray–triangle method (`IDENT`, `TRI`): seed 001 §4.2.3
+/// from each ray's entry cell (`start`, an address in eq. 3's words; `HULL` for a ray that misses the
+/// root), as `crate::walk::octree::walk` walks, with Brent's cycle detection on the cell. Endings: a hit
+/// (triangle, `t` as bits), a miss, no exit face, a cycle (period) or the step limit, each with the
+/// cells visited.
+const OCTREE_ENTRY_POINT: &str = "\
+@compute @workgroup_size(GROUP)
+fn octree_IDENT_TRI(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = IDENT_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = TRI_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+";
+
+/// The octree walk entry point of an octree method with a ray–triangle method.
+pub fn octree_entry_point(m: &OctreeMethod, t: &TriangleMethod) -> String {
+    format!("octree_{}_{}", m.ident(), t.ident())
+}
+
+/// The entry point of an octree method (`IDENT` replaced by its identifier): the exit face and quarter
+/// of each cell case (`v0` the lower corner, `v1` the upper), as `4 f + q`, or `NONE`.
+const CELL_ENTRY_POINT: &str = "\
+@compute @workgroup_size(GROUP)
+fn cell_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let c = cases[i];
+    faces[i] = portalez16_cell(IDENT_pi(c.org.xyz, c.dir.xyz), c.v0.xyz, c.v1.xyz, c.dir.xyz);
+}
+";
+
+/// The entry point of an octree method: `cell_IDENT`.
+pub fn cell_entry_point(m: &OctreeMethod) -> String {
+    format!("cell_{}", m.ident())
 }
 
 /// What a user's WGSL file (`--wgsl FILE`) must define, with `R` any type it chooses: the ray prepared

@@ -88,6 +88,11 @@ struct Ending {
 @group(0) @binding(7) var<storage, read> layout_words: array<u32>;
 @group(0) @binding(8) var<storage, read> points: array<vec4f>;
 @group(0) @binding(9) var<storage, read> layout_rays: array<LayoutRay>;
+// Seed 001's octree: eq. 3's words, each leaf's box (two points), the triangle array (ids into
+// `points`, three points a triangle).
+@group(0) @binding(10) var<storage, read> octree: array<u32>;
+@group(0) @binding(11) var<storage, read> octree_boxes: array<vec4f>;
+@group(0) @binding(12) var<storage, read> octree_tris: array<u32>;
 
 // The item a thread answers, numbered across the 2-D grid of workgroups.
 fn item(gid: vec3u, groups: vec3u) -> u32 {
@@ -153,6 +158,13 @@ fn maria17_get_face(i: u32) -> vec3u {
         default: { return vec3u(0u, 2u, 1u); }
     }
 }
+
+// Seed 001 eqs. 8 and 9 (tetwalk::methods::portalez16), an entry per nibble and per two bits,
+// and the cell's face axes and sides (tetwalk::octree::cell).
+const PORTALEZ16_OUT_FACES = array<u32, 8>(0x75332527u, 0x27251175u, 0x50705733u, 0x11577050u, 0x33477242u, 0x42724711u, 0x7043374u, 0x74110407u);
+const PORTALEZ16_NEIGHBOR = array<u32, 6>(0x88ddu, 0x5f0au, 0x7722u, 0xa0f5u, 0x7272u, 0x8d8du);
+const PORTALEZ16_FACE_AXIS = array<u32, 6>(1u, 0u, 1u, 0u, 2u, 2u);
+const PORTALEZ16_FACE_HIGH = array<u32, 6>(1u, 1u, 0u, 0u, 1u, 0u);
 
 // Helpers shared by the methods' WGSL, with the operation order of src/methods/mod.rs's `Plain`
 // arithmetic (sums left to right). f32 only: whatever the shader compiler contracts or reorders is what
@@ -871,6 +883,46 @@ fn woop_watertight_hit(p0: vec3f, p1: vec3f, p2: vec3f, o: vec3f, d: vec3f) -> f
         return NO_HIT;
     }
     return t_scaled * (1.0 / det);
+}
+
+// portalez16 and portalez16-direction (Portalez & Duguet 2016, seed 001), as src/methods/portalez16.rs:
+// the ray's Plücker coordinates (eq. 1, two readings), the orientations against axis-parallel lines
+// (eqs. 4-5), the exit face (eqs. 6-8) and the neighbour among four (eqs. 9-10). The tables are
+// PORTALEZ16_OUT_FACES and PORTALEZ16_NEIGHBOR, generated from the Rust ones, four and two bits an entry.
+
+// Eq. 1 as printed: P = o, Q = o + d.
+fn portalez16_pi(o: vec3f, d: vec3f) -> array<f32, 6> {
+    let q = o + d;
+    return array<f32, 6>(q.x * o.y - o.x * q.y, q.x * o.z - o.x * q.z, q.x - o.x, q.y * o.z - o.y * q.z, q.z - o.z, o.y - q.y);
+}
+
+// Eq. 1 with Q - P = d substituted.
+fn portalez16_direction_pi(o: vec3f, d: vec3f) -> array<f32, 6> {
+    return array<f32, 6>(d.x * o.y - o.x * d.y, d.x * o.z - o.x * d.z, d.x, d.y * o.z - o.y * d.z, d.z, -d.y);
+}
+
+// Eqs. 4-6: the table index, bit k set where the k-th orientation is negative.
+fn portalez16_index(pi: array<f32, 6>, p: vec3f) -> u32 {
+    let x = (pi[4] * p.y + pi[5] * p.z) + pi[3];
+    let y = (pi[2] * p.z - pi[1]) - pi[4] * p.x;
+    let z = (pi[0] - pi[2] * p.y) - pi[5] * p.x;
+    return select(0u, 1u, x < 0.0) | select(0u, 2u, y < 0.0) | select(0u, 4u, z < 0.0);
+}
+
+// The exit face f and quarter q of the box [lo, hi] as 4 f + q, or NONE where eq. 8 gives 7.
+fn portalez16_cell(pi: array<f32, 6>, lo: vec3f, hi: vec3f, d: vec3f) -> i32 {
+    let up = d > vec3f(0.0);
+    let v = select(0u, 1u, up.x) | select(0u, 2u, up.y) | select(0u, 4u, up.z);
+    let corner = select(lo, hi, up);
+    let f = (PORTALEZ16_OUT_FACES[v] >> (4u * portalez16_index(pi, corner))) & 15u;
+    if f == 7u {
+        return NONE;
+    }
+    let axis = PORTALEZ16_FACE_AXIS[f];
+    var centre = (lo + hi) * 0.5;
+    centre[axis] = select(lo[axis], hi[axis], PORTALEZ16_FACE_HIGH[f] == 1u);
+    let q = (PORTALEZ16_NEIGHBOR[f] >> (2u * portalez16_index(pi, centre))) & 3u;
+    return i32(4u * f + q);
 }
 
 // Seed 003's layouts (tetwalk::mesh::layout).
@@ -2227,4 +2279,808 @@ fn nearest_woop_watertight(@builtin(global_invocation_id) gid: vec3u, @builtin(n
     } else {
         endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
     }
+}
+
+// ---- portalez16 ----
+
+@compute @workgroup_size(GROUP)
+fn cell_portalez16(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let c = cases[i];
+    faces[i] = portalez16_cell(portalez16_pi(c.org.xyz, c.dir.xyz), c.v0.xyz, c.v1.xyz, c.dir.xyz);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_mt(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = mt_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_mt_two_sided(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = mt_two_sided_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_mt_precomputed(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = mt_precomputed_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_komatsu_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = komatsu_packet_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_plucker_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = plucker_packet_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_woop_watertight(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = woop_watertight_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+// ---- portalez16-direction ----
+
+@compute @workgroup_size(GROUP)
+fn cell_portalez16_direction(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let c = cases[i];
+    faces[i] = portalez16_cell(portalez16_direction_pi(c.org.xyz, c.dir.xyz), c.v0.xyz, c.v1.xyz, c.dir.xyz);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_direction_mt(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_direction_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = mt_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_direction_mt_two_sided(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_direction_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = mt_two_sided_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_direction_mt_precomputed(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_direction_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = mt_precomputed_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_direction_komatsu_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_direction_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = komatsu_packet_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_direction_plucker_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_direction_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = plucker_packet_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
+}
+
+@compute @workgroup_size(GROUP)
+fn octree_portalez16_direction_woop_watertight(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let ray = rays[i];
+    if ray.start == HULL {
+        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
+        return;
+    }
+    let pi = portalez16_direction_pi(ray.org, ray.dir);
+    var a = ray.start;
+    var saved = a;
+    var power = 1u;
+    var lam = 0u;
+    for (var cells = 1u; cells <= params.limit; cells++) {
+        let count = octree[a];
+        let offset = octree[a + 1u];
+        let cell = octree[a + 2u];
+        var best = HULL;
+        var best_t = 0.0;
+        for (var k = 0u; k < count; k++) {
+            let tri = octree_tris[offset + k];
+            let t = woop_watertight_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
+            if accepts(t) && (best == HULL || t < best_t) {
+                best = tri;
+                best_t = t;
+            }
+        }
+        if best != HULL {
+            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
+            return;
+        }
+        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
+        if fq < 0 {
+            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
+            return;
+        }
+        let f = u32(fq) / 4u;
+        let counts = octree[a + 3u];
+        var before = 0u;
+        for (var g = 0u; g < f; g++) {
+            before += (counts >> (4u * g)) & 15u;
+        }
+        let n = (counts >> (4u * f)) & 15u;
+        if n == 0u {
+            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
+            return;
+        }
+        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
+        lam += 1u;
+        if a == saved {
+            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
+            return;
+        }
+        if lam == power {
+            saved = a;
+            power *= 2u;
+            lam = 0u;
+        }
+    }
+    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
 }

@@ -84,17 +84,14 @@ fn row_cases(s: &StressSettings, aim: Aim, place: Place, row: u64) -> Vec<(BoxCa
         .collect()
 }
 
-/// Every row of `s` (aims × places) with each method on the CPU backend `backend`; `wrong` sees each
-/// wrong answer as a found case, with its row's name.
+/// Every row of `s` (aims × places) with each method on `backend`; `wrong` sees each wrong answer as a
+/// found case, with its row's name.
 pub fn stress(
     s: &StressSettings,
     methods: &[&OctreeMethod],
     backend: &Backend,
     wrong: &mut dyn FnMut(&str, Record),
 ) -> Result<CellStressReport, BackendError> {
-    let Backend::Cpu { fma } = backend else {
-        return Err(BackendError::CpuOnly("the octree methods"));
-    };
     let mut rows = Vec::new();
     for &aim in &s.aims {
         for &place in &s.places {
@@ -102,15 +99,21 @@ pub fn stress(
             let name = format!("{}-{}", aim.name(), place.name());
             let mut tallies = Vec::new();
             for m in methods {
-                let exit = m.exit(*fma);
                 let mut t = CellTally {
                     method: m.name.into(),
                     ..CellTally::default()
                 };
-                let answers: Vec<_> = cases
-                    .par_iter()
-                    .map(|(c, _)| exit(c.lo, c.hi, &c.ray()).map(|(f, q)| (f, quarter_signs(q))))
+                let asked: Vec<BoxCase> = cases.iter().map(|(c, _)| *c).collect();
+                let answers: Vec<_> = backend
+                    .box_exits(m, &asked)?
+                    .into_iter()
+                    .map(|a| a.map(|(f, q)| (f, quarter_signs(q))))
                     .collect();
+                let on = if m.reference {
+                    &crate::backend::CPU
+                } else {
+                    backend
+                };
                 for ((c, x), a) in cases.iter().zip(answers) {
                     let Some(right) = x.right(a) else { continue };
                     t.judged += 1;
@@ -126,8 +129,8 @@ pub fn stress(
                             subject: Subject::Box(*c),
                             failure: Some(Failure {
                                 method: m.name.into(),
-                                backend: backend.kind(),
-                                adapter: None,
+                                backend: on.kind(),
+                                adapter: on.adapter(),
                                 answer: Answer::Box(a.map(|(f, q)| (f as u8, q))),
                             }),
                         },
@@ -219,6 +222,8 @@ pub struct OctreeCountReport {
     pub views_counted: usize,
     /// Rays the exact octree walk re-walked, all ending where the reference ends.
     pub audited: u64,
+    /// Where the octree methods walked (the references on the CPU).
+    pub backend: String,
     pub methods: Vec<OctreeCount>,
 }
 
@@ -229,14 +234,16 @@ pub fn count(
     mesh: &Mesh,
     s: &CountSettings,
     methods: &[&OctreeMethod],
+    backend: &Backend,
     tick: &(dyn Fn() + Sync),
 ) -> Result<OctreeCountReport, CountError> {
     let reference = by_name(&s.reference)?;
-    let hit = triangle_by_name(&s.triangle_method)?.hit(false);
+    let tri = triangle_by_name(&s.triangle_method)?;
+    let hit = tri.hit(false);
     let exact = octree_by_name("exact")?.walk(false);
     let max = default_max_steps(mesh);
-    let backend = &crate::backend::CPU;
-    let on = backend.mesh(mesh);
+    let cpu = &crate::backend::CPU;
+    let on = cpu.mesh(mesh);
     let mut totals: Vec<(OctreeCount, f64)> = methods
         .iter()
         .map(|m| {
@@ -266,7 +273,7 @@ pub fn count(
         let cap = walk_octree::default_max_steps(octree);
         let rays = s.views.rays(&cam);
         rays_counted += rays.len() as u64;
-        let walks = backend.walks(reference, &on, &rays, located, max)?;
+        let walks = cpu.walks(reference, &on, &rays, located, max)?;
         let first = v as u64 * rays.len() as u64;
         let picked: Vec<usize> = (0..rays.len())
             .filter(|&i| super::count::audited(s.views.seed, first + i as u64, s.audit, total_rays))
@@ -289,12 +296,8 @@ pub fn count(
         }
         audited += picked.len() as u64;
         for (m, (total, seconds)) in methods.iter().zip(&mut totals) {
-            let walk = m.walk(false);
             let t0 = Instant::now();
-            let ends: Vec<OctreeWalk> = rays
-                .par_iter()
-                .map(|r| walk(octree, tris, hit, r, cap))
-                .collect();
+            let ends: Vec<OctreeWalk> = backend.octree_walks(m, tri, octree, tris, &rays, cap)?;
             *seconds += t0.elapsed().as_secs_f64();
             for ((ray, w), reference) in rays.iter().zip(&ends).zip(&walks) {
                 total.cells += w.cells as u64;
@@ -324,6 +327,7 @@ pub fn count(
         rays: rays_counted,
         views_counted,
         audited,
+        backend: backend.describe(),
         methods: totals
             .into_iter()
             .map(|(mut c, secs)| {
@@ -339,7 +343,7 @@ impl OctreeCountReport {
     pub fn markdown(&self) -> String {
         let s = &self.settings;
         let mut out = format!(
-            "scene {} ({} triangles: its constrained faces, each facing the cameras' side), octree of depth {} and leaf capacity {} ({} leaves; {} without the regularity constraint), {} views of {}x{}, seed {}, each leaf's triangles tested with {}; each walk judged against the {} walk's exact first hit (the exact octree walk audited against it on {} rays, all agreeing)\n\n",
+            "scene {} ({} triangles: its constrained faces, each facing the cameras' side), octree of depth {} and leaf capacity {} ({} leaves; {} without the regularity constraint), {} views of {}x{}, seed {}, backend {}, each leaf's triangles tested with {}; each walk judged against the {} walk's exact first hit (the exact octree walk audited against it on {} rays, all agreeing)\n\n",
             s.scene,
             self.triangles,
             s.octree.depth,
@@ -350,6 +354,7 @@ impl OctreeCountReport {
             s.views.width,
             s.views.height,
             s.views.seed,
+            self.backend,
             s.triangle_method,
             s.reference,
             self.audited

@@ -159,6 +159,7 @@ pub fn run(
             audit: 1000,
         },
         &octree_methods,
+        &crate::backend::CPU,
         tick,
     )?;
     Ok(PaperReport {
