@@ -6,10 +6,11 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 /// The data flow, upstream first, as src/lib.rs states it.
-const ORDER: [&str; 16] = [
+const ORDER: [&str; 17] = [
     "tet",
     "choice",
     "mesh",
+    "octree",
     "exact",
     "scenes",
     "methods",
