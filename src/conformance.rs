@@ -2,7 +2,8 @@
 //! with the oracle, stress families, lattice-tie walks, far-offset scenes and fuzz generators that
 //! judge tetwalk's methods.
 //!
-//! A user implements [`ExitMethod`] (or [`HitMethod`]) in their crate and calls one function:
+//! A user implements [`ExitMethod`] (or [`HitMethod`], or [`CellMethod`] for an octree cell test) in
+//! their crate and calls one function ([`exit_faces`], [`triangles`], [`cells`]):
 //!
 //! ```no_run
 //! use glam::Vec3;
@@ -39,13 +40,14 @@
 //! and every right answer. `examples/conformance/` is a complete user crate.
 
 use crate::backend::{Backend, CPU, CPU_FMA};
-use crate::cases::{HitCase, Subject, classify, judge_hit, judged, normalized};
+use crate::cases::{BoxCase, HitCase, Subject, classify, judge_hit, judged, normalized};
 use crate::choice::Choice;
 use crate::exact::perturbed_exit;
 use crate::found::{Answer, Failure, Record};
-use crate::methods::ExitMethod;
 use crate::methods::triangle::{HitMethod, nearest_of};
-use crate::registry::{Method, TriangleMethod, reference};
+use crate::methods::{CellMethod, ExitMethod};
+use crate::octree::cell::quarter_signs;
+use crate::registry::{Method, OctreeMethod, TriangleMethod, reference};
 use crate::report::stress::{self, Row};
 use crate::report::triangle::{StressSettings, row_cases};
 use crate::scenes::closed::{Aim, Place, Shape};
@@ -438,6 +440,97 @@ fn judge_walks(
                 )
             });
         }
+    }
+}
+
+/// Judge octree cell method `M` ([`check_cells`]); panics with the report when it fails.
+pub fn cells<M: CellMethod>(s: &Settings) -> Passed {
+    check_cells::<M>(std::any::type_name::<M>(), s).unwrap_or_else(|f| panic!("{f}"))
+}
+
+/// Judge octree cell method `M` (reported as `name`) exactly: every row of `tetwalk stress --family
+/// octree` (27 rows: aims × places, `cases` cells and rays each), then a property campaign through the
+/// `octree_cell` fuzz target's generator. A failure is an exit face the line does not leave through,
+/// or a quarter (neighbour) the exit point is not in.
+pub fn check_cells<M: CellMethod>(name: &'static str, s: &Settings) -> Result<Passed, Box<Failed>> {
+    use crate::scenes::cells;
+    let m = OctreeMethod::outside::<M>(name);
+    let mut passed = Passed::default();
+    for &aim in cells::Aim::ALL {
+        for &place in cells::Place::ALL {
+            let st = crate::report::octree::StressSettings {
+                cases: s.cases,
+                aims: vec![aim],
+                places: vec![place],
+                seed: s.seed,
+                backend: backend(s).kind().name().into(),
+                ulps: 4,
+            };
+            let mut fam = Family::new(format!("stress row {}-{}", aim.name(), place.name()));
+            let report = crate::report::octree::stress(&st, &[&m], backend(s), &mut |_, r| {
+                fam.fail(|| {
+                    let right = cell_truth(&r.subject);
+                    (r, right)
+                })
+            })
+            .expect("the CPU answers every case");
+            fam.judged = report.rows[0].tallies[0].judged;
+            fam.close(name, &s.accept, &mut passed)?;
+        }
+    }
+    let mut fam = Family::new("property campaign (octree_cell generator)");
+    let mut rng = scenes::rng(s.seed ^ 0x0c7e_e11a);
+    for _ in 0..s.properties {
+        let bytes: Vec<u8> = (0..rng.random_range(16..64))
+            .map(|_| rng.random())
+            .collect();
+        let mut u = arbitrary::Unstructured::new(&bytes);
+        let Ok((lo, hi, ray)) = from_bytes::cell_case(&mut u) else {
+            continue;
+        };
+        let c = BoxCase {
+            lo,
+            hi,
+            org: ray.org,
+            dir: ray.dir,
+        };
+        let Ok(x) = crate::exact::boxes::box_exit(lo, hi, &ray) else {
+            continue;
+        };
+        let got = m.exit(s.fma)(lo, hi, &ray).map(|(f, q)| (f, quarter_signs(q)));
+        let Some(right) = x.right(got) else { continue };
+        fam.judged += 1;
+        if !right {
+            fam.fail(|| {
+                let subject = Subject::Box(c);
+                let answer = Answer::Box(got.map(|(f, q)| (f as u8, q)));
+                (record(name, s, subject, answer), cell_truth(&subject))
+            });
+        }
+    }
+    fam.close(name, &s.accept, &mut passed)?;
+    Ok(passed)
+}
+
+/// The exact exit faces and quarters of a box case, in words.
+fn cell_truth(subject: &Subject) -> String {
+    let Subject::Box(c) = subject else {
+        return String::new();
+    };
+    match crate::exact::boxes::box_exit(c.lo, c.hi, &c.ray()) {
+        Ok(x) => x
+            .faces
+            .iter()
+            .zip(&x.quarters)
+            .map(|(f, q)| {
+                format!(
+                    "exit face {} quarters {q:?}",
+                    crate::octree::cell::FACE_NAMES[*f]
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("; "),
+        Err(e) => e.to_string(),
     }
 }
 

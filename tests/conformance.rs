@@ -96,3 +96,37 @@ fn mt_hits(case: &tetwalk::cases::HitCase) -> Vec<(u32, f32)> {
         .unwrap()
         .hits(false)(case.tris(), &case.ray())
 }
+
+#[test]
+fn the_kit_counts_what_octree_stress_counts() {
+    use tetwalk::methods::portalez16::{Direction, Portalez16};
+    use tetwalk::scenes::cells::{Aim, Place};
+    let s = lenient();
+    let passed = tetwalk::conformance::check_cells::<Portalez16<Direction>>("p16d", &s).unwrap();
+    let st = tetwalk::report::octree::StressSettings {
+        cases: s.cases,
+        aims: Aim::ALL.to_vec(),
+        places: Place::ALL.to_vec(),
+        seed: s.seed,
+        backend: "cpu".into(),
+        ulps: 4,
+    };
+    let m = tetwalk::registry::octree_by_name("portalez16-direction").unwrap();
+    let report = tetwalk::report::octree::stress(&st, &[m], &CPU, &mut |_, _| {}).unwrap();
+    let mut failed_somewhere = false;
+    for row in &report.rows {
+        let family = format!("stress row {}-{}", row.aim.name(), row.place.name());
+        let (_, judged, failed) = passed
+            .families
+            .iter()
+            .find(|(f, _, _)| *f == family)
+            .unwrap();
+        assert_eq!(
+            (*judged, *failed),
+            (row.tallies[0].judged, row.tallies[0].wrong),
+            "{family}"
+        );
+        failed_somewhere |= *failed > 0;
+    }
+    assert!(failed_somewhere, "corner rows reach eq. 8's 7");
+}

@@ -93,6 +93,16 @@ pub trait ExitMethod {
     fn exit_face<A: Arith>(tet: &Tet, ray: &Self::RayData, entry: Option<usize>) -> Option<usize>;
 }
 
+/// An octree cell method (seed 001's family): per-ray data computed once, then one call per cell.
+pub trait CellMethod {
+    type RayData: Copy + Send + Sync;
+    fn prepare<A: Arith>(ray: &Ray) -> Self::RayData;
+    /// The face (0..6, numbered as [`crate::octree::cell`] states) through which the ray leaves the
+    /// box `[lo, hi]` and the quarter of it (the neighbour index among four); `None` when the method
+    /// finds no exit face.
+    fn exit<A: Arith>(lo: Vec3, hi: Vec3, ray: &Self::RayData) -> Option<(usize, usize)>;
+}
+
 /// Whether a face is left, from the signs along its outward cycle (side products or projected
 /// determinants): all `≥ 0` and not all zero (Platis & Theoharis' test).
 #[inline(always)]

@@ -6,7 +6,7 @@
 //! Two readings of eq. 1: the ray as the points `P = o`, `Q = o + d` (`Q` rounded to f32, then eq. 1
 //! as printed: [`Points`]), or with `Q - P = d` substituted (`π2 = d_x`, …, [`Direction`]).
 
-use super::Arith;
+use super::{Arith, CellMethod};
 use crate::octree::cell::{FACE_AXIS, FACE_HIGH};
 use crate::tet::Ray;
 use glam::Vec3;
@@ -129,29 +129,32 @@ pub fn neighbor_index<A: Arith>(lo: Vec3, hi: Vec3, f: usize, pi: &Pi) -> usize 
     FACE_TO_NEIGHBOR_INDEX[f][index(orientations::<A>(pi, face_centre(lo, hi, f)))] as usize
 }
 
-/// A ray prepared once (eq. 1) for the walk.
+/// Seed 001's cell test with eq. 1 read as `R` says: a [`CellMethod`].
+pub struct Portalez16<R>(std::marker::PhantomData<R>);
+
+/// A ray prepared once (eq. 1).
 #[derive(Clone, Copy, Debug)]
 pub struct Prepared {
     pub pi: Pi,
     pub dir: Vec3,
 }
 
-impl Prepared {
-    pub fn new<R: Reading, A: Arith>(ray: &Ray) -> Prepared {
+impl<R: Reading> CellMethod for Portalez16<R> {
+    type RayData = Prepared;
+
+    fn prepare<A: Arith>(ray: &Ray) -> Prepared {
         Prepared {
             pi: R::pi::<A>(ray),
             dir: ray.dir,
         }
     }
 
-    /// The exit face and the quarter of it (neighbour index) for the box `[lo, hi]`; `None` where eq.
-    /// 8 gives no face.
     #[inline(always)]
-    pub fn exit<A: Arith>(&self, lo: Vec3, hi: Vec3) -> Option<(usize, usize)> {
-        let f = out_direction::<A>(lo, hi, &self.pi, self.dir);
+    fn exit<A: Arith>(lo: Vec3, hi: Vec3, r: &Prepared) -> Option<(usize, usize)> {
+        let f = out_direction::<A>(lo, hi, &r.pi, r.dir);
         (f != NO_FACE).then(|| {
             let f = f as usize;
-            (f, neighbor_index::<A>(lo, hi, f, &self.pi))
+            (f, neighbor_index::<A>(lo, hi, f, &r.pi))
         })
     }
 }

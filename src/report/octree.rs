@@ -61,8 +61,10 @@ pub struct CellStressReport {
     pub rows: Vec<CellRow>,
 }
 
-/// A row's cases with their exact answers; case `i` a pure function of the seed, the row and `i`.
-fn row_cases(s: &StressSettings, aim: Aim, place: Place, row: u64) -> Vec<(BoxCase, BoxExit)> {
+/// A row's cases with their exact answers; case `i` a pure function of the seed, the row's aim and
+/// place, and `i` (whichever rows are run with it).
+fn row_cases(s: &StressSettings, aim: Aim, place: Place) -> Vec<(BoxCase, BoxExit)> {
+    let row = (aim as u64) << 8 | place as u64;
     (0..s.cases)
         .into_par_iter()
         .filter_map(|i| {
@@ -95,7 +97,7 @@ pub fn stress(
     let mut rows = Vec::new();
     for &aim in &s.aims {
         for &place in &s.places {
-            let cases = row_cases(s, aim, place, rows.len() as u64);
+            let cases = row_cases(s, aim, place);
             let name = format!("{}-{}", aim.name(), place.name());
             let mut tallies = Vec::new();
             for m in methods {

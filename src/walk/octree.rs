@@ -8,7 +8,7 @@ use super::{Outcome, OutcomeKind};
 use crate::exact::boxes::box_exit;
 use crate::exact::hit::perturbed_crossing;
 use crate::methods::Arith;
-use crate::methods::portalez16::{Prepared, Reading};
+use crate::methods::CellMethod;
 use crate::methods::triangle::nearest_of;
 use crate::octree::Octree;
 use crate::octree::cell::{FACE_AXIS, face_axes, quarter_of};
@@ -117,8 +117,8 @@ fn next(o: &Octree, address: u32, f: usize, q: usize) -> Option<u32> {
     (count > 0).then(|| list[(count / 4) * q])
 }
 
-/// Seed 001 §4.2.3 with method `R`, `A` for the cells and `hit` for each leaf's triangles.
-pub fn walk<R: Reading, A: Arith>(
+/// Seed 001 §4.2.3 with cell method `M` in arithmetic `A`, and `hit` for each leaf's triangles.
+pub fn walk<M: CellMethod, A: Arith>(
     o: &Octree,
     tris: &[Tri],
     hit: fn(&Tri, &Ray) -> Option<f32>,
@@ -131,7 +131,7 @@ pub fn walk<R: Reading, A: Arith>(
             cells: 0,
         };
     };
-    let r = Prepared::new::<R, A>(ray);
+    let r = M::prepare::<A>(ray);
     let mut brent = (address, 1u32, 0u32);
     for cells in 1..=max_steps {
         let at = address as usize;
@@ -148,7 +148,7 @@ pub fn walk<R: Reading, A: Arith>(
             };
         }
         let [lo, hi] = o.boxes[cell as usize];
-        let Some((f, q)) = r.exit::<A>(lo, hi) else {
+        let Some((f, q)) = M::exit::<A>(lo, hi, &r) else {
             return OctreeWalk {
                 end: End::NoExitFace { cell },
                 cells,

@@ -1,12 +1,12 @@
-//! A user's traversal code, as it would live in their own crate: two exit-face methods and two
-//! ray–triangle tests, written against tetwalk's traits only. `tests/conformance.rs` judges them with
+//! A user's traversal code, as it would live in their own crate: two exit-face methods, two
+//! ray–triangle tests and two octree cell tests, written against tetwalk's traits only. `tests/conformance.rs` judges them with
 //! `tetwalk::conformance`: the exact ones pass, the f32 ones are caught.
 
 use glam::Vec3;
 use rug::Rational;
 use std::cmp::Ordering;
 use tetwalk::methods::triangle::SingleRay;
-use tetwalk::methods::{Arith, ExitMethod};
+use tetwalk::methods::{Arith, CellMethod, ExitMethod};
 use tetwalk::tet::{FACE_VERTICES, Ray, Tet, Tri};
 
 /// A vector of exact rationals (every f32 is one).
@@ -154,5 +154,66 @@ impl SingleRay for F32MollerTrumbore {
             return None;
         }
         Some(e2.dot(q) * inv)
+    }
+}
+
+/// An octree cell's exit by slabs, as ray tracers write it: the smallest exit parameter over the axes,
+/// then the exit point against the face centre, in f32. Rounding moves the point off an edge or a
+/// centre line: wrong faces and wrong neighbours.
+pub struct F32Slabs;
+
+/// An octree cell's exit by slabs in exact rationals: the first axis whose exit parameter is the
+/// smallest, and the quarter the exact exit point lies in (the lower one on a centre line).
+pub struct ExactSlabs;
+
+/// Face numbering of tetwalk's octree cells (seed 001's Figure 4, `tetwalk::octree::cell`).
+fn face(axis: usize, high: bool) -> usize {
+    tetwalk::octree::cell::face_of(axis, high)
+}
+
+impl CellMethod for F32Slabs {
+    type RayData = Ray;
+
+    fn prepare<A: Arith>(ray: &Ray) -> Ray {
+        *ray
+    }
+
+    fn exit<A: Arith>(lo: Vec3, hi: Vec3, r: &Ray) -> Option<(usize, usize)> {
+        let (axis, t) = (0..3)
+            .filter(|&a| r.dir[a] != 0.0)
+            .map(|a| {
+                let plane = if r.dir[a] > 0.0 { hi[a] } else { lo[a] };
+                (a, (plane - r.org[a]) / r.dir[a])
+            })
+            .min_by(|x, y| x.1.total_cmp(&y.1))?;
+        let p = r.org + r.dir * t;
+        let c = (lo + hi) * 0.5;
+        let [u, v] = tetwalk::octree::cell::face_axes(axis);
+        let q = (p[u] < c[u]) as usize | ((p[v] < c[v]) as usize) << 1;
+        Some((face(axis, r.dir[axis] > 0.0), q))
+    }
+}
+
+impl CellMethod for ExactSlabs {
+    type RayData = Ray;
+
+    fn prepare<A: Arith>(ray: &Ray) -> Ray {
+        *ray
+    }
+
+    fn exit<A: Arith>(lo: Vec3, hi: Vec3, r: &Ray) -> Option<(usize, usize)> {
+        let (o, d, l, h) = (exact(r.org), exact(r.dir), exact(lo), exact(hi));
+        let (axis, t) = (0..3)
+            .filter(|&a| d[a].cmp0().is_ne())
+            .map(|a| {
+                let plane = if d[a].cmp0().is_gt() { &h[a] } else { &l[a] };
+                (a, Rational::from(plane - &o[a]) / &d[a])
+            })
+            .min_by(|x, y| x.1.cmp(&y.1))?;
+        let p: [Rational; 3] = std::array::from_fn(|a| Rational::from(&d[a] * &t) + &o[a]);
+        let c: [Rational; 3] = std::array::from_fn(|a| Rational::from(&l[a] + &h[a]) / 2u32);
+        let [u, v] = tetwalk::octree::cell::face_axes(axis);
+        let q = (p[u] < c[u]) as usize | ((p[v] < c[v]) as usize) << 1;
+        Some((face(axis, d[axis].cmp0().is_gt()), q))
     }
 }

@@ -4,8 +4,10 @@ use tetwalk::cases::Subject;
 use tetwalk::conformance::{self, Accept, Settings};
 use tetwalk::found::Answer;
 use tetwalk::methods::triangle::SingleRay;
-use tetwalk::methods::{ExitMethod, Plain};
-use tetwalk_conformance_example::{ExactEdges, ExactPlucker, F32MollerTrumbore, F32Plucker};
+use tetwalk::methods::{CellMethod, ExitMethod, Plain};
+use tetwalk_conformance_example::{
+    ExactEdges, ExactPlucker, ExactSlabs, F32MollerTrumbore, F32Plucker, F32Slabs,
+};
 
 #[test]
 fn exact_plucker_passes_every_family() {
@@ -95,4 +97,29 @@ fn f32_moller_trumbore_leaks_and_is_caught() {
         })
         .collect();
     assert!(truth.leaks(&hits), "{failed}");
+}
+
+#[test]
+fn exact_slabs_pass_every_octree_row() {
+    let passed = conformance::cells::<ExactSlabs>(&Settings::default());
+    assert!(
+        passed
+            .families
+            .iter()
+            .all(|(_, judged, failed)| *judged > 0 && *failed == 0)
+    );
+}
+
+#[test]
+fn f32_slabs_are_caught_on_an_octree_row() {
+    let failed = conformance::check_cells::<F32Slabs>("f32-slabs", &Settings::default())
+        .expect_err("rounded exit points leave edges and centre lines");
+    println!("{failed}");
+    let Subject::Box(case) = failed.record.subject else {
+        panic!("an octree family judges cells")
+    };
+    let got = F32Slabs::exit::<Plain>(case.lo, case.hi, &case.ray());
+    let exact = tetwalk::exact::boxes::box_exit(case.lo, case.hi, &case.ray()).unwrap();
+    let signs = got.map(|(f, q)| (f, tetwalk::octree::cell::quarter_signs(q)));
+    assert_eq!(exact.right(signs), Some(false), "{failed}");
 }
