@@ -57,6 +57,7 @@ done
 # The octree cell target: each octree method on its own (no paper claims robustness).
 for m in portalez16 portalez16-direction; do
     run octree_cell "$m"
+    run octree_walk "$m"
 done
 cat "$log/table"
 echo "found cases: corpora/found/ (replayed by cargo test); logs: $log"

@@ -14,6 +14,7 @@ use crate::registry::{
     by_name, octree_by_name, reference, triangle_by_name,
 };
 use crate::scenes::from_bytes::WalkCase;
+use crate::tet::Tri;
 use crate::tet::{Case, Ray};
 use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, locate, same_result};
 use glam::Vec3;
@@ -38,6 +39,9 @@ pub enum FoundError {
     FuzzMethod(UnknownMethod),
     #[error("TETWALK_FUZZ_BACKEND: {0}")]
     FuzzBackend(String),
+    /// An octree walk that never ends though every cell's exit it chose was right where judged.
+    #[error("endless octree walk: {0}")]
+    EndlessWalk(String),
 }
 
 /// The variable naming a user's WGSL exit-face function to fuzz (`--wgsl`'s file, on the GPU).
@@ -187,6 +191,67 @@ pub fn fuzz_check(subject: Subject) -> Option<Record> {
         FoundError::FuzzMethod(_) | FoundError::FuzzBackend(_) => panic!("{e}"),
         _ => None,
     })
+}
+
+/// The octree over a fuzz case's closed mesh: deep and fine, so that rays meet many cells.
+pub const FUZZ_OCTREE: crate::octree::Settings = crate::octree::Settings {
+    depth: 6,
+    capacity: 1,
+};
+
+/// What a fuzz run finds walking `ray` through seed 001's octree over `tris` ([`FUZZ_OCTREE`]) with
+/// each required octree method ([`required_octree_methods`]) on the CPU, plain and fused, each leaf's
+/// triangles tested with `mt`: the first cell whose exit face or quarter the method chose wrongly,
+/// filed as that cell's box case (the exact reference's walk lists no choices). A walk that cycles or reaches the step limit without a wrong cell
+/// (its wrong choice was where the line only touches a cell, which no answer is judged on) is
+/// [`FoundError::EndlessWalk`].
+pub fn octree_walk_find(tris: &[Tri], ray: &Ray) -> Result<Option<Record>, FoundError> {
+    let o = crate::octree::Octree::build(tris, FUZZ_OCTREE).map_err(|e| FoundError::Field {
+        field: "tris",
+        why: e.to_string(),
+    })?;
+    let hit = triangle_by_name("mt")?.hit(false);
+    let cap = crate::walk::octree::default_max_steps(&o);
+    for m in required_octree_methods()? {
+        for b in FUZZ_BACKENDS {
+            let Backend::Cpu { fma } = b else { continue };
+            let (w, steps) = m.walk_traced(*fma)(&o, tris, hit, ray, cap);
+            for (cell, exit) in steps {
+                let [lo, hi] = o.boxes[cell as usize];
+                let x =
+                    crate::exact::boxes::box_exit(lo, hi, ray).map_err(|e| FoundError::Field {
+                        field: "ray",
+                        why: e.to_string(),
+                    })?;
+                let signs = exit.map(|(f, q)| (f, crate::octree::cell::quarter_signs(q)));
+                if x.right(signs) == Some(false) {
+                    let subject = Subject::Box(BoxCase {
+                        lo,
+                        hi,
+                        org: ray.org,
+                        dir: ray.dir,
+                    });
+                    let answer = Answer::Box(signs.map(|(f, q)| (f as u8, q)));
+                    return Ok(Some(Record {
+                        subject,
+                        failure: Some(failure_on(m.name, b, answer)),
+                    }));
+                }
+            }
+            if matches!(
+                w.end,
+                crate::walk::octree::End::Cycle { .. } | crate::walk::octree::End::StepLimit { .. }
+            ) {
+                return Err(FoundError::EndlessWalk(format!(
+                    "{} on {:?}: {:?}",
+                    m.name,
+                    b.kind(),
+                    w.end
+                )));
+            }
+        }
+    }
+    Ok(None)
 }
 
 /// Ulps by which [`neighbourhood`] moves each component.

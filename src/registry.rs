@@ -524,6 +524,20 @@ fn exact_octree_walk(o: &Octree, tris: &[Tri], _: HitFn, ray: &Ray, max: u32) ->
     walk_octree::walk_exact(o, tris, ray, max)
 }
 
+/// [`OctreeWalkFn`], also listing each cell's exit as the method chose it.
+pub type OctreeTracedFn =
+    fn(&Octree, &[Tri], HitFn, &Ray, u32) -> (OctreeWalk, Vec<walk_octree::Step>);
+
+fn exact_octree_traced(
+    o: &Octree,
+    tris: &[Tri],
+    h: HitFn,
+    ray: &Ray,
+    max: u32,
+) -> (OctreeWalk, Vec<walk_octree::Step>) {
+    (exact_octree_walk(o, tris, h, ray, max), Vec::new())
+}
+
 /// A registered octree method (the [`Family::Octree`] family). Its WGSL defines `fn IDENT_pi(o: vec3f,
 /// d: vec3f) -> array<f32, 6>` (eq. 1) and uses the shared cell test, `portalez16_cell`.
 pub struct OctreeMethod {
@@ -535,6 +549,7 @@ pub struct OctreeMethod {
     pub gpu: Gpu,
     exit: [BoxExitFn; 2],
     walk: [OctreeWalkFn; 2],
+    traced: [OctreeTracedFn; 2],
 }
 
 impl OctreeMethod {
@@ -546,6 +561,10 @@ impl OctreeMethod {
             gpu,
             exit: [cell_exit::<M, Plain>, cell_exit::<M, Fused>],
             walk: [walk_octree::walk::<M, Plain>, walk_octree::walk::<M, Fused>],
+            traced: [
+                walk_octree::walk_traced::<M, Plain>,
+                walk_octree::walk_traced::<M, Fused>,
+            ],
         }
     }
 
@@ -567,6 +586,11 @@ impl OctreeMethod {
     pub fn walk(&self, fma: bool) -> OctreeWalkFn {
         self.walk[fma as usize]
     }
+
+    /// The walk, also listing each cell's exit as the method chose it (none for the reference).
+    pub fn walk_traced(&self, fma: bool) -> OctreeTracedFn {
+        self.traced[fma as usize]
+    }
 }
 
 /// Every octree method, in the order reports list them.
@@ -578,6 +602,7 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
         gpu: Gpu::CpuOnly("the oracle needs exact rational arithmetic (rug), which WGSL lacks"),
         exit: [exact_box_exit, exact_box_exit],
         walk: [exact_octree_walk, exact_octree_walk],
+        traced: [exact_octree_traced, exact_octree_traced],
     },
     OctreeMethod::of::<Portalez16<portalez16::Points>>(
         "portalez16",

@@ -3,7 +3,8 @@
 use super::{JsonOut, Outcome};
 use crate::cases::{HitCase, Subject};
 use crate::found::{
-    Record, fuzz_find, required_methods, required_octree_methods, required_triangle_methods,
+    Record, fuzz_find, octree_walk_find, required_methods, required_octree_methods,
+    required_triangle_methods,
 };
 use crate::scenes::from_bytes::{cell_case, exit_case, hit_case, walk_case};
 use std::path::PathBuf;
@@ -12,7 +13,7 @@ use std::process::ExitCode;
 #[derive(clap::Args)]
 pub struct Args {
     /// The fuzz target that found them.
-    #[arg(long, value_parser = ["exit_face", "walk", "triangle_hit", "octree_cell"])]
+    #[arg(long, value_parser = ["exit_face", "walk", "triangle_hit", "octree_cell", "octree_walk"])]
     target: String,
     /// Where found cases go (one folder per method).
     #[arg(long, default_value = "corpora/found")]
@@ -34,7 +35,9 @@ pub fn run(a: Args) -> Outcome {
             .iter()
             .map(|m| m.name)
             .collect(),
-        "octree_cell" => required_octree_methods()?.iter().map(|m| m.name).collect(),
+        "octree_cell" | "octree_walk" => {
+            required_octree_methods()?.iter().map(|m| m.name).collect()
+        }
         _ => required_methods()?.iter().map(|m| m.name).collect(),
     };
     let json = JsonOut::new(a.json.as_deref())?;
@@ -60,6 +63,8 @@ pub fn run(a: Args) -> Outcome {
                     dir: r.dir,
                 })
             })
+        } else if a.target == "octree_walk" {
+            None
         } else if a.target == "triangle_hit" {
             hit_case(&mut u)
                 .ok()
@@ -68,9 +73,19 @@ pub fn run(a: Args) -> Outcome {
         } else {
             walk_case(&mut u).ok().map(Subject::Walk)
         };
-        let found = match subject {
-            Some(s) => fuzz_find(&s).map_err(|e| format!("{}: {e}", path.display()))?,
-            None => None,
+        let found = if a.target == "octree_walk" && subject.is_none() {
+            // A walk's finding is the box case of its first wrong cell.
+            match hit_case(&mut arbitrary::Unstructured::new(&bytes)) {
+                Ok((mesh, ray)) => {
+                    octree_walk_find(&mesh, &ray).map_err(|e| format!("{}: {e}", path.display()))?
+                }
+                Err(_) => None,
+            }
+        } else {
+            match subject {
+                Some(s) => fuzz_find(&s).map_err(|e| format!("{}: {e}", path.display()))?,
+                None => None,
+            }
         };
         let Some(found) = found else {
             eprintln!(

@@ -125,6 +125,33 @@ pub fn walk<M: CellMethod, A: Arith>(
     ray: &Ray,
     max_steps: u32,
 ) -> OctreeWalk {
+    walk_observed::<M, A>(o, tris, hit, ray, max_steps, |_, _| {})
+}
+
+/// One step of a walk: the leaf and the exit face and quarter the method chose there (none: no face).
+pub type Step = (u32, Option<(usize, usize)>);
+
+/// [`walk`], also listing each cell's exit as the method chose it.
+pub fn walk_traced<M: CellMethod, A: Arith>(
+    o: &Octree,
+    tris: &[Tri],
+    hit: fn(&Tri, &Ray) -> Option<f32>,
+    ray: &Ray,
+    max_steps: u32,
+) -> (OctreeWalk, Vec<Step>) {
+    let mut steps = Vec::new();
+    let w = walk_observed::<M, A>(o, tris, hit, ray, max_steps, |c, x| steps.push((c, x)));
+    (w, steps)
+}
+
+fn walk_observed<M: CellMethod, A: Arith>(
+    o: &Octree,
+    tris: &[Tri],
+    hit: fn(&Tri, &Ray) -> Option<f32>,
+    ray: &Ray,
+    max_steps: u32,
+    mut observe: impl FnMut(u32, Option<(usize, usize)>),
+) -> OctreeWalk {
     let Some(mut address) = entry(o, ray) else {
         return OctreeWalk {
             end: End::Miss,
@@ -148,7 +175,9 @@ pub fn walk<M: CellMethod, A: Arith>(
             };
         }
         let [lo, hi] = o.boxes[cell as usize];
-        let Some((f, q)) = M::exit::<A>(lo, hi, &r) else {
+        let exit = M::exit::<A>(lo, hi, &r);
+        observe(cell, exit);
+        let Some((f, q)) = exit else {
             return OctreeWalk {
                 end: End::NoExitFace { cell },
                 cells,
