@@ -173,6 +173,7 @@ fn generated_cases_run_through_exit_and_methods_are_listed() {
     let (code, out, _) = tetwalk(&["methods"], "");
     assert_eq!(code, 0);
     assert!(out.contains("maria17") && out.contains("exact"));
+    assert!(out.contains("| portalez16-direction | octree |"), "{out}");
     let (code, _, err) = tetwalk(&["exit", "--method", "nope"], "");
     assert_eq!(code, 2);
     assert!(err.contains("unknown method 'nope'"), "{err}");

@@ -173,6 +173,14 @@ fn methods(json: Option<PathBuf>) -> Outcome {
             gpu: gpu(m.gpu),
             implements: m.source,
         }))
+        .chain(crate::registry::OCTREE_METHODS.iter().map(|m| Row {
+            name: m.name,
+            family: Family::Octree.name(),
+            claims_robust: false,
+            reference: m.reference,
+            gpu: gpu(m.gpu),
+            implements: m.source,
+        }))
         .collect();
     println!("| method | family | claims robust | GPU | implements |\n|---|---|---|---|---|");
     for r in &rows {
