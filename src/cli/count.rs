@@ -319,8 +319,8 @@ fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
 
 /// `count --family octree`.
 fn run_octree(a: Args) -> Outcome {
-    if a.relabel.is_some() || a.dump.is_some() || a.shard != "0/1" || a.wgsl.wgsl.is_some() {
-        return Err("--relabel, --dump, --shard and --wgsl are for --family exit-face".into());
+    if a.relabel.is_some() || a.shard != "0/1" || a.wgsl.wgsl.is_some() {
+        return Err("--relabel, --shard and --wgsl are for --family exit-face".into());
     }
     let methods: Vec<_> = parse_octree_list(&a.methods)?
         .into_iter()
@@ -342,8 +342,18 @@ fn run_octree(a: Args) -> Outcome {
     };
     let bar = super::progress(views.views as u64, "views");
     let backend = a.backend.open()?;
-    let report = octree_report::count(&mesh, &settings, &methods, &backend, &|| bar.inc(1))?;
+    let mut dump = Dump::new(a.dump.as_deref())?;
+    let mut write = |w: &WrongRay| dump.write(w);
+    let report = octree_report::count(
+        &mesh,
+        &settings,
+        &methods,
+        &backend,
+        &|| bar.inc(1),
+        Some(&mut write),
+    )?;
     bar.finish_and_clear();
+    dump.finish()?;
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)

@@ -114,7 +114,7 @@ pub fn run(a: Args) -> Outcome {
         let d: WrongRay = serde_json::from_str(&line).map_err(|e| place(&e))?;
         let Some(kind) = d.backend else {
             return Err(place(&format!(
-                "a wrong ray of walks given to tetwalk judge (method {}): replay it with the kernel that walked it",
+                "a wrong ray of walks tetwalk replay cannot rerun (method {}: walks given to tetwalk judge, or an octree walk)",
                 d.method
             ))
             .into());

@@ -1,8 +1,9 @@
 //! Octree reports (seed 001): wrong exit faces and quarters per million cells and rays, per method
 //! and row ([`stress`]), and wrong rays per image on a scene ([`count`]), every answer judged exactly.
 
-use super::count::{CountError, located_views};
+use super::count::{CountError, Sink, located_views};
 use super::triangle::{SceneTriangles, region_of, scene_triangles};
+use super::wrong::{Seen, WrongRay};
 use crate::backend::{Backend, BackendError};
 use crate::cases::{BoxCase, Subject};
 use crate::choice::Choice;
@@ -238,6 +239,7 @@ pub fn count(
     methods: &[&OctreeMethod],
     backend: &Backend,
     tick: &(dyn Fn() + Sync),
+    mut sink: Option<&mut Sink>,
 ) -> Result<OctreeCountReport, CountError> {
     let reference = by_name(&s.reference)?;
     let tri = triangle_by_name(&s.triangle_method)?;
@@ -301,7 +303,7 @@ pub fn count(
             let t0 = Instant::now();
             let ends: Vec<OctreeWalk> = backend.octree_walks(m, tri, octree, tris, &rays, cap)?;
             *seconds += t0.elapsed().as_secs_f64();
-            for ((ray, w), reference) in rays.iter().zip(&ends).zip(&walks) {
+            for (i, ((ray, w), reference)) in rays.iter().zip(&ends).zip(&walks).enumerate() {
                 total.cells += w.cells as u64;
                 let mine = Walk {
                     outcome: w.end.outcome(from),
@@ -310,6 +312,17 @@ pub fn count(
                 if !same_result(mesh, ray, &mine, reference) {
                     total.wrong_total += 1;
                     total.wrong[w.end.kind().code() as usize] += 1;
+                    if let Some(sink) = sink.as_mut() {
+                        let seen = Seen {
+                            scene: &s.scene,
+                            view: v,
+                            pixel: [i as u32 % s.views.width, i as u32 / s.views.width],
+                            name: m.name,
+                            walked: None,
+                        };
+                        let d = WrongRay::of(mesh, &seen, ray, &mine, reference, located, max);
+                        sink(&d).map_err(CountError::Dump)?;
+                    }
                 }
             }
         }

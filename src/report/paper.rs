@@ -161,6 +161,7 @@ pub fn run(
         &octree_methods,
         &crate::backend::CPU,
         tick,
+        None,
     )?;
     Ok(PaperReport {
         date: today(),
