@@ -19,6 +19,9 @@ pub struct BoxExit {
     /// the line leaves the closed box towards `+dir`: one, two at an edge, three at a corner; none when
     /// the line misses the box or runs parallel inside a face plane.
     pub faces: Vec<usize>,
+    /// The line's parameter interval `[t_in, t_out]` inside the closed box (`o + t·d`); none when it
+    /// misses the box.
+    pub interval: Option<(Rational, Rational)>,
     /// For each face of `faces`, every quarter that holds the exit point, as signs `[su, sv]` of the
     /// point relative to the face centre along the face's two axes in x, y, z order (both signs where
     /// it lies on a centre line).
@@ -75,6 +78,7 @@ pub fn box_exit(lo: Vec3, hi: Vec3, ray: &Ray) -> Result<BoxExit, ExactError> {
         return Ok(miss());
     }
     let crosses = open && t_in < t_out;
+    let interval = Some((t_in.clone(), t_out.clone()));
     let point: [Rational; 3] = std::array::from_fn(|a| Rational::from(&d[a] * &t_out) + &o[a]);
     let mut faces = Vec::new();
     let mut quarters = Vec::new();
@@ -103,6 +107,7 @@ pub fn box_exit(lo: Vec3, hi: Vec3, ray: &Ray) -> Result<BoxExit, ExactError> {
     Ok(BoxExit {
         crosses,
         faces,
+        interval,
         quarters,
     })
 }
@@ -111,6 +116,7 @@ fn miss() -> BoxExit {
     BoxExit {
         crosses: false,
         faces: Vec::new(),
+        interval: None,
         quarters: Vec::new(),
     }
 }

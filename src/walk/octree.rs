@@ -222,9 +222,10 @@ pub fn walk_exact(o: &Octree, tris: &[Tri], ray: &Ray, max_steps: u32) -> Octree
         end: End::Miss,
         cells: 0,
     };
-    let q = |v: Vec3| v.to_array().map(|x| Rational::from_f32(x).expect("finite"));
-    let (org, dir) = (q(ray.org), q(ray.dir));
-    let Some((t_in, t_out)) = slabs(o.lo, o.lo + Vec3::splat(o.size), &org, &dir) else {
+    let Some((t_in, t_out)) = box_exit(o.lo, o.lo + Vec3::splat(o.size), ray)
+        .ok()
+        .and_then(|x| x.interval)
+    else {
         return miss;
     };
     if t_out.cmp0().is_lt() {
@@ -235,6 +236,9 @@ pub fn walk_exact(o: &Octree, tris: &[Tri], ray: &Ray, max_steps: u32) -> Octree
     } else {
         Rational::new()
     };
+    // The entry point (or the origin, inside the root), exactly.
+    let q = |v: Vec3| v.to_array().map(|x| Rational::from_f32(x).expect("finite"));
+    let (org, dir) = (q(ray.org), q(ray.dir));
     let p: [Rational; 3] = std::array::from_fn(|a| Rational::from(&dir[a] * &t) + &org[a]);
     let Some(mut address) = o
         .boxes
@@ -248,12 +252,13 @@ pub fn walk_exact(o: &Octree, tris: &[Tri], ray: &Ray, max_steps: u32) -> Octree
         let a = address as usize;
         let (count, offset, cell) = (o.words[a], o.words[a + 1], o.words[a + 2]);
         let [lo, hi] = o.boxes[cell as usize];
-        let leave = slabs(lo, hi, &org, &dir).map(|(_, t)| t);
+        let x = box_exit(lo, hi, ray).ok();
+        let leave = x.as_ref().and_then(|x| x.interval.as_ref()).map(|(_, t)| t);
         let ids = &o.triangles[offset as usize..(offset + count) as usize];
         let best = ids
             .iter()
             .filter_map(|&i| perturbed_crossing(tris[i as usize], ray).map(|t| (i, t)))
-            .filter(|(_, t)| leave.as_ref().is_none_or(|l| t <= l))
+            .filter(|(_, t)| leave.is_none_or(|l| t <= l))
             .min_by(|a, b| a.1.cmp(&b.1));
         if let Some((tri, t)) = best {
             return OctreeWalk {
@@ -261,7 +266,7 @@ pub fn walk_exact(o: &Octree, tris: &[Tri], ray: &Ray, max_steps: u32) -> Octree
                 cells,
             };
         }
-        let Some(x) = box_exit(lo, hi, ray).ok().filter(|x| !x.faces.is_empty()) else {
+        let Some(x) = x.filter(|x| !x.faces.is_empty()) else {
             return OctreeWalk {
                 end: End::NoExitFace { cell },
                 cells,
@@ -282,35 +287,4 @@ pub fn walk_exact(o: &Octree, tris: &[Tri], ray: &Ray, max_steps: u32) -> Octree
         },
         cells: max_steps,
     }
-}
-
-/// The exact parameter interval of the line `org + t·dir` in the closed box `[lo, hi]`, if it meets it.
-fn slabs(
-    lo: Vec3,
-    hi: Vec3,
-    org: &[Rational; 3],
-    dir: &[Rational; 3],
-) -> Option<(Rational, Rational)> {
-    let mut t_in: Option<Rational> = None;
-    let mut t_out: Option<Rational> = None;
-    for a in 0..3 {
-        let (l, h) = (Rational::from_f32(lo[a])?, Rational::from_f32(hi[a])?);
-        if dir[a].cmp0().is_eq() {
-            if org[a] < l || org[a] > h {
-                return None;
-            }
-            continue;
-        }
-        let t0 = (l - &org[a]) / &dir[a];
-        let t1 = (h - &org[a]) / &dir[a];
-        let (near, far) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
-        if t_in.as_ref().is_none_or(|t| near > *t) {
-            t_in = Some(near);
-        }
-        if t_out.as_ref().is_none_or(|t| far < *t) {
-            t_out = Some(far);
-        }
-    }
-    let (t_in, t_out) = (t_in?, t_out?);
-    (t_in <= t_out).then_some((t_in, t_out))
 }
