@@ -343,28 +343,46 @@ fn run_triangle(a: Args, cases: usize) -> Outcome {
         bar.finish_and_clear();
         return shown(out, report.markdown(), &report);
     };
-    let mut filing = Filing::new(a.found, a.keep);
+    rounds(
+        Filing::new(a.found, a.keep),
+        seconds,
+        out,
+        |round, filing| {
+            settings.seed = a.seed + round;
+            let r = tri::stress(
+                &settings,
+                &methods,
+                &backend,
+                &|_| {},
+                &mut |row, record| filing.file_record(row, record),
+            )?;
+            Ok((r.markdown(), r))
+        },
+    )
+}
+
+/// A campaign over tables that are not summed: rounds of `round` (given its number, from 0) until
+/// `seconds` have passed (one at least), filing failures; the last round's table is printed and
+/// written with `--json`.
+fn rounds<R: serde::Serialize>(
+    mut filing: Filing,
+    seconds: f64,
+    out: JsonOut,
+    mut round: impl FnMut(u64, &mut Filing) -> Result<(String, R), super::Error>,
+) -> Outcome {
     let t0 = std::time::Instant::now();
-    let mut rounds = 0;
+    let mut done = 0;
     let mut last = None;
-    while rounds == 0 || t0.elapsed().as_secs_f64() < seconds {
-        settings.seed = a.seed + rounds;
-        let report = tri::stress(
-            &settings,
-            &methods,
-            &backend,
-            &|_| {},
-            &mut |row, record| filing.file_record(row, record),
-        )?;
-        rounds += 1;
-        last = Some(report);
+    while done == 0 || t0.elapsed().as_secs_f64() < seconds {
+        last = Some(round(done, &mut filing)?);
+        done += 1;
     }
     if let Some(e) = filing.error {
         return Err(e.into());
     }
-    let report = last.expect("one round at least");
-    print!("{}", report.markdown());
-    filing.print(rounds, " (the table is the last round's)");
+    let (text, report) = last.expect("one round at least");
+    print!("{text}");
+    filing.print(done, " (the table is the last round's)");
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -391,26 +409,18 @@ fn run_octree(a: Args, cases: usize) -> Outcome {
         let report = cell_report::stress(&settings, &methods, &backend, &mut |_, _| {})?;
         return shown(out, report.markdown(), &report);
     };
-    let mut filing = Filing::new(a.found, a.keep);
-    let t0 = std::time::Instant::now();
-    let mut rounds = 0;
-    let mut last = None;
-    while rounds == 0 || t0.elapsed().as_secs_f64() < seconds {
-        settings.seed = a.seed + rounds;
-        let report = cell_report::stress(&settings, &methods, &backend, &mut |row, record| {
-            filing.file_record(row, record)
-        })?;
-        rounds += 1;
-        last = Some(report);
-    }
-    if let Some(e) = filing.error {
-        return Err(e.into());
-    }
-    let report = last.expect("one round at least");
-    print!("{}", report.markdown());
-    filing.print(rounds, " (the table is the last round's)");
-    out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    rounds(
+        Filing::new(a.found, a.keep),
+        seconds,
+        out,
+        |round, filing| {
+            settings.seed = a.seed + round;
+            let r = cell_report::stress(&settings, &methods, &backend, &mut |row, record| {
+                filing.file_record(row, record)
+            })?;
+            Ok((r.markdown(), r))
+        },
+    )
 }
 
 /// The values given, or every value when none is.
