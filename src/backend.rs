@@ -88,6 +88,11 @@ pub struct LayoutWalked {
     pub kernel_seconds: Option<f64>,
 }
 
+/// An octree and its triangles as a backend walks them: uploaded once to a GPU, nothing on the CPU.
+pub struct OctreeOn {
+    gpu: Option<crate::gpu::GpuOctree>,
+}
+
 /// A mesh where a backend walks it (uploaded once to a GPU).
 pub struct MeshOn<'a> {
     pub mesh: &'a Mesh,
@@ -280,15 +285,28 @@ impl Backend {
         }
     }
 
-    /// `method`'s walks of `rays` through the octree `o` over `tris` (seed 001 §4.2.3), each leaf's
-    /// triangles tested with `tri`; the reference runs on the CPU whatever the backend. On a GPU the
-    /// entry cell comes from the cube map on the CPU, the loop runs in WGSL.
+    /// Make an octree and its triangles ready to walk here (a GPU gets them uploaded, once).
+    pub fn octree(&self, octree: &Octree, tris: &[crate::tet::Tri]) -> OctreeOn {
+        OctreeOn {
+            gpu: match self {
+                Backend::Gpu(g) => Some(g.upload_octree(octree, tris)),
+                Backend::Cpu { .. } => None,
+            },
+        }
+    }
+
+    /// `method`'s walks of `rays` through the octree `o` over `tris` (seed 001 §4.2.3), made ready
+    /// here as `on` ([`Backend::octree`]), each leaf's triangles tested with `tri`; the reference runs
+    /// on the CPU whatever the backend. On a GPU the entry cell comes from the cube map on the CPU, the
+    /// loop runs in WGSL.
+    #[allow(clippy::too_many_arguments)]
     pub fn octree_walks(
         &self,
         method: &OctreeMethod,
         tri: &TriangleMethod,
         o: &Octree,
         tris: &[crate::tet::Tri],
+        on: &OctreeOn,
         rays: &[Ray],
         max_steps: u32,
     ) -> Result<Vec<OctreeWalk>, BackendError> {
@@ -300,6 +318,7 @@ impl Backend {
             Backend::Cpu { fma } => Ok(cpu(*fma)),
             Backend::Gpu(_) if method.reference => Ok(cpu(false)),
             Backend::Gpu(g) => {
+                let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let asked: Vec<(Ray, u32)> = rays
                     .par_iter()
                     .map(|r| {
@@ -309,8 +328,7 @@ impl Backend {
                         )
                     })
                     .collect();
-                let up = g.upload_octree(o, tris);
-                let ends = g.octree_walks(method, tri, &up, &asked, max_steps)?;
+                let ends = g.octree_walks(method, tri, up, &asked, max_steps)?;
                 Ok(ends.iter().map(|e| e.octree_walk()).collect())
             }
         }

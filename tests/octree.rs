@@ -323,8 +323,13 @@ fn the_octree_walk_on_the_gpu_ends_as_on_the_cpu() {
         .iter()
         .filter(|m| !m.reference)
     {
-        let a = gpu.octree_walks(m, mt, &o, &tris, &rays, cap).unwrap();
-        let b = cpu.octree_walks(m, mt, &o, &tris, &rays, cap).unwrap();
+        let (on_gpu, on_cpu) = (gpu.octree(&o, &tris), cpu.octree(&o, &tris));
+        let a = gpu
+            .octree_walks(m, mt, &o, &tris, &on_gpu, &rays, cap)
+            .unwrap();
+        let b = cpu
+            .octree_walks(m, mt, &o, &tris, &on_cpu, &rays, cap)
+            .unwrap();
         let same = a
             .iter()
             .zip(&b)

@@ -4,7 +4,7 @@
 use super::count::{CountError, Sink, located_views};
 use super::triangle::{SceneTriangles, region_of, scene_triangles};
 use super::wrong::{Seen, WrongRay};
-use crate::backend::{Backend, BackendError};
+use crate::backend::{Backend, BackendError, OctreeOn};
 use crate::cases::{BoxCase, Subject};
 use crate::choice::Choice;
 use crate::exact::boxes::{BoxExit, box_exit};
@@ -232,7 +232,8 @@ pub struct OctreeCountReport {
 
 /// Count, per octree method, the primary rays whose walk through the octree over the scene's
 /// triangles ends wrongly, judged against the reference walk's exact first hit as `count` judges
-/// walks ([`same_result`]); `tick` is called once per view.
+/// walks ([`same_result`]); `tick` is called once per view, and `sink` sees every wrong ray written
+/// out ([`WrongRay`]: the hit as the tetrahedron and face its triangle came from).
 pub fn count(
     mesh: &Mesh,
     s: &CountSettings,
@@ -260,7 +261,8 @@ pub fn count(
         .collect();
     let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
     let (mut rays_counted, mut views_counted, mut audited) = (0u64, 0usize, 0u64);
-    let mut scene: Option<(Vec<bool>, SceneTriangles, Octree)> = None;
+    // The cameras' region, its triangles, their octree, and the octree made ready on the backend.
+    let mut scene: Option<(Vec<bool>, SceneTriangles, Octree, OctreeOn)> = None;
     for (v, cam, located) in located_views(mesh, &s.views, |_| true, tick) {
         views_counted += 1;
         if scene
@@ -271,9 +273,10 @@ pub fn count(
             let tris = scene_triangles(mesh, &region);
             let octree =
                 Octree::build(&tris.0, s.octree).map_err(|e| CountError::Octree(e.to_string()))?;
-            scene = Some((region, tris, octree));
+            let ready = backend.octree(&octree, &tris.0);
+            scene = Some((region, tris, octree, ready));
         }
-        let (_, (tris, from), octree) = scene.as_ref().expect("set above");
+        let (_, (tris, from), octree, ready) = scene.as_ref().expect("set above");
         let cap = walk_octree::default_max_steps(octree);
         let rays = s.views.rays(&cam);
         rays_counted += rays.len() as u64;
@@ -301,7 +304,8 @@ pub fn count(
         audited += picked.len() as u64;
         for (m, (total, seconds)) in methods.iter().zip(&mut totals) {
             let t0 = Instant::now();
-            let ends: Vec<OctreeWalk> = backend.octree_walks(m, tri, octree, tris, &rays, cap)?;
+            let ends: Vec<OctreeWalk> =
+                backend.octree_walks(m, tri, octree, tris, ready, &rays, cap)?;
             *seconds += t0.elapsed().as_secs_f64();
             for (i, ((ray, w), reference)) in rays.iter().zip(&ends).zip(&walks).enumerate() {
                 total.cells += w.cells as u64;
@@ -331,7 +335,7 @@ pub fn count(
         return Err(CountError::NoView(s.views.views));
     }
     let (triangles, leaves, unconstrained_leaves) =
-        scene.as_ref().map_or((0, 0, 0), |(_, (t, _), o)| {
+        scene.as_ref().map_or((0, 0, 0), |(_, (t, _), o, _)| {
             (t.len(), o.leaves.len(), o.unconstrained_leaves)
         });
     Ok(OctreeCountReport {
