@@ -263,8 +263,14 @@ impl Backend {
         method: &OctreeMethod,
         cases: &[BoxCase],
     ) -> Result<Vec<Option<(usize, usize)>>, BackendError> {
+        let cpu = |fma: bool| {
+            let exit = method.exit(fma);
+            map_all(cases, |c| exit(c.lo, c.hi, &c.ray()))
+        };
         match self {
-            Backend::Gpu(g) if !method.reference => {
+            Backend::Cpu { fma } => Ok(cpu(*fma)),
+            Backend::Gpu(_) if method.reference => Ok(cpu(false)),
+            Backend::Gpu(g) => {
                 let input: Vec<gpu::shader::Case> = cases
                     .iter()
                     .map(|c| gpu::shader::Case::new(&[c.lo, c.hi, c.lo, c.hi], &c.ray(), None))
@@ -273,14 +279,6 @@ impl Backend {
                     .into_iter()
                     .map(|x| usize::try_from(x).ok().map(|x| (x / 4, x % 4)))
                     .collect())
-            }
-            Backend::Cpu { fma } => {
-                let exit = method.exit(*fma);
-                Ok(map_all(cases, |c| exit(c.lo, c.hi, &c.ray())))
-            }
-            Backend::Gpu(_) => {
-                let exit = method.exit(false);
-                Ok(map_all(cases, |c| exit(c.lo, c.hi, &c.ray())))
             }
         }
     }
