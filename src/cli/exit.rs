@@ -34,7 +34,7 @@ pub struct Args {
 }
 
 /// Longest line read, in bytes; a longer one is an error for that line.
-const MAX_LINE: u64 = 1 << 20;
+pub(super) const MAX_LINE: u64 = 1 << 20;
 /// Most lines answered as one batch.
 const BATCH: usize = 4096;
 

@@ -2,7 +2,7 @@
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
 use super::count::{Dump, RaysHeader};
-use super::exit::{Line, Summary, answer_all, exit_verdict, reader};
+use super::exit::{Line, MAX_LINE, Summary, answer_all, exit_verdict, reader};
 use super::hit::hit_verdict;
 use super::{JsonOut, Outcome};
 use crate::cases::{Subject, classify, judge_hit, number};
@@ -12,6 +12,7 @@ use crate::report::wrong::WrongRay;
 use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
 use serde_json::{Value, json};
 use std::collections::HashMap;
+use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
@@ -238,13 +239,15 @@ fn scene_header(path: &Path) -> Result<Option<RaysHeader>, JudgeError> {
         file: file.clone(),
         why: e.to_string(),
     })?;
-    let Some((_, first)) = reader(Box::new(std::io::BufReader::new(f))).recv().ok() else {
-        return Ok(None);
-    };
-    let Ok(v) = first.map(|l| serde_json::from_str::<Value>(&l)) else {
-        return Ok(None);
-    };
-    match v {
+    // The first line only, at most a line's length bound (a longer one is no header).
+    let mut first = Vec::new();
+    std::io::BufReader::new(std::io::Read::take(f, MAX_LINE))
+        .read_until(b'\n', &mut first)
+        .map_err(|e| JudgeError::File {
+            file: file.clone(),
+            why: e.to_string(),
+        })?;
+    match serde_json::from_slice::<Value>(&first) {
         Ok(v) if v.get("scene").is_some() => {
             serde_json::from_value(v)
                 .map(Some)
