@@ -221,6 +221,12 @@ pub struct CountReport {
     pub methods: Vec<MethodCount>,
 }
 
+/// A count's last line: each method's wrong rays over all the rays counted.
+pub fn totals<'a>(rays: u64, methods: impl Iterator<Item = (&'a str, u64)>) -> String {
+    let each: Vec<String> = methods.map(|(m, n)| format!("{m} {n}")).collect();
+    format!("\ntotals over {rays} rays: {}\n", each.join(", "))
+}
+
 /// Whether ray `index` (counted over all views) is audited: about `audit` of `total`, chosen by `seed`.
 pub fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
     let mut z = seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15);
@@ -448,14 +454,11 @@ impl CountReport {
                 p.tetrahedra,
             );
         }
-        out += &format!(
-            "\ntotals over {} rays: {}\n",
+        out += &totals(
             self.rays,
             self.methods
                 .iter()
-                .map(|m| format!("{} {}", m.method, m.wrong_total))
-                .collect::<Vec<_>>()
-                .join(", ")
+                .map(|m| (m.method.as_str(), m.wrong_total)),
         );
         if self.methods.iter().any(|m| m.relabelled.is_some()) {
             out += "\nwrong rays under the 12 orientation-preserving relabellings of the tetrahedra\n\n";

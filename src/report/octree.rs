@@ -392,14 +392,11 @@ impl OctreeCountReport {
                 m.mrays_per_second
             );
         }
-        out += &format!(
-            "\ntotals over {} rays: {}\n",
+        out += &super::count::totals(
             self.rays,
             self.methods
                 .iter()
-                .map(|m| format!("{} {}", m.method, m.wrong_total))
-                .collect::<Vec<_>>()
-                .join(", ")
+                .map(|m| (m.method.as_str(), m.wrong_total)),
         );
         out
     }
