@@ -221,14 +221,24 @@ impl Backend {
         method: &Method,
         cases: &[Case],
     ) -> Result<Vec<Option<usize>>, BackendError> {
+        Ok(self.exit_faces_timed(method, cases)?.0)
+    }
+
+    /// [`Backend::exit_faces`], with the GPU's kernel time where it measures one.
+    pub fn exit_faces_timed(
+        &self,
+        method: &Method,
+        cases: &[Case],
+    ) -> Result<(Vec<Option<usize>>, Option<f64>), BackendError> {
         match self.for_method(method) {
             Backend::Cpu { .. } if !method.runs_on_cpu => Err(BackendError::GpuOnly(method.name)),
             Backend::Cpu { fma } => {
                 let exit = method.exit(*fma);
-                Ok(map_all(cases, |c| {
+                let faces = map_all(cases, |c| {
                     let (tet, entry, map) = normalized(c);
                     exit(&tet, &c.ray(), entry).map(|f| map[f])
-                }))
+                });
+                Ok((faces, None))
             }
             Backend::Gpu(g) => {
                 let prepared: Vec<_> = cases.iter().map(normalized).collect();
@@ -237,13 +247,14 @@ impl Backend {
                     .zip(&prepared)
                     .map(|(c, (tet, entry, _))| gpu::shader::Case::new(tet, &c.ray(), *entry))
                     .collect();
-                let faces = g.exit_faces(method, &input)?;
-                if !method.runs_on_cpu && faces.contains(&gpu::shader::UNSETTLED) {
+                let done = g.exit_faces(method, &input)?;
+                if !method.runs_on_cpu && done.items.contains(&gpu::shader::UNSETTLED) {
                     return Err(BackendError::Unsettled(method.name));
                 }
                 // What the GPU could not settle, the CPU answers.
                 let exit = method.exit(false);
-                Ok(faces
+                let faces = done
+                    .items
                     .into_iter()
                     .zip(&prepared)
                     .zip(cases)
@@ -251,7 +262,8 @@ impl Backend {
                         gpu::shader::UNSETTLED => exit(tet, &c.ray(), *entry).map(|f| map[f]),
                         f => usize::try_from(f).ok().map(|f| map[f]),
                     })
-                    .collect())
+                    .collect();
+                Ok((faces, done.kernel_seconds))
             }
         }
     }

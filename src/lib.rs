@@ -1,9 +1,10 @@
 //! tetwalk: finds out, with proof, when ray traversal of tetrahedral meshes goes wrong in f32.
 //!
-//! Data flows one way, and so do the imports (tests/layering.rs checks it): geometry (`tet`, with the
-//! named value sets of `choice`) → `mesh` → `octree` → oracle (`exact`) → `scenes` (generators, cameras) →
-//! `methods` → `walk` (outcomes, judging) → `registry` → the case format (`cases`) → `gpu` →
-//! `backend` → `found` → `report` → `conformance` (the kit that judges users' methods) → `render` → `cli`.
+//! Data flows one way, and so do the imports (tests/layering.rs checks it): files written whole
+//! (`staged`) → geometry (`tet`, with the named value sets of `choice`) → `mesh` → `octree` → oracle
+//! (`exact`) → `scenes` (generators, cameras) → `methods` → `walk` (outcomes, judging) → `registry` →
+//! the case format (`cases`) → `gpu` → `backend` → `found` → `report` → `conformance` (the kit that
+//! judges users' methods) → `render` → `cli`.
 
 pub mod backend;
 pub mod cases;
@@ -20,5 +21,6 @@ pub mod registry;
 pub mod render;
 pub mod report;
 pub mod scenes;
+pub mod staged;
 pub mod tet;
 pub mod walk;

@@ -570,8 +570,9 @@ fn stress_relabel_all_reruns_every_row_under_every_labelling() {
 }
 
 /// `tetwalk paper` writes the seeds' tables beside ours, whole: seed 000 Tables 3, 4 (one column per
-/// backend) and 5, seed 003 Table 4, seed 004 Figure 5, seed 001 Tables 1 and 3 and its octree walk's
-/// count; the file holds what was printed, and a bad backend writes nothing.
+/// backend) and 5, seed 003 Tables 1–4 (walks timed on the CPU, not on cpu-fma), seed 004 Figure 5,
+/// seed 001 Tables 1 and 3 and its octree walk's count; the file holds what was printed, and a bad
+/// backend writes nothing.
 #[test]
 fn paper_writes_the_seeds_tables_beside_ours() {
     let dir = tempfile::tempdir().unwrap();
@@ -594,6 +595,8 @@ fn paper_writes_the_seeds_tables_beside_ours() {
         "## Seed 000 Table 4",
         "## Seed 000 Table 5",
         "## Seed 003 Table 4",
+        "## Seed 003 Tables 1–3",
+        "| Tet-mesh-20 | aman20 over tet20 |",
         "## Seed 004 Figure 5",
         "## Seed 001 Tables 1 and 3",
         "## Seed 001: the octree walk",
@@ -602,6 +605,15 @@ fn paper_writes_the_seeds_tables_beside_ours() {
         assert!(text.contains(title), "{title} missing from\n{text}");
     }
     assert_eq!(r["counts"].as_array().unwrap().len(), 2);
+    assert!(r["table5_gpu"].as_array().unwrap().is_empty(), "no GPU");
+    let timed: Vec<_> = r["speed"]["rows"].as_array().unwrap().iter().collect();
+    assert!(!timed.is_empty());
+    assert!(
+        timed
+            .iter()
+            .all(|x| x["backend"] == "cpu" && x["rays"].as_u64() > Some(0)),
+        "cpu-fma is not timed: {timed:?}"
+    );
     assert_eq!(r["octree"]["methods"].as_array().unwrap().len(), 2);
     assert!(r["scene_info"]["octree"]["leaves"].as_u64().unwrap() > 0);
     let maria17 = r["table5"]

@@ -6,7 +6,8 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 /// The data flow, upstream first, as src/lib.rs states it.
-const ORDER: [&str; 17] = [
+const ORDER: [&str; 18] = [
+    "staged",
     "tet",
     "choice",
     "mesh",

@@ -86,7 +86,7 @@ pub fn run(a: Args) -> Outcome {
         a.hilbert,
         &views,
         &methods,
-        &backends,
+        &backends.iter().collect::<Vec<_>>(),
         (a.batch, a.layouts),
         &|| bar.inc(1),
     )?;

@@ -112,21 +112,14 @@ enum Merge {
 
 fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Outcome {
     let out = JsonOut::new(json)?;
-    let mut read = Vec::new();
-    for p in reports {
-        let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-        let r: count::CountReport =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
-        read.push(r);
-    }
-    let merged = count::CountReport::merge(&read)?;
+    let merged = count::merge::<count::CountReport>(&super::read_reports(reports)?)?;
     print!("{}", merged.markdown());
     out.finish(&merged)?;
     Ok(ExitCode::SUCCESS)
 }
 
 /// `I/N` with `I < N`.
-fn shard(text: &str) -> Result<count::Shard, super::Error> {
+pub(super) fn shard(text: &str) -> Result<count::Shard, super::Error> {
     text.split_once('/')
         .and_then(|(i, n)| Some((i.trim().parse().ok()?, n.trim().parse().ok()?)))
         .filter(|&(i, n)| n >= 1 && i < n)
@@ -339,6 +332,7 @@ fn run_octree(a: Args) -> Outcome {
         },
         triangle_method: a.triangle_method,
         audit: a.audit,
+        shard: count::Shard::ALL,
     };
     let bar = super::progress(views.views as u64, "views");
     let backend = a.backend.open()?;

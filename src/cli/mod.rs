@@ -312,13 +312,7 @@ struct Staged {
 
 impl Staged {
     fn new(flag: &str, p: &Path) -> Result<Staged, Error> {
-        let dir = match p.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        let tmp = tempfile::Builder::new()
-            .prefix(".tetwalk-")
-            .tempfile_in(dir)
+        let tmp = crate::staged::beside(p)
             .map_err(|e| format!("{flag} {}: cannot write there: {e}", p.display()))?;
         Ok(Staged {
             tmp,
@@ -340,6 +334,17 @@ impl Staged {
 
 /// Where a report's JSON goes (`--json FILE`), staged.
 struct JsonOut(Option<Staged>);
+
+/// The JSON reports in `paths` (`--json` files of the shards of a run), a bad one named.
+fn read_reports<T: serde::de::DeserializeOwned>(paths: &[PathBuf]) -> Result<Vec<T>, Error> {
+    paths
+        .iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+            Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?)
+        })
+        .collect()
+}
 
 impl JsonOut {
     fn new(path: Option<&Path>) -> Result<JsonOut, Error> {

@@ -2,13 +2,17 @@
 
 use super::{JsonOut, Outcome, Staged};
 use crate::backend::Backend;
-use crate::report::paper::{self, Size};
+use crate::report::count::Shard;
+use crate::report::paper::{self, PaperReport, Size};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct Args {
+    #[command(subcommand)]
+    merge: Option<Merge>,
     /// The scene (seed 000's tables are of the bunny).
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
@@ -18,6 +22,10 @@ pub struct Args {
     /// Backends of the counts, comma-separated (`cpu`, `cpu-fma`, `gpu`): one Table 4 column each.
     #[arg(long, default_value = "cpu,cpu-fma")]
     backend: String,
+    /// Count only views `v` with `v % N == I` (`I/N`, 0-based), the timings whole; the shard's report
+    /// goes to `--json` only, and `tetwalk paper merge` adds the N shards up into the tables.
+    #[arg(long, default_value = "0/1")]
+    shard: String,
     /// Where the tables go (written whole, or not at all).
     #[arg(long, default_value = "corpora/results/paper.md")]
     out: PathBuf,
@@ -26,10 +34,40 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+#[derive(clap::Subcommand)]
+enum Merge {
+    /// Add up the JSON reports of a sharded run (`paper --shard I/N --json FILE`, every I once) and
+    /// write the tables.
+    Merge {
+        /// The shards' reports.
+        #[arg(required = true)]
+        reports: Vec<PathBuf>,
+        /// Where the tables go (written whole, or not at all).
+        #[arg(long, default_value = "corpora/results/paper.md")]
+        out: PathBuf,
+        /// Also write the merged report as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+}
+
 pub fn run(a: Args) -> Outcome {
+    if let Some(Merge::Merge { reports, out, json }) = &a.merge {
+        return merge(reports, out, json.as_deref());
+    }
+    let shard = super::count::shard(&a.shard)?;
+    if shard != Shard::ALL && a.json.is_none() {
+        return Err(format!(
+            "--shard {}: a shard's report goes to --json FILE, for `tetwalk paper merge`",
+            a.shard
+        )
+        .into());
+    }
     let kinds = super::backend_list(&a.backend)?;
     let json = JsonOut::new(a.json.as_deref())?;
-    let mut out = Staged::new("--out", &a.out)?;
+    let out = (shard == Shard::ALL)
+        .then(|| Staged::new("--out", &a.out))
+        .transpose()?;
     let backends = kinds
         .into_iter()
         .map(Backend::open)
@@ -38,12 +76,33 @@ pub fn run(a: Args) -> Outcome {
     let size = if a.full { Size::FULL } else { Size::REDUCED };
     // The counts on each backend, then the octree count.
     let bar = super::progress((size.views * (backends.len() + 1)) as u64, "views");
-    let report = paper::run(&a.scene, &mesh, size, &backends, &|| bar.inc(1))?;
+    let report = paper::run(&a.scene, &mesh, size, shard, &backends, &|| bar.inc(1))?;
     bar.finish_and_clear();
+    match out {
+        Some(out) => write(&report, out)?,
+        None => println!(
+            "shard {} of the run written to {}; `tetwalk paper merge` adds the shards up",
+            a.shard,
+            a.json.as_deref().unwrap_or(Path::new("-")).display()
+        ),
+    }
+    json.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The tables, printed and written to `out`.
+fn write(report: &PaperReport, mut out: Staged) -> Result<(), super::Error> {
     let text = report.markdown();
     print!("{text}");
     out.writer().write_all(text.as_bytes())?;
-    out.finish()?;
-    json.finish(&report)?;
+    out.finish()
+}
+
+fn merge(reports: &[PathBuf], out: &Path, json: Option<&Path>) -> Outcome {
+    let json = JsonOut::new(json)?;
+    let out = Staged::new("--out", out)?;
+    let merged = crate::report::count::merge::<PaperReport>(&super::read_reports(reports)?)?;
+    write(&merged, out)?;
+    json.finish(&merged)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -160,6 +160,7 @@ const UPLOAD_RUN: usize = 1 << 16;
 const TIMESTAMP_BYTES: u64 = 2 * 8;
 
 /// What a dispatch returns: its output and, where the adapter measures it, its kernel time.
+#[derive(Debug)]
 pub struct Dispatched<T> {
     pub items: Vec<T>,
     pub kernel_seconds: Option<f64>,
@@ -544,16 +545,14 @@ impl Gpu {
     }
 
     /// Each case's answer by `method`, as the shader writes it: a face, [`NONE`] for no exit face, or
-    /// [`shader::UNSETTLED`] for a case the CPU must answer.
+    /// [`shader::UNSETTLED`] for a case the CPU must answer; with the kernel time where measured.
     pub fn exit_faces(
         &self,
         method: &Method,
         cases: &[shader::Case],
-    ) -> Result<Vec<i32>, GpuError> {
+    ) -> Result<Dispatched<i32>, GpuError> {
         let [exit, _] = Self::entry_points(method)?;
-        Ok(self
-            .dispatch::<_, i32>(&exit, cases.len(), 0, (1, &|i| cases[i]), &[], 2)?
-            .items)
+        self.dispatch::<_, i32>(&exit, cases.len(), 0, (1, &|i| cases[i]), &[], 2)
     }
 
     /// The exit face and quarter of each octree cell case (`v0`, `v1` the corners) with `method`:

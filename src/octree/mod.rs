@@ -16,7 +16,7 @@ use glam::{DVec3, Vec3};
 use std::collections::{HashMap, HashSet};
 
 /// How an octree is built.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Settings {
     /// Deepest level (the root is level 0); the paper: 8 for the bunny.
     pub depth: u32,

@@ -87,7 +87,7 @@ pub fn run(
     hilbert: bool,
     views: &Views,
     methods: &[&Method],
-    backends: &[Backend],
+    backends: &[&Backend],
     (batch, layouts): (usize, bool),
     tick: &dyn Fn(),
 ) -> Result<BenchReport, BenchError> {
@@ -199,7 +199,7 @@ pub fn run(
         views: *views,
         views_timed: timed,
         batch: views_per_batch * per_view,
-        backends: backends.iter().map(Backend::describe).collect(),
+        backends: backends.iter().map(|b| b.describe()).collect(),
         hilbert,
         rows,
     })

@@ -486,67 +486,92 @@ pub enum MergeError {
     Shards { have: Vec<usize>, count: usize },
 }
 
-impl CountReport {
-    /// Add up the reports of the shards of one count (`count --shard I/N`, every `I` once) into the
-    /// report of the whole count: the same totals as an unsharded run, exactly.
-    pub fn merge(reports: &[CountReport]) -> Result<CountReport, MergeError> {
-        let first = reports.first().ok_or(MergeError::Empty)?;
-        let count = first.settings.shard.count;
-        let mut have: Vec<usize> = Vec::new();
-        for (i, r) in reports.iter().enumerate() {
-            let same = Settings {
-                shard: first.settings.shard,
-                ..r.settings.clone()
-            };
-            if same != first.settings
-                || r.backend != first.backend
-                || r.tetrahedra != first.tetrahedra
-            {
-                return Err(MergeError::Settings(
-                    i,
-                    format!("{:?} on {}", r.settings, r.backend),
-                ));
-            }
-            let names = |r: &CountReport| {
-                r.methods
-                    .iter()
-                    .map(|m| m.method.clone())
-                    .collect::<Vec<_>>()
-            };
-            if names(r) != names(first) {
-                return Err(MergeError::Methods(i));
-            }
-            if r.settings.shard.count != count {
-                return Err(MergeError::Settings(i, format!("{:?}", r.settings.shard)));
-            }
-            have.push(r.settings.shard.index);
+/// A count that runs in shards (`--shard I/N`, disjoint slices of the views) and adds up.
+pub trait Sharded: Clone {
+    /// What every shard of one run shares: its settings but the shard, the backend, the scene.
+    type Same: PartialEq + std::fmt::Debug;
+    fn same(&self) -> Self::Same;
+    fn shard(&self) -> Shard;
+    /// The methods counted, in order.
+    fn methods(&self) -> Vec<String>;
+    /// Add `other`'s totals (another shard's) to these.
+    fn add(&mut self, other: &Self);
+    /// The whole run's report from the added totals (shard `0/1`, per-image and per-second figures).
+    fn finish(&mut self);
+}
+
+/// The shards of one run (every `I` of `I/N` once, all else alike) added up: the same totals as an
+/// unsharded run, exactly; what is not added up (timings, dates) is shard 0's.
+pub fn merge<R: Sharded>(reports: &[R]) -> Result<R, MergeError> {
+    let first = reports.first().ok_or(MergeError::Empty)?;
+    let count = first.shard().count;
+    let (want, names) = (first.same(), first.methods());
+    let mut have = Vec::new();
+    for (i, r) in reports.iter().enumerate() {
+        let got = r.same();
+        if got != want || r.shard().count != count {
+            return Err(MergeError::Settings(i, format!("{got:?}, {:?}", r.shard())));
         }
-        have.sort_unstable();
-        if have != (0..count).collect::<Vec<_>>() {
-            return Err(MergeError::Shards { have, count });
+        if r.methods() != names {
+            return Err(MergeError::Methods(i));
         }
-        let mut out = first.clone();
-        out.settings.shard = Shard::ALL;
-        for r in &reports[1..] {
-            out.rays += r.rays;
-            out.views_counted += r.views_counted;
-            out.audited += r.audited;
-            for (t, m) in out.methods.iter_mut().zip(&r.methods) {
-                t.wrong_total += m.wrong_total;
-                (0..5).for_each(|k| t.wrong.0[k] += m.wrong.0[k]);
-                t.wrong_face_adjacent += m.wrong_face_adjacent;
-                t.wrong_face_elsewhere += m.wrong_face_elsewhere;
-                t.steps += m.steps;
-                t.seconds += m.seconds;
-                t.relabelled = t
-                    .relabelled
-                    .zip(m.relabelled)
-                    .map(|(a, b)| std::array::from_fn(|k| a[k] + b[k]));
-            }
+        have.push(r.shard().index);
+    }
+    have.sort_unstable();
+    if have != (0..count).collect::<Vec<_>>() {
+        return Err(MergeError::Shards { have, count });
+    }
+    let mut order: Vec<&R> = reports.iter().collect();
+    order.sort_by_key(|r| r.shard().index);
+    let mut out = order[0].clone();
+    for r in &order[1..] {
+        out.add(r);
+    }
+    out.finish();
+    Ok(out)
+}
+
+impl Sharded for CountReport {
+    type Same = (Settings, String, usize);
+
+    fn same(&self) -> Self::Same {
+        let settings = Settings {
+            shard: Shard::ALL,
+            ..self.settings.clone()
+        };
+        (settings, self.backend.clone(), self.tetrahedra)
+    }
+
+    fn shard(&self) -> Shard {
+        self.settings.shard
+    }
+
+    fn methods(&self) -> Vec<String> {
+        self.methods.iter().map(|m| m.method.clone()).collect()
+    }
+
+    fn add(&mut self, r: &Self) {
+        self.rays += r.rays;
+        self.views_counted += r.views_counted;
+        self.audited += r.audited;
+        for (t, m) in self.methods.iter_mut().zip(&r.methods) {
+            t.wrong_total += m.wrong_total;
+            (0..5).for_each(|k| t.wrong.0[k] += m.wrong.0[k]);
+            t.wrong_face_adjacent += m.wrong_face_adjacent;
+            t.wrong_face_elsewhere += m.wrong_face_elsewhere;
+            t.steps += m.steps;
+            t.seconds += m.seconds;
+            t.relabelled = t
+                .relabelled
+                .zip(m.relabelled)
+                .map(|(a, b)| std::array::from_fn(|k| a[k] + b[k]));
         }
-        for t in &mut out.methods {
-            t.finish(out.views_counted, out.rays);
+    }
+
+    fn finish(&mut self) {
+        self.settings.shard = Shard::ALL;
+        for t in &mut self.methods {
+            t.finish(self.views_counted, self.rays);
         }
-        Ok(out)
     }
 }

@@ -1,7 +1,7 @@
 //! Octree reports (seed 001): wrong exit faces and quarters per million cells and rays, per method
 //! and row ([`stress`]), and wrong rays per image on a scene ([`count`]), every answer judged exactly.
 
-use super::count::{CountError, Sink, located_views};
+use super::count::{CountError, Shard, Sharded, Sink, located_views};
 use super::triangle::{SceneTriangles, region_of, scene_triangles};
 use super::wrong::{Seen, WrongRay};
 use crate::backend::{Backend, BackendError, OctreeOn};
@@ -187,7 +187,7 @@ impl CellStressReport {
 }
 
 /// Settings of an octree count.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CountSettings {
     pub scene: String,
     pub views: Views,
@@ -198,10 +198,12 @@ pub struct CountSettings {
     pub triangle_method: String,
     /// Rays also walked by the exact octree walk, which must end where the reference ends.
     pub audit: u64,
+    /// The views counted (`tetwalk paper --shard`).
+    pub shard: Shard,
 }
 
 /// One method's count over the views.
-#[derive(Clone, Debug, Default, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct OctreeCount {
     pub method: String,
     pub wrong_total: u64,
@@ -211,10 +213,20 @@ pub struct OctreeCount {
     pub wrong_per_image: f64,
     /// Cells visited, summed over rays (Φ).
     pub cells: u64,
+    /// Seconds walking.
+    pub seconds: f64,
     pub mrays_per_second: f64,
 }
 
-#[derive(Clone, Debug, serde::Serialize)]
+impl OctreeCount {
+    /// The per-image and per-second figures of the totals over `views` and `rays`.
+    fn finish(&mut self, views: usize, rays: u64) {
+        self.wrong_per_image = self.wrong_total as f64 / views.max(1) as f64;
+        self.mrays_per_second = rays as f64 / self.seconds.max(1e-12) / 1e6;
+    }
+}
+
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct OctreeCountReport {
     pub settings: CountSettings,
     /// The scene's triangles (its constrained faces facing the cameras).
@@ -263,7 +275,7 @@ pub fn count(
     let (mut rays_counted, mut views_counted, mut audited) = (0u64, 0usize, 0u64);
     // The cameras' region, its triangles, their octree, and the octree made ready on the backend.
     let mut scene: Option<(Vec<bool>, SceneTriangles, Octree, OctreeOn)> = None;
-    for (v, cam, located) in located_views(mesh, &s.views, |_| true, tick) {
+    for (v, cam, located) in located_views(mesh, &s.views, |v| s.shard.holds(v), tick) {
         views_counted += 1;
         if scene
             .as_ref()
@@ -349,13 +361,52 @@ pub fn count(
         backend: backend.describe(),
         methods: totals
             .into_iter()
-            .map(|(mut c, secs)| {
-                c.wrong_per_image = c.wrong_total as f64 / views_counted as f64;
-                c.mrays_per_second = rays_counted as f64 / secs.max(1e-12) / 1e6;
+            .map(|(mut c, seconds)| {
+                c.seconds = seconds;
+                c.finish(views_counted, rays_counted);
                 c
             })
             .collect(),
     })
+}
+
+impl Sharded for OctreeCountReport {
+    type Same = (CountSettings, String, usize);
+
+    fn same(&self) -> Self::Same {
+        let settings = CountSettings {
+            shard: Shard::ALL,
+            ..self.settings.clone()
+        };
+        (settings, self.backend.clone(), self.leaves)
+    }
+
+    fn shard(&self) -> Shard {
+        self.settings.shard
+    }
+
+    fn methods(&self) -> Vec<String> {
+        self.methods.iter().map(|m| m.method.clone()).collect()
+    }
+
+    fn add(&mut self, r: &Self) {
+        self.rays += r.rays;
+        self.views_counted += r.views_counted;
+        self.audited += r.audited;
+        for (t, m) in self.methods.iter_mut().zip(&r.methods) {
+            t.wrong_total += m.wrong_total;
+            (0..5).for_each(|k| t.wrong[k] += m.wrong[k]);
+            t.cells += m.cells;
+            t.seconds += m.seconds;
+        }
+    }
+
+    fn finish(&mut self) {
+        self.settings.shard = Shard::ALL;
+        for t in &mut self.methods {
+            t.finish(self.views_counted, self.rays);
+        }
+    }
 }
 
 impl OctreeCountReport {

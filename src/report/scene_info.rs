@@ -6,7 +6,7 @@ use crate::mesh::{HULL, Mesh};
 use crate::tet::{EDGES, FACE_VERTICES};
 
 /// Counts of a scene.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SceneInfo {
     pub points: usize,
     pub tetrahedra: usize,
@@ -26,7 +26,7 @@ pub struct SceneInfo {
 
 /// What seed 001 reports of its octrees: leaves with and without the regularity constraint (Table
 /// 1), neighbours and bytes per cell (§5.1), and the four arrays' sizes (Table 3).
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct OctreeInfo {
     pub settings: crate::octree::Settings,
     pub triangles: usize,

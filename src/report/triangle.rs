@@ -452,7 +452,7 @@ impl TriangleCountReport {
 
 /// Seed 004 Figure 5's measure: each method's intersection time over a view's primary rays against
 /// every triangle of the scene (no spatial structure), one thread, rays in packets of `p × p`.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SpeedRow {
     pub method: String,
     /// Packet side `p` (packets of `p × p` rays).
@@ -464,7 +464,7 @@ pub struct SpeedRow {
     pub speedup: f64,
 }
 
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SpeedReport {
     pub scene: String,
     pub views: Views,

@@ -231,11 +231,7 @@ pub fn build_scene(
         let mut to = out.as_os_str().to_owned();
         to.push(format!(".{ext}"));
         let to = PathBuf::from(to);
-        let parent = match to.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
-        let mut tmp = tempfile::NamedTempFile::new_in(&parent).map_err(SceneError::io(&to))?;
+        let mut tmp = crate::staged::beside(&to).map_err(SceneError::io(&to))?;
         let from = dir.path().join(format!("scene.1.{ext}"));
         let mut src = std::fs::File::open(&from).map_err(SceneError::io(&from))?;
         std::io::copy(&mut src, &mut tmp).map_err(SceneError::io(&to))?;
