@@ -3,13 +3,14 @@
 
 use std::process::Command;
 
-/// Per method: name, wrong rays by kind, and steps — what must not depend on threads or shards.
-fn strip(v: &serde_json::Value) -> Vec<(serde_json::Value, serde_json::Value, serde_json::Value)> {
+/// Per method: name, wrong rays by kind, and tetrahedra (`steps`) or octree cells (`cells`) walked —
+/// what must not depend on threads or shards.
+fn strip(v: &serde_json::Value) -> Vec<[serde_json::Value; 4]> {
     v["methods"]
         .as_array()
         .unwrap()
         .iter()
-        .map(|m| (m["method"].clone(), m["wrong"].clone(), m["steps"].clone()))
+        .map(|m| ["method", "wrong", "steps", "cells"].map(|k| m[k].clone()))
         .collect()
 }
 
@@ -219,17 +220,18 @@ fn the_stress_tally_counts_each_answer_where_it_belongs() {
     assert_eq!((t.judged, t.wrong_face, t.no_exit_face), (4, 1, 2));
 }
 
-/// A sharded count merges to the unsharded totals exactly.
+/// A sharded count merges to the unsharded totals exactly, for walks through the tetrahedra and
+/// through the octree; a missing shard, or shards of both families, is an error.
 #[test]
 fn sharded_counts_merge_to_the_whole_count() {
     let dir = tempfile::tempdir().unwrap();
-    let run = |extra: &[&str], json: &str| {
-        let path = dir.path().join(json);
-        let mut args = vec![
-            "count", "--scene", "jitter", "--views", "5", "--size", "24x16", "--json",
-        ];
+    let run = |family: &str, extra: &[&str], json: &str| {
+        let path = dir.path().join(format!("{family}-{json}"));
         let p = path.to_str().unwrap().to_string();
-        args.push(&p);
+        let mut args = vec![
+            "count", "--family", family, "--scene", "jitter", "--views", "5", "--size", "24x16",
+            "--json", &p,
+        ];
         args.extend_from_slice(extra);
         let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
             .args(&args)
@@ -242,38 +244,53 @@ fn sharded_counts_merge_to_the_whole_count() {
         );
         path
     };
-    let whole = run(&[], "whole.json");
-    let a = run(&["--shard", "0/3"], "a.json");
-    let b = run(&["--shard", "1/3"], "b.json");
-    let c = run(&["--shard", "2/3"], "c.json");
-    let merged = dir.path().join("merged.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
-        .args(["count", "merge"])
-        .args([&c, &a, &b])
-        .args(["--json", merged.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let merge = |shards: &[&std::path::PathBuf], json: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+            .args(["count", "merge"])
+            .args(shards)
+            .args(["--json", json.to_str().unwrap()])
+            .output()
+            .unwrap()
+    };
     let read = |p: &std::path::Path| -> serde_json::Value {
         serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
     };
-    let (w, m) = (read(&whole), read(&merged));
-    for k in ["rays", "views_counted", "audited"] {
-        assert_eq!(w[k], m[k], "{k}");
+    let mut one_each = Vec::new();
+    for family in ["exit-face", "octree"] {
+        let whole = run(family, &[], "whole.json");
+        let a = run(family, &["--shard", "0/3"], "a.json");
+        let b = run(family, &["--shard", "1/3"], "b.json");
+        let c = run(family, &["--shard", "2/3"], "c.json");
+        let merged = dir.path().join(format!("{family}-merged.json"));
+        let out = merge(&[&c, &a, &b], &merged);
+        assert!(
+            out.status.success(),
+            "{family}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (w, m) = (read(&whole), read(&merged));
+        for k in ["rays", "views_counted", "audited"] {
+            assert_eq!(w[k], m[k], "{family}: {k}");
+        }
+        assert!(
+            w["rays"].as_u64().unwrap() > 0,
+            "{family}: something counted"
+        );
+        assert_eq!(strip(&w), strip(&m), "{family}");
+        // Missing a shard is an error.
+        let out = merge(&[&a, &b], &dir.path().join("never.json"));
+        assert!(!out.status.success());
+        assert!(String::from_utf8_lossy(&out.stderr).contains("shards"));
+        one_each.push(a);
     }
-    assert_eq!(strip(&w), strip(&m));
-    // Missing a shard is an error.
-    let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
-        .args(["count", "merge"])
-        .args([&a, &b])
-        .output()
-        .unwrap();
+    let out = merge(
+        &[&one_each[0], &one_each[1]],
+        &dir.path().join("never.json"),
+    );
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("shards"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("merge each family apart"), "{err}");
+    assert!(!dir.path().join("never.json").exists(), "nothing written");
 }
 
 /// The audit catches a reference that is not the exact walk: with a method that fails as the

@@ -99,7 +99,8 @@ pub struct Args {
 
 #[derive(clap::Subcommand)]
 enum Merge {
-    /// Add up the JSON reports of a sharded count (`--shard I/N`, every I once) into one.
+    /// Add up the JSON reports of a sharded count (`--shard I/N`, every I once) into one: walks
+    /// through the tetrahedra or through the octree (`--family octree`), not both.
     Merge {
         /// The shards' reports (`count --shard I/N --json FILE`).
         #[arg(required = true)]
@@ -112,8 +113,31 @@ enum Merge {
 
 fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Outcome {
     let out = JsonOut::new(json)?;
-    let merged = count::merge::<count::CountReport>(&super::read_reports(reports)?)?;
-    print!("{}", merged.markdown());
+    // An octree count's report is the one with leaves.
+    let (mut walks, mut octree) = (Vec::new(), Vec::new());
+    let read: Vec<serde_json::Value> = super::read_reports(reports)?;
+    for (r, path) in read.into_iter().zip(reports) {
+        let named = |e: serde_json::Error| format!("{}: {e}", path.display());
+        if r.get("leaves").is_some() {
+            octree.push(
+                serde_json::from_value::<octree_report::OctreeCountReport>(r).map_err(named)?,
+            );
+        } else {
+            walks.push(serde_json::from_value::<count::CountReport>(r).map_err(named)?);
+        }
+    }
+    let (text, merged) = match (walks.is_empty(), octree.is_empty()) {
+        (false, true) => {
+            let m = count::merge(&walks)?;
+            (m.markdown(), serde_json::to_value(&m)?)
+        }
+        (true, false) => {
+            let m = count::merge(&octree)?;
+            (m.markdown(), serde_json::to_value(&m)?)
+        }
+        _ => return Err("the reports count walks through the tetrahedra and through the octree: merge each family apart".into()),
+    };
+    print!("{text}");
     out.finish(&merged)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -137,7 +161,7 @@ pub fn run(a: Args) -> Outcome {
         return run_triangle(a);
     }
     if a.family == "octree" {
-        return run_octree(a);
+        return run_octree(a, shard);
     }
     if let Some(path) = &a.rays_out {
         return rays_out(&a, shard, path);
@@ -311,9 +335,9 @@ fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
 }
 
 /// `count --family octree`.
-fn run_octree(a: Args) -> Outcome {
-    if a.relabel.is_some() || a.shard != "0/1" || a.wgsl.wgsl.is_some() {
-        return Err("--relabel, --shard and --wgsl are for --family exit-face".into());
+fn run_octree(a: Args, shard: count::Shard) -> Outcome {
+    if a.relabel.is_some() || a.wgsl.wgsl.is_some() {
+        return Err("--relabel and --wgsl are for --family exit-face".into());
     }
     let methods: Vec<_> = parse_octree_list(&a.methods)?
         .into_iter()
@@ -332,7 +356,7 @@ fn run_octree(a: Args) -> Outcome {
         },
         triangle_method: a.triangle_method,
         audit: a.audit,
-        shard: count::Shard::ALL,
+        shard,
     };
     let bar = super::progress(views.views as u64, "views");
     let backend = a.backend.open()?;
