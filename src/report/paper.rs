@@ -580,17 +580,23 @@ fn kind(backend: &str) -> &str {
 }
 
 /// The adapter and driver of each GPU among `backends`, a line each; a software adapter is said to
-/// be one, since its times are a CPU's.
+/// be one, since its times are a CPU's. Without a hardware GPU, where the last runs on one are kept.
 fn adapters<'a>(backends: impl Iterator<Item = &'a str>) -> String {
     let mut out = String::new();
+    let mut hardware = false;
     for b in backends.filter(|b| b.contains(':')) {
         out += &format!("- {b}");
         if b.contains(", Cpu,") {
             out += " — a software adapter: its counts are the WGSL as this Vulkan driver compiles it, its times a CPU's";
+        } else {
+            hardware = true;
         }
         out += "\n";
     }
-    if out.is_empty() { out } else { out + "\n" }
+    if !hardware {
+        out += "- no hardware GPU in this run; runs on one (an H100 and an H200, with adapter, driver and date) are in `corpora/results/h100.md` (stress and count), `h100-bench.md` (walk speeds), `h100-layouts.md` (seed 003 Table 3) and `h100-certified.md`\n";
+    }
+    out + "\n"
 }
 
 /// Today's date, UTC, as YYYY-MM-DD (Howard Hinnant's days-to-civil).
