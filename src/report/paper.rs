@@ -91,6 +91,7 @@ const SEED003_TABLE4: [(&str, f64, f64); 4] = [
     ("Tet80", 20.6, 1410.0),
 ];
 
+/// Why a run of the seeds' tables could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum PaperError {
     #[error(transparent)]
