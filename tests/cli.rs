@@ -614,7 +614,10 @@ fn paper_writes_the_seeds_tables_beside_ours() {
             .all(|x| x["backend"] == "cpu" && x["rays"].as_u64() > Some(0)),
         "cpu-fma is not timed: {timed:?}"
     );
-    assert_eq!(r["octree"]["methods"].as_array().unwrap().len(), 2);
+    let octrees = r["octrees"].as_array().unwrap();
+    assert_eq!(octrees.len(), 2, "an octree count per backend");
+    assert_eq!(octrees[1]["backend"], "cpu-fma");
+    assert_eq!(octrees[0]["methods"].as_array().unwrap().len(), 2);
     assert!(r["scene_info"]["octree"]["leaves"].as_u64().unwrap() > 0);
     let maria17 = r["table5"]
         .as_array()

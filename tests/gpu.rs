@@ -325,6 +325,8 @@ fn paper_gives_a_gpu_its_columns_with_its_adapter() {
     assert_eq!(r.counts.len(), 2);
     assert_eq!(r.counts[1].backend, adapter);
     assert_eq!(r.counts[1].rays, r.counts[0].rays);
+    assert_eq!(r.octrees[1].backend, adapter);
+    assert_eq!(r.octrees[1].rays, r.octrees[0].rays);
     assert_eq!(r.table5_gpu.len(), usize::from(measures));
     for t in &r.table5_gpu {
         assert_eq!(t.backend, adapter);

@@ -39,19 +39,27 @@ fn counted(r: &PaperReport) -> serde_json::Value {
             serde_json::json!([c.backend, c.rays, c.views_counted, methods])
         })
         .collect();
-    let octree: Vec<_> = r
-        .octree
-        .methods
+    let octrees: Vec<_> = r
+        .octrees
         .iter()
-        .map(|m| serde_json::json!([m.method, m.wrong_total, m.wrong, m.cells]))
+        .map(|o| {
+            let methods: Vec<_> = o
+                .methods
+                .iter()
+                .map(|m| serde_json::json!([m.method, m.wrong_total, m.wrong, m.cells]))
+                .collect();
+            serde_json::json!([o.backend, o.rays, o.views_counted, methods])
+        })
         .collect();
-    serde_json::json!([counts, r.octree.rays, r.octree.views_counted, octree])
+    serde_json::json!([counts, octrees])
 }
 
 #[test]
 fn shards_merge_to_the_whole_run_and_strangers_are_refused() {
     let whole = run(Shard::ALL);
     assert!(whole.counts[0].rays > 0, "the tiny run counts something");
+    assert_eq!(whole.octrees.len(), 2, "an octree count per backend");
+    assert!(whole.octrees.iter().all(|o| o.rays == whole.counts[0].rays));
     let shards: Vec<PaperReport> = (0..3).map(|index| run(Shard { index, count: 3 })).collect();
     assert!(
         shards

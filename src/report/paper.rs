@@ -1,6 +1,7 @@
 //! `tetwalk paper`: the seeds' tables that tetwalk reproduces, ours beside theirs, with what differs —
 //! seed 000 Tables 3, 4 and 5, seed 003 Tables 1–4, seed 004 Figure 5 and seed 001 Tables 1 and 3 with
-//! an exact count of its octree walk; a GPU backend adds its columns, with its adapter and driver.
+//! an exact count of its octree walk on each backend; a GPU backend adds its columns, with its adapter
+//! and driver.
 
 use crate::backend::{Backend, BackendError};
 use crate::mesh::Mesh;
@@ -173,8 +174,9 @@ pub struct PaperReport {
     pub speed: BenchReport,
     /// Seed 004 Figure 5 (CPU, one thread).
     pub figure5: SpeedReport,
-    /// Seed 001's octree walk over the scene's constrained faces (CPU), judged as the counts are.
-    pub octree: OctreeCountReport,
+    /// Seed 001's octree walk over the scene's constrained faces, judged as the counts are, one
+    /// count per backend.
+    pub octrees: Vec<OctreeCountReport>,
 }
 
 /// Run every reproducible table on `mesh` (scene `scene`) with the counts on `backends`; the counts
@@ -261,22 +263,19 @@ pub fn run(
     let triangle_methods: Vec<_> = TRIANGLE_METHODS.iter().collect();
     let figure5 = triangle::speed(mesh, scene, &views, &triangle_methods, 3)?;
     let octree_methods: Vec<_> = OCTREE_METHODS.iter().filter(|m| !m.reference).collect();
-    let octree = octree::count(
-        mesh,
-        &octree::CountSettings {
-            scene: scene.to_string(),
-            views: settings.views,
-            reference: reference.into(),
-            octree: crate::octree::Settings::PAPER,
-            triangle_method: "mt".into(),
-            audit: 1000,
-            shard,
-        },
-        &octree_methods,
-        &crate::backend::CPU,
-        tick,
-        None,
-    )?;
+    let octree_settings = octree::CountSettings {
+        scene: scene.to_string(),
+        views: settings.views,
+        reference: reference.into(),
+        octree: crate::octree::Settings::PAPER,
+        triangle_method: "mt".into(),
+        audit: 1000,
+        shard,
+    };
+    let octrees = backends
+        .iter()
+        .map(|b| octree::count(mesh, &octree_settings, &octree_methods, b, tick, None))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(PaperReport {
         date: today(),
         scene: scene.to_string(),
@@ -288,7 +287,7 @@ pub fn run(
         table5_gpu,
         speed,
         figure5,
-        octree,
+        octrees,
     })
 }
 
@@ -363,13 +362,15 @@ impl Sharded for PaperReport {
         for (c, o) in self.counts.iter_mut().zip(&other.counts) {
             c.add(o);
         }
-        self.octree.add(&other.octree);
+        for (o, other) in self.octrees.iter_mut().zip(&other.octrees) {
+            o.add(other);
+        }
     }
 
     fn finish(&mut self) {
         self.shard = Shard::ALL;
         self.counts.iter_mut().for_each(Sharded::finish);
-        self.octree.finish();
+        self.octrees.iter_mut().for_each(Sharded::finish);
     }
 }
 
@@ -484,12 +485,39 @@ impl PaperReport {
         }
         out += "\nOurs is built over the constrained faces of the scene above (the same decimated bunny), at the paper's depth for the bunny; the paper's bunny has 69k triangles.\n\n";
         out += "## Seed 001: the octree walk, judged exactly\n\nThe paper gives speeds (Table 2, a GTX 980) and no robustness claim; ours counts wrong rays, each judged against the exact first hit.\n\n";
-        out += &self.octree.markdown();
+        if let Some(first) = self.octrees.first() {
+            out += &first.markdown();
+        }
+        if self.octrees.len() > 1 {
+            out += &self.octree_backends();
+        }
         out
     }
 }
 
 impl PaperReport {
+    /// The octree walk's wrong rays per image on each backend, side by side.
+    fn octree_backends(&self) -> String {
+        let mut out = "\nWrong rays per image on each backend (the walk's loop in WGSL on a GPU, the entry cell from the cube map on the CPU):\n\n| method |".to_string();
+        for o in &self.octrees {
+            out += &format!(" {} |", kind(&o.backend));
+        }
+        out += "\n|---|";
+        out += &"---|".repeat(self.octrees.len());
+        out += "\n";
+        for (i, m) in self.octrees[0].methods.iter().enumerate() {
+            out += &format!("| {} |", m.method);
+            for o in &self.octrees {
+                out += &o
+                    .methods
+                    .get(i)
+                    .map_or(" - |".into(), |x| format!(" {:.3} |", x.wrong_per_image));
+            }
+            out += "\n";
+        }
+        out
+    }
+
     /// Seed 000 Table 3's ray casting speed beside maria17's walks on each backend.
     fn ray_casting(&self) -> String {
         let b = &self.speed;
