@@ -9,7 +9,7 @@ use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::octree::Octree;
-use crate::registry::{Method, OctreeMethod, TriangleMethod};
+use crate::registry::{Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::Ray;
 use crate::walk::Walk;
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
@@ -144,9 +144,9 @@ impl Backend {
         matches!(self, Backend::Gpu(g) if g.measures_kernels())
     }
 
-    /// Where `method` runs on this backend: here, or on the plain CPU for the reference.
-    pub fn for_method(&self, method: &Method) -> &Backend {
-        if method.reference { &CPU } else { self }
+    /// Where `method` runs on this backend: here, or on the plain CPU for its family's reference.
+    pub fn for_method(&self, method: &impl Named) -> &Backend {
+        if method.is_reference() { &CPU } else { self }
     }
 
     /// Every hit `method` reports (a triangle of the case and its f32 `t`, in triangle order) for each
@@ -279,9 +279,8 @@ impl Backend {
             let exit = method.exit(fma);
             map_all(cases, |c| exit(c.lo, c.hi, &c.ray()))
         };
-        match self {
+        match self.for_method(method) {
             Backend::Cpu { fma } => Ok(cpu(*fma)),
-            Backend::Gpu(_) if method.reference => Ok(cpu(false)),
             Backend::Gpu(g) => {
                 let input: Vec<gpu::shader::Case> = cases
                     .iter()
@@ -324,9 +323,8 @@ impl Backend {
             let (walk, hit) = (method.walk(fma), tri.hit(fma));
             map_all(rays, |r| walk(o, tris, hit, r, max_steps))
         };
-        match self {
+        match self.for_method(method) {
             Backend::Cpu { fma } => Ok(cpu(*fma)),
-            Backend::Gpu(_) if method.reference => Ok(cpu(false)),
             Backend::Gpu(g) => {
                 let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let asked: Vec<(Ray, u32)> = rays

@@ -658,7 +658,7 @@ pub fn check_boxes(
         })?;
     for m in methods {
         for b in backends {
-            let on = if m.reference { &CPU } else { *b };
+            let on = b.for_method(*m);
             for (i, (got, truth)) in b.box_exits(m, cases)?.into_iter().zip(&truths).enumerate() {
                 let signs = got.map(|(f, q)| (f, crate::octree::cell::quarter_signs(q)));
                 if truth.right(signs) == Some(false) {
@@ -838,7 +838,7 @@ fn check_walks(
     for m in methods {
         for b in backends {
             // The reference runs on the CPU whatever the backend: walk it once.
-            let key = (m.name, b.for_method(m).kind());
+            let key = (m.name, b.for_method(*m).kind());
             if done.contains(&key) {
                 continue;
             }

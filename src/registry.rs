@@ -291,6 +291,11 @@ impl ExitMethod for WgslOnly {
 pub trait Named: Sync + 'static {
     fn name(&self) -> &'static str;
 
+    /// Whether it is its family's reference, which runs on the CPU whatever the backend.
+    fn is_reference(&self) -> bool {
+        false
+    }
+
     /// The name as a WGSL identifier (`-` becomes `_`).
     fn ident(&self) -> String {
         self.name().replace('-', "_")
@@ -301,11 +306,19 @@ impl Named for Method {
     fn name(&self) -> &'static str {
         self.name
     }
+
+    fn is_reference(&self) -> bool {
+        self.reference
+    }
 }
 
 impl Named for OctreeMethod {
     fn name(&self) -> &'static str {
         self.name
+    }
+
+    fn is_reference(&self) -> bool {
+        self.reference
     }
 }
 

@@ -97,11 +97,7 @@ fn answer(
                     .zip(&answers)
                     .zip(&mut summary.methods)
                     .map(|((m, a), t)| {
-                        let on = if m.reference {
-                            "cpu"
-                        } else {
-                            backend.kind().name()
-                        };
+                        let on = backend.for_method(*m).kind().name();
                         let answer = a[k].map(|(f, q)| (f, quarter_signs(q)));
                         box_verdict(*n, m.name, on, x, answer, t)
                     })

@@ -238,7 +238,7 @@ fn answer(
                     .zip(&faces)
                     .zip(&mut summary.methods)
                     .map(|((m, f), t)| {
-                        let on = backend.for_method(m).kind().name();
+                        let on = backend.for_method(*m).kind().name();
                         exit_verdict(*n, m.name, on, c, f[k], t)
                     })
                     .collect();
@@ -301,7 +301,7 @@ fn walk_lines(
         t.right += right as u64;
         t.wrong += !right as u64;
         out.push(serde_json::json!({
-            "line": n, "method": m.name, "backend": backend.for_method(m).kind().name(),
+            "line": n, "method": m.name, "backend": backend.for_method(*m).kind().name(),
             "walk": got.outcome, "steps": got.steps, "exact_walk": exact.outcome, "correct": right,
         }));
     }

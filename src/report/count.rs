@@ -364,7 +364,7 @@ pub fn run_walkers(
                 pixel: [0, 0],
                 name: m.name(),
                 walked: match m {
-                    Walker::Method(m) => Some((*m, backend.for_method(m).kind())),
+                    Walker::Method(m) => Some((*m, backend.for_method(*m).kind())),
                     Walker::Given(..) => None,
                 },
             };

@@ -112,11 +112,7 @@ pub fn stress(
                     .into_iter()
                     .map(|a| a.map(|(f, q)| (f, quarter_signs(q))))
                     .collect();
-                let on = if m.reference {
-                    &crate::backend::CPU
-                } else {
-                    backend
-                };
+                let on = backend.for_method(*m);
                 for ((c, x), a) in cases.iter().zip(answers) {
                     let Some(right) = x.right(a) else { continue };
                     t.judged += 1;
