@@ -187,7 +187,7 @@ pub fn run(a: Args) -> Outcome {
     } else {
         &EVEN_PERMUTATIONS[..1]
     };
-    let bar = super::progress((views.views * labellings.len()) as u64, "views");
+    let bar = super::progress((shard.held(views.views) * labellings.len()) as u64, "views");
     let mut write = |w: &WrongRay| dump.write(w);
     // The mesh's own labelling (the identity, first) gives the report and the dump.
     let mut report = count::run(
@@ -358,7 +358,7 @@ fn run_octree(a: Args, shard: count::Shard) -> Outcome {
         audit: a.audit,
         shard,
     };
-    let bar = super::progress(views.views as u64, "views");
+    let bar = super::progress(shard.held(views.views) as u64, "views");
     let backend = a.backend.open()?;
     let mut dump = Dump::new(a.dump.as_deref())?;
     let mut write = |w: &WrongRay| dump.write(w);

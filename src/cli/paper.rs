@@ -74,8 +74,11 @@ pub fn run(a: Args) -> Outcome {
         .collect::<Result<Vec<_>, _>>()?;
     let mesh = crate::scenes::load(&a.scene, crate::mesh::Faces::Required)?;
     let size = if a.full { Size::FULL } else { Size::REDUCED };
-    // The counts on each backend, then the octree count.
-    let bar = super::progress((size.views * (backends.len() + 1)) as u64, "views");
+    // The count and the octree count on each backend.
+    let bar = super::progress(
+        (shard.held(size.views) * backends.len() * 2) as u64,
+        "views",
+    );
     let report = paper::run(&a.scene, &mesh, size, shard, &backends, &|| bar.inc(1))?;
     bar.finish_and_clear();
     match out {

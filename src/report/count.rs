@@ -39,6 +39,11 @@ impl Shard {
     pub fn holds(self, view: usize) -> bool {
         view % self.count == self.index
     }
+
+    /// How many of `views` views this shard holds.
+    pub fn held(self, views: usize) -> usize {
+        (0..views).filter(|&v| self.holds(v)).count()
+    }
 }
 
 /// Why a count could not be made.
