@@ -6,6 +6,7 @@ use glam::Vec3;
 use std::hint::black_box;
 use tetwalk::exact::classify;
 use tetwalk::mesh::layout::Layout;
+use tetwalk::methods::Model;
 use tetwalk::registry::METHODS;
 use tetwalk::scenes::tets::{Family, stabbing_ray, tet};
 use tetwalk::scenes::{self, Generated, rng};
@@ -24,9 +25,9 @@ fn exit_faces(c: &mut Criterion) {
         .collect();
     let mut g = c.benchmark_group("exit_face_4096_cases");
     for m in METHODS.iter().filter(|m| m.name != "exact") {
-        for fma in [false, true] {
-            let exit = m.exit(fma);
-            let name = if fma {
+        for model in [Model::Plain, Model::Fused] {
+            let exit = m.exit(model);
+            let name = if model == Model::Fused {
                 format!("{} fma", m.name)
             } else {
                 m.name.to_string()
@@ -56,7 +57,7 @@ fn walks(c: &mut Criterion) {
         .collect();
     let mut g = c.benchmark_group("walk_2048_rays_jitter12");
     for m in METHODS.iter().filter(|m| m.name != "exact") {
-        let walk = m.walk(false);
+        let walk = m.walk(Model::Plain);
         g.bench_function(m.name, |b| {
             b.iter(|| {
                 rays.iter()
@@ -64,7 +65,7 @@ fn walks(c: &mut Criterion) {
                     .sum::<u32>()
             })
         });
-        if let Some(lw) = m.layout_walk(false) {
+        if let Some(lw) = m.layout_walk(Model::Plain) {
             for kind in [Kind::Tet32, Kind::Tet20, Kind::Tet16] {
                 g.bench_function(format!("{} {kind:?}", m.name), |b| {
                     b.iter(|| {

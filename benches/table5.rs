@@ -91,7 +91,7 @@ fn walk_table(
     let walks: Vec<(&str, f64, u64)> = METHODS
         .iter()
         .map(|m| {
-            let walk = m.walk(false);
+            let walk = m.walk(tetwalk::methods::Model::Plain);
             let mut best = f64::INFINITY;
             let mut steps = 0;
             for _ in 0..if m.reference { 1 } else { 3 } {

@@ -1,5 +1,6 @@
 //! The backend seam: where a method's exit faces and walks are computed — the CPU in plain f32, the CPU
-//! as a GPU compiles it (fused multiply-adds, see [`crate::methods`]), or a GPU through wgpu. Every
+//! as a GPU compiles it (fused multiply-adds, see [`crate::methods`]), the CPU as a GPU may compute
+//! (subnormals flushed to zero, [`crate::fpenv`]), or a GPU through wgpu. Every
 //! command, the fuzz targets and the tests ask for answers here. The reference method runs on the CPU
 //! whatever the backend (it has no GPU version), and reports say so.
 
@@ -8,6 +9,7 @@ use crate::choice::Choice;
 use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
+use crate::methods::Model;
 use crate::octree::Octree;
 use crate::registry::{Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::Ray;
@@ -24,11 +26,25 @@ pub enum BackendKind {
     Cpu,
     /// The CPU as a GPU compiler may compile the method: `a·b + c` contracted to fused multiply-adds.
     CpuFma,
+    /// The CPU as a GPU may compute: subnormal inputs read as zero, subnormal results flushed to zero.
+    CpuFtz,
     /// A GPU through wgpu (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME`).
     Gpu,
 }
 
-crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", Gpu => "gpu" });
+crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", CpuFtz => "cpu-ftz", Gpu => "gpu" });
+
+impl BackendKind {
+    /// The arithmetic model of a CPU backend (none for a GPU, whose compiler and driver choose).
+    pub fn model(self) -> Option<Model> {
+        match self {
+            BackendKind::Cpu => Some(Model::Plain),
+            BackendKind::CpuFma => Some(Model::Fused),
+            BackendKind::CpuFtz => Some(Model::Flushed),
+            BackendKind::Gpu => None,
+        }
+    }
+}
 
 /// Why a backend cannot give an answer.
 #[derive(Debug, thiserror::Error)]
@@ -41,6 +57,8 @@ pub enum BackendError {
         "method '{0}' has no layout walk (seed 003's layouts are walked by the 2-D frame methods)"
     )]
     NoLayoutWalk(&'static str),
+    #[error("cpu-ftz needs a processor whose flush-to-zero mode tetwalk sets (x86-64 or AArch64)")]
+    NoFlush,
     #[error("{0} run on the CPU so far: use --backend cpu or cpu-fma")]
     CpuOnly(&'static str),
     #[error("method '{0}' runs only on the GPU (a user's WGSL): use --backend gpu")]
@@ -65,13 +83,21 @@ fn map_all<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> 
 }
 
 /// The CPU in plain f32, where the reference runs.
-pub static CPU: Backend = Backend::Cpu { fma: false };
+pub static CPU: Backend = Backend::Cpu {
+    model: Model::Plain,
+};
 /// The CPU as a GPU compiles the methods.
-pub static CPU_FMA: Backend = Backend::Cpu { fma: true };
+pub static CPU_FMA: Backend = Backend::Cpu {
+    model: Model::Fused,
+};
+/// The CPU flushing subnormals, as a GPU may.
+pub static CPU_FTZ: Backend = Backend::Cpu {
+    model: Model::Flushed,
+};
 
 /// A backend, opened.
 pub enum Backend {
-    Cpu { fma: bool },
+    Cpu { model: Model },
     Gpu(Box<gpu::Gpu>),
 }
 
@@ -103,9 +129,13 @@ impl Backend {
     /// Open a backend (a GPU backend opens the adapter).
     pub fn open(kind: BackendKind) -> Result<Backend, BackendError> {
         Ok(match kind {
-            BackendKind::Cpu => Backend::Cpu { fma: false },
-            BackendKind::CpuFma => Backend::Cpu { fma: true },
+            BackendKind::CpuFtz if !crate::fpenv::FLUSH_AVAILABLE => {
+                return Err(BackendError::NoFlush);
+            }
             BackendKind::Gpu => Backend::Gpu(Box::new(gpu::Gpu::new()?)),
+            cpu => Backend::Cpu {
+                model: cpu.model().expect("a CPU backend has a model"),
+            },
         })
     }
 
@@ -117,8 +147,15 @@ impl Backend {
 
     pub fn kind(&self) -> BackendKind {
         match self {
-            Backend::Cpu { fma: false } => BackendKind::Cpu,
-            Backend::Cpu { fma: true } => BackendKind::CpuFma,
+            Backend::Cpu {
+                model: Model::Plain,
+            } => BackendKind::Cpu,
+            Backend::Cpu {
+                model: Model::Fused,
+            } => BackendKind::CpuFma,
+            Backend::Cpu {
+                model: Model::Flushed,
+            } => BackendKind::CpuFtz,
             Backend::Gpu(_) => BackendKind::Gpu,
         }
     }
@@ -157,8 +194,8 @@ impl Backend {
         cases: &[HitCase],
     ) -> Result<Vec<Vec<(u32, f32)>>, BackendError> {
         match self {
-            Backend::Cpu { fma } => {
-                let hits = method.hits(*fma);
+            Backend::Cpu { model } => {
+                let hits = method.hits(*model);
                 Ok(map_all(cases, |c| hits(c.tris(), &c.ray())))
             }
             Backend::Gpu(g) => {
@@ -201,8 +238,8 @@ impl Backend {
         packet: usize,
     ) -> Result<Vec<Option<(u32, f32)>>, BackendError> {
         match self {
-            Backend::Cpu { fma } => {
-                let trace = method.trace(*fma);
+            Backend::Cpu { model } => {
+                let trace = method.trace(*model);
                 // Each task prepares the triangles once for 256 packets.
                 let chunk = packet.max(1) * 256;
                 Ok(rays
@@ -232,8 +269,8 @@ impl Backend {
     ) -> Result<(Vec<Option<usize>>, Option<f64>), BackendError> {
         match self.for_method(method) {
             Backend::Cpu { .. } if !method.runs_on_cpu => Err(BackendError::GpuOnly(method.name)),
-            Backend::Cpu { fma } => {
-                let exit = method.exit(*fma);
+            Backend::Cpu { model } => {
+                let exit = method.exit(*model);
                 let faces = map_all(cases, |c| {
                     let (tet, entry, map) = normalized(c);
                     exit(&tet, &c.ray(), entry).map(|f| map[f])
@@ -252,7 +289,7 @@ impl Backend {
                     return Err(BackendError::Unsettled(method.name));
                 }
                 // What the GPU could not settle, the CPU answers.
-                let exit = method.exit(false);
+                let exit = method.exit(Model::Plain);
                 let faces = done
                     .items
                     .into_iter()
@@ -275,12 +312,12 @@ impl Backend {
         method: &OctreeMethod,
         cases: &[BoxCase],
     ) -> Result<Vec<Option<(usize, usize)>>, BackendError> {
-        let cpu = |fma: bool| {
-            let exit = method.exit(fma);
+        let cpu = |model: Model| {
+            let exit = method.exit(model);
             map_all(cases, |c| exit(c.lo, c.hi, &c.ray()))
         };
         match self.for_method(method) {
-            Backend::Cpu { fma } => Ok(cpu(*fma)),
+            Backend::Cpu { model } => Ok(cpu(*model)),
             Backend::Gpu(g) => {
                 let input: Vec<gpu::shader::Case> = cases
                     .iter()
@@ -319,12 +356,12 @@ impl Backend {
         rays: &[Ray],
         max_steps: u32,
     ) -> Result<Vec<OctreeWalk>, BackendError> {
-        let cpu = |fma: bool| {
-            let (walk, hit) = (method.walk(fma), tri.hit(fma));
+        let cpu = |model: Model| {
+            let (walk, hit) = (method.walk(model), tri.hit(model));
             map_all(rays, |r| walk(o, tris, hit, r, max_steps))
         };
         match self.for_method(method) {
-            Backend::Cpu { fma } => Ok(cpu(*fma)),
+            Backend::Cpu { model } => Ok(cpu(*model)),
             Backend::Gpu(g) => {
                 let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let asked: Vec<(Ray, u32)> = rays
@@ -381,9 +418,9 @@ impl Backend {
         max_steps: u32,
     ) -> Result<LayoutWalked, BackendError> {
         match self {
-            Backend::Cpu { fma } => {
+            Backend::Cpu { model } => {
                 let walk = method
-                    .layout_walk(*fma)
+                    .layout_walk(*model)
                     .ok_or(BackendError::NoLayoutWalk(method.name))?;
                 Ok(LayoutWalked {
                     walks: map_all(rays, |(r, s)| {
@@ -434,8 +471,8 @@ impl Backend {
     ) -> Result<Walked, BackendError> {
         match self.for_method(method) {
             Backend::Cpu { .. } if !method.runs_on_cpu => Err(BackendError::GpuOnly(method.name)),
-            Backend::Cpu { fma } => {
-                let walks = method.walks(*fma);
+            Backend::Cpu { model } => {
+                let walks = method.walks(*model);
                 Ok(Walked {
                     walks: if rays.len() < PARALLEL_FROM {
                         walks(mesh.mesh, rays, max_steps)
@@ -459,7 +496,7 @@ impl Backend {
                     return Err(BackendError::Unsettled(method.name));
                 }
                 // Flagged rays (a step the GPU could not settle) are walked on the CPU.
-                let walk = method.walk(false);
+                let walk = method.walk(Model::Plain);
                 Ok(Walked {
                     walks: done
                         .items

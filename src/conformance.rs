@@ -44,6 +44,7 @@ use crate::cases::{BoxCase, HitCase, Subject, classify, judge_hit, judged, norma
 use crate::choice::Choice;
 use crate::exact::perturbed_exit;
 use crate::found::{Answer, Failure, Record};
+use crate::methods::Model;
 use crate::methods::triangle::{HitMethod, nearest_of};
 use crate::methods::{CellMethod, ExitMethod};
 use crate::octree::cell::quarter_signs;
@@ -497,7 +498,8 @@ pub fn check_cells<M: CellMethod>(name: &'static str, s: &Settings) -> Result<Pa
         let Ok(x) = crate::exact::boxes::box_exit(lo, hi, &ray) else {
             continue;
         };
-        let got = m.exit(s.fma)(lo, hi, &ray).map(|(f, q)| (f, quarter_signs(q)));
+        let got = m.exit(if s.fma { Model::Fused } else { Model::Plain })(lo, hi, &ray)
+            .map(|(f, q)| (f, quarter_signs(q)));
         let Some(right) = x.right(got) else { continue };
         fam.judged += 1;
         if !right {

@@ -4,10 +4,11 @@
 //! method's wrong exit face, or its wrong walk). Also the checks that the fuzz targets, import and
 //! replay share.
 
-use crate::backend::{Backend, BackendError, BackendKind, CPU, CPU_FMA};
+use crate::backend::{Backend, BackendError, BackendKind, CPU, CPU_FMA, CPU_FTZ};
 use crate::cases::{BoxCase, CaseError, HitCase, Subject, classify, judge_hit, number, object};
 use crate::choice::Choice;
 use crate::exact::hit::first_hit;
+use crate::methods::Model;
 use crate::methods::triangle::nearest_of;
 use crate::registry::{
     METHODS, Method, OCTREE_METHODS, OctreeMethod, TRIANGLE_METHODS, TriangleMethod, UnknownMethod,
@@ -107,8 +108,9 @@ pub fn required_octree_methods() -> Result<Vec<&'static OctreeMethod>, FoundErro
     }
 }
 
-/// The backends a fuzz run holds the required methods to: the CPU, plain and as a GPU compiles them.
-pub const FUZZ_BACKENDS: [&Backend; 2] = [&CPU, &CPU_FMA];
+/// The backends a fuzz run holds the required methods to: the CPU plain, as a GPU compiles the
+/// methods, and as a GPU that flushes subnormals computes them.
+pub const FUZZ_BACKENDS: [&Backend; 3] = [&CPU, &CPU_FMA, &CPU_FTZ];
 
 /// The GPU a fuzz run with `TETWALK_FUZZ_BACKEND=gpu` holds the methods to, opened once.
 static FUZZ_GPU: std::sync::OnceLock<Result<Backend, String>> = std::sync::OnceLock::new();
@@ -162,11 +164,12 @@ pub fn fuzz_find(subject: &Subject) -> Result<Option<Record>, FoundError> {
         check_boxes(&cases, &required_octree_methods()?, &backends)?
     } else if let Subject::Hit(_) = subject {
         let (methods, leaks_only) = required_triangle_methods()?;
-        // The watertight claim is for f32 as written: with its products fused, woop-watertight leaks
-        // (corpora/results/triangle.md), which campaigns file; the claim's fuzzing leaves cpu-fma out.
+        // The watertight claim is for f32 as written, with gradual underflow: with its products fused,
+        // woop-watertight leaks (corpora/results/triangle.md), which campaigns file; the claim's
+        // fuzzing leaves cpu-fma and cpu-ftz out.
         let backends: Vec<&Backend> = backends
             .into_iter()
-            .filter(|b| !leaks_only || b.kind() != BackendKind::CpuFma)
+            .filter(|b| !leaks_only || b.kind() == BackendKind::Cpu || b.kind() == BackendKind::Gpu)
             .collect();
         let cases: Vec<HitCase> = subjects
             .iter()
@@ -210,12 +213,12 @@ pub fn octree_walk_find(tris: &[Tri], ray: &Ray) -> Result<Option<Record>, Found
         field: "tris",
         why: e.to_string(),
     })?;
-    let hit = triangle_by_name("mt")?.hit(false);
+    let hit = triangle_by_name("mt")?.hit(Model::Plain);
     let cap = crate::walk::octree::default_max_steps(&o);
     for m in required_octree_methods()? {
         for b in FUZZ_BACKENDS {
-            let Backend::Cpu { fma } = b else { continue };
-            let (w, steps) = m.walk_traced(*fma)(&o, tris, hit, ray, cap);
+            let Backend::Cpu { model } = b else { continue };
+            let (w, steps) = m.walk_traced(*model)(&o, tris, hit, ray, cap);
             for (cell, exit) in steps {
                 let [lo, hi] = o.boxes[cell as usize];
                 let x =
@@ -387,7 +390,12 @@ impl Record {
         let backend = backend
             .as_str()
             .and_then(BackendKind::from_name)
-            .ok_or_else(|| bad("backend", format!("{backend} is not cpu, cpu-fma or gpu")))?;
+            .ok_or_else(|| {
+                bad(
+                    "backend",
+                    format!("{backend} is not cpu, cpu-fma, cpu-ftz or gpu"),
+                )
+            })?;
         let adapter = match adapter {
             None => None,
             Some(Value::String(a)) if backend == BackendKind::Gpu => Some(a),

@@ -1,7 +1,7 @@
 //! tetwalk: finds out, with proof, when ray traversal of tetrahedral meshes goes wrong in f32.
 //!
 //! Data flows one way, and so do the imports (tests/layering.rs checks it): files written whole
-//! (`staged`) → geometry (`tet`, with the named value sets of `choice`) → `mesh` → `octree` → oracle
+//! (`staged`) → the floating-point environment (`fpenv`) → geometry (`tet`, with the named value sets of `choice`) → `mesh` → `octree` → oracle
 //! (`exact`) → `scenes` (generators, cameras) → `methods` → `walk` (outcomes, judging) → `registry` →
 //! the case format (`cases`) → `gpu` → `backend` → `found` → `report` → `conformance` (the kit that
 //! judges users' methods) → `render` → `cli`.
@@ -13,6 +13,7 @@ pub mod cli;
 pub mod conformance;
 pub mod exact;
 pub mod found;
+pub mod fpenv;
 pub mod gpu;
 pub mod mesh;
 pub mod methods;

@@ -10,8 +10,8 @@ use crate::methods::triangle::{
     WoopWatertight,
 };
 use crate::methods::{
-    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Fused, HalfSpace, Maria17,
-    MomentFirst, Ms06, OriginFirst, Plain, Plucker, Query, RayPlane, Stp, time_queries,
+    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Flushed, Fused, HalfSpace, Maria17,
+    Model, MomentFirst, Ms06, OriginFirst, Plain, Plucker, Query, RayPlane, Stp, time_queries,
 };
 use crate::octree::Octree;
 use crate::tet::{Ray, Tet};
@@ -67,7 +67,9 @@ const PORTALEZ16: &str = include_str!("methods/portalez16.wgsl");
 pub type ExitFn = fn(&Tet, &Ray, Option<usize>) -> Option<usize>;
 
 fn exit_fn<M: ExitMethod, A: Arith>(tet: &Tet, ray: &Ray, entry: Option<usize>) -> Option<usize> {
-    M::exit_face::<A>(tet, &M::prepare::<A>(ray), entry)
+    A::run((tet, ray), |(tet, ray)| {
+        M::exit_face::<A>(tet, &M::prepare::<A>(ray), entry)
+    })
 }
 
 /// A registered method.
@@ -87,11 +89,11 @@ pub struct Method {
     /// backend runs only on a GPU.
     pub runs_on_cpu: bool,
     pub gpu: Gpu,
-    exit: [ExitFn; 2],
-    walk: [WalkFn; 2],
-    walks: [WalksFn; 2],
-    checked: [CheckedWalkFn; 2],
-    layout_walk: Option<[LayoutWalkFn; 2]>,
+    exit: [ExitFn; 3],
+    walk: [WalkFn; 3],
+    walks: [WalksFn; 3],
+    checked: [CheckedWalkFn; 3],
+    layout_walk: Option<[LayoutWalkFn; 3]>,
     time_queries: TimeQueriesFn,
 }
 
@@ -114,12 +116,25 @@ impl Method {
             published: true,
             runs_on_cpu: true,
             gpu,
-            exit: [exit_fn::<M, Plain>, exit_fn::<M, Fused>],
-            walk: [walk::walk::<M, Plain>, walk::walk::<M, Fused>],
-            walks: [walk::walks::<M, Plain>, walk::walks::<M, Fused>],
+            exit: [
+                exit_fn::<M, Plain>,
+                exit_fn::<M, Fused>,
+                exit_fn::<M, Flushed>,
+            ],
+            walk: [
+                walk::walk::<M, Plain>,
+                walk::walk::<M, Fused>,
+                walk::walk::<M, Flushed>,
+            ],
+            walks: [
+                walk::walks::<M, Plain>,
+                walk::walks::<M, Fused>,
+                walk::walks::<M, Flushed>,
+            ],
             checked: [
                 walk::walk_checked::<M, Plain>,
                 walk::walk_checked::<M, Fused>,
+                walk::walk_checked::<M, Flushed>,
             ],
             layout_walk: None,
             time_queries: time_queries::<M, Plain>,
@@ -135,6 +150,7 @@ impl Method {
             layout_walk: Some([
                 layouts::walk_layout_unobserved::<M, Plain>,
                 layouts::walk_layout_unobserved::<M, Fused>,
+                layouts::walk_layout_unobserved::<M, Flushed>,
             ]),
             ..Self::of::<M>(name, source, false, gpu)
         }
@@ -154,24 +170,24 @@ impl Method {
         }
     }
 
-    /// The exit function, plain or as a GPU compiles it (`fma`).
-    pub fn exit(&self, fma: bool) -> ExitFn {
-        self.exit[fma as usize]
+    /// The exit function, in an arithmetic model.
+    pub fn exit(&self, model: Model) -> ExitFn {
+        self.exit[model as usize]
     }
 
-    /// The walk specialised to this method, plain or with `fma`.
-    pub fn walk(&self, fma: bool) -> WalkFn {
-        self.walk[fma as usize]
+    /// The walk specialised to this method, in an arithmetic model.
+    pub fn walk(&self, model: Model) -> WalkFn {
+        self.walk[model as usize]
     }
 
     /// The walk of many rays from one start, interleaved on one thread ([`walk::walks`]).
-    pub fn walks(&self, fma: bool) -> WalksFn {
-        self.walks[fma as usize]
+    pub fn walks(&self, model: Model) -> WalksFn {
+        self.walks[model as usize]
     }
 
     /// The walk over Tet32/Tet20/Tet16, for the methods that have one (seed 003 Algorithms 2-7).
-    pub fn layout_walk(&self, fma: bool) -> Option<LayoutWalkFn> {
-        self.layout_walk.map(|w| w[fma as usize])
+    pub fn layout_walk(&self, model: Model) -> Option<LayoutWalkFn> {
+        self.layout_walk.map(|w| w[model as usize])
     }
 
     /// Time this method's exit-face search over a batch of queries (benchmarks; seed 000 Table 5).
@@ -180,8 +196,8 @@ impl Method {
     }
 
     /// The walk that judges every step with the oracle ([`walk::walk_checked`]).
-    pub fn walk_checked(&self, fma: bool) -> CheckedWalkFn {
-        self.checked[fma as usize]
+    pub fn walk_checked(&self, model: Model) -> CheckedWalkFn {
+        self.checked[model as usize]
     }
 }
 
@@ -410,9 +426,9 @@ pub struct TriangleMethod {
     /// Whether it shares work across a packet of rays with one origin.
     pub packet: bool,
     pub gpu: Gpu,
-    hit: [HitFn; 2],
-    trace: [TraceFn; 2],
-    hits: [HitsFn; 2],
+    hit: [HitFn; 3],
+    trace: [TraceFn; 3],
+    hits: [HitsFn; 3],
 }
 
 impl TriangleMethod {
@@ -429,9 +445,21 @@ impl TriangleMethod {
             claims_watertight,
             packet,
             gpu,
-            hit: [triangle::hit::<M, Plain>, triangle::hit::<M, Fused>],
-            trace: [triangle::trace::<M, Plain>, triangle::trace::<M, Fused>],
-            hits: [triangle::hits::<M, Plain>, triangle::hits::<M, Fused>],
+            hit: [
+                triangle::hit::<M, Plain>,
+                triangle::hit::<M, Fused>,
+                triangle::hit::<M, Flushed>,
+            ],
+            trace: [
+                triangle::trace::<M, Plain>,
+                triangle::trace::<M, Fused>,
+                triangle::trace::<M, Flushed>,
+            ],
+            hits: [
+                triangle::hits::<M, Plain>,
+                triangle::hits::<M, Fused>,
+                triangle::hits::<M, Flushed>,
+            ],
         }
     }
 
@@ -446,19 +474,19 @@ impl TriangleMethod {
         )
     }
 
-    /// The test of one ray and one triangle, plain or as a GPU compiles it (`fma`).
-    pub fn hit(&self, fma: bool) -> HitFn {
-        self.hit[fma as usize]
+    /// The test of one ray and one triangle, in an arithmetic model.
+    pub fn hit(&self, model: Model) -> HitFn {
+        self.hit[model as usize]
     }
 
     /// The nearest hit among triangles, rays in packets.
-    pub fn trace(&self, fma: bool) -> TraceFn {
-        self.trace[fma as usize]
+    pub fn trace(&self, model: Model) -> TraceFn {
+        self.trace[model as usize]
     }
 
     /// Every hit of one ray among triangles.
-    pub fn hits(&self, fma: bool) -> HitsFn {
-        self.hits[fma as usize]
+    pub fn hits(&self, model: Model) -> HitsFn {
+        self.hits[model as usize]
     }
 }
 
@@ -519,7 +547,9 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
 pub type BoxExitFn = fn(Vec3, Vec3, &Ray) -> Option<(usize, usize)>;
 
 fn cell_exit<M: CellMethod, A: Arith>(lo: Vec3, hi: Vec3, ray: &Ray) -> Option<(usize, usize)> {
-    M::exit::<A>(lo, hi, &M::prepare::<A>(ray))
+    A::run((lo, hi, ray), |(lo, hi, ray)| {
+        M::exit::<A>(lo, hi, &M::prepare::<A>(ray))
+    })
 }
 
 /// The exact exit: the first exact exit face and its first quarter ([`crate::exact::boxes`]).
@@ -560,9 +590,9 @@ pub struct OctreeMethod {
     /// Whether it is the reference (exact; never judged itself).
     pub reference: bool,
     pub gpu: Gpu,
-    exit: [BoxExitFn; 2],
-    walk: [OctreeWalkFn; 2],
-    traced: [OctreeTracedFn; 2],
+    exit: [BoxExitFn; 3],
+    walk: [OctreeWalkFn; 3],
+    traced: [OctreeTracedFn; 3],
 }
 
 impl OctreeMethod {
@@ -572,11 +602,20 @@ impl OctreeMethod {
             source,
             reference: false,
             gpu,
-            exit: [cell_exit::<M, Plain>, cell_exit::<M, Fused>],
-            walk: [walk_octree::walk::<M, Plain>, walk_octree::walk::<M, Fused>],
+            exit: [
+                cell_exit::<M, Plain>,
+                cell_exit::<M, Fused>,
+                cell_exit::<M, Flushed>,
+            ],
+            walk: [
+                walk_octree::walk::<M, Plain>,
+                walk_octree::walk::<M, Fused>,
+                walk_octree::walk::<M, Flushed>,
+            ],
             traced: [
                 walk_octree::walk_traced::<M, Plain>,
                 walk_octree::walk_traced::<M, Fused>,
+                walk_octree::walk_traced::<M, Flushed>,
             ],
         }
     }
@@ -590,19 +629,19 @@ impl OctreeMethod {
         )
     }
 
-    /// The exit face and quarter of one cell, plain or as a GPU compiles it (`fma`).
-    pub fn exit(&self, fma: bool) -> BoxExitFn {
-        self.exit[fma as usize]
+    /// The exit face and quarter of one cell, in an arithmetic model.
+    pub fn exit(&self, model: Model) -> BoxExitFn {
+        self.exit[model as usize]
     }
 
-    /// The walk through an octree (seed 001 §4.2.3), plain or with `fma`.
-    pub fn walk(&self, fma: bool) -> OctreeWalkFn {
-        self.walk[fma as usize]
+    /// The walk through an octree (seed 001 §4.2.3), in an arithmetic model.
+    pub fn walk(&self, model: Model) -> OctreeWalkFn {
+        self.walk[model as usize]
     }
 
     /// The walk, also listing each cell's exit as the method chose it (none for the reference).
-    pub fn walk_traced(&self, fma: bool) -> OctreeTracedFn {
-        self.traced[fma as usize]
+    pub fn walk_traced(&self, model: Model) -> OctreeTracedFn {
+        self.traced[model as usize]
     }
 }
 
@@ -613,9 +652,9 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
         source: "the exact oracle: the first exact exit face and quarter (reference)",
         reference: true,
         gpu: Gpu::CpuOnly("the oracle needs exact rational arithmetic (rug), which WGSL lacks"),
-        exit: [exact_box_exit, exact_box_exit],
-        walk: [exact_octree_walk, exact_octree_walk],
-        traced: [exact_octree_traced, exact_octree_traced],
+        exit: [exact_box_exit; 3],
+        walk: [exact_octree_walk; 3],
+        traced: [exact_octree_traced; 3],
     },
     OctreeMethod::of::<Portalez16<portalez16::Points>>(
         "portalez16",

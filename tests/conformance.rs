@@ -5,6 +5,7 @@
 use tetwalk::backend::CPU;
 use tetwalk::choice::Choice;
 use tetwalk::conformance::{Accept, Settings, check_exit_faces, check_triangles};
+use tetwalk::methods::Model;
 use tetwalk::methods::triangle::Mt;
 use tetwalk::methods::{Certified, Plucker};
 use tetwalk::registry::by_name;
@@ -94,7 +95,7 @@ fn certified_passes_the_kit_and_mt_is_caught() {
 fn mt_hits(case: &tetwalk::cases::HitCase) -> Vec<(u32, f32)> {
     tetwalk::registry::triangle_by_name("mt")
         .unwrap()
-        .hits(false)(case.tris(), &case.ray())
+        .hits(Model::Plain)(case.tris(), &case.ray())
 }
 
 #[test]

@@ -2,6 +2,7 @@
 //! thread count or sharding; its judge and tallies with known answers; the audit.
 
 use std::process::Command;
+use tetwalk::methods::Model;
 
 /// Per method: name, wrong rays by kind, and tetrahedra (`steps`) or octree cells (`cells`) walked —
 /// what must not depend on threads or shards.
@@ -123,7 +124,7 @@ fn the_count_judges_and_tallies_every_kind_as_it_is() {
     };
     let start = locate(&mesh, org, 0).unwrap();
     let max = default_max_steps(&mesh);
-    let exact = reference().walk(false)(&mesh, &ray, start, max);
+    let exact = reference().walk(Model::Plain)(&mesh, &ray, start, max);
     let Outcome::Hit { tet, face } = exact.outcome else {
         panic!("the ray hits the inner box: {exact:?}");
     };
@@ -315,7 +316,9 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
         audit: u64::MAX,
         shard: Shard::ALL,
     };
-    let cpu = Backend::Cpu { fma: false };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
     let ok = run(&mesh, &settings("certified"), &[], &cpu, &|| {}, None).unwrap();
     assert_eq!(ok.audited, ok.rays, "every ray audited");
     // halfspace finds no exit face on one of these rays (the dump of the same count shows it).

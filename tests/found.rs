@@ -9,6 +9,7 @@ mod common;
 use tetwalk::backend::Backend;
 use tetwalk::cases::Subject;
 use tetwalk::found::{Answer, Record, Replay, check, check_boxes, check_hits, replay};
+use tetwalk::methods::Model;
 use tetwalk::registry::{METHODS, OCTREE_METHODS, TRIANGLE_METHODS, octree_by_name};
 
 fn findings() -> Vec<(String, Record)> {
@@ -102,7 +103,14 @@ fn changing_one_recorded_answer_fails_the_replay() {
 #[test]
 fn robust_methods_are_right_on_every_found_case_unless_their_failure_is_filed() {
     let found = findings();
-    let backends = [&Backend::Cpu { fma: false }, &Backend::Cpu { fma: true }];
+    let backends = [
+        &Backend::Cpu {
+            model: Model::Plain,
+        },
+        &Backend::Cpu {
+            model: Model::Fused,
+        },
+    ];
     for (name, r) in &found {
         let failed = &r.failure.as_ref().unwrap().method;
         let filed = |m: &str| {
@@ -282,7 +290,9 @@ fn the_claims_register_counterexample_replays() {
     let c = tetwalk::cases::classify(&case).unwrap();
     assert_eq!(c.exit.to_vec(), vec![3]);
     assert_eq!(c.entry.to_vec(), vec![1]);
-    let cpu = Backend::Cpu { fma: false };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
     for (name, answer) in [
         ("maria17", 2),
         ("maria17-translated", 2),
@@ -314,7 +324,9 @@ fn a_batch_failure_names_its_own_case() {
     )
     .unwrap();
     let maria17 = tetwalk::registry::by_name("maria17").unwrap();
-    let cpu = Backend::Cpu { fma: false };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
     assert_eq!(check(&right, &[maria17], &[&cpu]).unwrap(), None);
     let (i, f) = tetwalk::found::check_batch(&[right, walk, wrong], &[maria17], &[&cpu])
         .unwrap()

@@ -5,6 +5,7 @@
 mod common;
 
 use tetwalk::backend::Backend;
+use tetwalk::methods::Model;
 use tetwalk::registry::{METHODS, reference};
 use tetwalk::render::{self, Image, face_image, predicate_grid};
 use tetwalk::scenes::camera::Views;
@@ -34,7 +35,16 @@ fn bunny_view_is_unchanged() {
         seed: 1,
         fov_deg: Views::FOV_DEG,
     };
-    let f = render::frame(&mesh, &views, 3, &methods, &Backend::Cpu { fma: false }).unwrap();
+    let f = render::frame(
+        &mesh,
+        &views,
+        3,
+        &methods,
+        &Backend::Cpu {
+            model: Model::Plain,
+        },
+    )
+    .unwrap();
     // Exact walk per pixel: h (hit a model face), b (hit the box), - (left), with the steps.
     let exact = rows(
         f.width,
@@ -99,15 +109,17 @@ fn faces_text(faces: &[Option<usize>]) -> String {
 #[test]
 fn predicate_maps_are_unchanged() {
     let case = predicate_case();
-    let cpu = Backend::Cpu { fma: false };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
     let exact = predicate_grid(&case, GRID, reference(), &cpu).unwrap();
     settings().bind(|| {
         insta::assert_snapshot!("predicate_exact", faces_text(&exact));
         for m in METHODS.iter().filter(|m| !m.reference) {
             let mut sheet = vec![face_image(&exact, GRID)];
-            for fma in [false, true] {
-                let faces = predicate_grid(&case, GRID, m, &Backend::Cpu { fma }).unwrap();
-                let tag = if fma { "fma" } else { "cpu" };
+            for model in [Model::Plain, Model::Fused] {
+                let faces = predicate_grid(&case, GRID, m, &Backend::Cpu { model }).unwrap();
+                let tag = if model == Model::Fused { "fma" } else { "cpu" };
                 insta::assert_snapshot!(format!("predicate_{}_{tag}", m.name), faces_text(&faces));
                 sheet.push(face_image(&faces, GRID));
             }
@@ -150,7 +162,9 @@ fn predicate_maps_from_each_entry_face_are_unchanged() {
                     case.as_ref().unwrap(),
                     SMALL,
                     m,
-                    &Backend::Cpu { fma: false },
+                    &Backend::Cpu {
+                        model: Model::Plain,
+                    },
                 )
                 .unwrap();
                 text += &format!("entry {e}\n");
@@ -181,7 +195,15 @@ fn gpu_predicate_maps_are_within_tolerance() {
     };
     let case = predicate_case();
     for m in METHODS.iter().filter(|m| !m.reference) {
-        let cpu = predicate_grid(&case, GRID, m, &Backend::Cpu { fma: false }).unwrap();
+        let cpu = predicate_grid(
+            &case,
+            GRID,
+            m,
+            &Backend::Cpu {
+                model: Model::Plain,
+            },
+        )
+        .unwrap();
         let on_gpu = predicate_grid(&case, GRID, m, &gpu).unwrap();
         let differ: Vec<bool> = cpu.iter().zip(&on_gpu).map(|(a, b)| a != b).collect();
         let n = differ.iter().filter(|&&d| d).count();
@@ -259,7 +281,9 @@ fn a_small_stress_table_is_unchanged() {
     let report = stress::run(
         &s,
         &methods,
-        &Backend::Cpu { fma: false },
+        &Backend::Cpu {
+            model: Model::Plain,
+        },
         &|_| {},
         &mut |_, _, _, _| {},
     )
@@ -294,9 +318,9 @@ fn leak_maps_are_unchanged() {
         insta::assert_snapshot!("leak_exact", text(exact));
         for m in tetwalk::registry::TRIANGLE_METHODS {
             let mut sheet = vec![leak_image(exact, SIZE)];
-            for fma in [false, true] {
-                let cells = grid.of(m, &Backend::Cpu { fma }).unwrap();
-                let tag = if fma { "fma" } else { "cpu" };
+            for model in [Model::Plain, Model::Fused] {
+                let cells = grid.of(m, &Backend::Cpu { model }).unwrap();
+                let tag = if model == Model::Fused { "fma" } else { "cpu" };
                 insta::assert_snapshot!(format!("leak_{}_{tag}", m.name), text(&cells));
                 sheet.push(leak_image(&cells, SIZE));
             }
@@ -323,7 +347,7 @@ fn octree_heat_is_unchanged() {
     let method = tetwalk::registry::octree_by_name("portalez16-direction").unwrap();
     let hit = tetwalk::registry::triangle_by_name("mt")
         .unwrap()
-        .hit(false);
+        .hit(Model::Plain);
     let im = render::octree_heat(
         &mesh,
         &views,

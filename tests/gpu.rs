@@ -9,6 +9,7 @@ use glam::Vec3;
 use tetwalk::backend::Backend;
 use tetwalk::cases::{classify, judged};
 use tetwalk::exact::edge_margin;
+use tetwalk::methods::Model;
 use tetwalk::registry::{Gpu as GpuSupport, METHODS, Method};
 use tetwalk::report::count::Shard;
 use tetwalk::scenes::tets::{Family, Target, near, stabbing_ray, tet};
@@ -105,7 +106,11 @@ fn gpu_answers_equal_the_cpu_from_entry_faces_and_starts_where_the_adapter_does_
     );
     for m in gpu_methods() {
         let gpu = g.exit_faces(m, &cases).unwrap();
-        let cpu = Backend::Cpu { fma: false }.exit_faces(m, &cases).unwrap();
+        let cpu = Backend::Cpu {
+            model: Model::Plain,
+        }
+        .exit_faces(m, &cases)
+        .unwrap();
         let differ = gpu.iter().zip(&cpu).filter(|(a, b)| a != b).count();
         println!(
             "{}: GPU and CPU differ on {differ} of {} near-edge/vertex cases",
@@ -146,7 +151,9 @@ fn gpu_walks_run_end_to_end_and_match_the_cpu_on_llvmpipe() {
         .collect();
     assert!(rays.len() > 1500);
     let on_gpu_mesh = g.mesh(&mesh);
-    let cpu = Backend::Cpu { fma: false };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
     let on_cpu_mesh = cpu.mesh(&mesh);
     let max = default_max_steps(&mesh);
     for m in gpu_methods() {
@@ -192,7 +199,12 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
         fov_deg: tetwalk::scenes::camera::Views::FOV_DEG,
     };
     let certified = tetwalk::registry::by_name("certified").unwrap();
-    let backends = [Backend::Cpu { fma: false }, g];
+    let backends = [
+        Backend::Cpu {
+            model: Model::Plain,
+        },
+        g,
+    ];
     let r = tetwalk::report::bench::run(
         "kuhn",
         &mesh,
@@ -226,7 +238,9 @@ fn layout_walks_on_the_gpu_equal_the_cpu_ones() {
     };
     let exact_adapter = !contracts(&g);
     let plain = scenes::generated_mesh(Generated::Jitter, 8, Vec3::ZERO, 2).unwrap();
-    let cpu = Backend::Cpu { fma: false };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
     for mesh in [
         plain.clone(),
         tetwalk::mesh::reorder::hilbert_sorted(&plain),
@@ -244,7 +258,10 @@ fn layout_walks_on_the_gpu_equal_the_cpu_ones() {
         let max = default_max_steps(&mesh);
         let on_gpu = g.layout(&layout, &mesh.points);
         let on_cpu = cpu.layout(&layout, &mesh.points);
-        for m in METHODS.iter().filter(|m| m.layout_walk(false).is_some()) {
+        for m in METHODS
+            .iter()
+            .filter(|m| m.layout_walk(Model::Plain).is_some())
+        {
             for kind in <tetwalk::walk::layouts::Kind as tetwalk::choice::Choice>::ALL {
                 let a = g.layout_walks(m, *kind, &on_gpu, &rays, max).unwrap();
                 let b = cpu.layout_walks(m, *kind, &on_cpu, &rays, max).unwrap();
@@ -289,9 +306,11 @@ fn batches_larger_than_one_dispatch_come_back_whole_and_in_order() {
     let cases: Vec<Case> = (0..n).map(|i| base[(i * 7919) % base.len()]).collect();
     let certified = tetwalk::registry::by_name("certified").unwrap();
     let on_gpu = g.exit_faces(certified, &cases).unwrap();
-    let on_cpu = Backend::Cpu { fma: false }
-        .exit_faces(certified, &cases)
-        .unwrap();
+    let on_cpu = Backend::Cpu {
+        model: Model::Plain,
+    }
+    .exit_faces(certified, &cases)
+    .unwrap();
     assert_eq!(on_gpu.len(), n);
     assert!(
         on_gpu == on_cpu,
@@ -319,7 +338,12 @@ fn paper_gives_a_gpu_its_columns_with_its_adapter() {
     };
     let measures = g.measures_kernels();
     let adapter = g.describe();
-    let backends = [Backend::Cpu { fma: false }, g];
+    let backends = [
+        Backend::Cpu {
+            model: Model::Plain,
+        },
+        g,
+    ];
     let r =
         tetwalk::report::paper::run("kuhn", &mesh, size, Shard::ALL, &backends, &|| ()).unwrap();
     assert_eq!(r.counts.len(), 2);

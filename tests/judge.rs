@@ -7,6 +7,7 @@ mod common;
 
 use common::run_tetwalk;
 use serde_json::{Value, json};
+use tetwalk::methods::Model;
 use tetwalk::registry::by_name;
 use tetwalk::walk::default_max_steps;
 
@@ -27,7 +28,7 @@ fn maria17_answers(rays: &str) -> String {
         tetwalk::mesh::Faces::Required,
     )
     .unwrap();
-    let walk = by_name("maria17").unwrap().walk(false);
+    let walk = by_name("maria17").unwrap().walk(Model::Plain);
     let max = default_max_steps(&mesh);
     let mut out = String::new();
     for l in lines {

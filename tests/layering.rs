@@ -6,8 +6,9 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 /// The data flow, upstream first, as src/lib.rs states it.
-const ORDER: [&str; 18] = [
+const ORDER: [&str; 19] = [
     "staged",
+    "fpenv",
     "tet",
     "choice",
     "mesh",

@@ -7,6 +7,7 @@ use tetwalk::exact::edge_margin;
 use tetwalk::mesh::layout::{Layout, STOP, rank, xor_sum};
 use tetwalk::mesh::reorder::{hilbert_sorted, regions};
 use tetwalk::mesh::{Mesh, load_tetgen};
+use tetwalk::methods::Model;
 use tetwalk::methods::aman20::Frame;
 use tetwalk::methods::{Aman20, Aman20Scaled, Arith, ExitMethod, Fused, Plain};
 use tetwalk::registry::by_name;
@@ -215,8 +216,8 @@ fn hilbert_order_keeps_regions_together_and_walks_unchanged() {
         let (Ok(a), Ok(b)) = (locate(&kuhn, ray.org, 0), locate(&sorted, ray.org, 0)) else {
             continue;
         };
-        let wa = exact.walk(false)(&kuhn, &ray, a, 100_000);
-        let wb = exact.walk(false)(&sorted, &ray, b, 100_000);
+        let wa = exact.walk(Model::Plain)(&kuhn, &ray, a, 100_000);
+        let wb = exact.walk(Model::Plain)(&sorted, &ray, b, 100_000);
         let hit = |m: &Mesh, o: &tetwalk::walk::Outcome| match *o {
             tetwalk::walk::Outcome::Hit { tet, face } => Some(
                 m.face(tet, face as usize)

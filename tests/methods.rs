@@ -3,9 +3,10 @@
 
 mod common;
 
-use common::{Kind, any_case, config, judge, lattice_case, make};
+use common::{Kind, any_case, config, judge, lattice_case, make, model};
 use proptest::prelude::*;
 use tetwalk::exact::{classify, edge_margin};
+use tetwalk::methods::Model;
 use tetwalk::registry::{METHODS, by_name};
 use tetwalk::scenes::rng;
 use tetwalk::scenes::tets::{Family, Target, stabbing_ray, tet};
@@ -36,9 +37,9 @@ fn case_of(t: Tet, ray: Ray, with_entry: bool) -> (Case, tetwalk::exact::Classif
 proptest! {
     #![proptest_config(config("exact_correct", 2000))]
     #[test]
-    fn exact_is_correct_on_every_case(case in prop_oneof![any_case(), lattice_case()], with_entry: bool, fma: bool) {
+    fn exact_is_correct_on_every_case(case in prop_oneof![any_case(), lattice_case()], with_entry: bool, model in model()) {
         let (case, c) = case_of(case.0, case.1, with_entry);
-        let j = judge(&case, &c, by_name("exact").unwrap(), fma);
+        let j = judge(&case, &c, by_name("exact").unwrap(), model);
         prop_assert_ne!(j.correct, Some(false), "exact answered {:?}, exact exits {:?}", j.face, j.exact_exit);
         prop_assert_eq!(j.face.is_some(), c.meets());
     }
@@ -47,7 +48,7 @@ proptest! {
 proptest! {
     #![proptest_config(config("methods_margin", 3000))]
     #[test]
-    fn every_method_is_right_with_margin(seed: u64, with_entry: bool, fma: bool) {
+    fn every_method_is_right_with_margin(seed: u64, with_entry: bool, model in model()) {
         let mut r = rng(seed);
         let t = tet(Family::Well, 1.0, &mut r);
         let ray = stabbing_ray(&t, &mut r);
@@ -55,8 +56,8 @@ proptest! {
         let (case, c) = case_of(t, ray, with_entry);
         prop_assert_eq!(c.exit.0.count_ones(), 1);
         for m in METHODS {
-            let j = judge(&case, &c, m, fma);
-            prop_assert_eq!(j.correct, Some(true), "{} (fma {}) answered {:?}, exact {:?}", m.name, fma, j.face, j.exact_exit);
+            let j = judge(&case, &c, m, model);
+            prop_assert_eq!(j.correct, Some(true), "{} ({:?}) answered {:?}, exact {:?}", m.name, model, j.face, j.exact_exit);
         }
     }
 }
@@ -67,13 +68,13 @@ proptest! {
     fn no_method_finds_no_exit_far_from_edges(
         family in common::family(),
         flatness in prop_oneof![Just(1.0f32), Just(0.1), Just(0.01)],
-        seed: u64, with_entry: bool, fma: bool,
+        seed: u64, with_entry: bool, model in model(),
     ) {
         let (t, ray) = make(family, flatness, Kind::Stab, 0.0, seed).unwrap();
         prop_assume!(edge_margin(&t, &ray) >= SAFE_MARGIN);
         let (case, c) = case_of(t, ray, with_entry);
         for m in METHODS {
-            prop_assert!(judge(&case, &c, m, fma).face.is_some(), "{} found no exit face", m.name);
+            prop_assert!(judge(&case, &c, m, model).face.is_some(), "{} found no exit face", m.name);
         }
     }
 }
@@ -95,7 +96,8 @@ fn degenerate_families_failures_are_measured() {
         String::from("| method | fma | family | flatness | rays | cases | wrong | misses |\n");
     for m in METHODS {
         let mut wrong_anywhere = 0;
-        for fma in [false, true] {
+        for model in [Model::Plain, Model::Fused] {
+            let fma = model == Model::Fused;
             for family in Family::ALL {
                 for flatness in [1e-2f32, 1e-4] {
                     for (name, kind) in kinds {
@@ -105,7 +107,7 @@ fn degenerate_families_failures_are_measured() {
                                 continue;
                             };
                             let (case, c) = case_of(t, ray, seed % 2 == 0);
-                            match judge(&case, &c, m, fma).correct {
+                            match judge(&case, &c, m, model).correct {
                                 Some(false) => wrong += 1,
                                 None => misses += 1,
                                 Some(true) => {}
@@ -145,7 +147,7 @@ proptest! {
     /// `certified` is right on every case of every family, lattice ties included, from every exact entry
     /// face (not only the one the tie-breaking picks) and from none, plain and as a GPU compiles it.
     #[test]
-    fn certified_is_correct_on_every_case(case in prop_oneof![any_case(), lattice_case()], fma: bool) {
+    fn certified_is_correct_on_every_case(case in prop_oneof![any_case(), lattice_case()], model in model()) {
         let (t, ray) = case;
         let c = classify(&t, &ray).unwrap();
         let m = by_name("certified").unwrap();
@@ -153,7 +155,7 @@ proptest! {
             std::iter::once(None).chain(c.entry.iter().map(|f| Some(f as u8))).collect();
         for entry in entries {
             let case = Case { tet: t, org: ray.org, dir: ray.dir, entry };
-            let j = judge(&case, &c, m, fma);
+            let j = judge(&case, &c, m, model);
             prop_assert_ne!(j.correct, Some(false), "entry {:?}: answered {:?}, exact exits {:?}", entry, j.face, j.exact_exit);
         }
     }

@@ -9,6 +9,7 @@ use glam::Vec3;
 use rand::RngExt;
 use rug::Rational;
 use tetwalk::exact::boxes::box_exit;
+use tetwalk::methods::Model;
 use tetwalk::methods::portalez16::{
     FACE_TO_NEIGHBOR_INDEX, NO_FACE, OUT_FACES_LOOKUP, exit_vertex,
 };
@@ -187,10 +188,10 @@ fn the_exact_octree_walk_ends_at_the_exact_first_hit() {
         },
     )
     .unwrap();
-    let exact = octree_by_name("exact").unwrap().walk(false);
+    let exact = octree_by_name("exact").unwrap().walk(Model::Plain);
     let hit = tetwalk::registry::triangle_by_name("mt")
         .unwrap()
-        .hit(false);
+        .hit(Model::Plain);
     let mut r = rng(9);
     let mut hits = 0;
     for i in 0..3000 {
@@ -277,7 +278,9 @@ fn the_cell_test_on_the_gpu_answers_as_the_cpu() {
             dir: ray.dir,
         });
     }
-    let cpu = tetwalk::backend::Backend::Cpu { fma: false };
+    let cpu = tetwalk::backend::Backend::Cpu {
+        model: Model::Plain,
+    };
     for m in tetwalk::registry::OCTREE_METHODS {
         let (a, b) = (
             gpu.box_exits(m, &cases).unwrap(),
@@ -318,7 +321,9 @@ fn the_octree_walk_on_the_gpu_ends_as_on_the_cpu() {
     let rays = views.rays(&cam);
     let mt = tetwalk::registry::triangle_by_name("mt").unwrap();
     let cap = tetwalk::walk::octree::default_max_steps(&o);
-    let cpu = tetwalk::backend::Backend::Cpu { fma: false };
+    let cpu = tetwalk::backend::Backend::Cpu {
+        model: Model::Plain,
+    };
     for m in tetwalk::registry::OCTREE_METHODS
         .iter()
         .filter(|m| !m.reference)

@@ -5,6 +5,7 @@
 mod common;
 
 use tetwalk::backend::Backend;
+use tetwalk::methods::Model;
 use tetwalk::report::count::{Shard, merge};
 use tetwalk::report::paper::{self, PaperReport, Size};
 
@@ -20,7 +21,14 @@ const TINY: Size = Size {
 
 fn run(shard: Shard) -> PaperReport {
     let mesh = tetwalk::scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
-    let backends = [Backend::Cpu { fma: false }, Backend::Cpu { fma: true }];
+    let backends = [
+        Backend::Cpu {
+            model: Model::Plain,
+        },
+        Backend::Cpu {
+            model: Model::Fused,
+        },
+    ];
     paper::run("kuhn", &mesh, TINY, shard, &backends, &|| ()).unwrap()
 }
 

@@ -3,6 +3,7 @@
 
 use std::process::Command;
 use tetwalk::exact::hit::first_hit;
+use tetwalk::methods::Model;
 use tetwalk::registry::by_name;
 use tetwalk::report::scene_info::SceneInfo;
 use tetwalk::scenes::camera::view;
@@ -92,7 +93,7 @@ fn exact_walks_of_camera_rays_end_on_the_brute_force_first_hit() {
             let start = locate(&mesh, cam.eye, 0).unwrap();
             for k in 0..8 {
                 let ray = cam.ray(3 + 4 * k, 2 + 4 * k, 32, 32);
-                let w = exact.walk(false)(&mesh, &ray, start, max);
+                let w = exact.walk(Model::Plain)(&mesh, &ray, start, max);
                 match (w.outcome, first_hit(&mesh, &ray)) {
                     (Outcome::Hit { tet, face }, Some((_, faces))) => {
                         hits += 1;

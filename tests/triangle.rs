@@ -10,6 +10,7 @@ use tetwalk::backend::{Backend, CPU};
 use tetwalk::cases::{HitCase, Subject, judge_hit};
 use tetwalk::choice::Choice;
 use tetwalk::exact::hit::{line_triangle, ray_triangle, ray_triangle_t};
+use tetwalk::methods::Model;
 use tetwalk::registry::TRIANGLE_METHODS;
 use tetwalk::report::triangle::{StressSettings, stress};
 use tetwalk::scenes::closed::{Aim, Place, Shape, case, mesh};
@@ -103,12 +104,12 @@ fn every_method_is_right_on_clear_hits_and_misses() {
             let (tri, ray) = clear_case(&mut r, inside);
             assert!(ray_triangle(tri, &ray).unwrap().hit == inside);
             for m in TRIANGLE_METHODS {
-                for fma in [false, true] {
-                    let got = m.hit(fma)(&tri, &ray);
+                for model in Model::ALL {
+                    let got = m.hit(model)(&tri, &ray);
                     assert_eq!(
                         got.is_some(),
                         inside,
-                        "{} fma {fma}: {tri:?} {ray:?}",
+                        "{} {model:?}: {tri:?} {ray:?}",
                         m.name
                     );
                     if let Some(t) = got {
@@ -138,8 +139,8 @@ fn packets_answer_as_single_rays_do() {
         })
         .collect();
     for m in TRIANGLE_METHODS {
-        for fma in [false, true] {
-            let one = m.trace(fma)(&tris, &rays, 1);
+        for model in Model::ALL {
+            let one = m.trace(model)(&tris, &rays, 1);
             assert!(
                 one.iter().filter(|h| h.is_some()).count() > 20,
                 "{}",
@@ -147,7 +148,7 @@ fn packets_answer_as_single_rays_do() {
             );
             for p in [4, 16, 64] {
                 assert_eq!(
-                    m.trace(fma)(&tris, &rays, p),
+                    m.trace(model)(&tris, &rays, p),
                     one,
                     "{} packets of {p}",
                     m.name
@@ -157,7 +158,7 @@ fn packets_answer_as_single_rays_do() {
                 let single = tris
                     .iter()
                     .enumerate()
-                    .filter_map(|(i, t)| m.hit(fma)(t, ray).map(|t| (i as u32, t)))
+                    .filter_map(|(i, t)| m.hit(model)(t, ray).map(|t| (i as u32, t)))
                     .fold(None, |b: Option<(u32, f32)>, (i, t)| match b {
                         Some((_, bt)) if bt <= t => b,
                         _ => Some((i, t)),
@@ -250,7 +251,15 @@ fn stress_settings(cases: usize, aims: Vec<Aim>) -> StressSettings {
 fn woop_watertight_never_leaks_and_the_others_do() {
     let s = stress_settings(150, Aim::ALL.to_vec());
     let methods: Vec<_> = TRIANGLE_METHODS.iter().collect();
-    for (backend, fma) in [(&CPU, false), (&Backend::Cpu { fma: true }, true)] {
+    for (backend, fma) in [
+        (&CPU, false),
+        (
+            &Backend::Cpu {
+                model: Model::Fused,
+            },
+            true,
+        ),
+    ] {
         let r = stress(&s, &methods, backend, &|_| {}, &mut |_, _| {}).unwrap();
         for (k, m) in methods.iter().enumerate() {
             let leaks: u64 = r.rows.iter().map(|row| row.tallies[k].leaks).sum();
@@ -543,16 +552,16 @@ fn the_claims_register_woop_counterexample_replays() {
     assert_eq!(first.holding, vec![0, 2]);
     assert_eq!(first.t, rug::Rational::from(1));
     let woop = tetwalk::registry::triangle_by_name("woop-watertight").unwrap();
-    let hits = |fma| {
-        Backend::Cpu { fma }
+    let hits = |model| {
+        Backend::Cpu { model }
             .triangle_hits(woop, std::slice::from_ref(&case))
             .unwrap()
             .remove(0)
     };
     let ids = |h: &[(u32, f32)]| h.iter().map(|&(i, _)| i).collect::<Vec<_>>();
-    let plain = hits(false);
+    let plain = hits(Model::Plain);
     assert!(!truth.leaks(&ids(&plain)), "{plain:?}");
-    let fused = hits(true);
+    let fused = hits(Model::Fused);
     assert!(truth.leaks(&ids(&fused)), "{fused:?}");
     assert_eq!(
         tetwalk::methods::triangle::nearest_of(&fused),

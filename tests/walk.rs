@@ -6,6 +6,7 @@ mod common;
 use glam::Vec3;
 use tetwalk::exact::hit::{first_hit, line_triangle};
 use tetwalk::mesh::{Mesh, load_tetgen};
+use tetwalk::methods::Model;
 use tetwalk::methods::{ExitMethod, Plain};
 use tetwalk::registry::by_name;
 use tetwalk::scenes::{self, Generated};
@@ -28,11 +29,11 @@ fn check_exact_walks(mesh: &Mesh, rays: &[Ray]) -> usize {
             );
         }
         let reference = first_hit(mesh, ray);
-        let (w, div) = exact.walk_checked(false)(mesh, ray, start, max);
+        let (w, div) = exact.walk_checked(Model::Plain)(mesh, ray, start, max);
         assert_eq!(div, None, "exact walk left the exact exit faces on {ray:?}");
         assert_eq!(
             w,
-            exact.walk(false)(mesh, ray, start, max),
+            exact.walk(Model::Plain)(mesh, ray, start, max),
             "checked and plain walks differ"
         );
         match (w.outcome, reference) {
@@ -169,16 +170,16 @@ fn certified_walks_follow_the_exact_walks() {
         for offset in [Vec3::ZERO, Vec3::splat(65536.0)] {
             let mesh = scenes::generated_mesh(kind, 8, offset, 1).unwrap();
             let max = default_max_steps(&mesh);
-            for fma in [false, true] {
+            for model in Model::ALL {
                 for ray in scenes::rays(kind, &mesh, offset, 3000, 7) {
                     let Ok(start) = locate(&mesh, ray.org, 0) else {
                         continue;
                     };
-                    let want = exact.walk(false)(&mesh, &ray, start, max);
-                    let got = certified.walk(fma)(&mesh, &ray, start, max);
-                    assert_eq!(got, want, "{kind:?} offset {offset} fma {fma}: {ray:?}");
+                    let want = exact.walk(Model::Plain)(&mesh, &ray, start, max);
+                    let got = certified.walk(model)(&mesh, &ray, start, max);
+                    assert_eq!(got, want, "{kind:?} offset {offset} {model:?}: {ray:?}");
                     maria17_cycles += matches!(
-                        maria17.walk(false)(&mesh, &ray, start, max).outcome,
+                        maria17.walk(Model::Plain)(&mesh, &ray, start, max).outcome,
                         Outcome::Cycle { .. }
                     ) as usize;
                 }
@@ -195,12 +196,12 @@ fn certified_walks_follow_the_exact_walks() {
     let start = locate(&mesh, ray.org, 0).unwrap();
     let max = default_max_steps(&mesh);
     assert!(matches!(
-        maria17.walk(false)(&mesh, &ray, start, max).outcome,
+        maria17.walk(Model::Plain)(&mesh, &ray, start, max).outcome,
         Outcome::Cycle { period: 6, .. }
     ));
     assert_eq!(
-        certified.walk(false)(&mesh, &ray, start, max),
-        exact.walk(false)(&mesh, &ray, start, max)
+        certified.walk(Model::Plain)(&mesh, &ray, start, max),
+        exact.walk(Model::Plain)(&mesh, &ray, start, max)
     );
 }
 
@@ -254,7 +255,7 @@ fn the_fast_exact_walk_equals_the_complete_one() {
                 continue;
             };
             assert_eq!(
-                exact.walk(false)(mesh, ray, start, max),
+                exact.walk(Model::Plain)(mesh, ray, start, max),
                 walk::<Complete, Plain>(mesh, ray, start, max),
                 "{ray:?}"
             );
@@ -283,14 +284,14 @@ fn interleaved_walks_equal_walks_one_at_a_time() {
     });
     let mut kinds = std::collections::BTreeSet::new();
     for m in tetwalk::registry::METHODS {
-        for fma in [false, true] {
+        for model in Model::ALL {
             for max in [default_max_steps(&mesh), 7] {
                 let batch: Vec<(Ray, u32)> = rays.iter().map(|r| (*r, start)).collect();
-                let together = m.walks(fma)(&mesh, &batch, max);
+                let together = m.walks(model)(&mesh, &batch, max);
                 for (ray, got) in rays.iter().zip(&together) {
                     assert_eq!(
                         *got,
-                        m.walk(fma)(&mesh, ray, start, max),
+                        m.walk(model)(&mesh, ray, start, max),
                         "{} {ray:?}",
                         m.name
                     );
@@ -331,8 +332,8 @@ fn relabelled_meshes_keep_the_exact_results() {
             let (Ok(a), Ok(b)) = (locate(&mesh, ray.org, 0), locate(&r, ray.org, 0)) else {
                 continue;
             };
-            let wa = exact.walk(false)(&mesh, ray, a, max);
-            let mut wb = exact.walk(false)(&r, ray, b, max);
+            let wa = exact.walk(Model::Plain)(&mesh, ray, a, max);
+            let mut wb = exact.walk(Model::Plain)(&r, ray, b, max);
             // Back to the original labels: face f of the relabelled tetrahedron is its face p[f].
             wb.outcome = match wb.outcome {
                 Outcome::Hit { tet, face } => Outcome::Hit {

@@ -3,6 +3,7 @@
 
 mod bench;
 mod box_exit;
+mod check_filters;
 mod count;
 mod exit;
 mod fuzz_import;
@@ -80,6 +81,9 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Every filtered sign (oracle filters, certified's f32 stage per model) beside the exact sign, on
+    /// inputs from every exponent regime; exit status 1 when a decided sign is wrong.
+    CheckFilters(check_filters::Args),
     /// Turn fuzzer crash files into readable found cases (corpora/found/METHOD/).
     FuzzImport(fuzz_import::Args),
     /// Build or describe scenes.
@@ -104,6 +108,7 @@ pub fn main() -> ExitCode {
         Command::Bench(a) => bench::run(a),
         Command::Paper(a) => paper::run(a),
         Command::FuzzImport(a) => fuzz_import::run(a),
+        Command::CheckFilters(a) => check_filters::run(a),
         Command::Render(a) => render::run(a),
         Command::Replay(a) => replay::run(a),
         Command::GpuInfo { json } => gpu_info(json),

@@ -3,6 +3,7 @@
 use super::{BackendArg, JsonOut, Outcome, choice};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::Case;
+use crate::methods::Model;
 use crate::registry::{parse_list, parse_triangle_list, reference};
 use crate::render::{self, Image};
 use crate::scenes::camera::Views;
@@ -144,10 +145,17 @@ pub fn run(a: Args) -> Outcome {
                 dir: ray.dir,
                 entry: None,
             };
-            let cpu = Backend::Cpu { fma: false };
+            let cpu = Backend::Cpu {
+                model: Model::Plain,
+            };
             let exact =
                 render::face_image(&render::predicate_grid(&case, w, reference(), &cpu)?, w);
-            let mut backends = vec![cpu, Backend::Cpu { fma: true }];
+            let mut backends = vec![
+                cpu,
+                Backend::Cpu {
+                    model: Model::Fused,
+                },
+            ];
             let gpu = Backend::open(BackendKind::Gpu).ok();
             let gpu_name = gpu.as_ref().map(|g| g.describe());
             backends.extend(gpu);
@@ -235,7 +243,7 @@ fn octree_heat(a: Args) -> Outcome {
     let (w, h) = super::size(&a.size, false, 4096)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let views = views_of(&a, w, h);
-    let hit = crate::registry::triangle_by_name("mt")?.hit(false);
+    let hit = crate::registry::triangle_by_name("mt")?.hit(Model::Plain);
     let im = render::octree_heat(
         &mesh,
         &views,
@@ -261,7 +269,14 @@ fn leak(a: Args) -> Outcome {
         .ok_or("no edge between two triangles facing the ray's origin could be found")?;
     let grid = render::LeakGrid::new(&case, pair, w);
     let exact = render::leak_image(grid.exact(), w);
-    let mut backends = vec![Backend::Cpu { fma: false }, Backend::Cpu { fma: true }];
+    let mut backends = vec![
+        Backend::Cpu {
+            model: Model::Plain,
+        },
+        Backend::Cpu {
+            model: Model::Fused,
+        },
+    ];
     let gpu = Backend::open(BackendKind::Gpu).ok();
     let gpu_name = gpu.as_ref().map(|g| g.describe());
     backends.extend(gpu);

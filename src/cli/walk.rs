@@ -5,6 +5,7 @@ use crate::backend::Backend;
 use crate::choice::Choice;
 use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
+use crate::methods::Model;
 use crate::registry::reference;
 use crate::report::relabel_spread;
 use crate::scenes::{self, Generated};
@@ -33,7 +34,7 @@ pub struct Args {
     /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
     methods: String,
-    /// Where the walks run: `cpu` or `cpu-fma` (every step is judged by the oracle on the CPU, so the
+    /// Where the walks run: `cpu`, `cpu-fma` or `cpu-ftz` (every step is judged by the oracle on the CPU, so the
     /// GPU has no place here; `count --backend gpu` walks on it).
     #[command(flatten)]
     backend: BackendArg,
@@ -110,8 +111,8 @@ pub fn run(a: Args) -> Outcome {
     )?;
     let out = JsonOut::new(a.json.as_deref())?;
     // `None`: a --wgsl function's walks, on the GPU, judged by their endings.
-    let fma = match &backend {
-        Backend::Cpu { fma } => Some(*fma),
+    let model = match &backend {
+        Backend::Cpu { model } => Some(*model),
         Backend::Gpu(_) if a.wgsl.wgsl.is_some() => {
             if a.relabel.is_some() || a.layout.is_some() {
                 return Err(
@@ -122,7 +123,7 @@ pub fn run(a: Args) -> Outcome {
             None
         }
         Backend::Gpu(_) => {
-            return Err("walk judges every step with the oracle on the CPU: use --backend cpu or cpu-fma (count --backend gpu walks on the GPU; a --wgsl function walks there too)".into());
+            return Err("walk judges every step with the oracle on the CPU: use --backend cpu, cpu-fma or cpu-ftz (count --backend gpu walks on the GPU; a --wgsl function walks there too)".into());
         }
     };
     let offset = Vec3::splat(a.offset);
@@ -137,19 +138,18 @@ pub fn run(a: Args) -> Outcome {
     }
     let layout = a.layout.map(|_| Layout::build(&mesh));
     let rays = scenes::rays(a.mesh, &mesh, offset, a.rays, a.seed);
-    let per_ray = match fma {
-        Some(fma) => walk_tallies(
+    let per_ray = match model {
+        Some(model) => walk_tallies(
             &mesh,
             &rays,
             &methods,
-            fma,
+            model,
             a.layout.zip(layout.as_ref()),
             true,
         ),
         None => gpu_tallies(&backend, &mesh, &rays, &methods)?,
     };
-    let checked = fma.is_some();
-    let fma = fma.unwrap_or(false);
+    let checked = model.is_some();
     let outside = per_ray.iter().filter(|r| r.is_none()).count();
     println!(
         "mesh {:?} size {} offset {} ({} tetrahedra), {} rays, seed {}, {}{}\n",
@@ -159,12 +159,11 @@ pub fn run(a: Args) -> Outcome {
         mesh.tets.len(),
         rays.len() - outside,
         a.seed,
-        if !checked {
-            backend.describe()
-        } else if fma {
-            "fma".into()
-        } else {
-            "plain f32".into()
+        match model {
+            None => backend.describe(),
+            Some(Model::Fused) => "fma".into(),
+            Some(Model::Flushed) => "f32, subnormals flushed to zero".into(),
+            Some(Model::Plain) => "plain f32".into(),
         },
         if outside > 0 {
             format!(", {outside} rays starting outside skipped")
@@ -199,7 +198,9 @@ pub fn run(a: Args) -> Outcome {
             (0..5).for_each(|k| s.kinds[k] += t.kinds[k]);
         }
         let k = s.kinds;
-        let on_layout = a.layout.filter(|_| m.layout_walk(fma).is_some());
+        let on_layout = a
+            .layout
+            .filter(|_| m.layout_walk(model.unwrap_or(Model::Plain)).is_some());
         let name = on_layout.map_or(m.name.to_string(), |k| format!("{} ({k:?})", m.name));
         let diverged = if on_layout.is_some() || !checked {
             "-".to_string()
@@ -225,7 +226,12 @@ pub fn run(a: Args) -> Outcome {
         });
     }
     if a.relabel.is_some() {
-        report.relabellings = Some(relabellings(&mesh, &rays, &methods, fma)?);
+        report.relabellings = Some(relabellings(
+            &mesh,
+            &rays,
+            &methods,
+            model.unwrap_or(Model::Plain),
+        )?);
     }
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
@@ -237,7 +243,7 @@ fn walk_tallies(
     mesh: &crate::mesh::Mesh,
     rays: &[crate::tet::Ray],
     methods: &[&'static crate::registry::Method],
-    fma: bool,
+    model: Model,
     layout: Option<(Kind, &Layout)>,
     checked: bool,
 ) -> Vec<Option<Vec<Tally>>> {
@@ -246,11 +252,11 @@ fn walk_tallies(
     rays.par_iter()
         .map(|ray| {
             let start = locate(mesh, ray.org, 0).ok()?;
-            let reference = exact.walk(false)(mesh, ray, start, max);
+            let reference = exact.walk(Model::Plain)(mesh, ray, start, max);
             let tallies = methods
                 .iter()
                 .map(|m| {
-                    let (w, div) = match layout.zip(m.layout_walk(fma)) {
+                    let (w, div) = match layout.zip(m.layout_walk(model)) {
                         Some(((kind, layout), walk)) => {
                             let (end, steps) = walk(
                                 kind,
@@ -268,8 +274,8 @@ fn walk_tallies(
                                 None,
                             )
                         }
-                        None if checked => m.walk_checked(fma)(mesh, ray, start, max),
-                        None => (m.walk(fma)(mesh, ray, start, max), None),
+                        None if checked => m.walk_checked(model)(mesh, ray, start, max),
+                        None => (m.walk(model)(mesh, ray, start, max), None),
                     };
                     tally(mesh, ray, &w, &reference, div.is_some())
                 })
@@ -346,7 +352,7 @@ fn relabellings(
     mesh: &crate::mesh::Mesh,
     rays: &[crate::tet::Ray],
     methods: &[&'static crate::registry::Method],
-    fma: bool,
+    model: Model,
 ) -> Result<Vec<Relabelled>, super::Error> {
     let mut out: Vec<Relabelled> = methods
         .iter()
@@ -358,7 +364,7 @@ fn relabellings(
         .collect();
     for (k, p) in EVEN_PERMUTATIONS.iter().enumerate() {
         let relabelled = mesh.relabelled(*p)?;
-        for t in walk_tallies(&relabelled, rays, methods, fma, None, false)
+        for t in walk_tallies(&relabelled, rays, methods, model, None, false)
             .iter()
             .flatten()
         {

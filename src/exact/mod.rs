@@ -4,7 +4,7 @@
 pub mod boxes;
 pub mod clip;
 pub mod hit;
-mod rational;
+pub(crate) mod rational;
 pub mod sign;
 
 pub use sign::{Counts, counts};

@@ -62,10 +62,10 @@ const U: f64 = f64::EPSILON / 2.0;
 /// never overflow or underflow f64 here: nonzero differences are ≥ 2^-149, products ≥ 2^-447.
 const FILTER_BOUND: f64 = 8.0 * U;
 
-/// Sign of `det[p1 - q1, p2 - q2, r]` (rows), exactly, for finite f32 inputs.
-pub fn sign_det(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3, r: Vec3) -> i8 {
-    let w = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
-    let (p1, q1, p2, q2, r) = (w(p1), w(q1), w(p2), w(q2), w(r));
+/// The f64 filter alone: the sign of `det[p1 - q1, p2 - q2, r]` when [`FILTER_BOUND`] settles it, for
+/// finite f32 inputs (`None`: the exact stage decides).
+pub fn filter(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3, r: Vec3) -> Option<i8> {
+    let (p1, q1, p2, q2, r) = (w64(p1), w64(q1), w64(p2), w64(q2), w64(r));
     let a = [p1[0] - q1[0], p1[1] - q1[1], p1[2] - q1[2]];
     let b = [p2[0] - q2[0], p2[1] - q2[1], p2[2] - q2[2]];
     let (m0, m1, m2) = (
@@ -77,12 +77,20 @@ pub fn sign_det(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3, r: Vec3) -> i8 {
     let perm = a[0].abs() * ((b[1] * r[2]).abs() + (b[2] * r[1]).abs())
         + a[1].abs() * ((b[2] * r[0]).abs() + (b[0] * r[2]).abs())
         + a[2].abs() * ((b[0] * r[1]).abs() + (b[1] * r[0]).abs());
-    if det.abs() > FILTER_BOUND * perm || perm == 0.0 {
-        count(false);
-        return signum(det);
-    }
-    count(true);
-    big_det(p1, q1, p2, q2, r).cmp0() as i8
+    (det.abs() > FILTER_BOUND * perm || perm == 0.0).then(|| signum(det))
+}
+
+/// Sign of `det[p1 - q1, p2 - q2, r]` (rows), exactly, for finite f32 inputs: [`filter`], then exact
+/// integers, in the standard floating-point environment whatever the caller's.
+pub fn sign_det(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3, r: Vec3) -> i8 {
+    crate::fpenv::standard((p1, q1, p2, q2, r), |(p1, q1, p2, q2, r)| {
+        if let Some(s) = filter(p1, q1, p2, q2, r) {
+            count(false);
+            return s;
+        }
+        count(true);
+        big_det(w64(p1), w64(q1), w64(p2), w64(q2), w64(r)).cmp0() as i8
+    })
 }
 
 /// `det[p1 - q1, p2 - q2, r]` scaled by 2^447, exactly.

@@ -5,6 +5,7 @@
 use crate::choice::Choice;
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
+use crate::methods::Model;
 use crate::registry::{Gpu as GpuSupport, Method, OctreeMethod, TriangleMethod};
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
@@ -791,7 +792,7 @@ impl Gpu {
         max_steps: u32,
     ) -> Result<Dispatched<Ending>, GpuError> {
         Self::entry_points(method)?;
-        if method.layout_walk(false).is_none() {
+        if method.layout_walk(Model::Plain).is_none() {
             return Err(GpuError::NoLayoutWalk(method.name));
         }
         let entry = shader::layout_entry_point(method, kind);

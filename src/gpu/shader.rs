@@ -6,6 +6,7 @@
 use crate::choice::Choice;
 use crate::mesh::HULL;
 use crate::mesh::layout::{BOUNDARY, STOP, Tet16, Tet20, Tet32};
+use crate::methods::Model;
 use crate::registry::{
     Gpu, METHODS, Method, Named, OCTREE_METHODS, OctreeMethod, TRIANGLE_METHODS, TriangleMethod,
 };
@@ -370,6 +371,15 @@ pub fn layout_entry_point(m: &Method, kind: Kind) -> String {
     format!("layout_{}_{}", m.ident(), kind.name())
 }
 
+/// A power of two as an exact WGSL hexadecimal float literal.
+fn power_of_two(v: f32) -> String {
+    assert!(
+        v > 0.0 && v.is_normal() && v.to_bits() & 0x7f_ffff == 0,
+        "{v} is not a normal power of two"
+    );
+    format!("0x1p{}f", (v.to_bits() >> 23) as i32 - 127)
+}
+
 /// What every entry point builds on: constants, the shared structs and bindings, the face tables and
 /// the shared helpers (`common.wgsl`).
 fn prelude() -> String {
@@ -378,12 +388,18 @@ fn prelude() -> String {
     s += "const NONE: i32 = -1;\n";
     let _ = writeln!(s, "const UNSETTLED: i32 = {UNSETTLED};");
     let _ = writeln!(s, "const FLAGGED: u32 = {FLAGGED}u;");
-    let _ = writeln!(
-        s,
-        "// tetwalk::methods::certified::{{O3DERRBOUND_A, UNDERFLOW}}, exactly.\nconst O3DERRBOUND_A: f32 = {:e}f;\nconst CERTIFIED_UNDERFLOW: f32 = {:e}f;",
-        crate::methods::certified::O3DERRBOUND_A,
-        crate::methods::certified::UNDERFLOW
-    );
+    {
+        use crate::methods::certified::{GPU, TINY};
+        s += "// tetwalk::methods::certified::{GPU, TINY}, exactly.\n";
+        for (name, v) in [
+            ("CERTIFIED_A", GPU.a),
+            ("CERTIFIED_MU", GPU.mu),
+            ("CERTIFIED_C", GPU.c),
+            ("CERTIFIED_TINY", TINY),
+        ] {
+            let _ = writeln!(s, "const {name}: f32 = {};", power_of_two(v));
+        }
+    }
     let _ = writeln!(s, "const HULL: u32 = {HULL:#x}u;");
     s += "// What a ray-triangle method's WGSL answers for no hit (a t no ray accepts).\nconst NO_HIT: f32 = -1.0;\n";
     let _ = writeln!(s, "const MAX_F32: f32 = {:e}f;", f32::MAX);
@@ -524,7 +540,7 @@ pub fn generate() -> String {
         if let Gpu::Wgsl(_) = m.gpu {
             let _ = write!(s, "\n// ---- {} ----\n\n", m.name);
             s += &ENTRY_POINTS.replace("IDENT", &m.ident());
-            if m.layout_walk(false).is_some() {
+            if m.layout_walk(Model::Plain).is_some() {
                 for kind in Kind::ALL {
                     s += "\n";
                     s += &LAYOUT_ENTRY_POINT

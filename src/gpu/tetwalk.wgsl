@@ -6,9 +6,11 @@ const GROUP: u32 = 64u;
 const NONE: i32 = -1;
 const UNSETTLED: i32 = -2;
 const FLAGGED: u32 = 255u;
-// tetwalk::methods::certified::{O3DERRBOUND_A, UNDERFLOW}, exactly.
-const O3DERRBOUND_A: f32 = 4.172327e-7f;
-const CERTIFIED_UNDERFLOW: f32 = 7.523164e-37f;
+// tetwalk::methods::certified::{GPU, TINY}, exactly.
+const CERTIFIED_A: f32 = 0x1p-20f;
+const CERTIFIED_MU: f32 = 0x1p-102f;
+const CERTIFIED_C: f32 = 0x1p-122f;
+const CERTIFIED_TINY: f32 = 0x1p-102f;
 const HULL: u32 = 0xffffffffu;
 // What a ray-triangle method's WGSL answers for no hit (a t no ray accepts).
 const NO_HIT: f32 = -1.0;
@@ -574,29 +576,27 @@ fn aman20_scaled_exit(t: ptr<function, array<vec3f, 4>>, r: ScaledFrame, entry: 
 }
 
 // certified (tetwalk's own), the f32 stage of src/methods/certified.rs: Maria et al.'s Algorithm 1 (all
-// six signs in the starting tetrahedron) with each side product's sign certified by Shewchuk's
-// o3derrboundA (O3DERRBOUND_A and CERTIFIED_UNDERFLOW are generated from the Rust constants). A sign the
-// bound cannot settle, or a subnormal input (which a GPU may flush to zero), returns UNSETTLED, and the
-// CPU finishes that case or ray exactly.
+// six signs in the starting tetrahedron) with each side product's sign certified by the GPU bound
+// (CERTIFIED_A, CERTIFIED_MU, CERTIFIED_C and CERTIFIED_TINY are generated from the Rust constants
+// certified::{GPU, TINY}; derivation in src/methods/certified.md: any rounding within one ulp, subnormals
+// flushed or not, fused or not). A sign the bound cannot settle, a non-finite side product, or a gated
+// input (a nonzero coordinate below CERTIFIED_TINY, a subnormal direction component), returns
+// UNSETTLED, and the CPU finishes that case or ray exactly.
 
 struct CertifiedRay {
     o: vec3f,
     d: vec3f,
-    underflow: f32,
+    settles: bool,
 }
 
-// A nonzero magnitude below f32's normal range.
-fn subnormal(v: vec3f) -> bool {
-    return any(abs(v) < vec3f(1.17549435e-38f) & v != vec3f(0.0));
+// A nonzero magnitude below `limit`, on the bits (a GPU that flushes may compare a subnormal as zero).
+fn certified_below(v: vec3f, limit: f32) -> bool {
+    let b = bitcast<vec3u>(v) & vec3u(0x7fffffffu);
+    return any(b != vec3u(0u) & b < vec3u(bitcast<u32>(limit)));
 }
 
 fn certified_prepare(o: vec3f, d: vec3f) -> CertifiedRay {
-    var underflow = CERTIFIED_UNDERFLOW * (1.0 + max(max(abs(d.x), abs(d.y)), abs(d.z)));
-    if subnormal(o) || subnormal(d) {
-        // Nothing can be settled: every step goes to the CPU.
-        underflow = 3.40282347e38f;
-    }
-    return CertifiedRay(o, d, underflow);
+    return CertifiedRay(o, d, !(certified_below(o, CERTIFIED_TINY) || certified_below(d, 0x1p-126f)));
 }
 
 // Side products with edges ending at b: det[a - o, b - o, d] = (a - b) · ((b - o) × d).
@@ -615,7 +615,8 @@ fn apex(b: vec3f, r: CertifiedRay) -> Apex {
     let y2 = q.x * d.z;
     let z1 = q.x * d.y;
     let z2 = q.y * d.x;
-    return Apex(b, vec3f(x1 - x2, y1 - y2, z1 - z2), vec3f(abs(x1) + abs(x2), abs(y1) + abs(y2), abs(z1) + abs(z2)));
+    let m = vec3f(abs(x1) + abs(x2), abs(y1) + abs(y2), abs(z1) + abs(z2));
+    return Apex(b, vec3f(x1 - x2, y1 - y2, z1 - z2), m + vec3f(CERTIFIED_MU));
 }
 
 // +1 or -1 when the bound settles the sign, else 0.
@@ -623,16 +624,20 @@ fn certified_side(p: Apex, a: vec3f, r: CertifiedRay) -> i32 {
     let e = a - p.b;
     let det = e.x * p.w.x + e.y * p.w.y + e.z * p.w.z;
     let permanent = abs(e.x) * p.m.x + abs(e.y) * p.m.y + abs(e.z) * p.m.z;
-    let bound = O3DERRBOUND_A * permanent + r.underflow;
-    if abs(det) > bound {
+    let bound = CERTIFIED_A * permanent + CERTIFIED_C;
+    // Finite: a rounding that is not monotone could leave an overflowed det beside a finite bound.
+    if abs(det) > bound && abs(det) <= MAX_F32 {
         return select(-1, 1, det > 0.0);
     }
     return 0;
 }
 
 fn certified_exit(t: ptr<function, array<vec3f, 4>>, r: CertifiedRay, entry: i32) -> i32 {
+    if !r.settles {
+        return UNSETTLED;
+    }
     for (var k = 0u; k < 4u; k++) {
-        if subnormal((*t)[k]) {
+        if certified_below((*t)[k], CERTIFIED_TINY) {
             return UNSETTLED;
         }
     }

@@ -2,7 +2,10 @@
 //! with every side product's sign certified: computed in f32 with a forward error bound, and decided
 //! exactly (f64 filter, then exact arithmetic, ties broken by the same Simulation of Simplicity as
 //! `exact`) only where the bound cannot settle it. Its walks therefore follow the perturbed line of the
-//! `exact` walk, terminate, and end where it ends.
+//! `exact` walk, terminate, and end where it ends. The f32 stage's bound holds for every finite f32
+//! input in each arithmetic model (gradual underflow, flushed to zero, a GPU's): its derivation, term
+//! by term as [`Apex`] computes it, is `certified.md` beside this file, checked in part by z3
+//! (`proofs/certified/`).
 
 use super::maria17::{FACE_VERTICES, GET_FACE};
 use super::plucker::exit_by_sides;
@@ -11,19 +14,70 @@ use crate::tet::{EDGES, Ray, Tet};
 use glam::{Vec3, Vec3A, Vec3Swizzles};
 use std::cell::Cell;
 
-/// Half an ulp of 1 in f32 (Shewchuk's ε for single precision).
-const EPS: f32 = f32::EPSILON / 2.0;
+/// The f32 stage's error bound for one arithmetic model: a side product `det` computed as
+/// [`Apex::side`] computes it has the sign of the exact one whenever
+/// `|det| > a · permanent + c`, the permanent computed with every `|p1| + |p2|` raised by `mu`
+/// (derivation in the module's text, `certified.md` beside this file).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bound {
+    /// The relative part, `8u` (u the model's unit roundoff): covers `G = γ7/((1-u)^5 (1-γ3))`.
+    pub a: f32,
+    /// Added to each `|p1| + |p2|`: carries the absolute error of underflowed products (and of flushed
+    /// sums) in `w`, which the side product multiplies by `|e|`, into the permanent.
+    pub mu: f32,
+    /// The absolute part: the underflow of the side product's own products and sums.
+    pub c: f32,
+}
 
-/// Shewchuk 1997 (orient3d): `|fl(det) - det| ≤ O3DERRBOUND_A · permanent` for a 3×3 determinant whose
-/// rows are rounded differences of inputs (here two, the third the exact direction), evaluated as a
-/// row against the 2×2 minors of the other two, `permanent` the same with absolute values, barring
-/// underflow and overflow. Here with ε = 2^-24.
-pub const O3DERRBOUND_A: f32 = (7.0 + 56.0 * EPS) * EPS;
+/// 2^k as an f32 (k within the normal range).
+const fn two_to(k: i32) -> f32 {
+    f32::from_bits(((127 + k) as u32) << 23)
+}
 
-/// The absolute error underflow can add, per unit of `1 + max |d|`: the six products of the minors and
-/// the three by `d` may each lose up to 2^-149 where they fall below f32's normal range; 2^-120 covers
-/// them with room and is itself a normal number (arithmetic on subnormal constants is slow on x86).
-pub const UNDERFLOW: f32 = 1.0 / (1u128 << 120) as f32;
+/// Gradual underflow, round to nearest (`cpu`, `cpu-fma`): u = 2^-24, a product's absolute error
+/// η× ≤ 2^-150, a sum's η± = 0 (a difference that underflows is exact).
+pub const GRADUAL: Bound = Bound {
+    a: two_to(-21),
+    mu: two_to(-126),
+    c: two_to(-126),
+};
+
+/// Subnormals flushed to zero, round to nearest (`cpu-ftz`): u = 2^-24, η× = η± = 2^-126, inputs gated
+/// ([`tiny`]).
+pub const FLUSHING: Bound = Bound {
+    a: two_to(-21),
+    mu: two_to(-102),
+    c: two_to(-122),
+};
+
+/// A GPU (WGSL, `certified.wgsl`): any rounding within one ulp (u = 2^-23), flushed or not,
+/// contracted to fused multiply-adds or not, η× = η± = 2^-126, inputs gated.
+pub const GPU: Bound = Bound {
+    a: two_to(-20),
+    mu: two_to(-102),
+    c: two_to(-122),
+};
+
+/// Where subnormals may be flushed, a nonzero input coordinate below this magnitude (or a subnormal
+/// direction component) sends the case to the exact stage: above it, the difference of two inputs is
+/// zero or normal, so it is never flushed.
+pub const TINY: f32 = two_to(-102);
+
+/// Whether a nonzero coordinate of `v` lies below `limit` in magnitude (on the bits: a flushing
+/// processor compares a subnormal as zero).
+#[inline(always)]
+fn below(v: Vec3, limit: f32) -> bool {
+    v.to_array().iter().any(|x| {
+        let b = x.to_bits() & 0x7fff_ffff;
+        b != 0 && b < limit.to_bits()
+    })
+}
+
+/// Whether a point is too near zero for the flushing model's bound (see [`TINY`]).
+#[inline(always)]
+fn tiny(v: Vec3) -> bool {
+    below(v, TINY)
+}
 
 thread_local! {
     static EXACT_SIGNS: Cell<u64> = const { Cell::new(0) };
@@ -35,26 +89,29 @@ pub fn exact_signs() -> u64 {
     EXACT_SIGNS.with(Cell::get)
 }
 
-/// The exact stage: the sign of `det[a - o, b - o, d]` (f64 filter, then exact arithmetic), counted.
+/// The exact stage: the sign of `det[a - o, b - o, d]` (f64 filter, then exact arithmetic), counted,
+/// computed in the standard floating-point environment whatever the model.
 #[cold]
 #[inline(never)]
 fn exact_side(a: Vec3, b: Vec3, ray: &Ray) -> i8 {
     EXACT_SIGNS.with(|c| c.set(c.get() + 1));
-    crate::exact::side(a, b, ray)
+    crate::fpenv::standard((a, b, ray), |(a, b, ray)| crate::exact::side(a, b, ray))
 }
 
-/// The ray, prepared once: origin, direction, and the underflow term of the error bound.
+/// The ray, prepared once: origin, direction, the model's bound, and whether the f32 stage may
+/// settle anything (not where subnormals may be flushed and the origin or direction is gated).
 #[derive(Clone, Copy, Debug)]
 pub struct CertifiedRay {
     ray: Ray,
     org: Vec3A,
     dir: Vec3A,
-    underflow: f32,
+    bound: Bound,
+    settles: bool,
 }
 
 /// Side products with edges ending at `b`: `det[a - o, b - o, d] = (a - b) · ((b - o) × d)`, the cross
-/// product `w` (and the absolute values its error bound needs, `m`) computed once for every `a` (as
-/// Maria et al.'s translated moment is computed once per tetrahedron).
+/// product `w` (and `m`, the magnitudes of its products raised by `mu`, for the permanent) computed
+/// once for every `a` (as Maria et al.'s translated moment is computed once per tetrahedron).
 struct Apex {
     b: Vec3A,
     w: Vec3A,
@@ -66,34 +123,67 @@ impl Apex {
     fn new(b: Vec3, r: &CertifiedRay) -> Apex {
         let b = Vec3A::from(b);
         let (q, d) = (b - r.org, r.dir);
-        // w = q × d, each component the difference of two products, m the sum of their magnitudes.
+        // w = q × d, each component the difference of two products; m = |p1| + |p2| + mu.
         let p1 = q.yzx() * d.zxy();
         let p2 = q.zxy() * d.yzx();
         Apex {
             b,
             w: p1 - p2,
-            m: p1.abs() + p2.abs(),
+            m: (p1.abs() + p2.abs()) + Vec3A::splat(r.bound.mu),
         }
     }
 
-    /// Sign of the side product of the ray with the edge `a → b`, certified: the f32 value when it
-    /// clears its error bound, else the exact sign — 0, a tie, when it is exactly zero (the line meets
-    /// the edge, or is parallel to it).
+    /// The f32 stage: the sign of the side product of the ray with the edge `a → b` when it clears
+    /// its error bound; `None` when it does not, or is not finite (NaN fails the comparison, and so
+    /// does an infinite bound).
     #[inline(always)]
-    fn side(&self, a: Vec3, r: &CertifiedRay) -> i8 {
+    fn settled(&self, a: Vec3, r: &CertifiedRay) -> Option<i8> {
         let e = Vec3A::from(a) - self.b;
         let det = e.dot(self.w);
         let permanent = e.abs().dot(self.m);
-        let bound = O3DERRBOUND_A * permanent + r.underflow;
+        let bound = r.bound.a * permanent + r.bound.c;
         // Branch on whether the sign is settled (nearly always), never on the sign itself, which is as
         // likely one way as the other (Maria et al.'s tree is branch-free for the same reason).
-        if det.abs() > bound {
-            (det > 0.0) as i8 * 2 - 1
-        } else {
-            // Not settled, or not finite: decide exactly; 0 is a tie.
-            exact_side(a, self.b.into(), &r.ray)
+        (det.abs() > bound).then(|| (det > 0.0) as i8 * 2 - 1)
+    }
+
+    /// Sign of the side product, certified: the f32 stage's, else the exact sign — 0, a tie, when it is
+    /// exactly zero (the line meets the edge, or is parallel to it).
+    #[inline(always)]
+    fn side(&self, a: Vec3, r: &CertifiedRay) -> i8 {
+        match self.settled(a, r) {
+            Some(s) => s,
+            None => exact_side(a, self.b.into(), &r.ray),
         }
     }
+}
+
+/// The f32 stage alone, for checking it against the exact sign: `det[a - o, b - o, d]`'s sign when
+/// `bound` settles it, computed in the caller's floating-point environment; where `gated`, `None` for
+/// inputs the flushing models send to the exact stage ([`TINY`]).
+pub fn f32_stage(a: Vec3, b: Vec3, ray: &Ray, bound: Bound, gated: bool) -> Option<i8> {
+    let r = CertifiedRay {
+        ray: *ray,
+        org: ray.org.into(),
+        dir: ray.dir.into(),
+        bound,
+        settles: true,
+    };
+    let gate = gated && (gated_ray(ray) || tiny(a) || tiny(b));
+    (!gate).then(|| Apex::new(b, &r).settled(a, &r)).flatten()
+}
+
+/// Whether the flushing models send every sign of this ray to the exact stage.
+#[inline(always)]
+fn gated_ray(ray: &Ray) -> bool {
+    tiny(ray.org) || below(ray.dir, f32::MIN_POSITIVE)
+}
+
+/// Whether the f32 stage may settle this tetrahedron's signs for this ray: always with gradual
+/// underflow; where subnormals may be flushed, unless the ray or a vertex is gated ([`TINY`]).
+#[inline(always)]
+fn settles<A: Arith>(tet: &Tet, r: &CertifiedRay) -> bool {
+    !A::FLUSHES || (r.settles && !tet.iter().any(|&v| tiny(v)))
 }
 
 /// Algorithm 1 from entry face `e` with certified signs: the side products with `Λ = V_k V_f`
@@ -101,7 +191,10 @@ impl Apex {
 /// through `V_f`, so it may pass through a vertex of the entry face, where the given entry face and the
 /// one the tie-breaking enters through can differ).
 #[inline(always)]
-fn algorithm_1(tet: &Tet, r: &CertifiedRay, e: usize) -> Option<usize> {
+fn algorithm_1<A: Arith>(tet: &Tet, r: &CertifiedRay, e: usize) -> Option<usize> {
+    if !settles::<A>(tet, r) {
+        return None;
+    }
     let apex = Apex::new(tet[e], r);
     decision_tree(tet, e, |a| apex.side(a, r))
 }
@@ -130,7 +223,10 @@ pub(super) fn decision_tree(
 /// The starting tetrahedron: all six certified signs, the face the perturbed line leaves through
 /// (`None` at a tie, or when the perturbed line passes beside the tetrahedron).
 #[inline(never)]
-fn start(tet: &Tet, r: &CertifiedRay) -> Option<usize> {
+fn start<A: Arith>(tet: &Tet, r: &CertifiedRay) -> Option<usize> {
+    if !settles::<A>(tet, r) {
+        return None;
+    }
     let apex: [Apex; 4] = std::array::from_fn(|b| Apex::new(tet[b], r));
     let sides = EDGES.map(|[a, b]| apex[b].side(tet[a], r) as f32);
     if sides.contains(&0.0) {
@@ -140,7 +236,8 @@ fn start(tet: &Tet, r: &CertifiedRay) -> Option<usize> {
     }
 }
 
-/// At a tie: the exact answer, ties broken as `exact` breaks them.
+/// At a tie (or where the f32 stage may not settle): the exact answer, ties broken as `exact` breaks
+/// them.
 #[cold]
 #[inline(never)]
 fn at_tie(tet: &Tet, ray: &Ray) -> Option<usize> {
@@ -160,7 +257,8 @@ impl ExitMethod for Certified {
             ray: *ray,
             org: ray.org.into(),
             dir: ray.dir.into(),
-            underflow: UNDERFLOW * (1.0 + ray.dir.abs().max_element()),
+            bound: if A::FLUSHES { FLUSHING } else { GRADUAL },
+            settles: !gated_ray(ray),
         }
     }
 
@@ -170,8 +268,8 @@ impl ExitMethod for Certified {
     /// (a sign exactly zero), `exact`'s answer.
     fn exit_face<A: Arith>(tet: &Tet, r: &CertifiedRay, entry: Option<usize>) -> Option<usize> {
         match entry {
-            Some(e) => algorithm_1(tet, r, e),
-            None => start(tet, r),
+            Some(e) => algorithm_1::<A>(tet, r, e),
+            None => start::<A>(tet, r),
         }
         .or_else(|| at_tie(tet, &r.ray))
     }

@@ -20,13 +20,18 @@ impl ExitMethod for Exact {
     }
 
     fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, entry: Option<usize>) -> Option<usize> {
-        let finite = ray.org.is_finite() && ray.dir.is_finite();
-        entry
-            .filter(|_| finite)
-            .and_then(|e| decision_tree(tet, e, |a| side(a, tet[e], ray)))
-            .or_else(|| {
-                let (face, c) = perturbed_exit(tet, ray).ok()?;
-                face.or(c.exit.first())
-            })
+        // The oracle reads subnormals as themselves, whatever the caller's model.
+        crate::fpenv::standard((tet, ray), |(tet, ray)| exit_face(tet, ray, entry))
     }
+}
+
+fn exit_face(tet: &Tet, ray: &Ray, entry: Option<usize>) -> Option<usize> {
+    let finite = ray.org.is_finite() && ray.dir.is_finite();
+    entry
+        .filter(|_| finite)
+        .and_then(|e| decision_tree(tet, e, |a| side(a, tet[e], ray)))
+        .or_else(|| {
+            let (face, c) = perturbed_exit(tet, ray).ok()?;
+            face.or(c.exit.first())
+        })
 }

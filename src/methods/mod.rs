@@ -6,11 +6,14 @@
 //! (what a GPU shader compiler may emit). Contractions applied by [`Fused`]: in [`Arith::dot`] the second
 //! and third products are fused into the running sum; in [`Arith::cross`] the first product of each
 //! component is fused with the negated second one; in [`Arith::axpy`] each product with its sum; and
-//! wherever a method calls [`Arith::mad`]. Nothing else is contracted.
+//! wherever a method calls [`Arith::mad`]. Nothing else is contracted. [`Flushed`] rounds as
+//! [`Plain`] does, with the processor set to read subnormal inputs as zero and flush subnormal results
+//! to zero ([`crate::fpenv`]), as a GPU may compute.
 
 pub mod aman20;
 pub mod certified;
 mod exact;
+pub mod filters;
 mod halfspace;
 pub mod maria17;
 mod ms06;
@@ -33,8 +36,17 @@ pub use stp::Stp;
 use crate::tet::{Ray, Tet};
 use glam::Vec3;
 
-/// Rounding of a method's arithmetic: as written, or contracted to fused multiply-add.
+/// Rounding of a method's arithmetic: as written, contracted to fused multiply-add, or flushed.
 pub trait Arith {
+    /// Which model this is.
+    const MODEL: Model;
+    /// Whether subnormal inputs and results are flushed to zero (what a method's fast path must allow for).
+    const FLUSHES: bool = false;
+    /// Run a method's work in this model's floating-point environment (the registry's entry points do).
+    #[inline(always)]
+    fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+        f(input)
+    }
     /// `a·b + c`.
     fn mad(a: f32, b: f32, c: f32) -> f32;
     /// `a.x·b.x + a.y·b.y + a.z·b.z`, summed left to right.
@@ -59,12 +71,40 @@ pub trait Arith {
     }
 }
 
+/// The arithmetic models a CPU backend computes in, each an [`Arith`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Model {
+    Plain,
+    Fused,
+    Flushed,
+}
+
+impl Model {
+    pub const ALL: [Model; 3] = [Model::Plain, Model::Fused, Model::Flushed];
+}
+
 /// Every product and sum rounded separately.
 pub struct Plain;
 /// Products contracted into fused multiply-adds, as a GPU compiler may.
 pub struct Fused;
+/// Every product and sum rounded separately, subnormal inputs and results flushed to zero.
+pub struct Flushed;
 
 impl Arith for Plain {
+    const MODEL: Model = Model::Plain;
+    #[inline(always)]
+    fn mad(a: f32, b: f32, c: f32) -> f32 {
+        a * b + c
+    }
+}
+
+impl Arith for Flushed {
+    const MODEL: Model = Model::Flushed;
+    const FLUSHES: bool = true;
+    #[inline(always)]
+    fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+        crate::fpenv::flushed(input, f)
+    }
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         a * b + c
@@ -72,6 +112,7 @@ impl Arith for Plain {
 }
 
 impl Arith for Fused {
+    const MODEL: Model = Model::Fused;
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         a.mul_add(b, c)

@@ -6,6 +6,7 @@ pub mod text;
 use crate::backend::{Backend, BackendError};
 use crate::cases::{Case, HitCase};
 use crate::mesh::{HULL, Mesh, bounds};
+use crate::methods::Model;
 use crate::registry::{Method, OctreeMethod, TriangleMethod, reference};
 use crate::scenes::camera::Views;
 use crate::scenes::closed::{self, Place, Shape};
@@ -335,7 +336,7 @@ pub fn octree_heat(
     let octree = crate::octree::Octree::build(&tris, settings)
         .map_err(|e| RenderError::Octree(e.to_string()))?;
     let cap = crate::walk::octree::default_max_steps(&octree);
-    let walk = method.walk(false);
+    let walk = method.walk(Model::Plain);
     let cells: Vec<u32> = views
         .rays(&cam)
         .par_iter()

@@ -7,6 +7,7 @@ use crate::backend::{Backend, BackendError};
 use crate::choice::Choice;
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
+use crate::methods::Model;
 use crate::registry::{Gpu, Method};
 use crate::scenes::camera::Views;
 use crate::tet::Ray;
@@ -104,7 +105,7 @@ pub fn run(
         }
         let mut walkers: Vec<Walker> = on.iter().map(|m| Walker::Cells(m)).collect();
         if layout.is_some() {
-            for m in on.iter().filter(|m| m.layout_walk(false).is_some()) {
+            for m in on.iter().filter(|m| m.layout_walk(Model::Plain).is_some()) {
                 walkers.extend(Kind::ALL.iter().map(|k| Walker::Layout(m, *k)));
             }
         }

@@ -10,6 +10,7 @@ use crate::choice::Choice;
 use crate::exact::boxes::{BoxExit, box_exit};
 use crate::found::{Answer, Failure, Record};
 use crate::mesh::Mesh;
+use crate::methods::Model;
 use crate::octree::cell::quarter_signs;
 use crate::octree::{Octree, Settings};
 use crate::registry::OctreeMethod;
@@ -252,8 +253,8 @@ pub fn count(
 ) -> Result<OctreeCountReport, CountError> {
     let reference = by_name(&s.reference)?;
     let tri = triangle_by_name(&s.triangle_method)?;
-    let hit = tri.hit(false);
-    let exact = octree_by_name("exact")?.walk(false);
+    let hit = tri.hit(Model::Plain);
+    let exact = octree_by_name("exact")?.walk(Model::Plain);
     let max = default_max_steps(mesh);
     let cpu = &crate::backend::CPU;
     let on = cpu.mesh(mesh);

@@ -356,8 +356,8 @@ pub fn compare(
         let plain: Vec<Case> = row_cases(row, s).0.into_iter().map(|(c, _)| c).collect();
         let mut per = Vec::new();
         for m in methods.iter().filter(|m| !m.reference) {
-            let a = Backend::Cpu { fma: false }.exit_faces(m, &plain)?;
-            let b = Backend::Cpu { fma: true }.exit_faces(m, &plain)?;
+            let a = crate::backend::CPU.exit_faces(m, &plain)?;
+            let b = crate::backend::CPU_FMA.exit_faces(m, &plain)?;
             let c = gpu.exit_faces(m, &plain)?;
             let diff = |x: &[Option<usize>], y: &[Option<usize>]| {
                 x.iter().zip(y).filter(|(p, q)| p != q).count() as u64

@@ -7,6 +7,7 @@ use crate::cases::{HitCase, HitTruth, Missed, Subject, judge_hit};
 use crate::choice::Choice;
 use crate::found::{Answer, Failure, Record};
 use crate::mesh::{HULL, Mesh};
+use crate::methods::Model;
 use crate::methods::triangle::nearest_of;
 use crate::registry::TriangleMethod;
 use crate::registry::by_name;
@@ -499,7 +500,7 @@ pub fn speed(
                 .iter()
                 .map(|&i| all[i])
                 .collect();
-            let trace = m.trace(false);
+            let trace = m.trace(Model::Plain);
             let mut best = f64::INFINITY;
             for _ in 0..repeats.max(1) {
                 let t0 = Instant::now();

@@ -160,12 +160,10 @@ impl WrongRay {
         start: u32,
         max_steps: u32,
     ) -> WrongRay {
-        let divergence = match seen.walked {
-            Some((m, b)) if b != BackendKind::Gpu => {
-                m.walk_checked(b == BackendKind::CpuFma)(mesh, ray, start, max_steps).1
-            }
-            _ => None,
-        };
+        let divergence = seen
+            .walked
+            .and_then(|(m, b)| Some(m.walk_checked(b.model()?)(mesh, ray, start, max_steps).1))
+            .flatten();
         // For a wrong face: adjacent or elsewhere, and how far from its edge the exact hit lies (the
         // exact hit found once, since on a boundary that means trying every constrained face).
         let (class, ulps_from_edge) = match (w.outcome, reference.outcome) {

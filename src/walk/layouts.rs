@@ -175,7 +175,12 @@ where
     M::RayData: Frame,
     A: Arith,
 {
-    walk_layout::<M, A>(kind, layout, points, ray, source, max_steps, |_| {})
+    A::run(
+        (layout, points, ray, source),
+        |(layout, points, ray, source)| {
+            walk_layout::<M, A>(kind, layout, points, ray, source, max_steps, |_| {})
+        },
+    )
 }
 
 /// The plain mesh's neighbour across face `f` of `t` as the layouts encode it (for checking decodes).

@@ -8,6 +8,7 @@ use proptest::test_runner::{Config, FileFailurePersistence};
 use tetwalk::backend::{Backend, BackendKind};
 use tetwalk::cases::{Judged, judged};
 use tetwalk::exact::Classification;
+use tetwalk::methods::Model;
 use tetwalk::registry::Method;
 use tetwalk::scenes::rng;
 use tetwalk::scenes::tets::{self, Family, Target};
@@ -116,10 +117,18 @@ pub fn gpu_or_skip() -> Option<Backend> {
     }
 }
 
-/// `m`'s answer on a case on the CPU (plain or `fma`), judged against its classification.
-pub fn judge(case: &Case, c: &Classification, m: &Method, fma: bool) -> Judged {
-    judged(c, Backend::Cpu { fma }.exit_face(m, case).unwrap())
+/// `m`'s answer on a case on the CPU in an arithmetic model, judged against its classification.
+pub fn judge(case: &Case, c: &Classification, m: &Method, model: Model) -> Judged {
+    judged(c, Backend::Cpu { model }.exit_face(m, case).unwrap())
 }
+
+/// Every CPU arithmetic model: plain, fused, flushing subnormals.
+pub fn model() -> impl Strategy<Value = Model> {
+    prop_oneof![Just(Model::Plain), Just(Model::Fused), Just(Model::Flushed)]
+}
+
+/// How long a command may run before the tests call it hung (far beyond any loaded run).
+const HANG: std::time::Duration = std::time::Duration::from_secs(900);
 
 /// insta settings storing snapshots in `golden/`.
 pub fn settings() -> insta::Settings {
@@ -162,7 +171,9 @@ pub fn run_tetwalk(args: &[&str], stdin: &[u8]) -> (i32, String, String) {
         if let Some(s) = child.try_wait().unwrap() {
             break s;
         }
-        if start.elapsed() > Duration::from_secs(60) {
+        // A hang guard, not a timing test: the slowest command here takes about a minute on a loaded
+        // two-core machine, so only a run that never ends reaches this.
+        if start.elapsed() > HANG {
             child.kill().unwrap();
             panic!("tetwalk {args:?} hung");
         }

@@ -77,9 +77,11 @@ pub fn accepts(t: f32) -> bool {
 
 /// `M`'s answer for one ray and one triangle: the `t` of a hit that counts.
 pub fn hit<M: HitMethod, A: Arith>(tri: &Tri, ray: &Ray) -> Option<f32> {
-    let mut out = [None];
-    M::packet::<A>(&M::tri::<A>(tri), ray.org, &[M::ray::<A>(ray)], &mut out);
-    out[0].filter(|&t| accepts(t))
+    A::run((tri, ray), |(tri, ray)| {
+        let mut out = [None];
+        M::packet::<A>(&M::tri::<A>(tri), ray.org, &[M::ray::<A>(ray)], &mut out);
+        out[0].filter(|&t| accepts(t))
+    })
 }
 
 /// Calls `f(triangle, ray, t)` for every hit that counts of each ray of a packet (rays sharing `org`)
@@ -139,30 +141,34 @@ pub fn trace<M: HitMethod, A: Arith>(
     rays: &[Ray],
     packet: usize,
 ) -> Vec<Option<(u32, f32)>> {
-    let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
-    let mut best = vec![None; rays.len()];
-    let size = packet.clamp(1, MAX_PACKET);
-    let mut start = 0;
-    while start < rays.len() {
-        let org = rays[start].org;
-        let len = rays[start..]
-            .iter()
-            .take(size)
-            .take_while(|r| r.org == org)
-            .count();
-        let data: Vec<M::RayData> = rays[start..start + len].iter().map(M::ray::<A>).collect();
-        nearest::<M, A>(&prepared, org, &data, &mut best[start..start + len]);
-        start += len;
-    }
-    best
+    A::run((tris, rays), |(tris, rays)| {
+        let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
+        let mut best = vec![None; rays.len()];
+        let size = packet.clamp(1, MAX_PACKET);
+        let mut start = 0;
+        while start < rays.len() {
+            let org = rays[start].org;
+            let len = rays[start..]
+                .iter()
+                .take(size)
+                .take_while(|r| r.org == org)
+                .count();
+            let data: Vec<M::RayData> = rays[start..start + len].iter().map(M::ray::<A>).collect();
+            nearest::<M, A>(&prepared, org, &data, &mut best[start..start + len]);
+            start += len;
+        }
+        best
+    })
 }
 
 /// Every hit of one ray among `tris`, in triangle order.
 pub fn hits<M: HitMethod, A: Arith>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> {
-    let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
-    let mut out = Vec::new();
-    each_hit::<M, A>(&prepared, ray.org, &[M::ray::<A>(ray)], |i, _, t| {
-        out.push((i, t))
-    });
-    out
+    A::run((tris, ray), |(tris, ray)| {
+        let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
+        let mut out = Vec::new();
+        each_hit::<M, A>(&prepared, ray.org, &[M::ray::<A>(ray)], |i, _, t| {
+            out.push((i, t))
+        });
+        out
+    })
 }

@@ -1,0 +1,10 @@
+; The gate is tight enough to matter: just below 2^-102 a difference can be subnormal.
+(set-logic QF_FP)
+(declare-const x (_ FloatingPoint 8 24))
+(declare-const y (_ FloatingPoint 8 24))
+(define-fun tiny () (_ FloatingPoint 8 24) ((_ to_fp 8 24) RNE (/ 1.0 5070602400912917605986812821504.0)))
+(assert (fp.isNormal x))
+(assert (fp.isNormal y))
+(assert (fp.lt (fp.abs x) tiny))
+(assert (fp.isSubnormal (fp.sub RNE x y)))
+(check-sat)
