@@ -98,15 +98,26 @@ fn exact_side(a: Vec3, b: Vec3, ray: &Ray) -> i8 {
     crate::fpenv::standard((a, b, ray), |(a, b, ray)| crate::exact::side(a, b, ray))
 }
 
-/// The ray, prepared once: origin, direction, the model's bound, and whether the f32 stage may
-/// settle anything (not where subnormals may be flushed and the origin or direction is gated).
+/// The ray, prepared once: origin and direction as SIMD vectors.
 #[derive(Clone, Copy, Debug)]
 pub struct CertifiedRay {
-    ray: Ray,
     org: Vec3A,
     dir: Vec3A,
-    bound: Bound,
-    settles: bool,
+}
+
+impl CertifiedRay {
+    fn ray(&self) -> Ray {
+        Ray {
+            org: self.org.into(),
+            dir: self.dir.into(),
+        }
+    }
+}
+
+/// The bound of arithmetic model `A` (a constant).
+#[inline(always)]
+fn bound<A: Arith>() -> Bound {
+    if A::FLUSHES { FLUSHING } else { GRADUAL }
 }
 
 /// Side products with edges ending at `b`: `det[a - o, b - o, d] = (a - b) · ((b - o) × d)`, the cross
@@ -120,7 +131,7 @@ struct Apex {
 
 impl Apex {
     #[inline(always)]
-    fn new(b: Vec3, r: &CertifiedRay) -> Apex {
+    fn new(b: Vec3, r: &CertifiedRay, bound: Bound) -> Apex {
         let b = Vec3A::from(b);
         let (q, d) = (b - r.org, r.dir);
         // w = q × d, each component the difference of two products; m = |p1| + |p2| + mu.
@@ -129,7 +140,7 @@ impl Apex {
         Apex {
             b,
             w: p1 - p2,
-            m: (p1.abs() + p2.abs()) + Vec3A::splat(r.bound.mu),
+            m: (p1.abs() + p2.abs()) + Vec3A::splat(bound.mu),
         }
     }
 
@@ -137,23 +148,39 @@ impl Apex {
     /// its error bound; `None` when it does not, or is not finite (NaN fails the comparison, and so
     /// does an infinite bound).
     #[inline(always)]
-    fn settled(&self, a: Vec3, r: &CertifiedRay) -> Option<i8> {
+    fn settled(&self, a: Vec3, bound: Bound) -> Option<i8> {
         let e = Vec3A::from(a) - self.b;
         let det = e.dot(self.w);
         let permanent = e.abs().dot(self.m);
-        let bound = r.bound.a * permanent + r.bound.c;
+        let bound = bound.a * permanent + bound.c;
         // Branch on whether the sign is settled (nearly always), never on the sign itself, which is as
         // likely one way as the other (Maria et al.'s tree is branch-free for the same reason).
         (det.abs() > bound).then(|| (det > 0.0) as i8 * 2 - 1)
     }
 
+    /// The f32 stage for the three vertices `v` of the entry face at once, one lane each (the same
+    /// operations as [`Apex::settled`], lane by lane): bit `k` of the first mask set where `v[k]`'s
+    /// sign is settled, of the second where it is positive.
+    #[inline(always)]
+    fn entry_face(&self, v: [Vec3; 3], bound: Bound) -> (u32, u32) {
+        let lanes = |f: fn(Vec3) -> f32| Vec3A::new(f(v[0]), f(v[1]), f(v[2]));
+        let ex = lanes(|p| p.x) - Vec3A::splat(self.b.x);
+        let ey = lanes(|p| p.y) - Vec3A::splat(self.b.y);
+        let ez = lanes(|p| p.z) - Vec3A::splat(self.b.z);
+        let det = ex * self.w.x + ey * self.w.y + ez * self.w.z;
+        let permanent = ex.abs() * self.m.x + ey.abs() * self.m.y + ez.abs() * self.m.z;
+        let bound = permanent * bound.a + Vec3A::splat(bound.c);
+        // A settled det is nonzero, so its sign bit is its sign.
+        (det.abs().cmpgt(bound).bitmask(), !det.is_negative_bitmask())
+    }
+
     /// Sign of the side product, certified: the f32 stage's, else the exact sign — 0, a tie, when it is
     /// exactly zero (the line meets the edge, or is parallel to it).
     #[inline(always)]
-    fn side(&self, a: Vec3, r: &CertifiedRay) -> i8 {
-        match self.settled(a, r) {
+    fn side(&self, a: Vec3, r: &CertifiedRay, bound: Bound) -> i8 {
+        match self.settled(a, bound) {
             Some(s) => s,
-            None => exact_side(a, self.b.into(), &r.ray),
+            None => exact_side(a, self.b.into(), &r.ray()),
         }
     }
 }
@@ -163,14 +190,13 @@ impl Apex {
 /// inputs the flushing models send to the exact stage ([`TINY`]).
 pub fn f32_stage(a: Vec3, b: Vec3, ray: &Ray, bound: Bound, gated: bool) -> Option<i8> {
     let r = CertifiedRay {
-        ray: *ray,
         org: ray.org.into(),
         dir: ray.dir.into(),
-        bound,
-        settles: true,
     };
     let gate = gated && (gated_ray(ray) || tiny(a) || tiny(b));
-    (!gate).then(|| Apex::new(b, &r).settled(a, &r)).flatten()
+    (!gate)
+        .then(|| Apex::new(b, &r, bound).settled(a, bound))
+        .flatten()
 }
 
 /// Whether the flushing models send every sign of this ray to the exact stage.
@@ -183,7 +209,7 @@ fn gated_ray(ray: &Ray) -> bool {
 /// underflow; where subnormals may be flushed, unless the ray or a vertex is gated ([`TINY`]).
 #[inline(always)]
 fn settles<A: Arith>(tet: &Tet, r: &CertifiedRay) -> bool {
-    !A::FLUSHES || (r.settles && !tet.iter().any(|&v| tiny(v)))
+    !A::FLUSHES || !(gated_ray(&r.ray()) || tet.iter().any(|&v| tiny(v)))
 }
 
 /// Algorithm 1 from entry face `e` with certified signs: the side products with `Λ = V_k V_f`
@@ -195,25 +221,34 @@ fn algorithm_1<A: Arith>(tet: &Tet, r: &CertifiedRay, e: usize) -> Option<usize>
     if !settles::<A>(tet, r) {
         return None;
     }
-    let apex = Apex::new(tet[e], r);
-    decision_tree(tet, e, |a| apex.side(a, r))
+    let apex = Apex::new(tet[e], r, bound::<A>());
+    let lambda = FACE_VERTICES[e];
+    let (settled, positive) = apex.entry_face(lambda.map(|k| tet[k]), bound::<A>());
+    if settled == 0b111 {
+        // Every sign settled (nearly always): the tree without a branch.
+        let id = (positive >> 2 & 1) as usize;
+        return Some(GET_FACE[e][id + (positive >> id & 1 == 0) as usize]);
+    }
+    decision_tree(e, |k| {
+        if settled & (1 << k) != 0 {
+            (positive >> k & 1) as i8 * 2 - 1
+        } else {
+            exact_side(tet[lambda[k]], tet[e], &r.ray())
+        }
+    })
 }
 
 /// Maria et al.'s Algorithm 1 (Tables 1 and 2) from entry face `e`, given the sign of
-/// `det[V_k - o, V_f - o, d]` for a vertex `V_k` of the entry face; `None` at a zero sign (a tie).
+/// `det[V_k - o, V_f - o, d]` for the vertex `V_k = λ_k` (`k` in 0..3, `λ` the entry face's
+/// [`FACE_VERTICES`]); `None` at a zero sign (a tie).
 #[inline(always)]
-pub(super) fn decision_tree(
-    tet: &Tet,
-    e: usize,
-    mut sign: impl FnMut(Vec3) -> i8,
-) -> Option<usize> {
-    let lambda = FACE_VERTICES[e];
-    let s = sign(tet[lambda[2]]);
+pub(super) fn decision_tree(e: usize, mut sign: impl FnMut(usize) -> i8) -> Option<usize> {
+    let s = sign(2);
     if s == 0 {
         return None;
     }
     let id = (s > 0) as usize;
-    let s = sign(tet[lambda[id]]);
+    let s = sign(id);
     if s == 0 {
         return None;
     }
@@ -227,8 +262,8 @@ fn start<A: Arith>(tet: &Tet, r: &CertifiedRay) -> Option<usize> {
     if !settles::<A>(tet, r) {
         return None;
     }
-    let apex: [Apex; 4] = std::array::from_fn(|b| Apex::new(tet[b], r));
-    let sides = EDGES.map(|[a, b]| apex[b].side(tet[a], r) as f32);
+    let apex: [Apex; 4] = std::array::from_fn(|b| Apex::new(tet[b], r, bound::<A>()));
+    let sides = EDGES.map(|[a, b]| apex[b].side(tet[a], r, bound::<A>()) as f32);
     if sides.contains(&0.0) {
         None
     } else {
@@ -254,11 +289,8 @@ impl ExitMethod for Certified {
 
     fn prepare<A: Arith>(ray: &Ray) -> CertifiedRay {
         CertifiedRay {
-            ray: *ray,
             org: ray.org.into(),
             dir: ray.dir.into(),
-            bound: if A::FLUSHES { FLUSHING } else { GRADUAL },
-            settles: !gated_ray(ray),
         }
     }
 
@@ -271,6 +303,6 @@ impl ExitMethod for Certified {
             Some(e) => algorithm_1::<A>(tet, r, e),
             None => start::<A>(tet, r),
         }
-        .or_else(|| at_tie(tet, &r.ray))
+        .or_else(|| at_tie(tet, &r.ray()))
     }
 }

@@ -1,6 +1,7 @@
 //! `exact`: the oracle as a method, ties broken by symbolic perturbation so walks always progress.
 
 use super::certified::decision_tree;
+use super::maria17::FACE_VERTICES;
 use super::{Arith, ExitMethod};
 use crate::exact::{perturbed_exit, side};
 use crate::tet::{Ray, Tet};
@@ -29,7 +30,7 @@ fn exit_face(tet: &Tet, ray: &Ray, entry: Option<usize>) -> Option<usize> {
     let finite = ray.org.is_finite() && ray.dir.is_finite();
     entry
         .filter(|_| finite)
-        .and_then(|e| decision_tree(tet, e, |a| side(a, tet[e], ray)))
+        .and_then(|e| decision_tree(e, |k| side(tet[FACE_VERTICES[e][k]], tet[e], ray)))
         .or_else(|| {
             let (face, c) = perturbed_exit(tet, ray).ok()?;
             face.or(c.exit.first())
