@@ -18,7 +18,8 @@ pub struct Args {
     /// A method name, a comma-separated list, or `all` [default: all].
     #[arg(long, default_value = "all")]
     method: String,
-    /// Where the methods run: `cpu` (plain f32), `cpu-fma` (as a GPU compiles them) or `gpu` (WGSL;
+    /// Where the methods run: `cpu` (plain f32), `cpu-fma` (as a GPU compiles them), `cpu-ftz`
+    /// (subnormals flushed) or `gpu` (WGSL;
     /// the `exact` reference stays on the CPU).
     #[command(flatten)]
     backend: super::BackendArg,
