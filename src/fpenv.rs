@@ -55,6 +55,16 @@ mod reg {
     pub fn write(_: u64) {}
 }
 
+/// Restores the caller's environment when dropped, also when the work panics.
+struct Restore(u64);
+
+impl Drop for Restore {
+    #[inline(always)]
+    fn drop(&mut self) {
+        reg::write(self.0);
+    }
+}
+
 /// Run `f(input)` with the flush bits set to `flush`, restoring the caller's environment after.
 #[inline(always)]
 fn with<T, R>(flush: bool, input: T, f: impl FnOnce(T) -> R) -> R {
@@ -68,8 +78,9 @@ fn with<T, R>(flush: bool, input: T, f: impl FnOnce(T) -> R) -> R {
         return f(input);
     }
     reg::write(want);
+    let restore = Restore(saved);
     let out = black_box(f(black_box(input)));
-    reg::write(saved);
+    drop(restore);
     out
 }
 
@@ -120,5 +131,8 @@ mod tests {
         );
         assert!(flushed((), |_| flushing()));
         assert!(!flushing(), "the caller's environment is restored");
+        let panicked = std::panic::catch_unwind(|| flushed((), |_| panic!("inside")));
+        assert!(panicked.is_err());
+        assert!(!flushing(), "restored after a panic too");
     }
 }
