@@ -97,14 +97,14 @@ pub fn standard<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
     with(false, input, f)
 }
 
-/// Whether the calling thread flushes subnormals now.
-pub fn flushing() -> bool {
-    reg::FLUSH != 0 && reg::read() & reg::FLUSH == reg::FLUSH
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Whether the calling thread flushes subnormals now.
+    fn flushing() -> bool {
+        reg::FLUSH != 0 && reg::read() & reg::FLUSH == reg::FLUSH
+    }
 
     #[test]
     fn flushed_reads_and_writes_subnormals_as_zero_and_standard_undoes_it() {

@@ -38,8 +38,6 @@ use glam::Vec3;
 
 /// Rounding of a method's arithmetic: as written, contracted to fused multiply-add, or flushed.
 pub trait Arith {
-    /// Which model this is.
-    const MODEL: Model;
     /// Whether subnormal inputs and results are flushed to zero (what a method's fast path must allow for).
     const FLUSHES: bool = false;
     /// Run a method's work in this model's floating-point environment (the registry's entry points do).
@@ -91,7 +89,6 @@ pub struct Fused;
 pub struct Flushed;
 
 impl Arith for Plain {
-    const MODEL: Model = Model::Plain;
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         a * b + c
@@ -99,7 +96,6 @@ impl Arith for Plain {
 }
 
 impl Arith for Flushed {
-    const MODEL: Model = Model::Flushed;
     const FLUSHES: bool = true;
     #[inline(always)]
     fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
@@ -112,7 +108,6 @@ impl Arith for Flushed {
 }
 
 impl Arith for Fused {
-    const MODEL: Model = Model::Fused;
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         a.mul_add(b, c)
