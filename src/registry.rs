@@ -63,6 +63,21 @@ const AMAN20_SCALED: &str = include_str!("methods/aman20_scaled.wgsl");
 const CERTIFIED: &str = include_str!("methods/certified.wgsl");
 const PORTALEZ16: &str = include_str!("methods/portalez16.wgsl");
 
+/// How many arithmetic models each method is instantiated in.
+const MODELS: usize = Model::ALL.len();
+
+/// `[f::<M, Plain>, f::<M, Fused>, f::<M, Flushed>]`: a function instantiated for every arithmetic
+/// model, indexed by [`Model`].
+macro_rules! by_model {
+    ($($f:ident)::+, $m:ty) => {
+        [
+            $($f)::+::<$m, Plain>,
+            $($f)::+::<$m, Fused>,
+            $($f)::+::<$m, Flushed>,
+        ]
+    };
+}
+
 /// A method's exit function with its arithmetic fixed, for callers that pick methods at run time.
 pub type ExitFn = fn(&Tet, &Ray, Option<usize>) -> Option<usize>;
 
@@ -89,11 +104,11 @@ pub struct Method {
     /// backend runs only on a GPU.
     pub runs_on_cpu: bool,
     pub gpu: Gpu,
-    exit: [ExitFn; 3],
-    walk: [WalkFn; 3],
-    walks: [WalksFn; 3],
-    checked: [CheckedWalkFn; 3],
-    layout_walk: Option<[LayoutWalkFn; 3]>,
+    exit: [ExitFn; MODELS],
+    walk: [WalkFn; MODELS],
+    walks: [WalksFn; MODELS],
+    checked: [CheckedWalkFn; MODELS],
+    layout_walk: Option<[LayoutWalkFn; MODELS]>,
     time_queries: TimeQueriesFn,
 }
 
@@ -116,26 +131,10 @@ impl Method {
             published: true,
             runs_on_cpu: true,
             gpu,
-            exit: [
-                exit_fn::<M, Plain>,
-                exit_fn::<M, Fused>,
-                exit_fn::<M, Flushed>,
-            ],
-            walk: [
-                walk::walk::<M, Plain>,
-                walk::walk::<M, Fused>,
-                walk::walk::<M, Flushed>,
-            ],
-            walks: [
-                walk::walks::<M, Plain>,
-                walk::walks::<M, Fused>,
-                walk::walks::<M, Flushed>,
-            ],
-            checked: [
-                walk::walk_checked::<M, Plain>,
-                walk::walk_checked::<M, Fused>,
-                walk::walk_checked::<M, Flushed>,
-            ],
+            exit: by_model!(exit_fn, M),
+            walk: by_model!(walk::walk, M),
+            walks: by_model!(walk::walks, M),
+            checked: by_model!(walk::walk_checked, M),
             layout_walk: None,
             time_queries: time_queries::<M, Plain>,
         }
@@ -147,11 +146,7 @@ impl Method {
         M::RayData: Frame,
     {
         Method {
-            layout_walk: Some([
-                layouts::walk_layout_unobserved::<M, Plain>,
-                layouts::walk_layout_unobserved::<M, Fused>,
-                layouts::walk_layout_unobserved::<M, Flushed>,
-            ]),
+            layout_walk: Some(by_model!(layouts::walk_layout_unobserved, M)),
             ..Self::of::<M>(name, source, false, gpu)
         }
     }
@@ -426,9 +421,9 @@ pub struct TriangleMethod {
     /// Whether it shares work across a packet of rays with one origin.
     pub packet: bool,
     pub gpu: Gpu,
-    hit: [HitFn; 3],
-    trace: [TraceFn; 3],
-    hits: [HitsFn; 3],
+    hit: [HitFn; MODELS],
+    trace: [TraceFn; MODELS],
+    hits: [HitsFn; MODELS],
 }
 
 impl TriangleMethod {
@@ -445,21 +440,9 @@ impl TriangleMethod {
             claims_watertight,
             packet,
             gpu,
-            hit: [
-                triangle::hit::<M, Plain>,
-                triangle::hit::<M, Fused>,
-                triangle::hit::<M, Flushed>,
-            ],
-            trace: [
-                triangle::trace::<M, Plain>,
-                triangle::trace::<M, Fused>,
-                triangle::trace::<M, Flushed>,
-            ],
-            hits: [
-                triangle::hits::<M, Plain>,
-                triangle::hits::<M, Fused>,
-                triangle::hits::<M, Flushed>,
-            ],
+            hit: by_model!(triangle::hit, M),
+            trace: by_model!(triangle::trace, M),
+            hits: by_model!(triangle::hits, M),
         }
     }
 
@@ -590,9 +573,9 @@ pub struct OctreeMethod {
     /// Whether it is the reference (exact; never judged itself).
     pub reference: bool,
     pub gpu: Gpu,
-    exit: [BoxExitFn; 3],
-    walk: [OctreeWalkFn; 3],
-    traced: [OctreeTracedFn; 3],
+    exit: [BoxExitFn; MODELS],
+    walk: [OctreeWalkFn; MODELS],
+    traced: [OctreeTracedFn; MODELS],
 }
 
 impl OctreeMethod {
@@ -602,21 +585,9 @@ impl OctreeMethod {
             source,
             reference: false,
             gpu,
-            exit: [
-                cell_exit::<M, Plain>,
-                cell_exit::<M, Fused>,
-                cell_exit::<M, Flushed>,
-            ],
-            walk: [
-                walk_octree::walk::<M, Plain>,
-                walk_octree::walk::<M, Fused>,
-                walk_octree::walk::<M, Flushed>,
-            ],
-            traced: [
-                walk_octree::walk_traced::<M, Plain>,
-                walk_octree::walk_traced::<M, Fused>,
-                walk_octree::walk_traced::<M, Flushed>,
-            ],
+            exit: by_model!(cell_exit, M),
+            walk: by_model!(walk_octree::walk, M),
+            traced: by_model!(walk_octree::walk_traced, M),
         }
     }
 
@@ -652,9 +623,9 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
         source: "the exact oracle: the first exact exit face and quarter (reference)",
         reference: true,
         gpu: Gpu::CpuOnly("the oracle needs exact rational arithmetic (rug), which WGSL lacks"),
-        exit: [exact_box_exit; 3],
-        walk: [exact_octree_walk; 3],
-        traced: [exact_octree_traced; 3],
+        exit: [exact_box_exit; MODELS],
+        walk: [exact_octree_walk; MODELS],
+        traced: [exact_octree_traced; MODELS],
     },
     OctreeMethod::of::<Portalez16<portalez16::Points>>(
         "portalez16",

@@ -50,21 +50,10 @@ pub fn run(a: Args) -> Outcome {
     loop {
         let c = check(a.cases, a.seed.wrapping_add(rounds));
         rounds += 1;
-        total = Some(match total {
-            None => c,
-            Some(mut t) => {
-                for ((_, acc), (_, add)) in t.tallies.iter_mut().zip(&c.tallies) {
-                    for ((_, x), (_, y)) in acc.iter_mut().zip(add) {
-                        x.asked += y.asked;
-                        x.exact_stage += y.exact_stage;
-                        x.wrong += y.wrong;
-                    }
-                }
-                t.refuted.extend(c.refuted);
-                t.refuted.truncate(16);
-                t
-            }
-        });
+        match &mut total {
+            None => total = Some(c),
+            Some(t) => t.add(c),
+        }
         if start.elapsed().as_secs() >= a.seconds {
             break;
         }

@@ -193,23 +193,24 @@ pub fn f32_stage(a: Vec3, b: Vec3, ray: &Ray, bound: Bound, gated: bool) -> Opti
         org: ray.org.into(),
         dir: ray.dir.into(),
     };
-    let gate = gated && (gated_ray(ray) || tiny(a) || tiny(b));
+    let gate = gated && gated_inputs(ray, &[a, b]);
     (!gate)
         .then(|| Apex::new(b, &r, bound).settled(a, bound))
         .flatten()
 }
 
-/// Whether the flushing models send every sign of this ray to the exact stage.
+/// Whether the flushing models send this ray's signs with these points to the exact stage: the
+/// origin or a point has a nonzero coordinate below [`TINY`], or the direction a subnormal one.
 #[inline(always)]
-fn gated_ray(ray: &Ray) -> bool {
-    tiny(ray.org) || below(ray.dir, f32::MIN_POSITIVE)
+fn gated_inputs(ray: &Ray, points: &[Vec3]) -> bool {
+    tiny(ray.org) || below(ray.dir, f32::MIN_POSITIVE) || points.iter().any(|&v| tiny(v))
 }
 
 /// Whether the f32 stage may settle this tetrahedron's signs for this ray: always with gradual
 /// underflow; where subnormals may be flushed, unless the ray or a vertex is gated ([`TINY`]).
 #[inline(always)]
 fn settles<A: Arith>(tet: &Tet, r: &CertifiedRay) -> bool {
-    !A::FLUSHES || !(gated_ray(&r.ray()) || tet.iter().any(|&v| tiny(v)))
+    !A::FLUSHES || !gated_inputs(&r.ray(), tet)
 }
 
 /// Algorithm 1 from entry face `e` with certified signs: the side products with `Λ = V_k V_f`

@@ -150,7 +150,18 @@ pub struct Tally {
     pub wrong: u64,
 }
 
-/// A campaign's tallies, `[regime][filter]`, and the first refutations found (at most 16).
+impl std::ops::AddAssign for Tally {
+    fn add_assign(&mut self, o: Tally) {
+        self.asked += o.asked;
+        self.exact_stage += o.exact_stage;
+        self.wrong += o.wrong;
+    }
+}
+
+/// The most refutations a campaign keeps (the first found).
+const KEPT: usize = 16;
+
+/// A campaign's tallies, `[regime][filter]`, and the first refutations found (at most [`KEPT`]).
 #[derive(Clone, Debug, Default)]
 pub struct Checked {
     pub tallies: Vec<(Regime, Vec<(Filter, Tally)>)>,
@@ -158,6 +169,17 @@ pub struct Checked {
 }
 
 impl Checked {
+    /// Add another round of the same regimes and filters.
+    pub fn add(&mut self, other: Checked) {
+        for ((_, acc), (_, add)) in self.tallies.iter_mut().zip(other.tallies) {
+            for ((_, x), (_, y)) in acc.iter_mut().zip(add) {
+                *x += y;
+            }
+        }
+        self.refuted.extend(other.refuted);
+        self.refuted.truncate(KEPT);
+    }
+
     pub fn wrong(&self) -> u64 {
         self.tallies
             .iter()
@@ -325,7 +347,7 @@ pub fn check(cases: usize, seed: u64) -> Checked {
                         None => tally.exact_stage += 1,
                         Some(s) if s != exact => {
                             tally.wrong += 1;
-                            if refuted.len() < 16 {
+                            if refuted.len() < KEPT {
                                 refuted.push(Refuted {
                                     regime,
                                     filter,
@@ -347,6 +369,6 @@ pub fn check(cases: usize, seed: u64) -> Checked {
         out.tallies.push((regime, t));
         out.refuted.extend(r);
     }
-    out.refuted.truncate(16);
+    out.refuted.truncate(KEPT);
     out
 }
