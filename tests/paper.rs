@@ -77,22 +77,28 @@ fn shards_merge_to_the_whole_run_and_strangers_are_refused() {
     );
     // Merged in any order.
     let order = [shards[2].clone(), shards[0].clone(), shards[1].clone()];
-    let merged = merge(&order).unwrap();
+    let named = |rs: &[PaperReport]| -> Vec<(String, PaperReport)> {
+        rs.iter()
+            .map(|r| (format!("shard{}.json", r.shard.index), r.clone()))
+            .collect()
+    };
+    let merged = merge(&named(&order)).unwrap();
     assert_eq!(merged.shard, Shard::ALL);
     assert_eq!(counted(&merged), counted(&whole));
     assert_eq!(merged.table5.len(), shards[0].table5.len());
 
-    let missing = merge(&shards[..2]).unwrap_err().to_string();
+    let missing = merge(&named(&shards[..2])).unwrap_err().to_string();
     assert!(missing.contains("[0, 1] of 3"), "{missing}");
     let twice = [shards[0].clone(), shards[1].clone(), shards[1].clone()];
-    let err = merge(&twice).unwrap_err().to_string();
+    let err = merge(&named(&twice)).unwrap_err().to_string();
     assert!(err.contains("[0, 1, 1] of 3"), "{err}");
     let mut other = shards[2].clone();
-    other.size.views = 7;
-    let err = merge(&[shards[0].clone(), shards[1].clone(), other])
+    other.scene = "another".into();
+    let err = merge(&named(&[shards[0].clone(), shards[1].clone(), other]))
         .unwrap_err()
         .to_string();
-    assert!(err.starts_with("report 2 "), "{err}");
+    assert!(err.starts_with("shard2.json: "), "{err}");
+    assert!(err.contains("scene is \"another\""), "{err}");
 
     // The command: shards' JSON in, the tables and the merged JSON out.
     let dir = tempfile::tempdir().unwrap();

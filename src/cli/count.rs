@@ -115,24 +115,26 @@ fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Outcome {
     let out = JsonOut::new(json)?;
     // An octree count's report is the one with leaves.
     let (mut walks, mut octree) = (Vec::new(), Vec::new());
-    let read: Vec<serde_json::Value> = super::read_reports(reports)?;
-    for (r, path) in read.into_iter().zip(reports) {
-        let named = |e: serde_json::Error| format!("{}: {e}", path.display());
+    let read: Vec<(String, serde_json::Value)> = super::read_reports(reports)?;
+    for (file, r) in read {
+        let named = |e: serde_path_to_error::Error<serde_json::Error>| {
+            format!("{file}: {}: {}", e.path(), e.inner())
+        };
         if r.get("leaves").is_some() {
-            octree.push(
-                serde_json::from_value::<octree_report::OctreeCountReport>(r).map_err(named)?,
-            );
+            let report = serde_path_to_error::deserialize(r).map_err(named)?;
+            octree.push((file, report));
         } else {
-            walks.push(serde_json::from_value::<count::CountReport>(r).map_err(named)?);
+            let report = serde_path_to_error::deserialize(r).map_err(named)?;
+            walks.push((file, report));
         }
     }
     let (text, merged) = match (walks.is_empty(), octree.is_empty()) {
         (false, true) => {
-            let m = count::merge(&walks)?;
+            let m: count::CountReport = count::merge(&walks)?;
             (m.markdown(), serde_json::to_value(&m)?)
         }
         (true, false) => {
-            let m = count::merge(&octree)?;
+            let m: octree_report::OctreeCountReport = count::merge(&octree)?;
             (m.markdown(), serde_json::to_value(&m)?)
         }
         _ => return Err("the reports count walks through the tetrahedra and through the octree: merge each family apart".into()),
@@ -174,6 +176,7 @@ pub fn run(a: Args) -> Outcome {
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;
     let views = views(&a, 160, "256x256")?;
+    held(shard, &views)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let settings = Settings {
         scene: a.scene,
@@ -268,6 +271,7 @@ fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
         return Err("--rays-out writes the inputs of an exit-face count: leave out --family triangle, --wgsl, --relabel and --dump".into());
     }
     let views = views(a, 160, "256x256")?;
+    held(shard, &views)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let mut staged = super::Staged::new("--rays-out", path)?;
     let mut w = std::io::BufWriter::new(staged.writer());
@@ -308,6 +312,18 @@ fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
     Ok(ExitCode::SUCCESS)
 }
 
+/// A shard that holds at least one of the views (`--shard 5/10` of 3 views holds none).
+pub(super) fn held(shard: count::Shard, views: &Views) -> Result<(), super::Error> {
+    if shard.held(views.views) == 0 {
+        return Err(format!(
+            "--shard {}/{} holds no view of the {} (views v with v % {} == {})",
+            shard.index, shard.count, views.views, shard.count, shard.index
+        )
+        .into());
+    }
+    Ok(())
+}
+
 /// The views a count asks for: `--views` and `--size`, else seed 000's with `--preset paper`, else the
 /// defaults given.
 fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
@@ -343,17 +359,23 @@ fn run_octree(a: Args, shard: count::Shard) -> Outcome {
         .into_iter()
         .filter(|m| !m.reference)
         .collect();
+    let octree = crate::octree::Settings {
+        depth: a.depth,
+        capacity: a.capacity,
+    };
+    octree
+        .check()
+        .map_err(|e| format!("--depth {} --capacity {}: {e}", a.depth, a.capacity))?;
+    crate::registry::triangle_by_name(&a.triangle_method)?;
     let out = JsonOut::new(a.json.as_deref())?;
     let views = views(&a, 16, "256x256")?;
+    held(shard, &views)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let settings = octree_report::CountSettings {
         scene: a.scene,
         views,
         reference: a.reference,
-        octree: crate::octree::Settings {
-            depth: a.depth,
-            capacity: a.capacity,
-        },
+        octree,
         triangle_method: a.triangle_method,
         audit: a.audit,
         shard,

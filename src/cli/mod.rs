@@ -340,13 +340,20 @@ impl Staged {
 /// Where a report's JSON goes (`--json FILE`), staged.
 struct JsonOut(Option<Staged>);
 
-/// The JSON reports in `paths` (`--json` files of the shards of a run), a bad one named.
-fn read_reports<T: serde::de::DeserializeOwned>(paths: &[PathBuf]) -> Result<Vec<T>, Error> {
+/// The JSON reports in `paths` (`--json` files of the shards of a run), each with its file's name; a
+/// bad one named with its field.
+fn read_reports<T: serde::de::DeserializeOwned>(
+    paths: &[PathBuf],
+) -> Result<Vec<(String, T)>, Error> {
     paths
         .iter()
         .map(|p| {
-            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-            Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?)
+            let name = p.display().to_string();
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{name}: {e}"))?;
+            let mut de = serde_json::Deserializer::from_str(&text);
+            let value = serde_path_to_error::deserialize(&mut de)
+                .map_err(|e| format!("{name}: {}: {}", e.path(), e.inner()))?;
+            Ok((name, value))
         })
         .collect()
 }

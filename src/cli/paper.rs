@@ -63,6 +63,14 @@ pub fn run(a: Args) -> Outcome {
         )
         .into());
     }
+    let size = if a.full { Size::FULL } else { Size::REDUCED };
+    if shard.held(size.views) == 0 {
+        return Err(format!(
+            "--shard {}: holds no view of the run's {}",
+            a.shard, size.views
+        )
+        .into());
+    }
     let kinds = super::backend_list(&a.backend)?;
     let json = JsonOut::new(a.json.as_deref())?;
     let out = (shard == Shard::ALL)
@@ -73,7 +81,6 @@ pub fn run(a: Args) -> Outcome {
         .map(Backend::open)
         .collect::<Result<Vec<_>, _>>()?;
     let mesh = crate::scenes::load(&a.scene, crate::mesh::Faces::Required)?;
-    let size = if a.full { Size::FULL } else { Size::REDUCED };
     // The count and the octree count on each backend.
     let bar = super::progress(
         (shard.held(size.views) * backends.len() * 2) as u64,

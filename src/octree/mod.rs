@@ -25,6 +25,16 @@ pub struct Settings {
 }
 
 impl Settings {
+    /// Whether an octree can be built with these settings (checked before any work).
+    pub fn check(&self) -> Result<(), OctreeError> {
+        match (self.depth, self.capacity) {
+            (0, _) => Err(OctreeError::NoDepth),
+            (d, _) if d > MAX_DEPTH => Err(OctreeError::TooDeep(d)),
+            (_, 0) => Err(OctreeError::NoCapacity),
+            _ => Ok(()),
+        }
+    }
+
     /// Seed 001's bunny: depth 8, about 6 triangles per leaf.
     pub const PAPER: Settings = Settings {
         depth: 8,
@@ -83,6 +93,10 @@ pub enum OctreeError {
     NonFinite,
     #[error("depth {0} is more than {MAX_DEPTH}")]
     TooDeep(u32),
+    #[error(
+        "depth 0: the root alone, no walk from cell to cell (an octree is 1 to {MAX_DEPTH} levels deep)"
+    )]
+    NoDepth,
     #[error("leaf capacity 0: every node would split to the deepest level")]
     NoCapacity,
     #[error("cell {cell} (level {level}, at {at:?}), face {face}: {why}")]
@@ -181,12 +195,7 @@ impl Octree {
         if tris.is_empty() {
             return Err(OctreeError::Empty);
         }
-        if s.depth > MAX_DEPTH {
-            return Err(OctreeError::TooDeep(s.depth));
-        }
-        if s.capacity == 0 {
-            return Err(OctreeError::NoCapacity);
-        }
+        s.check()?;
         if !tris.iter().flatten().all(|p| p.is_finite()) {
             return Err(OctreeError::NonFinite);
         }

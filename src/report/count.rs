@@ -478,47 +478,120 @@ impl CountReport {
     }
 }
 
-/// Why sharded reports cannot be merged.
+/// Why sharded reports cannot be merged; each names the report's file (or name) and the field.
 #[derive(Debug, thiserror::Error)]
 pub enum MergeError {
     #[error("nothing to merge")]
     Empty,
-    #[error("report {0} was counted with other settings than the first ({1})")]
-    Settings(usize, String),
-    #[error("report {0} judged other methods than the first")]
-    Methods(usize),
+    #[error("{file}: {field} is {got}, but {value} in {first}: a shard of another run")]
+    Settings {
+        file: String,
+        field: String,
+        got: String,
+        value: String,
+        first: String,
+    },
+    #[error("{file}: judged the methods {got:?}, {first} judged {want:?}")]
+    Methods {
+        file: String,
+        got: Vec<String>,
+        first: String,
+        want: Vec<String>,
+    },
     #[error("the shards do not cover the views once each: have {have:?} of {count}")]
     Shards { have: Vec<usize>, count: usize },
+    /// A report whose own numbers contradict each other (edited, or cut).
+    #[error("{file}: {field}: {why}")]
+    Inconsistent {
+        file: String,
+        field: String,
+        why: String,
+    },
 }
 
 /// A count that runs in shards (`--shard I/N`, disjoint slices of the views) and adds up.
 pub trait Sharded: Clone {
-    /// What every shard of one run shares: its settings but the shard, the backend, the scene.
-    type Same: PartialEq + std::fmt::Debug;
-    fn same(&self) -> Self::Same;
+    /// What every shard of one run shares (its settings but the shard, the backend, the scene), as
+    /// JSON so that a difference is named by its field.
+    fn same(&self) -> serde_json::Value;
     fn shard(&self) -> Shard;
     /// The methods counted, in order.
     fn methods(&self) -> Vec<String>;
+    /// Whether the report's own numbers agree with each other: the field that does not, and why.
+    fn check(&self) -> Result<(), (String, String)>;
     /// Add `other`'s totals (another shard's) to these.
     fn add(&mut self, other: &Self);
     /// The whole run's report from the added totals (shard `0/1`, per-image and per-second figures).
     fn finish(&mut self);
 }
 
-/// The shards of one run (every `I` of `I/N` once, all else alike) added up: the same totals as an
-/// unsharded run, exactly; what is not added up (timings, dates) is shard 0's.
-pub fn merge<R: Sharded>(reports: &[R]) -> Result<R, MergeError> {
-    let first = reports.first().ok_or(MergeError::Empty)?;
+/// The first field (a dotted path) where `a` and `b` differ, with both values.
+fn first_difference(
+    a: &serde_json::Value,
+    b: &serde_json::Value,
+) -> Option<(String, String, String)> {
+    use serde_json::Value;
+    let join = |at: String, rest: (String, String, String)| {
+        let path = match (at.is_empty(), rest.0.is_empty(), rest.0.starts_with('[')) {
+            (_, true, _) => at,
+            (true, false, _) | (false, false, true) => at + &rest.0,
+            (false, false, false) => format!("{at}.{}", rest.0),
+        };
+        (path, rest.1, rest.2)
+    };
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => x
+            .iter()
+            .find_map(|(k, v)| match y.get(k) {
+                Some(w) => first_difference(v, w).map(|d| join(k.clone(), d)),
+                None => Some((k.clone(), v.to_string(), "absent".into())),
+            })
+            .or_else(|| {
+                y.iter()
+                    .find(|(k, _)| !x.contains_key(*k))
+                    .map(|(k, w)| (k.clone(), "absent".into(), w.to_string()))
+            }),
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .find_map(|(i, (v, w))| first_difference(v, w).map(|d| join(format!("[{i}]"), d))),
+        _ => (a != b).then(|| (String::new(), a.to_string(), b.to_string())),
+    }
+}
+
+/// The shards of one run (every `I` of `I/N` once, all else alike), each named by its file, added
+/// up: the same totals as an unsharded run, exactly; what is not added up (timings, dates) is shard
+/// 0's. Each shard's own sums are checked first ([`Sharded::check`]).
+pub fn merge<R: Sharded>(reports: &[(String, R)]) -> Result<R, MergeError> {
+    let (first_name, first) = reports.first().ok_or(MergeError::Empty)?;
     let count = first.shard().count;
     let (want, names) = (first.same(), first.methods());
     let mut have = Vec::new();
-    for (i, r) in reports.iter().enumerate() {
-        let got = r.same();
-        if got != want || r.shard().count != count {
-            return Err(MergeError::Settings(i, format!("{got:?}, {:?}", r.shard())));
+    for (file, r) in reports {
+        r.check().map_err(|(field, why)| MergeError::Inconsistent {
+            file: file.clone(),
+            field,
+            why,
+        })?;
+        let got = serde_json::json!({"same": r.same(), "shard": {"count": r.shard().count}});
+        let first_same = serde_json::json!({"same": want, "shard": {"count": count}});
+        if let Some((field, got, value)) = first_difference(&got, &first_same) {
+            return Err(MergeError::Settings {
+                file: file.clone(),
+                field: field.trim_start_matches("same.").to_string(),
+                got,
+                value,
+                first: first_name.clone(),
+            });
         }
         if r.methods() != names {
-            return Err(MergeError::Methods(i));
+            return Err(MergeError::Methods {
+                file: file.clone(),
+                got: r.methods(),
+                first: first_name.clone(),
+                want: names,
+            });
         }
         have.push(r.shard().index);
     }
@@ -526,7 +599,7 @@ pub fn merge<R: Sharded>(reports: &[R]) -> Result<R, MergeError> {
     if have != (0..count).collect::<Vec<_>>() {
         return Err(MergeError::Shards { have, count });
     }
-    let mut order: Vec<&R> = reports.iter().collect();
+    let mut order: Vec<&R> = reports.iter().map(|(_, r)| r).collect();
     order.sort_by_key(|r| r.shard().index);
     let mut out = order[0].clone();
     for r in &order[1..] {
@@ -536,15 +609,96 @@ pub fn merge<R: Sharded>(reports: &[R]) -> Result<R, MergeError> {
     Ok(out)
 }
 
-impl Sharded for CountReport {
-    type Same = (Settings, String, usize);
+/// A failed [`Sharded::check`]: `field`, and why.
+pub fn inconsistent(
+    field: impl Into<String>,
+    why: impl Into<String>,
+) -> Result<(), (String, String)> {
+    Err((field.into(), why.into()))
+}
 
-    fn same(&self) -> Self::Same {
+/// The checks every sharded count's totals share: its shard is one of its views' slices, at least
+/// one view counted and no more than the shard holds, every pixel of each counted view judged,
+/// audited rays among them.
+pub fn check_totals(
+    shard: Shard,
+    views: &Views,
+    views_counted: usize,
+    rays: u64,
+    audited: u64,
+) -> Result<(), (String, String)> {
+    if shard.count == 0 || shard.index >= shard.count {
+        return inconsistent(
+            "shard",
+            format!("{}/{} is not I/N with 0 <= I < N", shard.index, shard.count),
+        );
+    }
+    let held = shard.held(views.views);
+    if views_counted == 0 || views_counted > held {
+        return inconsistent(
+            "views_counted",
+            format!(
+                "{views_counted}, not 1 to the {held} views shard {}/{} holds",
+                shard.index, shard.count
+            ),
+        );
+    }
+    let pixels = views.width as u128 * views.height as u128;
+    if rays as u128 != views_counted as u128 * pixels {
+        return inconsistent(
+            "rays",
+            format!(
+                "{rays}, not views_counted × pixels = {views_counted} × {}x{}",
+                views.width, views.height
+            ),
+        );
+    }
+    if audited > rays {
+        return inconsistent("audited", format!("{audited}, more than the {rays} rays"));
+    }
+    Ok(())
+}
+
+/// The checks of one method's wrong rays: the kinds add up to the total, no more than the rays, and
+/// the reference row (the first) wrong nowhere.
+pub fn check_wrong(
+    at: &str,
+    total: u64,
+    kinds: &[u64; 5],
+    rays: u64,
+    reference: bool,
+) -> Result<(), (String, String)> {
+    let sum: u128 = kinds.iter().map(|&k| k as u128).sum();
+    if sum != total as u128 {
+        return inconsistent(
+            format!("{at}.wrong_total"),
+            format!("{total}, but its kinds add up to {sum}"),
+        );
+    }
+    if total > rays {
+        return inconsistent(
+            format!("{at}.wrong_total"),
+            format!("{total}, more than the {rays} rays"),
+        );
+    }
+    if reference && total != 0 {
+        return inconsistent(
+            format!("{at}.wrong_total"),
+            format!(
+                "{total}: the reference's row is what the others are judged against, wrong nowhere"
+            ),
+        );
+    }
+    Ok(())
+}
+
+impl Sharded for CountReport {
+    fn same(&self) -> serde_json::Value {
         let settings = Settings {
             shard: Shard::ALL,
             ..self.settings.clone()
         };
-        (settings, self.backend.clone(), self.tetrahedra)
+        serde_json::json!({"settings": settings, "backend": self.backend, "tetrahedra": self.tetrahedra})
     }
 
     fn shard(&self) -> Shard {
@@ -553,6 +707,88 @@ impl Sharded for CountReport {
 
     fn methods(&self) -> Vec<String> {
         self.methods.iter().map(|m| m.method.clone()).collect()
+    }
+
+    fn check(&self) -> Result<(), (String, String)> {
+        let s = &self.settings;
+        check_totals(
+            s.shard,
+            &s.views,
+            self.views_counted,
+            self.rays,
+            self.audited,
+        )?;
+        if self.methods.first().is_none_or(|m| m.method != s.reference) {
+            return inconsistent(
+                "methods",
+                format!("the first row is not the reference {}", s.reference),
+            );
+        }
+        let v = self.views_counted as f64;
+        for (i, m) in self.methods.iter().enumerate() {
+            let at = format!("methods[{i}] ({})", m.method);
+            check_wrong(&at, m.wrong_total, &m.wrong.0, self.rays, i == 0)?;
+            let faces = m.wrong.0[OutcomeKind::Hit.code() as usize];
+            if m.wrong_face_adjacent as u128 + m.wrong_face_elsewhere as u128 != faces as u128 {
+                return inconsistent(
+                    format!("{at}.wrong_face_adjacent"),
+                    format!(
+                        "{} adjacent and {} elsewhere, but {faces} wrong faces",
+                        m.wrong_face_adjacent, m.wrong_face_elsewhere
+                    ),
+                );
+            }
+            if let Some(r) = &m.relabelled
+                && r[0] != m.wrong_total
+            {
+                return inconsistent(
+                    format!("{at}.relabelled[0]"),
+                    format!(
+                        "{}, not wrong_total {} (the own labelling)",
+                        r[0], m.wrong_total
+                    ),
+                );
+            }
+            let p = &m.per_image;
+            let want = [
+                m.wrong_total,
+                m.wrong_face_adjacent,
+                m.wrong_face_elsewhere,
+                m.steps,
+            ];
+            let got = [
+                p.wrong,
+                p.wrong_face_adjacent,
+                p.wrong_face_elsewhere,
+                p.tetrahedra,
+            ];
+            let names = [
+                "wrong",
+                "wrong_face_adjacent",
+                "wrong_face_elsewhere",
+                "tetrahedra",
+            ];
+            for ((w, g), n) in want.iter().zip(got).zip(names) {
+                if g != *w as f64 / v {
+                    return inconsistent(
+                        format!("{at}.per_image.{n}"),
+                        format!("{g}, not its total {w} over {} views", self.views_counted),
+                    );
+                }
+            }
+            for (k, (w, g)) in OutcomeKind::ALL
+                .iter()
+                .zip(m.wrong.0.iter().zip(p.by_kind.0))
+            {
+                if g != *w as f64 / v {
+                    return inconsistent(
+                        format!("{at}.per_image.by_kind.{}", k.wrong_key()),
+                        format!("{g}, not its total {w} over {} views", self.views_counted),
+                    );
+                }
+            }
+        }
+        Ok(())
     }
 
     fn add(&mut self, r: &Self) {

@@ -1,7 +1,9 @@
 //! Octree reports (seed 001): wrong exit faces and quarters per million cells and rays, per method
 //! and row ([`stress`]), and wrong rays per image on a scene ([`count`]), every answer judged exactly.
 
-use super::count::{CountError, Shard, Sharded, Sink, located_views};
+use super::count::{
+    CountError, Shard, Sharded, Sink, check_totals, check_wrong, inconsistent, located_views,
+};
 use super::triangle::{SceneTriangles, region_of, scene_triangles};
 use super::wrong::{Seen, WrongRay};
 use crate::backend::{Backend, BackendError, OctreeOn};
@@ -368,14 +370,15 @@ pub fn count(
 }
 
 impl Sharded for OctreeCountReport {
-    type Same = (CountSettings, String, usize);
-
-    fn same(&self) -> Self::Same {
+    fn same(&self) -> serde_json::Value {
         let settings = CountSettings {
             shard: Shard::ALL,
             ..self.settings.clone()
         };
-        (settings, self.backend.clone(), self.leaves)
+        serde_json::json!({
+            "settings": settings, "backend": self.backend, "triangles": self.triangles,
+            "leaves": self.leaves, "unconstrained_leaves": self.unconstrained_leaves,
+        })
     }
 
     fn shard(&self) -> Shard {
@@ -384,6 +387,32 @@ impl Sharded for OctreeCountReport {
 
     fn methods(&self) -> Vec<String> {
         self.methods.iter().map(|m| m.method.clone()).collect()
+    }
+
+    fn check(&self) -> Result<(), (String, String)> {
+        let s = &self.settings;
+        check_totals(
+            s.shard,
+            &s.views,
+            self.views_counted,
+            self.rays,
+            self.audited,
+        )?;
+        for (i, m) in self.methods.iter().enumerate() {
+            let at = format!("methods[{i}] ({})", m.method);
+            check_wrong(&at, m.wrong_total, &m.wrong, self.rays, false)?;
+            let per_image = m.wrong_total as f64 / self.views_counted as f64;
+            if m.wrong_per_image != per_image {
+                return inconsistent(
+                    format!("{at}.wrong_per_image"),
+                    format!(
+                        "{}, not wrong_total {} over {} views",
+                        m.wrong_per_image, m.wrong_total, self.views_counted
+                    ),
+                );
+            }
+        }
+        Ok(())
     }
 
     fn add(&mut self, r: &Self) {

@@ -343,12 +343,35 @@ fn gpu_query_times(
 
 /// A run's shards (`--shard I/N`) add up: each backend's count and the octree count; the scene, the
 /// timings and the date are shard 0's.
-impl Sharded for PaperReport {
-    type Same = (String, Size, Vec<String>);
+/// Each of a run's counts `items` (named `name`) checked, of the run's shard and views.
+fn check_each<R: Sharded>(
+    name: &str,
+    items: &[R],
+    shard: Shard,
+    views: usize,
+    views_of: impl Fn(&R) -> usize,
+) -> Result<(), (String, String)> {
+    for (k, c) in items.iter().enumerate() {
+        let at = |f: &str| format!("{name}[{k}].{f}");
+        if c.shard() != shard {
+            return count::inconsistent(at("settings.shard"), "not the run's shard");
+        }
+        if views_of(c) != views {
+            return count::inconsistent(
+                at("settings.views.views"),
+                format!("not the run's {views} views"),
+            );
+        }
+        c.check().map_err(|(f, why)| (at(&f), why))?;
+    }
+    Ok(())
+}
 
-    fn same(&self) -> Self::Same {
-        let backends = self.counts.iter().map(|c| c.backend.clone()).collect();
-        (self.scene.clone(), self.size, backends)
+impl Sharded for PaperReport {
+    fn same(&self) -> serde_json::Value {
+        let backends: Vec<_> = self.counts.iter().map(|c| c.same()).collect();
+        let octrees: Vec<_> = self.octrees.iter().map(|c| c.same()).collect();
+        serde_json::json!({"scene": self.scene, "size": self.size, "counts": backends, "octrees": octrees})
     }
 
     fn shard(&self) -> Shard {
@@ -357,6 +380,27 @@ impl Sharded for PaperReport {
 
     fn methods(&self) -> Vec<String> {
         self.counts.first().map_or(Vec::new(), Sharded::methods)
+    }
+
+    fn check(&self) -> Result<(), (String, String)> {
+        if self.counts.is_empty() {
+            return count::inconsistent(
+                "counts",
+                "no count: a paper run counts on one backend at least",
+            );
+        }
+        let views = |c: &CountReport| c.settings.views.views;
+        check_each("counts", &self.counts, self.shard, self.size.views, views)?;
+        let views = |c: &OctreeCountReport| c.settings.views.views;
+        check_each("octrees", &self.octrees, self.shard, self.size.views, views)?;
+        let methods = self.methods();
+        if let Some(k) = self.counts.iter().position(|c| c.methods() != methods) {
+            return count::inconsistent(
+                format!("counts[{k}].methods"),
+                "not the methods of counts[0]",
+            );
+        }
+        Ok(())
     }
 
     fn add(&mut self, other: &Self) {
