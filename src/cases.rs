@@ -564,6 +564,63 @@ impl HitTruth {
     }
 }
 
+/// How far an f32 `t` lies from the exact `t`, in ulps of the f32 nearest the exact one (2^-149 below
+/// the normal range; the largest f32's ulp beyond it).
+pub fn ulps_from(t: f32, exact: &rug::Rational) -> f64 {
+    let near = exact.to_f32().abs().min(f32::MAX);
+    let ulp = if near < f32::MIN_POSITIVE {
+        2f64.powi(-149)
+    } else {
+        2f64.powi(near.log2().floor() as i32 - 23)
+    };
+    let off = rug::Rational::from_f32(t).map(|q| (q - exact).abs());
+    off.map_or(f64::INFINITY, |d| {
+        (d / rug::Rational::from_f64(ulp).expect("a power of two")).to_f64()
+    })
+}
+
+/// A hit's `t` judged: the README's rule (a hit has `0 < t < ∞`) and its distance from the exact
+/// `t` of the point the answer names, within `bound` ulps ([`ulps_from`]).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct TJudged {
+    /// `None` when the answer names no exact hit point (a wrong triangle, or a hit where there is
+    /// none).
+    pub ulps: Option<f64>,
+    pub right: bool,
+}
+
+impl HitTruth {
+    /// The exact `t` of the hit on triangle `tri` this answer may name: the one-triangle case's hit,
+    /// or the closed mesh's point holding `tri` at which [`HitTruth::right`] accepts it.
+    pub fn exact_t(&self, tri: u32) -> Option<&rug::Rational> {
+        if !self.closed {
+            return match self.each[0].hit {
+                true => self.points.first().map(|p| &p.t),
+                false => None,
+            };
+        }
+        let upto = self
+            .points
+            .iter()
+            .position(|p| p.crosses)
+            .map_or(self.points.len(), |k| k + 1);
+        self.points[..upto]
+            .iter()
+            .find(|p| p.holding.contains(&tri))
+            .map(|p| &p.t)
+    }
+
+    /// A hit on `tri` at `t` judged for its `t` ([`TJudged`]).
+    pub fn judge_t(&self, tri: u32, t: f32, bound: f64) -> TJudged {
+        let ulps = self.exact_t(tri).map(|e| ulps_from(t, e));
+        let rule = t > 0.0 && t.is_finite();
+        TJudged {
+            ulps,
+            right: rule && ulps.is_some_and(|u| u <= bound),
+        }
+    }
+}
+
 /// The oracle's answer to a triangle case.
 pub fn judge_hit(case: &HitCase) -> Result<HitTruth, CaseError> {
     let ray = case.ray();

@@ -163,3 +163,209 @@ fn judge_refuses_missing_and_impossible_walks_naming_the_place() {
         first.as_object_mut().unwrap().remove("colour");
     }
 }
+
+/// Cases with a known exact answer: a tetrahedron whose line leaves through face 0, a triangle hit at
+/// `t = 1`, and a closed mesh (an octahedron) hit first on triangle 0 at `t = 5/2`.
+fn known_cases() -> String {
+    let tet = json!({"tet": [[0,0,0],[1,0,0],[0,1,0],[0,0,1]], "org": [0.1,0.1,0.1], "dir": [1,1,1], "entry": null});
+    let tri = json!({"tri": [[-1,-1,1],[1,-1,1],[0,1,1]], "org": [0,0,0], "dir": [0,0,1]});
+    let s = 2;
+    let v = [
+        [s, 0, 0],
+        [-s, 0, 0],
+        [0, s, 0],
+        [0, -s, 0],
+        [0, 0, s],
+        [0, 0, -s],
+    ];
+    // Outward octahedron faces, +z first: the ray from below along +z leaves the inside through it.
+    let f = |a: usize, b: usize, c: usize| json!([v[a], v[b], v[c]]);
+    let tris = json!([
+        f(0, 2, 4),
+        f(2, 1, 4),
+        f(1, 3, 4),
+        f(3, 0, 4),
+        f(2, 0, 5),
+        f(1, 2, 5),
+        f(3, 1, 5),
+        f(0, 3, 5)
+    ]);
+    let closed = json!({"tris": tris, "org": [0.25, 0.25, -1], "dir": [0, 0, 1]});
+    format!("{tet}\n{tri}\n{closed}\n")
+}
+
+/// The exact answers to [`known_cases`].
+const RIGHT: &str = "{\"line\":1,\"face\":0}\n{\"line\":2,\"hit\":true,\"t\":1}\n{\"line\":3,\"tri\":0,\"t\":2.5}\n";
+
+/// Judge `answers` against [`known_cases`]: status, verdict lines, standard error.
+fn judge(answers: &str, extra: &[&str]) -> (i32, Vec<Value>, String) {
+    let (_d, at) = tmp();
+    let (cases, given) = (at("cases.jsonl"), at("answers.jsonl"));
+    std::fs::write(&cases, known_cases()).unwrap();
+    std::fs::write(&given, answers).unwrap();
+    let mut args = vec!["judge", cases.as_str(), given.as_str()];
+    args.extend_from_slice(extra);
+    let (code, out, err) = run_tetwalk(&args, b"");
+    let lines = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    (code, lines, err)
+}
+
+#[test]
+fn judge_reads_answers_as_strictly_as_cases_and_names_the_line() {
+    // Right answers first: the exact ones.
+    let (code, v, err) = judge(RIGHT, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(v.iter().all(|l| l["correct"] == true), "{v:?}");
+    // Missing, misspelled and other families' keys: an error for that line, the field named.
+    let bad = [
+        (
+            "{\"line\":1,\"hit\":true,\"t\":1.0}",
+            "unknown field \"hit\"",
+        ),
+        ("{\"line\":1,\"fcae\":1}", "unknown field \"fcae\""),
+        ("{\"line\":1}", "missing field \"face\""),
+        ("{\"line\":2,\"face\":2}", "unknown field \"face\""),
+        ("{\"line\":2,\"hit\":true}", "needs its \"t\""),
+        ("{\"line\":2,\"hit\":false,\"t\":1}", "given for a miss"),
+        ("{\"line\":3,\"face\":2}", "unknown field \"face\""),
+        ("{\"line\":3,\"hit\":true,\"t\":1}", "unknown field \"hit\""),
+        (
+            "{\"line\":3,\"tri\":9,\"t\":1}",
+            "not a triangle of the case",
+        ),
+    ];
+    for (answer, says) in bad {
+        let n: usize = answer[8..9].parse().unwrap();
+        let others: String = (1..=3)
+            .filter(|&k| k != n)
+            .map(|k| match k {
+                1 => "{\"line\":1,\"face\":0}\n",
+                2 => "{\"line\":2,\"hit\":true,\"t\":1}\n",
+                _ => "{\"line\":3,\"tri\":0,\"t\":2.5}\n",
+            })
+            .collect();
+        let (code, v, err) = judge(&format!("{others}{answer}\n"), &[]);
+        assert_eq!(code, 1, "{answer}: {err}");
+        let line = v.iter().find(|l| l["line"] == n).unwrap();
+        let e = line["error"]
+            .as_str()
+            .unwrap_or_else(|| panic!("{answer}: {line}"));
+        assert!(e.contains(says), "{answer}: {e}");
+    }
+}
+
+#[test]
+fn a_null_answer_is_judged_wrong_where_the_exact_answer_is_a_hit() {
+    let (code, v, err) = judge(
+        "{\"line\":1,\"face\":null}\n{\"line\":2,\"hit\":false}\n{\"line\":3,\"tri\":null}\n",
+        &[],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(v.len(), 3);
+    for l in &v {
+        assert_eq!(l["correct"], false, "{l}");
+    }
+}
+
+#[test]
+fn a_hit_needs_a_positive_t_near_the_exact_one() {
+    let answers = |t: &str| {
+        let t3: f64 = t.parse::<f64>().unwrap() * 2.5;
+        format!(
+            "{{\"line\":1,\"face\":0}}\n{{\"line\":2,\"hit\":true,\"t\":{t}}}\n{{\"line\":3,\"tri\":0,\"t\":{t3}}}\n"
+        )
+    };
+    for t in ["-1", "0", "1000", "1.01"] {
+        let (code, v, err) = judge(&answers(t), &[]);
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(v[1]["correct"], false, "t = {t}: {}", v[1]);
+        assert_eq!(v[2]["correct"], false, "t = {t}: {}", v[2]);
+    }
+    // One ulp of 1 above the exact t: right under the default bound, wrong under --t-ulps 0.
+    let up = f32::from_bits(1f32.to_bits() + 1);
+    let (_, v, _) = judge(&answers(&up.to_string()), &[]);
+    assert_eq!(v[1]["correct"], true, "{}", v[1]);
+    assert_eq!(v[1]["t_ulps"], 1.0, "{}", v[1]);
+    let (_, v, _) = judge(&answers(&up.to_string()), &["--t-ulps", "0"]);
+    assert_eq!(v[1]["correct"], false, "{}", v[1]);
+    let (code, _, err) = judge(&answers("1"), &["--t-ulps", "-3"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--t-ulps -3"), "{err}");
+}
+
+#[test]
+fn a_failed_judge_writes_no_report_and_fail_on_wrong_gates() {
+    let (_d, at) = tmp();
+    let json = at("summary.json");
+    // An answer for a line without a case: status 2, and no summary.
+    let (code, _, err) = judge(
+        "{\"line\":1,\"face\":0}\n{\"line\":2,\"hit\":true,\"t\":1}\n{\"line\":3,\"tri\":0,\"t\":2.5}\n{\"line\":9,\"face\":1}\n",
+        &["--json", &json],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("[9]"), "{err}");
+    assert!(
+        !std::path::Path::new(&json).exists(),
+        "a failed run writes no report"
+    );
+    // Wrong answers: status 0 without --fail-on, 1 with it, with the method's summary line.
+    let wrong = "{\"line\":1,\"face\":1}\n{\"line\":2,\"hit\":false}\n{\"line\":3,\"tri\":null}\n";
+    let (code, _, err) = judge(wrong, &[]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = judge(wrong, &["--fail-on", "wrong", "--name", "kernel"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("kernel: 3 wrong of 3 judged"), "{err}");
+    let right = RIGHT;
+    let (code, _, err) = judge(right, &["--fail-on", "wrong"]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = judge(right, &["--fail-on", "claims"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--fail-on wrong"), "{err}");
+}
+
+#[test]
+fn judge_refuses_a_rays_file_whose_body_is_not_its_headers() {
+    let (_d, at) = tmp();
+    let rays = at("rays.jsonl");
+    let (code, _, err) = run_tetwalk(
+        &[
+            "count",
+            "--scene",
+            "kuhn",
+            "--views",
+            "2",
+            "--size",
+            "8x8",
+            "--rays-out",
+            &rays,
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&rays).unwrap();
+    let answers = at("answers.jsonl");
+    std::fs::write(&answers, maria17_answers(&text)).unwrap();
+    let (code, _, err) = run_tetwalk(&["judge", &rays, &answers], b"");
+    assert_eq!(code, 0, "the whole file is judged: {err}");
+    let lines: Vec<&str> = text.lines().collect();
+    // Cut in half mid-line, a ray changed, a line added: refused, the place named.
+    let cut = &text[..text.len() / 2];
+    let mut edited = lines.clone();
+    let changed = lines[5].replace("\"view\":0", "\"view\":1");
+    edited[5] = &changed;
+    let extra = format!("{text}{}\n", lines[1]);
+    for (name, body, says) in [
+        ("cut", cut.to_string(), "cut short"),
+        ("edited", edited.join("\n") + "\n", ":6: not the ray"),
+        ("extra", extra, "after the 128 rays"),
+    ] {
+        let p = at(&format!("{name}.jsonl"));
+        std::fs::write(&p, body).unwrap();
+        let (code, _, err) = run_tetwalk(&["judge", &p, &answers], b"");
+        assert_eq!(code, 2, "{name}: {err}");
+        assert!(err.contains(says), "{name}: {err}");
+    }
+}

@@ -3,7 +3,7 @@
 //! cases: line by line as they come.
 
 use super::Outcome;
-use super::exit::{Line, Summary, Tally, answer_all};
+use super::exit::{Answering, Line, Summary, Tally};
 use crate::backend::Backend;
 use crate::cases::{BoxCase, Subject};
 use crate::choice::Choice;
@@ -11,6 +11,7 @@ use crate::exact::boxes::{BoxExit, box_exit};
 use crate::found::Record;
 use crate::octree::cell::{FACE_NAMES, quarter_signs};
 use crate::registry::{OctreeMethod, parse_octree_list};
+use crate::report::standing::Standing;
 use serde_json::{Map, Value, json};
 
 #[derive(clap::Args)]
@@ -23,6 +24,8 @@ pub struct Args {
     /// the `exact` reference stays on the CPU).
     #[command(flatten)]
     backend: super::BackendArg,
+    #[command(flatten)]
+    fail: super::FailArg,
     /// Also write a summary (lines, errors, per method right / wrong / lines not crossing the open
     /// box) as JSON here.
     #[arg(long)]
@@ -35,15 +38,20 @@ pub struct Args {
 pub fn run(a: Args) -> Outcome {
     let methods = parse_octree_list(&a.method)?;
     let backend = a.backend.open()?;
-    let names = methods.iter().map(|m| m.name.to_string()).collect();
-    answer_all(
-        "box-exit",
-        names,
-        true,
-        backend.describe(),
-        a.file.as_deref(),
-        a.json.as_deref(),
+    Answering {
+        command: "box-exit",
+        names: methods.iter().map(|m| m.name.to_string()).collect(),
+        missed: true,
+        leaks: false,
+        backend: backend.describe(),
+        file: a.file.as_deref(),
+        json: a.json.as_deref(),
+        fail: a.fail,
+        standing: |t| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong),
+    }
+    .run(
         |batch, summary| answer(batch, &methods, &backend, summary),
+        || Ok(()),
     )
 }
 

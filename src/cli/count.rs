@@ -1,9 +1,10 @@
 //! `tetwalk count`: wrong rays per image, per method, on a scene.
 
-use super::{BackendArg, JsonOut, Outcome, WgslArg};
+use super::{BackendArg, FailArg, JsonOut, Outcome, WgslArg};
 use crate::registry::{by_name, parse_octree_list, parse_triangle_list};
 use crate::report::count::{self, Settings};
 use crate::report::octree as octree_report;
+use crate::report::standing::Standings;
 use crate::report::triangle;
 use crate::report::wrong::WrongRay;
 use crate::scenes::camera::Views;
@@ -67,6 +68,8 @@ pub struct Args {
     backend: BackendArg,
     #[command(flatten)]
     wgsl: WgslArg,
+    #[command(flatten)]
+    fail: FailArg,
     /// Seed of the viewpoints' rotation (`render` places views the same way for the same seed).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
@@ -168,6 +171,7 @@ pub fn run(a: Args) -> Outcome {
     if let Some(path) = &a.rays_out {
         return rays_out(&a, shard, path);
     }
+    let fail = a.fail;
     let (backend, methods) = a.wgsl.open(a.backend, &a.methods)?;
     let methods: Vec<_> = methods
         .into_iter()
@@ -226,7 +230,7 @@ pub fn run(a: Args) -> Outcome {
     dump.finish()?;
     print!("{}", report.markdown());
     out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(fail.status("count", &report.standings()))
 }
 
 /// `--dump FILE`: every wrong ray, one JSON line each, the file complete or absent.
@@ -267,8 +271,13 @@ pub(super) struct RaysHeader {
 /// `count --rays-out FILE`: every ray of the views the shard holds whose camera is inside the mesh,
 /// with its view, pixel and starting tetrahedron.
 fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
-    if a.family == "triangle" || a.wgsl.wgsl.is_some() || a.relabel.is_some() || a.dump.is_some() {
-        return Err("--rays-out writes the inputs of an exit-face count: leave out --family triangle, --wgsl, --relabel and --dump".into());
+    if a.family == "triangle"
+        || a.wgsl.wgsl.is_some()
+        || a.relabel.is_some()
+        || a.dump.is_some()
+        || a.fail.fail_on.is_some()
+    {
+        return Err("--rays-out writes the inputs of an exit-face count and judges nothing: leave out --family triangle, --wgsl, --relabel, --dump and --fail-on".into());
     }
     let views = views(a, 160, "256x256")?;
     held(shard, &views)?;
@@ -396,7 +405,7 @@ fn run_octree(a: Args, shard: count::Shard) -> Outcome {
     dump.finish()?;
     print!("{}", report.markdown());
     out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(a.fail.status("count", &report.standings()))
 }
 
 /// `count --family triangle`.
@@ -420,5 +429,5 @@ fn run_triangle(a: Args) -> Outcome {
     bar.finish_and_clear();
     print!("{}", report.markdown());
     out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(a.fail.status("count", &report.standings()))
 }

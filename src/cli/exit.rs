@@ -2,13 +2,14 @@
 //! as they come (a reader thread; whatever has arrived is answered as one batch), so a stream gets its
 //! answers as it goes and memory stays bounded.
 
-use super::{BackendArg, JsonOut, Outcome, WgslArg};
+use super::{BackendArg, FailArg, JsonOut, Outcome, WgslArg};
 use crate::backend::Backend;
 use crate::cases::{Subject, classify, judged};
 use crate::choice::Choice;
 use crate::exact::Classification;
 use crate::found::{Record, WalkSetup};
 use crate::registry::{Method, reference};
+use crate::report::standing::Standing;
 use crate::tet::Case;
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
@@ -25,6 +26,12 @@ pub struct Args {
     pub(super) backend: BackendArg,
     #[command(flatten)]
     pub(super) wgsl: WgslArg,
+    #[command(flatten)]
+    pub(super) fail: FailArg,
+    /// `hit`: a hit's `t` is right within this many ulps of the exact `t` (of the f32 nearest it),
+    /// and always needs `0 < t < ∞` [default: 4096].
+    #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
+    pub(super) t_ulps: Option<f64>,
     /// Also write a summary (lines, errors, per method right / wrong, and for `exit` lines missing the
     /// tetrahedron) as JSON here.
     #[arg(long)]
@@ -106,14 +113,18 @@ pub(super) fn answer_lines(
     Ok(())
 }
 
-/// Per method: lines judged right, wrong, and (`exit`) whose line missed the tetrahedron.
+/// Per method: lines judged right, wrong, (`exit`, `box-exit`) whose line missed the cell, and (`hit`,
+/// `judge` on closed meshes) leaks.
 #[derive(Clone, Default, serde::Serialize)]
 pub(super) struct Tally {
-    method: String,
+    pub method: String,
     pub right: u64,
     pub wrong: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub missed: Option<u64>,
+    /// Wrong answers on closed meshes where the ray passes through the surface.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub leaks: Option<u64>,
 }
 
 /// What a command answering JSON Lines writes with `--json`.
@@ -125,55 +136,90 @@ pub(super) struct Summary {
     pub methods: Vec<Tally>,
 }
 
-/// Answer `file`'s lines with `answer` (given each batch and the summary), then write the summary
-/// with `--json`; exit status 1 when a line could not be answered. `missed` says whether the tallies
-/// count lines missing the tetrahedron.
-pub(super) fn answer_all(
-    command: &str,
-    names: Vec<String>,
-    missed: bool,
-    backend: String,
-    file: Option<&std::path::Path>,
-    json: Option<&std::path::Path>,
-    mut answer: impl FnMut(&[Line], &mut Summary) -> Result<String, super::Error>,
-) -> Outcome {
-    let out = JsonOut::new(json)?;
-    let mut summary = Summary {
-        backend,
-        lines: 0,
-        errors: 0,
-        methods: names
-            .into_iter()
-            .map(|method| Tally {
-                method,
-                missed: missed.then_some(0),
-                ..Tally::default()
-            })
-            .collect(),
-    };
-    answer_lines(file, |batch| answer(batch, &mut summary))?;
-    out.finish(&summary)?;
-    if summary.errors > 0 {
-        eprintln!(
-            "tetwalk {command}: {} line(s) could not be answered",
-            summary.errors
-        );
-        return Ok(ExitCode::FAILURE);
+/// A command answering JSON Lines: its name, its methods' names, what their tallies count, where the
+/// lines come from and the summary goes, and how a tally stands under `--fail-on`.
+pub(super) struct Answering<'a> {
+    pub command: &'static str,
+    pub names: Vec<String>,
+    /// The tallies count lines missing the cell.
+    pub missed: bool,
+    /// The tallies count leaks.
+    pub leaks: bool,
+    pub backend: String,
+    pub file: Option<&'a std::path::Path>,
+    pub json: Option<&'a std::path::Path>,
+    pub fail: FailArg,
+    pub standing: fn(&Tally) -> Standing,
+}
+
+impl Answering<'_> {
+    /// Answer the lines with `answer` (given each batch and the summary); then `after` checks what
+    /// only the whole input tells (an error there writes no summary); then the summary goes to
+    /// `--json`. Exit status 1 when a line could not be answered, or under `--fail-on`.
+    pub(super) fn run(
+        self,
+        mut answer: impl FnMut(&[Line], &mut Summary) -> Result<String, super::Error>,
+        after: impl FnOnce() -> Result<(), super::Error>,
+    ) -> Outcome {
+        let out = JsonOut::new(self.json)?;
+        let mut summary = Summary {
+            backend: self.backend,
+            lines: 0,
+            errors: 0,
+            methods: self
+                .names
+                .into_iter()
+                .map(|method| Tally {
+                    method,
+                    missed: self.missed.then_some(0),
+                    leaks: self.leaks.then_some(0),
+                    ..Tally::default()
+                })
+                .collect(),
+        };
+        answer_lines(self.file, |batch| answer(batch, &mut summary))?;
+        after()?;
+        if summary.lines == 0 {
+            return Err(format!(
+                "{}: no case to answer (the input holds no line but blank ones)",
+                self.file
+                    .map_or("standard input".into(), |p| p.display().to_string())
+            )
+            .into());
+        }
+        out.finish(&summary)?;
+        let standings: Vec<Standing> = summary.methods.iter().map(self.standing).collect();
+        let status = self.fail.status(self.command, &standings);
+        if summary.errors > 0 {
+            eprintln!(
+                "tetwalk {}: {} line(s) could not be answered",
+                self.command, summary.errors
+            );
+            return Ok(ExitCode::FAILURE);
+        }
+        Ok(status)
     }
-    Ok(ExitCode::SUCCESS)
 }
 
 pub fn run(a: Args) -> Outcome {
+    if a.t_ulps.is_some() {
+        return Err("--t-ulps judges a hit's t: it is for tetwalk hit (and judge)".into());
+    }
     let (backend, methods) = a.wgsl.open(a.backend, &a.method)?;
-    let names = methods.iter().map(|m| m.name.to_string()).collect();
-    answer_all(
-        "exit",
-        names,
-        true,
-        backend.describe(),
-        a.file.as_deref(),
-        a.json.as_deref(),
+    Answering {
+        command: "exit",
+        names: methods.iter().map(|m| m.name.to_string()).collect(),
+        missed: true,
+        leaks: false,
+        backend: backend.describe(),
+        file: a.file.as_deref(),
+        json: a.json.as_deref(),
+        fail: a.fail,
+        standing: |t| Standing::exit_face(&t.method, t.right + t.wrong, t.wrong),
+    }
+    .run(
         |batch, summary| answer(batch, &methods, &backend, summary),
+        || Ok(()),
     )
 }
 

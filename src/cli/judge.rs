@@ -2,12 +2,13 @@
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
 use super::count::{Dump, RaysHeader};
-use super::exit::{Line, MAX_LINE, Summary, answer_all, exit_verdict, reader};
+use super::exit::{Answering, Line, MAX_LINE, Summary, exit_verdict, reader};
 use super::hit::hit_verdict;
 use super::{JsonOut, Outcome};
 use crate::cases::{Subject, classify, judge_hit, number};
 use crate::found::Record;
 use crate::report::count;
+use crate::report::standing::{Standing, Standings};
 use crate::report::wrong::WrongRay;
 use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
 use serde_json::{Value, json};
@@ -38,6 +39,12 @@ pub struct Args {
     /// Also write a summary (lines, errors, right / wrong / lines missing the tetrahedron) as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
+    /// A hit's `t` is right within this many ulps of the exact `t` (of the f32 nearest it), and always
+    /// needs `0 < t < ∞` [default: 4096].
+    #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
+    t_ulps: Option<f64>,
+    #[command(flatten)]
+    fail: super::FailArg,
 }
 
 /// Why an answers file cannot be read.
@@ -97,16 +104,15 @@ fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, JudgeError> {
     Ok(out)
 }
 
-/// A number field as the nearest f32 to its decimal text ([`number`]), or null.
-fn f32_field(v: &Value, k: &str) -> Result<Option<f32>, String> {
-    match v.get(k) {
-        None | Some(Value::Null) => Ok(None),
-        Some(x) => number(x).map(Some).map_err(|e| format!("{k}: {e}")),
-    }
-}
-
 pub fn run(a: Args) -> Outcome {
+    if a.fail.fail_on == Some(super::FailOn::Claims) {
+        return Err("--fail-on claims: judge's answers are yours, and tetwalk knows no claim of theirs; --fail-on wrong fails on any wrong answer".into());
+    }
+    let t_ulps = super::t_ulps(a.t_ulps)?;
     if let Some(header) = scene_header(&a.cases)? {
+        if a.t_ulps.is_some() {
+            return Err("--t-ulps judges a hit's t in triangle cases; a scene's walks end in a tetrahedron's face".into());
+        }
         return judge_scene(&a, header);
     }
     if a.dump.is_some() {
@@ -114,34 +120,45 @@ pub fn run(a: Args) -> Outcome {
             "--dump writes the wrong rays of a scene's walks (cases from count --rays-out)".into(),
         );
     }
-    let mut answers = read_answers(&a.answers)?;
-    let outcome = answer_all(
-        "judge",
-        vec![a.name.clone()],
-        true,
-        "given".to_string(),
-        Some(&a.cases),
-        a.json.as_deref(),
-        |batch, summary| Ok(verdicts(batch, &a.name, &mut answers, summary)),
-    )?;
-    if !answers.is_empty() {
-        let mut extra: Vec<usize> = answers.keys().copied().collect();
-        extra.sort_unstable();
-        return Err(format!(
-            "{}: answers for line(s) {extra:?}, which hold no case in {}",
-            a.answers.display(),
-            a.cases.display()
-        )
-        .into());
+    // Taken out line by line; what is left has no case.
+    let answers = std::cell::RefCell::new(read_answers(&a.answers)?);
+    Answering {
+        command: "judge",
+        names: vec![a.name.clone()],
+        missed: true,
+        leaks: true,
+        backend: "given".to_string(),
+        file: Some(&a.cases),
+        json: a.json.as_deref(),
+        fail: a.fail,
+        standing: |t| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong),
     }
-    Ok(outcome)
+    .run(
+        |batch, summary| {
+            let mut answers = answers.borrow_mut();
+            Ok(verdicts(batch, &a.name, &mut answers, t_ulps, summary))
+        },
+        || {
+            let mut extra: Vec<usize> = answers.borrow().keys().copied().collect();
+            extra.sort_unstable();
+            if extra.is_empty() {
+                return Ok(());
+            }
+            Err(format!(
+                "{}: answers for line(s) {extra:?}, which hold no case in {}",
+                a.answers.display(),
+                a.cases.display()
+            )
+            .into())
+        },
+    )
 }
-
 /// The verdict lines of a batch of case lines, each judged against its answer (taken out of `answers`).
 fn verdicts(
     batch: &[Line],
     name: &str,
     answers: &mut HashMap<usize, Value>,
+    t_ulps: f64,
     summary: &mut Summary,
 ) -> String {
     let mut s = String::new();
@@ -153,7 +170,7 @@ fn verdicts(
         let answer = answers.remove(n);
         let line = l
             .clone()
-            .and_then(|text| verdict(*n, &text, name, answer, &mut summary.methods[0]));
+            .and_then(|text| verdict(*n, &text, name, answer, t_ulps, &mut summary.methods[0]));
         let line = line.unwrap_or_else(|e| {
             summary.errors += 1;
             json!({"line": n, "error": e})
@@ -164,11 +181,50 @@ fn verdicts(
     s
 }
 
+/// An answer's fields, checked as strictly as a case's: only the keys `allowed` for this kind of case
+/// (and `line`), each of `required` present (null allowed where the kind allows no answer).
+fn fields<'a>(
+    answer: &'a Value,
+    kind: &str,
+    allowed: &[&str],
+    required: &[&str],
+) -> Result<&'a serde_json::Map<String, Value>, String> {
+    let o = answer.as_object().ok_or("an answer is a JSON object")?;
+    let shape = || {
+        let keys: Vec<String> = allowed.iter().map(|k| format!("\"{k}\"")).collect();
+        format!("an answer to {kind} holds \"line\" and {}", keys.join(", "))
+    };
+    if let Some(k) = o
+        .keys()
+        .find(|k| *k != "line" && !allowed.contains(&k.as_str()))
+    {
+        return Err(format!("unknown field \"{k}\": {}", shape()));
+    }
+    if let Some(k) = required.iter().find(|k| !o.contains_key(**k)) {
+        return Err(format!("missing field \"{k}\": {}", shape()));
+    }
+    Ok(o)
+}
+
+/// A hit's `t`: present and a number when there is a hit, absent or null when there is none.
+fn hit_t(o: &serde_json::Map<String, Value>, hit: bool) -> Result<Option<f32>, String> {
+    let t = match o.get("t") {
+        None | Some(Value::Null) => None,
+        Some(x) => Some(number(x).map_err(|e| format!("t: {e}"))?),
+    };
+    match (hit, t) {
+        (true, None) => Err("a hit's answer needs its \"t\"".into()),
+        (false, Some(t)) => Err(format!("\"t\": {t} given for a miss")),
+        (_, t) => Ok(t),
+    }
+}
+
 fn verdict(
     n: usize,
     text: &str,
     name: &str,
     answer: Option<Value>,
+    t_ulps: f64,
     tally: &mut super::exit::Tally,
 ) -> Result<Value, String> {
     let subject = Record::parse(text).map_err(|e| e.to_string())?.subject;
@@ -176,9 +232,10 @@ fn verdict(
     match subject {
         Subject::Exit(c) => {
             let x = classify(&c).map_err(|e| e.to_string())?;
-            let face = match answer.get("face") {
-                None | Some(Value::Null) => None,
-                Some(f) => Some(
+            let o = fields(&answer, "a tetrahedron case", &["face"], &["face"])?;
+            let face = match &o["face"] {
+                Value::Null => None,
+                f => Some(
                     f.as_u64()
                         .filter(|&f| f < 4)
                         .ok_or_else(|| format!("the answer's face {f} is not 0..3 or null"))?
@@ -189,37 +246,47 @@ fn verdict(
         }
         Subject::Hit(h) => {
             let truth = judge_hit(&h).map_err(|e| e.to_string())?;
-            let t = f32_field(&answer, "t")?;
             let g = if h.closed {
-                match answer.get("tri") {
-                    None | Some(Value::Null) => None,
-                    Some(i) => {
-                        let i = i
-                            .as_u64()
-                            .filter(|&i| (i as usize) < h.tris().len())
-                            .ok_or_else(|| {
-                                format!("the answer's tri {i} is not a triangle of the case")
-                            })?;
-                        Some((i as u32, t.ok_or("a hit's answer needs its \"t\"")?))
+                let kind = "a closed-mesh case (tris)";
+                let o = fields(&answer, kind, &["tri", "t"], &["tri"])?;
+                match &o["tri"] {
+                    Value::Null => hit_t(o, false).map(|_| None)?,
+                    i => {
+                        let len = h.tris().len();
+                        let i = i.as_u64().filter(|&i| (i as usize) < len).ok_or_else(|| {
+                            format!("the answer's tri {i} is not a triangle of the case (0..{len})")
+                        })?;
+                        hit_t(o, true)?.map(|t| (i as u32, t))
                     }
                 }
             } else {
-                match answer.get("hit").and_then(Value::as_bool) {
-                    Some(true) => Some((0, t.ok_or("a hit's answer needs its \"t\"")?)),
-                    Some(false) => None,
-                    None => return Err("the answer needs \"hit\": true or false".into()),
-                }
+                let kind = "a one-triangle case (tri)";
+                let o = fields(&answer, kind, &["hit", "t"], &["hit"])?;
+                let hit = o["hit"]
+                    .as_bool()
+                    .ok_or("the answer's \"hit\" is true or false")?;
+                hit_t(o, hit)?.map(|t| (0, t))
             };
-            Ok(hit_verdict(n, name, "given", &h, &truth, g, tally))
+            let hits: Vec<u32> = g.iter().map(|&(i, _)| i).collect();
+            Ok(hit_verdict(
+                (n, name, "given"),
+                (&h, &truth),
+                g,
+                &hits,
+                t_ulps,
+                tally,
+            ))
         }
         Subject::Box(c) => {
             let x =
                 crate::exact::boxes::box_exit(c.lo, c.hi, &c.ray()).map_err(|e| e.to_string())?;
-            let given = match answer.get("face") {
-                None | Some(Value::Null) => None,
-                Some(f) => {
-                    crate::found::box_answer(&json!({"face": f, "quarter": answer.get("quarter")}))?
-                }
+            let kind = "an octree cell case (box)";
+            let o = fields(&answer, kind, &["face", "quarter"], &["face"])?;
+            let quarter = o.get("quarter").cloned().unwrap_or(Value::Null);
+            let given = match &o["face"] {
+                Value::Null if quarter.is_null() => None,
+                Value::Null => return Err("\"quarter\" given without a face".into()),
+                f => crate::found::box_answer(&json!({"face": f, "quarter": quarter}))?,
             };
             let given = given.map(|(f, q)| (f as usize, q));
             Ok(super::box_exit::box_verdict(
@@ -259,6 +326,71 @@ fn scene_header(path: &Path) -> Result<Option<RaysHeader>, JudgeError> {
         }
         _ => Ok(None),
     }
+}
+
+/// The body of a `count --rays-out` file checked against the rays its header names, line by line (a
+/// file cut short, edited, or of another run is refused, the line named): the answers are judged
+/// for the rays the header rebuilds, so those must be the rays that were walked.
+fn check_rays(
+    path: &Path,
+    header: &RaysHeader,
+    mesh: &crate::mesh::Mesh,
+) -> Result<(), super::Error> {
+    let file = path.display().to_string();
+    let f = std::fs::File::open(path).map_err(|e| format!("{file}: {e}"))?;
+    let mut lines = reader(Box::new(std::io::BufReader::new(f)))
+        .into_iter()
+        .skip(1);
+    let views = &header.views;
+    let shard = header.shard;
+    let (mut rays, mut last) = (0u64, 1);
+    for (v, cam, start) in count::located_views(mesh, views, |v| shard.holds(v), &|| ()) {
+        for (i, r) in views.rays(&cam).iter().enumerate() {
+            let pixel = [i as u32 % views.width, i as u32 / views.width];
+            let want = json!({
+                "view": v, "pixel": pixel, "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
+            });
+            let Some((n, line)) = lines.next() else {
+                return Err(format!(
+                    "{file}: ends after line {last}, {rays} rays, before view {v} pixel {pixel:?}: cut short? (its header names more)"
+                )
+                .into());
+            };
+            let line = line.map_err(|e| format!("{file}:{n}: {e}"))?;
+            let got: Value = serde_json::from_str(&line)
+                .map_err(|e| format!("{file}:{n}: not a whole ray line ({e}): cut short?"))?;
+            if !same_ray(&got, &want) {
+                return Err(format!(
+                    "{file}:{n}: not the ray its header names here, {want} (the body is not this header's run)"
+                )
+                .into());
+            }
+            (rays, last) = (rays + 1, n);
+        }
+    }
+    if let Some((n, _)) = lines.find(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty())) {
+        return Err(format!("{file}:{n}: a line after the {rays} rays its header names").into());
+    }
+    Ok(())
+}
+
+/// Whether a rays line holds the ray `want`: the same keys, integers equal, coordinates the same f32.
+fn same_ray(got: &Value, want: &Value) -> bool {
+    let (Some(g), Some(w)) = (got.as_object(), want.as_object()) else {
+        return false;
+    };
+    let f32s = |v: &Value| -> Option<Vec<u32>> {
+        v.as_array()?
+            .iter()
+            .map(|x| number(x).ok().map(f32::to_bits))
+            .collect()
+    };
+    g.len() == w.len()
+        && w.iter().all(|(k, wv)| match (k.as_str(), g.get(k)) {
+            (_, None) => false,
+            ("org" | "dir", Some(gv)) => f32s(gv).is_some() && f32s(gv) == f32s(wv),
+            (_, Some(gv)) => gv == wv,
+        })
 }
 
 /// Walks given per (view, pixel), read whole from the answers file.
@@ -301,6 +433,7 @@ fn judge_scene(a: &Args, header: RaysHeader) -> Outcome {
         )
         .into());
     }
+    check_rays(&a.cases, &header, &mesh)?;
     let file = a.answers.display().to_string();
     let mut given = GivenMap::new();
     each_answer(&a.answers, |_, v| {
@@ -364,5 +497,5 @@ fn judge_scene(a: &Args, header: RaysHeader) -> Outcome {
     dump.finish()?;
     print!("{}", report.markdown());
     out.finish(&report)?;
-    Ok(std::process::ExitCode::SUCCESS)
+    Ok(a.fail.status("judge", &report.standings()))
 }

@@ -256,6 +256,85 @@ impl BackendArg {
     }
 }
 
+/// What `--fail-on` fails on.
+#[derive(clap::ValueEnum, Clone, Copy, PartialEq, Eq, Debug)]
+enum FailOn {
+    /// Any method gave a wrong answer.
+    Wrong,
+    /// A method's paper claim was refuted (the register's claims: `exact` and `certified` never
+    /// wrong, `woop-watertight` never leaks).
+    Claims,
+}
+
+impl FailOn {
+    fn name(self) -> &'static str {
+        match self {
+            FailOn::Wrong => "wrong",
+            FailOn::Claims => "claims",
+        }
+    }
+}
+
+/// `--fail-on`, shared by every command that judges methods: an exit status for CI and nightly jobs.
+#[derive(clap::Args, Clone, Copy, Debug)]
+struct FailArg {
+    /// Exit with status 1 when a method gave a wrong answer (`wrong`) or when a method's claim was
+    /// refuted (`claims`: `exact` and `certified` wrong anywhere, `woop-watertight` leaking), after
+    /// writing everything the run writes; one summary line per method on standard error. Without it
+    /// the status says only whether the run could be made.
+    #[arg(long, value_enum, value_name = "RULE")]
+    fail_on: Option<FailOn>,
+}
+
+impl FailArg {
+    /// The exit status `standings` earn under the rule, each method's summary line (and the verdict)
+    /// on standard error.
+    fn status(self, command: &str, standings: &[crate::report::standing::Standing]) -> ExitCode {
+        let Some(rule) = self.fail_on else {
+            return ExitCode::SUCCESS;
+        };
+        for s in standings {
+            eprintln!("tetwalk {command}: {}", s.line());
+        }
+        let failed: Vec<&str> = standings
+            .iter()
+            .filter(|s| match rule {
+                FailOn::Wrong => s.wrong > 0,
+                FailOn::Claims => s.refuted(),
+            })
+            .map(|s| s.method.as_str())
+            .collect();
+        if rule == FailOn::Claims && standings.iter().all(|s| s.claim.is_none()) {
+            eprintln!(
+                "tetwalk {command}: --fail-on claims: no method judged here makes a claim (exact and certified claim robustness, woop-watertight no leak)"
+            );
+        }
+        if failed.is_empty() {
+            return ExitCode::SUCCESS;
+        }
+        eprintln!(
+            "tetwalk {command}: --fail-on {}: {}",
+            rule.name(),
+            failed.join(", ")
+        );
+        ExitCode::FAILURE
+    }
+}
+
+/// The bound on a hit's `t` when `--t-ulps` gives none, in ulps of the exact `t`: 2^12, a relative
+/// error of 2^-11 (about 0.05%). The seeds' methods stay within 478 ulps (woop-watertight on grazing
+/// rays at slivers; mt within 54) on every stress row's generator, 3,000 rays each.
+pub const T_ULPS: f64 = 4096.0;
+
+/// `--t-ulps`: a number of ulps (0 or more, finite), or [`T_ULPS`].
+fn t_ulps(given: Option<f64>) -> Result<f64, Error> {
+    match given {
+        None => Ok(T_ULPS),
+        Some(u) if u.is_finite() && u >= 0.0 => Ok(u),
+        Some(u) => Err(format!("--t-ulps {u} is not a number of ulps (0 or more)").into()),
+    }
+}
+
 /// Largest WGSL file `--wgsl` reads.
 const MAX_WGSL: u64 = 1 << 20;
 

@@ -1,6 +1,6 @@
 //! `tetwalk stress`: the failure table over tetrahedron families and ray kinds.
 
-use super::{BackendArg, JsonOut, Outcome, WgslArg, choice};
+use super::{BackendArg, FailArg, JsonOut, Outcome, WgslArg, choice};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::{Case, Subject};
 use crate::choice::Choice;
@@ -9,6 +9,7 @@ use crate::registry::Method;
 use crate::registry::{TriangleMethod, parse_triangle_list};
 use crate::registry::{parse_list, parse_octree_list};
 use crate::report::octree as cell_report;
+use crate::report::standing::{Standings, summed};
 use crate::report::stress::{self, Row, Settings};
 use crate::report::triangle::{self as tri, StressSettings};
 use crate::scenes::cells;
@@ -55,6 +56,8 @@ pub struct Args {
     backend: BackendArg,
     #[command(flatten)]
     wgsl: WgslArg,
+    #[command(flatten)]
+    fail: FailArg,
     /// Instead of judging, count how often cpu, cpu-fma and gpu answer differently (needs a GPU).
     #[arg(long)]
     compare: bool,
@@ -122,6 +125,9 @@ pub fn run(a: Args) -> Outcome {
             "--shapes, --aims and --places choose triangle rows; add --family triangle".into(),
         );
     }
+    if a.compare && a.fail.fail_on.is_some() {
+        return Err("--compare counts disagreements between backends and judges nothing: leave out --fail-on".into());
+    }
     if a.compare && a.wgsl.wgsl.is_some() {
         return Err("--compare runs every method on cpu and cpu-fma too; a --wgsl function runs on the GPU only".into());
     }
@@ -175,7 +181,7 @@ pub fn run(a: Args) -> Outcome {
             report.relabel_all(&methods, &backend)?;
         }
         bar.finish_and_clear();
-        return shown(out, report.markdown(), &report);
+        return shown(out, a.fail, report.markdown(), &report);
     };
     let mut filing = Filing::new(a.found, a.keep);
     let report = stress::campaign(
@@ -192,7 +198,7 @@ pub fn run(a: Args) -> Outcome {
     print!("{}", report.markdown());
     filing.print(report.rounds, "");
     out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(a.fail.status("stress", &report.standings()))
 }
 
 /// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
@@ -341,12 +347,13 @@ fn run_triangle(a: Args, cases: usize) -> Outcome {
             &mut |_, _| {},
         )?;
         bar.finish_and_clear();
-        return shown(out, report.markdown(), &report);
+        return shown(out, a.fail, report.markdown(), &report);
     };
     rounds(
         Filing::new(a.found, a.keep),
         seconds,
         out,
+        a.fail,
         |round, filing| {
             settings.seed = a.seed + round;
             let r = tri::stress(
@@ -363,18 +370,22 @@ fn run_triangle(a: Args, cases: usize) -> Outcome {
 
 /// A campaign over tables that are not summed: rounds of `round` (given its number, from 0) until
 /// `seconds` have passed (one at least), filing failures; the last round's table is printed and
-/// written with `--json`.
-fn rounds<R: serde::Serialize>(
+/// written with `--json`, the exit status from every round's standings.
+fn rounds<R: serde::Serialize + Standings>(
     mut filing: Filing,
     seconds: f64,
     out: JsonOut,
+    fail: FailArg,
     mut round: impl FnMut(u64, &mut Filing) -> Result<(String, R), super::Error>,
 ) -> Outcome {
     let t0 = std::time::Instant::now();
     let mut done = 0;
     let mut last = None;
+    let mut standings = Vec::new();
     while done == 0 || t0.elapsed().as_secs_f64() < seconds {
-        last = Some(round(done, &mut filing)?);
+        let (text, report) = round(done, &mut filing)?;
+        standings = summed(standings.into_iter().chain(report.standings()));
+        last = Some((text, report));
         done += 1;
     }
     if let Some(e) = filing.error {
@@ -384,7 +395,7 @@ fn rounds<R: serde::Serialize>(
     print!("{text}");
     filing.print(done, " (the table is the last round's)");
     out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(fail.status("stress", &standings))
 }
 
 /// `stress --family octree`.
@@ -407,12 +418,13 @@ fn run_octree(a: Args, cases: usize) -> Outcome {
     };
     let Some(seconds) = a.seconds else {
         let report = cell_report::stress(&settings, &methods, &backend, &mut |_, _| {})?;
-        return shown(out, report.markdown(), &report);
+        return shown(out, a.fail, report.markdown(), &report);
     };
     rounds(
         Filing::new(a.found, a.keep),
         seconds,
         out,
+        a.fail,
         |round, filing| {
             settings.seed = a.seed + round;
             let r = cell_report::stress(&settings, &methods, &backend, &mut |row, record| {
@@ -432,9 +444,14 @@ fn or_all<T: Choice>(given: Vec<T>) -> Vec<T> {
     }
 }
 
-/// Print a report and write it with `--json`.
-fn shown(out: JsonOut, text: String, report: &impl serde::Serialize) -> Outcome {
+/// Print a report and write it with `--json`; the exit status `--fail-on` gives it.
+fn shown(
+    out: JsonOut,
+    fail: FailArg,
+    text: String,
+    report: &(impl serde::Serialize + Standings),
+) -> Outcome {
     print!("{text}");
     out.finish(report)?;
-    Ok(ExitCode::SUCCESS)
+    Ok(fail.status("stress", &report.standings()))
 }

@@ -5,6 +5,7 @@ pub mod count;
 pub mod octree;
 pub mod paper;
 pub mod scene_info;
+pub mod standing;
 pub mod stress;
 pub mod triangle;
 pub mod wrong;
