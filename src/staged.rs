@@ -1,11 +1,72 @@
 //! Files written whole or not at all: a temporary file beside the destination, renamed over it at the
-//! end, created with the permissions any new file gets (tempfile's own are owner-only).
+//! end, created with the permissions any new file gets (tempfile's own are owner-only). Every staging
+//! file alive is known, so that an interrupted run (Ctrl-C, SIGTERM) removes them ([`remove_all`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The staging files alive now.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// A staging file: removed when dropped unpersisted, and by [`remove_all`].
+pub struct Staging {
+    file: std::fs::File,
+    path: PathBuf,
+    /// Removes the file when dropped, until persisted.
+    guard: Option<tempfile::TempPath>,
+}
+
+impl Staging {
+    pub fn as_file_mut(&mut self) -> &mut std::fs::File {
+        &mut self.file
+    }
+
+    /// Rename it onto `dest`.
+    pub fn persist(mut self, dest: &Path) -> std::io::Result<()> {
+        match self.guard.take() {
+            Some(g) => g.persist(dest).map_err(|e| e.error),
+            None => Ok(()),
+        }
+    }
+}
+
+impl std::io::Write for Staging {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.file.write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        forget(&self.path);
+    }
+}
+
+fn forget(path: &Path) {
+    if let Ok(mut live) = LIVE.lock() {
+        live.retain(|p| p != path);
+    }
+}
+
+/// Whether `dest` can be written to: not a folder, in a folder that exists. Checked before any work.
+pub fn target(dest: &Path) -> std::io::Result<()> {
+    if dest.is_dir() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::IsADirectory,
+            "is a folder: give a file's path",
+        ));
+    }
+    Ok(())
+}
 
 /// A temporary file in the folder of `dest` (the current folder for a bare name), for renaming onto
-/// `dest` with `persist` once complete.
-pub fn beside(dest: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+/// `dest` with [`Staging::persist`] once complete; an error when `dest` is a folder.
+pub fn beside(dest: &Path) -> std::io::Result<Staging> {
+    target(dest)?;
     let dir = match dest.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -18,5 +79,24 @@ pub fn beside(dest: &Path) -> std::io::Result<tempfile::NamedTempFile> {
         // The umask applies, as for any file a program creates.
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    builder.tempfile_in(dir)
+    let (file, guard) = builder.tempfile_in(dir)?.into_parts();
+    let path = guard.to_path_buf();
+    if let Ok(mut live) = LIVE.lock() {
+        live.push(path.clone());
+    }
+    Ok(Staging {
+        file,
+        path,
+        guard: Some(guard),
+    })
+}
+
+/// Remove every staging file alive (an interrupted run's); returns how many were removed.
+pub fn remove_all() -> usize {
+    let Ok(mut live) = LIVE.lock() else {
+        return 0;
+    };
+    live.drain(..)
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
 }

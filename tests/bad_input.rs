@@ -226,3 +226,247 @@ fn scene_build_refuses_what_cannot_be_represented_and_leaves_nothing() {
         assert_eq!(files(), 1, "a failed build leaves nothing");
     }
 }
+
+#[test]
+fn generators_refuse_what_would_underflow_or_leave_f32() {
+    for family in ["well", "needle", "wedge"] {
+        refused(
+            &["gen-cases", "--family", family, "--flatness", "1e-45"],
+            &["--flatness 1e-45", "2^-126"],
+        );
+    }
+    refused(
+        &["gen-cases", "--shape", "needle", "--flatness", "1e-45"],
+        &["--flatness 1e-45"],
+    );
+    refused(
+        &["gen-cases", "--rays", "near-edge", "--ulps", "2147483647"],
+        &["--ulps 2147483647", "1048576"],
+    );
+    for family in ["exit-face", "triangle", "octree"] {
+        refused(
+            &[
+                "stress",
+                "--family",
+                family,
+                "--flatness",
+                "1e-45",
+                "--cases",
+                "5",
+            ],
+            &["--flatness 1e-45"],
+        );
+        refused(
+            &[
+                "stress",
+                "--family",
+                family,
+                "--ulps",
+                "2147483647",
+                "--cases",
+                "5",
+            ],
+            &["--ulps 2147483647"],
+        );
+    }
+    // At the smallest normal flatness every family still gives cases exit judges (no null, no panic).
+    let (code, out, err) = tetwalk(
+        &[
+            "gen-cases",
+            "--family",
+            "wedge",
+            "--flatness",
+            "1.2e-38",
+            "--count",
+            "20",
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        !out.contains("[null") && !out.contains(",null"),
+        "every coordinate finite: {out}"
+    );
+    let (code, _, err) = tetwalk(&["exit", "--method", "stp"], out.as_bytes());
+    assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn odd_sizes_views_depths_and_shards_are_refused_before_any_work() {
+    refused(
+        &["render", "predicate", "--size", "64x4000"],
+        &["--size 64x4000", "square"],
+    );
+    refused(&["render", "leak", "--size", "64x32"], &["square"]);
+    refused(
+        &["count", "--views", "100000000", "--size", "1x1"],
+        &["--views 100000000"],
+    );
+    refused(
+        &["count", "--family", "octree", "--depth", "0"],
+        &["--depth 0"],
+    );
+    refused(
+        &[
+            "count", "--scene", "kuhn", "--views", "3", "--shard", "5/10",
+        ],
+        &["--shard 5/10 holds no view"],
+    );
+    refused(
+        &["count", "--rays-out", "x.jsonl", "--fail-on", "wrong"],
+        &["--fail-on"],
+    );
+    refused(&["exit", "--t-ulps", "3"], &["--t-ulps"]);
+}
+
+/// A folder given where a file goes is refused before the run, for every output flag.
+#[test]
+fn an_output_that_is_a_folder_is_refused_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let count = ["count", "--scene", "kuhn", "--views", "2", "--size", "8x8"];
+    for flag in ["--json", "--dump", "--rays-out"] {
+        let mut args = count.to_vec();
+        args.extend([flag, d]);
+        refused(&args, &[flag, "is a folder"]);
+    }
+    refused(
+        &[
+            "render", "shaded", "--scene", "kuhn", "--size", "8x8", "--out", d,
+        ],
+        &["--out", "is a folder"],
+    );
+    refused(
+        &["paper", "--scene", "kuhn", "--out", d],
+        &["--out", "is a folder"],
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert!(left.is_empty(), "nothing left behind: {left:?}");
+}
+
+/// A run stopped by SIGTERM removes the staging file of the output it was writing.
+#[test]
+fn an_interrupted_run_leaves_no_staging_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rays.jsonl");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args([
+            "count",
+            "--views",
+            "1000",
+            "--size",
+            "1024x1024",
+            "--rays-out",
+        ])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let staging = || {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().starts_with(".tetwalk-"))
+            .count()
+    };
+    // Wait (by progress, not by the clock) until it is writing: its staging file has grown.
+    let mut grown = false;
+    for _ in 0..6000 {
+        let size: u64 = std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter_map(|e| e.ok()?.metadata().ok())
+            .map(|m| m.len())
+            .sum();
+        if size > 1 << 20 {
+            grown = true;
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    assert!(grown, "the run began writing");
+    assert_eq!(staging(), 1);
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    assert!(err.contains("interrupted"), "{err}");
+    assert_eq!(staging(), 0, "the staging file is removed");
+    assert!(!out.exists(), "and nothing half-written appears");
+}
+
+/// A count of 512 rays on a scene where f32 Plücker is wrong on every one.
+const SMALL_COUNT: [&str; 7] = [
+    "count", "--scene", "kuhn-far", "--views", "2", "--size", "16x16",
+];
+
+#[test]
+fn replay_refuses_a_ray_no_walk_was_made_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let dump = dir.path().join("dump.jsonl");
+    let mut args = SMALL_COUNT.to_vec();
+    args.extend(["--methods", "plucker", "--dump", dump.to_str().unwrap()]);
+    let (code, _, err) = tetwalk(&args, b"");
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&dump).unwrap();
+    let first = text.lines().next().expect("plucker is wrong somewhere");
+    let mut v: serde_json::Value = serde_json::from_str(first).unwrap();
+    v["dir"] = serde_json::json!([0.0, 0.0, 0.0]);
+    std::fs::write(&dump, format!("{v}\n")).unwrap();
+    refused(
+        &["replay", dump.to_str().unwrap()],
+        &["line 1", "nonzero direction"],
+    );
+}
+
+/// `--fail-on`: status 0 without it whatever is wrong; 1 with it when a method is wrong (or a claim
+/// refuted), after the report; one line per method on standard error.
+#[test]
+fn fail_on_gives_ci_a_status() {
+    let mut count = SMALL_COUNT.to_vec();
+    count.extend(["--methods", "plucker,stp"]);
+    let (code, _, err) = tetwalk(&count, b"");
+    assert_eq!(code, 0, "{err}");
+    let with = |rule: &str| {
+        let mut a = count.to_vec();
+        a.extend(["--fail-on", rule]);
+        tetwalk(&a, b"")
+    };
+    let (code, out, err) = with("wrong");
+    assert_eq!(code, 1, "{err}");
+    assert!(out.contains("totals over"), "the report first: {out}");
+    assert!(err.contains("plucker: 512 wrong of 512 judged"), "{err}");
+    assert!(err.contains("stp: 0 wrong"), "{err}");
+    assert!(err.contains("--fail-on wrong: plucker"), "{err}");
+    // Neither plucker nor stp claims robustness: no claim refuted.
+    let (code, _, err) = with("claims");
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("no method judged here makes a claim"), "{err}");
+    // A claim held: certified on the stress rows.
+    let (code, _, err) = tetwalk(
+        &[
+            "stress",
+            "--cases",
+            "200",
+            "--methods",
+            "certified,plucker",
+            "--fail-on",
+            "claims",
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("certified: 0 wrong") && err.contains("claims robust: holds here"),
+        "{err}"
+    );
+    let case = br#"{"tet":[[0,0,0],[0,1,0],[1,0,0],[0,0,1]],"org":[0.1,0.1,-1],"dir":[0,0,1]}"#;
+    let (code, _, err) = tetwalk(&["exit", "--method", "stp", "--fail-on", "wrong"], case);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("stp: 0 wrong of 1 judged"), "{err}");
+}

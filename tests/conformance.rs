@@ -131,3 +131,65 @@ fn the_kit_counts_what_octree_stress_counts() {
     }
     assert!(failed_somewhere, "corner rows reach eq. 8's 7");
 }
+
+/// Wrong exactly where the line only touches the tetrahedron (the perturbed line misses it): a face
+/// that is not an exact exit face; elsewhere the perturbed exit face, always right.
+struct WrongWhereTouching;
+
+impl tetwalk::methods::ExitMethod for WrongWhereTouching {
+    type RayData = tetwalk::tet::Ray;
+
+    fn prepare<A: tetwalk::methods::Arith>(ray: &tetwalk::tet::Ray) -> tetwalk::tet::Ray {
+        *ray
+    }
+
+    fn exit_face<A: tetwalk::methods::Arith>(
+        tet: &tetwalk::tet::Tet,
+        ray: &tetwalk::tet::Ray,
+        _entry: Option<usize>,
+    ) -> Option<usize> {
+        let (face, x) = tetwalk::exact::perturbed_exit(tet, ray).ok()?;
+        match face {
+            Some(f) => Some(f),
+            None => (0..4).find(|&f| !x.exit.contains(f)),
+        }
+    }
+}
+
+/// `Accept::touch_only` lets through wrong faces on touching lines, and nothing else: the method wrong
+/// only there passes with it and is caught without it; f32 Plücker, wrong on crossing lines too, is
+/// caught with it.
+#[test]
+fn touch_only_accepts_touching_lines_alone() {
+    let with = |touch_only: bool| Settings {
+        cases: 400,
+        rays: 100,
+        properties: 400,
+        accept: Accept {
+            touch_only,
+            ..Accept::default()
+        },
+        ..Settings::default()
+    };
+    check_exit_faces::<WrongWhereTouching>("touching", &with(true)).unwrap();
+    // The perturbed line's exit face: none where the line only touches.
+    let perturbed = |caught: &tetwalk::conformance::Failed| {
+        let case = tetwalk::cases::Subject::parse(&caught.case()).unwrap();
+        let tetwalk::cases::Subject::Exit(c) = case else {
+            panic!("{caught}")
+        };
+        let (tet, _, _) = tetwalk::cases::normalized(&c);
+        tetwalk::exact::perturbed_exit(&tet, &c.ray()).unwrap().0
+    };
+    let caught = check_exit_faces::<WrongWhereTouching>("touching", &with(false)).unwrap_err();
+    assert_eq!(
+        perturbed(&caught),
+        None,
+        "caught where it touches: {caught}"
+    );
+    let caught = check_exit_faces::<Plucker>("plucker", &with(true)).unwrap_err();
+    assert!(
+        perturbed(&caught).is_some(),
+        "the case Plücker fails on is crossed, not touched: {caught}"
+    );
+}

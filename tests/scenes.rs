@@ -173,3 +173,69 @@ fn scene_build_runs_tetgen_and_refuses_bad_models() {
     let (ok, out) = tetwalk(&["scene", "build", model, "--out", &d("x")], Some(""));
     assert!(!ok && out.contains("tetgen is not installed"), "{out}");
 }
+
+/// A model 1e-30 across works end to end: `scene build` meshes it, every camera ray is finite and
+/// every ray is judged (the f32 methods' products underflow there: they fail, and are counted).
+#[test]
+fn a_model_1e_30_across_is_built_counted_and_its_rays_are_finite() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |f: &str| dir.path().join(f).to_str().unwrap().to_string();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/twobox.off"
+    ))
+    .unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    for l in &mut lines[2..18] {
+        let scaled: Vec<String> = l
+            .split_whitespace()
+            .map(|x| format!("{:e}", x.parse::<f64>().unwrap() * 1e-30))
+            .collect();
+        *l = scaled.join(" ");
+    }
+    std::fs::write(d("tiny.off"), lines.join("\n")).unwrap();
+    let (ok, out) = tetwalk(
+        &["scene", "build", &d("tiny.off"), "--out", &d("tiny")],
+        None,
+    );
+    assert!(ok, "{out}");
+    let tiny = d("tiny");
+    let count = |more: &[&str]| {
+        let mut args = vec!["count", "--scene", &tiny, "--views", "3", "--size", "8x8"];
+        args.extend_from_slice(more);
+        let (ok, out) = tetwalk(&args, None);
+        assert!(ok, "{out}");
+    };
+    let json = d("count.json");
+    count(&["--json", &json]);
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(r["rays"], 3 * 64, "every view counted: {r}");
+    assert_eq!(r["methods"][0]["wrong_total"], 0);
+    let rays = d("rays.jsonl");
+    count(&["--rays-out", &rays]);
+    let text = std::fs::read_to_string(&rays).unwrap();
+    assert_eq!(text.lines().count(), 1 + 3 * 64);
+    assert!(!text.contains("null"), "every ray finite");
+}
+
+/// A camera's rays do not depend on the scale of the scene, bit for bit, by powers of two (its
+/// direction is scaled to about 1 before it is normalised).
+#[test]
+fn camera_rays_are_the_same_at_every_power_of_two_scale() {
+    let (lo, hi) = (
+        glam::Vec3::new(-3.0, -1.5, 0.25),
+        glam::Vec3::new(2.0, 4.0, 3.5),
+    );
+    let rays = |s: f32| -> Vec<(u32, u32, u32)> {
+        let cam = view(lo * s, hi * s, 5, 16, 1, 40.0, 1.0);
+        (0..16)
+            .map(|i| cam.ray(i % 4, i / 4, 4, 4).dir)
+            .map(|d| (d.x.to_bits(), d.y.to_bits(), d.z.to_bits()))
+            .collect()
+    };
+    let one = rays(1.0);
+    for e in [-120, -100, -60, -20, 20, 60, 100] {
+        assert_eq!(rays(2f32.powi(e)), one, "scale 2^{e}");
+    }
+}

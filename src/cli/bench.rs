@@ -57,9 +57,7 @@ pub fn run(a: Args) -> Outcome {
     }
     let methods = parse_list(&a.methods)?;
     let kinds = super::backend_list(&a.backend)?;
-    if a.views == 0 {
-        return Err("--views 0: a bench needs at least one view".into());
-    }
+    super::view_count(a.views, "bench")?;
     if a.batch == 0 {
         return Err("--batch 0: a batch holds at least one ray".into());
     }
@@ -101,9 +99,7 @@ fn run_triangle(a: Args) -> Outcome {
     if a.backend != "cpu" || a.layouts || a.hilbert {
         return Err("--family triangle times the CPU, plain f32; leave out --backend, --layouts and --hilbert".into());
     }
-    if a.views == 0 {
-        return Err("--views 0: a bench needs at least one view".into());
-    }
+    super::view_count(a.views, "bench")?;
     let methods = parse_triangle_list(&a.methods)?;
     let (width, height) = super::size(a.size.as_deref().unwrap_or("256x256"), false, 4096)?;
     let out = JsonOut::new(a.json.as_deref())?;

@@ -337,10 +337,7 @@ pub(super) fn held(shard: count::Shard, views: &Views) -> Result<(), super::Erro
 /// defaults given.
 fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
     let paper = a.preset.is_some();
-    let views = a.views.unwrap_or(if paper { 1282 } else { views });
-    if views == 0 {
-        return Err("--views 0: a count needs at least one view".into());
-    }
+    let views = super::view_count(a.views.unwrap_or(if paper { 1282 } else { views }), "count")?;
     let size = a
         .size
         .clone()

@@ -82,12 +82,7 @@ struct Generated {
 }
 
 pub fn run(a: Args) -> Outcome {
-    if !(a.flatness > 0.0 && a.flatness <= 1.0) {
-        return Err(format!("--flatness {} is not in (0, 1]", a.flatness).into());
-    }
-    if a.ulps < 1 {
-        return Err(format!("--ulps {} is not a number of ulps (1 or more)", a.ulps).into());
-    }
+    super::generator(a.flatness, a.ulps)?;
     if a.count > 100_000_000 {
         return Err(format!("--count {} is more than 100,000,000 cases", a.count).into());
     }
@@ -134,6 +129,11 @@ pub fn run(a: Args) -> Outcome {
         else {
             continue;
         };
+        // Only cases `exit` can judge: finite, a tetrahedron that is not flat, a direction.
+        let finite = crate::tet::all_finite(&t) && crate::tet::all_finite(&[ray.org, ray.dir]);
+        if !finite || ray.dir == Vec3::ZERO || crate::tet::orientation(&t) == 0 {
+            continue;
+        }
         let entry = if a.with_entry {
             classify(&t, &ray)
                 .ok()
@@ -158,8 +158,9 @@ pub fn run(a: Args) -> Outcome {
     w.flush()?;
     if written < a.count {
         return Err(format!(
-            "only {written} of {} cases could be generated with these settings",
-            a.count
+            "only {written} of {} cases could be generated with these settings (in {} tries: the others' tetrahedra were flat in f32, their rays missed the edge or vertex, or left f32's range)",
+            a.count,
+            a.count.saturating_mul(100)
         )
         .into());
     }

@@ -93,6 +93,7 @@ enum Command {
 
 pub fn main() -> ExitCode {
     quiet_mesa();
+    clean_on_interrupt();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Methods { json } => methods(json),
@@ -126,6 +127,21 @@ pub fn main() -> ExitCode {
         eprintln!("tetwalk: {msg}");
         ExitCode::from(2)
     })
+}
+
+/// Ctrl-C, SIGTERM or SIGHUP: remove the staging files of the outputs being written (nothing
+/// half-written is left behind), say so, and exit with status 130.
+fn clean_on_interrupt() {
+    let set = ctrlc::set_handler(|| {
+        let n = crate::staged::remove_all();
+        eprintln!("tetwalk: interrupted; {n} unfinished output file(s) removed, nothing written");
+        std::process::exit(130);
+    });
+    if let Err(e) = set {
+        eprintln!(
+            "tetwalk: cannot watch for Ctrl-C ({e}): an interrupted run may leave .tetwalk-* files"
+        );
+    }
 }
 
 /// Mesa's drivers print "XDG_RUNTIME_DIR is invalid or not set" at every adapter query when the
@@ -335,6 +351,47 @@ fn t_ulps(given: Option<f64>) -> Result<f64, Error> {
     }
 }
 
+/// Most viewpoints a count or bench places (seed 000's runs have 1,282).
+const MAX_VIEWS: usize = 1 << 20;
+
+/// `--views N` of a count or bench (`what`): 1 to [`MAX_VIEWS`].
+fn view_count(views: usize, what: &str) -> Result<usize, Error> {
+    match views {
+        0 => Err(format!("--views 0: a {what} needs at least one view").into()),
+        v if v > MAX_VIEWS => Err(format!(
+            "--views {v}: more than the {MAX_VIEWS} viewpoints a {what} places (seed 000 has 1,282)"
+        )
+        .into()),
+        v => Ok(v),
+    }
+}
+
+/// Most ulps a near-edge or near-vertex ray is moved (2^20: beyond that it is no longer near, and
+/// offsets cross binades until the coordinates leave f32's range).
+const MAX_ULPS: i32 = 1 << 20;
+
+/// `--flatness` and `--ulps` of the generated families: flatness in `[2^-126, 1]` (below the smallest
+/// normal f32 the flattest families' jitter underflows to nothing), ulps in `1..=2^20`.
+fn generator(flatness: f32, ulps: i32) -> Result<(), Error> {
+    if !(flatness > 0.0 && flatness <= 1.0) {
+        return Err(format!("--flatness {flatness} is not in (0, 1]").into());
+    }
+    if flatness < f32::MIN_POSITIVE {
+        return Err(format!(
+            "--flatness {flatness:e} is below 2^-126 ({:e}), the smallest normal f32: the flattest families' jitter would underflow to nothing",
+            f32::MIN_POSITIVE
+        )
+        .into());
+    }
+    if !(1..=MAX_ULPS).contains(&ulps) {
+        return Err(format!(
+            "--ulps {ulps} is not a number of ulps in 1..={MAX_ULPS} (a near ray moved further is no longer near)"
+        )
+        .into());
+    }
+    Ok(())
+}
+
 /// Largest WGSL file `--wgsl` reads.
 const MAX_WGSL: u64 = 1 << 20;
 
@@ -390,7 +447,7 @@ impl WgslArg {
 /// unwritable place fails before any work) and renamed onto the target when it is complete (so nothing
 /// half-written is left).
 struct Staged {
-    tmp: tempfile::NamedTempFile,
+    tmp: crate::staged::Staging,
     path: PathBuf,
 }
 
@@ -411,7 +468,7 @@ impl Staged {
     fn finish(self) -> Result<(), Error> {
         self.tmp
             .persist(&self.path)
-            .map_err(|e| format!("{}: {}", self.path.display(), e.error))?;
+            .map_err(|e| format!("{}: {e}", self.path.display()))?;
         Ok(())
     }
 }

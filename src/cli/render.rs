@@ -9,6 +9,7 @@ use crate::render::{self, Image};
 use crate::scenes::camera::Views;
 use crate::scenes::closed::{Place, Shape};
 use crate::scenes::tets::{self, Family, Target};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -91,7 +92,9 @@ struct Drawn {
 
 fn write(path: &Path, im: &Image, drawn: &mut Drawn) -> Result<(), super::Error> {
     let png = im.png()?;
-    std::fs::write(path, png).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut staged = super::Staged::new("--out", path)?;
+    staged.writer().write_all(&png)?;
+    staged.finish()?;
     println!("{} ({}x{})", path.display(), im.width, im.height);
     drawn.files.push(path.display().to_string());
     Ok(())
@@ -106,6 +109,8 @@ fn beside(out: &Path, suffix: &str) -> PathBuf {
 }
 
 pub fn run(a: Args) -> Outcome {
+    // The place checked writable before any work (a probe staged there and removed).
+    drop(super::Staged::new("--out", &a.out)?);
     if a.what == What::Leak {
         return leak(a);
     }
@@ -132,6 +137,7 @@ pub fn run(a: Args) -> Outcome {
     let mut drawn = Drawn::default();
     match a.what {
         What::Predicate => {
+            square(&a.size, w, h)?;
             let target = if a.through == "edge" {
                 Target::Edge
             } else {
@@ -229,6 +235,16 @@ fn views_of(a: &Args, w: u32, h: u32) -> Views {
     }
 }
 
+/// A map that is square (predicate and leak maps) refuses `--size WxH` with `W ≠ H`.
+fn square(text: &str, w: u32, h: u32) -> Result<(), super::Error> {
+    if w != h {
+        return Err(
+            format!("--size {text}: this map is square, W by W pixels: give --size {w}").into(),
+        );
+    }
+    Ok(())
+}
+
 /// `render octree-heat`: octree cells per pixel.
 fn octree_heat(a: Args) -> Outcome {
     let names = if a.methods == "all" {
@@ -264,7 +280,8 @@ fn octree_heat(a: Args) -> Outcome {
 fn leak(a: Args) -> Outcome {
     let methods = parse_triangle_list(&a.methods)?;
     let json = JsonOut::new(a.json.as_deref())?;
-    let (w, _) = super::size(&a.size, true, 4096)?;
+    let (w, h) = super::size(&a.size, true, 4096)?;
+    square(&a.size, w, h)?;
     let (case, pair) = render::leak_case(a.shape, a.place, a.seed)
         .ok_or("no edge between two triangles facing the ray's origin could be found")?;
     let grid = render::LeakGrid::new(&case, pair, w);

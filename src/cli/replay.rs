@@ -138,6 +138,14 @@ pub fn run(a: Args) -> Outcome {
             }
         };
         let ray = d.ray();
+        if !crate::tet::all_finite(&[ray.org, ray.dir]) || ray.dir == glam::Vec3::ZERO {
+            return Err(place(&format!(
+                "the ray ({:?}, {:?}) is not one a walk was made of: a finite origin and a nonzero direction",
+                ray.org.to_array(),
+                ray.dir.to_array()
+            ))
+            .into());
+        }
         let start = locate(mesh, ray.org, 0).map_err(|e| place(&e))?;
         let max = default_max_steps(mesh);
         let on = backend.mesh(mesh);
@@ -168,10 +176,10 @@ impl Summary {
     /// Write the summary, say it, and end: an error when nothing was replayed, status 1 when a case
     /// changed.
     fn finish(self, out: JsonOut, nothing: &str, what: &str) -> Outcome {
-        out.finish(&self)?;
         if self.lines == 0 {
             return Err(nothing.into());
         }
+        out.finish(&self)?;
         eprintln!(
             "tetwalk replay: {} of {} {what} ({} changed, {} skipped)",
             self.same, self.lines, self.changed, self.skipped

@@ -89,12 +89,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Outcome {
-    if !(a.flatness > 0.0 && a.flatness <= 1.0) {
-        return Err(format!("--flatness {} is not in (0, 1]", a.flatness).into());
-    }
-    if a.ulps < 1 {
-        return Err(format!("--ulps {} is not a number of ulps (1 or more)", a.ulps).into());
-    }
+    super::generator(a.flatness, a.ulps)?;
     if let Some(seconds) = a.seconds
         && !(seconds.is_finite() && seconds >= 0.0)
     {
@@ -318,9 +313,6 @@ fn run_triangle(a: Args, cases: usize) -> Outcome {
     if a.compare || a.relabel.is_some() || !a.families.is_empty() {
         return Err("--compare, --relabel and --families are for --family exit-face".into());
     }
-    if !(a.flatness > 0.0 && a.flatness <= 1.0) || a.ulps < 1 {
-        return Err("--flatness must be in (0, 1] and --ulps 1 or more".into());
-    }
     let methods: Vec<&TriangleMethod> = parse_triangle_list(&a.methods)?;
     // A row's cases (about 1 KiB each with their exact answers) and one method's hits are held at once.
     super::fits(&format!("--cases {cases}"), cases as u128 * 2048)?;
@@ -400,8 +392,8 @@ fn rounds<R: serde::Serialize + Standings>(
 
 /// `stress --family octree`.
 fn run_octree(a: Args, cases: usize) -> Outcome {
-    if a.compare || a.relabel.is_some() || !a.families.is_empty() || a.ulps < 1 {
-        return Err("--compare, --relabel and --families are for --family exit-face; --ulps must be 1 or more".into());
+    if a.compare || a.relabel.is_some() || !a.families.is_empty() {
+        return Err("--compare, --relabel and --families are for --family exit-face".into());
     }
     let methods = parse_octree_list(&a.methods)?;
     // A row's cases with their exact answers (about 200 bytes each) are held at once.

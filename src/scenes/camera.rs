@@ -16,7 +16,12 @@ pub struct Camera {
 
 impl Camera {
     pub fn look_at(eye: Vec3, target: Vec3, fov_deg: f32, aspect: f32) -> Camera {
-        let forward = (target - eye).normalize();
+        // Scaled by a power of two to about 1 first: exactly the same unit vector where the squares
+        // neither underflow nor overflow, and a finite one for a model 1e-30 across.
+        let d = target - eye;
+        let e = d.abs().max_element().log2().floor().clamp(-127.0, 126.0) as i32;
+        let scale = 2f32.powi(-e);
+        let forward = (d * scale).normalize();
         let up0 = if forward.y.abs() > 0.99 {
             Vec3::Z
         } else {
