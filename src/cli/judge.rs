@@ -415,6 +415,9 @@ fn walk_answer(mut v: Value) -> Result<((usize, u32, u32), Walk), String> {
             .ok_or("\"steps\" is a count of tetrahedra")?,
     };
     let outcome: Ending = serde_json::from_value(v).map_err(|e| e.to_string())?;
+    if let Ending::Cycle { period: 0, .. } = outcome {
+        return Err("a cycle's \"period\" is 1 or more tetrahedra".into());
+    }
     Ok(((view, pixel[0], pixel[1]), Walk { outcome, steps }))
 }
 

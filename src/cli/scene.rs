@@ -78,6 +78,14 @@ pub fn run(s: Scene) -> Outcome {
             let json = JsonOut::new(json.as_deref())?;
             let m = Model::read(&model)?;
             let out = out.unwrap_or_else(|| model.with_extension(""));
+            let text = out.to_string_lossy();
+            if out.is_dir() || text.ends_with('/') || out.file_name().is_none() {
+                return Err(format!(
+                    "--out {text}: a stem names the files STEM.node, STEM.ele, STEM.neigh and STEM.face, not a folder (give, say, {}/scene)",
+                    text.trim_end_matches('/')
+                )
+                .into());
+            }
             let mesh = build_scene(
                 &m,
                 quality,
