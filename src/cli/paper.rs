@@ -19,6 +19,14 @@ pub struct Args {
     /// The papers' sizes: 1,282 views of 1024² (hours on two cores), Table 5 over 10,000 tetrahedra.
     #[arg(long)]
     full: bool,
+    /// Views of the counts and the walk speeds, instead of the size's (32, or 1,282 with `--full`):
+    /// a smaller run for a quick look, its size written in the report.
+    #[arg(long, allow_negative_numbers = true)]
+    views: Option<usize>,
+    /// Image side of the counts and the walk speeds, instead of the size's (256, or 1024 with
+    /// `--full`).
+    #[arg(long, allow_negative_numbers = true)]
+    side: Option<u32>,
     /// Backends of the counts, comma-separated (`cpu`, `cpu-fma`, `gpu`): one Table 4 column each.
     #[arg(long, default_value = "cpu,cpu-fma")]
     backend: String,
@@ -63,7 +71,17 @@ pub fn run(a: Args) -> Outcome {
         )
         .into());
     }
-    let size = if a.full { Size::FULL } else { Size::REDUCED };
+    let mut size = if a.full { Size::FULL } else { Size::REDUCED };
+    if let Some(v) = a.views {
+        size.views = super::view_count(v, "paper run")?;
+        size.bench_views = size.views;
+    }
+    if let Some(side) = a.side {
+        if !(1..=4096).contains(&side) {
+            return Err(format!("--side {side} is not 1..=4096 pixels").into());
+        }
+        size.side = side;
+    }
     if shard.held(size.views) == 0 {
         return Err(format!(
             "--shard {}: holds no view of the run's {}",
