@@ -91,6 +91,13 @@ pub fn beside(dest: &Path) -> std::io::Result<Staging> {
     })
 }
 
+/// Write `bytes` to `dest` whole or not at all (staged beside it, then renamed).
+pub fn write(dest: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut s = beside(dest)?;
+    std::io::Write::write_all(&mut s, bytes)?;
+    s.persist(dest)
+}
+
 /// Remove every staging file alive (an interrupted run's); returns how many were removed.
 pub fn remove_all() -> usize {
     let Ok(mut live) = LIVE.lock() else {

@@ -110,7 +110,7 @@ pub fn run(a: Args) -> Outcome {
                 f.kind().wrong_key(),
                 &stem[..stem.len().min(12)]
             ));
-            std::fs::write(&file, record.to_json() + "\n")
+            crate::staged::write(&file, (record.to_json() + "\n").as_bytes())
                 .map_err(|e| format!("{}: {e}", file.display()))?;
             println!(
                 "{}: {} {} ({})",

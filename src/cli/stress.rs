@@ -282,7 +282,7 @@ impl Filing {
             let written = file
                 .parent()
                 .map_or(Ok(()), std::fs::create_dir_all)
-                .and_then(|_| std::fs::write(&file, r.to_json() + "\n"));
+                .and_then(|_| crate::staged::write(&file, (r.to_json() + "\n").as_bytes()));
             if let Err(e) = written {
                 self.error = Some(format!("{}: {e}", file.display()));
                 return;
