@@ -94,7 +94,7 @@ pub enum OctreeError {
     #[error("depth {0} is more than {MAX_DEPTH}")]
     TooDeep(u32),
     #[error(
-        "depth 0: the root alone, no walk from cell to cell (an octree is 1 to {MAX_DEPTH} levels deep)"
+        "depth 0: the root alone would be a cell on its own grid (the rule that keeps every corner exact in f32), which cannot hold triangles on both sides of a multiple of its side; an octree is 1 to {MAX_DEPTH} levels deep"
     )]
     NoDepth,
     #[error("leaf capacity 0: every node would split to the deepest level")]
