@@ -97,6 +97,8 @@ pub enum OctreeError {
         "depth 0: the root alone would be a cell on its own grid (the rule that keeps every corner exact in f32), which cannot hold triangles on both sides of a multiple of its side; an octree is 1 to {MAX_DEPTH} levels deep"
     )]
     NoDepth,
+    #[error("no power-of-two cube on the grid of its deepest cells holds the triangles in f32")]
+    NoRoot,
     #[error("leaf capacity 0: every node would split to the deepest level")]
     NoCapacity,
     #[error("cell {cell} (level {level}, at {at:?}), face {face}: {why}")]
@@ -199,7 +201,7 @@ impl Octree {
         if !tris.iter().flatten().all(|p| p.is_finite()) {
             return Err(OctreeError::NonFinite);
         }
-        let (lo, size) = root(tris, s.depth);
+        let (lo, size) = root(tris, s.depth)?;
         let cell = |k: Key| -> (DVec3, DVec3) {
             let side = size as f64 / (1u64 << k.level) as f64;
             let l = lo.as_dvec3() + DVec3::from(k.at.map(|c| c as f64)) * side;
@@ -537,7 +539,7 @@ fn touching_children(n: Key, f: usize) -> [Key; 4] {
 
 /// The root cube: a power-of-two side `2^e ≥` the triangles' extent, its lower corner on the grid of
 /// the deepest cells, so that every cell corner is exact in f32.
-fn root(tris: &[Tri], depth: u32) -> (Vec3, f32) {
+fn root(tris: &[Tri], depth: u32) -> Result<(Vec3, f32), OctreeError> {
     let (lo, hi) = tris
         .iter()
         .flatten()
@@ -546,12 +548,14 @@ fn root(tris: &[Tri], depth: u32) -> (Vec3, f32) {
         });
     let extent = (hi - lo).max_element().max(f32::MIN_POSITIVE);
     let mut size = 2f32.powi(extent.log2().ceil() as i32);
-    loop {
+    while size.is_finite() {
         let cell = size / (1u32 << depth) as f32;
         let l = (lo / cell).floor() * cell;
-        if (hi - l).max_element() <= size {
-            return (l, size);
+        // In f64, exactly: l and size are multiples of the cell (an f32 difference could round down).
+        if (0..3).all(|a| hi[a] as f64 <= l[a] as f64 + size as f64) {
+            return Ok((l, size));
         }
         size *= 2.0;
     }
+    Err(OctreeError::NoRoot)
 }
