@@ -8,11 +8,15 @@ use std::sync::Mutex;
 /// The staging files alive now.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
-/// A staging file: removed when dropped unpersisted, and by [`remove_all`].
+/// A staging file: removed when dropped unpersisted, and by [`remove_all`]. Where the target is not a
+/// regular file (a device such as `/dev/stdout`, a FIFO), there is nothing to rename onto: the output
+/// is written straight into it.
 pub struct Staging {
     file: std::fs::File,
     path: PathBuf,
-    /// Removes the file when dropped, until persisted.
+    /// Where it is renamed to: the target, its symbolic links followed (a link stays a link).
+    target: PathBuf,
+    /// Removes the file when dropped, until persisted; `None` when writing straight into the target.
     guard: Option<tempfile::TempPath>,
 }
 
@@ -21,10 +25,11 @@ impl Staging {
         &mut self.file
     }
 
-    /// Rename it onto `dest`.
-    pub fn persist(mut self, dest: &Path) -> std::io::Result<()> {
+    /// Rename it onto its target (or, written straight into it, flush).
+    pub fn persist(mut self) -> std::io::Result<()> {
+        std::io::Write::flush(&mut self.file)?;
         match self.guard.take() {
-            Some(g) => g.persist(dest).map_err(|e| e.error),
+            Some(g) => g.persist(&self.target).map_err(|e| e.error),
             None => Ok(()),
         }
     }
@@ -63,11 +68,23 @@ pub fn target(dest: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
-/// A temporary file in the folder of `dest` (the current folder for a bare name), for renaming onto
-/// `dest` with [`Staging::persist`] once complete; an error when `dest` is a folder.
+/// A temporary file in the folder of `dest` (the current folder for a bare name; with symbolic links
+/// followed, the real target's folder), for renaming onto it with [`Staging::persist`] once complete;
+/// an error when `dest` is a folder. A target that exists and is not a regular file (a device, a
+/// FIFO) is opened and written straight into: renaming over it would replace it.
 pub fn beside(dest: &Path) -> std::io::Result<Staging> {
     target(dest)?;
-    let dir = match dest.parent() {
+    let real = std::fs::canonicalize(dest).unwrap_or_else(|_| dest.to_path_buf());
+    if std::fs::metadata(&real).is_ok_and(|m| !m.is_file()) {
+        let file = std::fs::OpenOptions::new().write(true).open(&real)?;
+        return Ok(Staging {
+            file,
+            path: real.clone(),
+            target: real,
+            guard: None,
+        });
+    }
+    let dir = match real.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
@@ -87,6 +104,7 @@ pub fn beside(dest: &Path) -> std::io::Result<Staging> {
     Ok(Staging {
         file,
         path,
+        target: real,
         guard: Some(guard),
     })
 }
@@ -95,7 +113,7 @@ pub fn beside(dest: &Path) -> std::io::Result<Staging> {
 pub fn write(dest: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut s = beside(dest)?;
     std::io::Write::write_all(&mut s, bytes)?;
-    s.persist(dest)
+    s.persist()
 }
 
 /// Remove every staging file alive (an interrupted run's); returns how many were removed.

@@ -470,3 +470,43 @@ fn fail_on_gives_ci_a_status() {
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("stp: 0 wrong of 1 judged"), "{err}");
 }
+
+/// An output given as a symbolic link writes its target and the link stays; one that is not a
+/// regular file (a FIFO here, `/dev/stdout` in use) is written straight into, never replaced.
+#[test]
+fn outputs_through_links_and_fifos_are_written_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let (real, link, fifo) = (
+        dir.path().join("real.json"),
+        dir.path().join("link.json"),
+        dir.path().join("fifo"),
+    );
+    std::fs::write(&real, "old").unwrap();
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let mut args = SMALL_COUNT.to_vec();
+    args.extend(["--methods", "stp", "--json", link.to_str().unwrap()]);
+    args.extend(["--dump", fifo.to_str().unwrap()]);
+    let (code, _, err) = tetwalk(&args, b"");
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    let report = std::fs::read_to_string(&real).unwrap();
+    assert!(report.contains("\"settings\""), "{report}");
+    let dumped = reader.join().unwrap();
+    assert_eq!(dumped, "", "stp is wrong nowhere: an empty dump");
+    let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+    assert!(
+        std::os::unix::fs::FileTypeExt::is_fifo(&kind),
+        "still a FIFO"
+    );
+}

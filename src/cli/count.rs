@@ -244,11 +244,14 @@ impl Dump {
     }
 
     pub(super) fn write(&mut self, w: &WrongRay) -> std::io::Result<()> {
-        if let Some(d) = self.0.as_mut() {
-            serde_json::to_writer(d.writer(), w)?;
-            d.writer().write_all(b"\n")?;
-        }
-        Ok(())
+        let Some(d) = self.0.as_mut() else {
+            return Ok(());
+        };
+        let path = d.path.display().to_string();
+        serde_json::to_writer(&mut *d.writer(), w)
+            .map_err(std::io::Error::from)
+            .and_then(|_| d.writer().write_all(b"\n"))
+            .map_err(|e| std::io::Error::new(e.kind(), format!("--dump {path}: {e}")))
     }
 
     pub(super) fn finish(self) -> Result<(), super::Error> {
@@ -291,25 +294,29 @@ fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
         tetrahedra: mesh.tets.len(),
         no_faces: a.no_faces,
     };
-    serde_json::to_writer(&mut w, &header)?;
-    w.write_all(b"\n")?;
     let (mut rays, mut counted) = (0u64, 0usize);
-    for (v, cam, start) in count::located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
-        counted += 1;
-        for (i, r) in views.rays(&cam).iter().enumerate() {
-            let pixel = [i as u32 % views.width, i as u32 / views.width];
-            let line = serde_json::json!({
-                "view": v, "pixel": pixel, "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
-            });
-            serde_json::to_writer(&mut w, &line)?;
-            w.write_all(b"\n")?;
-            rays += 1;
+    let mut lines = || -> std::io::Result<()> {
+        serde_json::to_writer(&mut w, &header)?;
+        w.write_all(b"\n")?;
+        for (v, cam, start) in count::located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
+            counted += 1;
+            for (i, r) in views.rays(&cam).iter().enumerate() {
+                let pixel = [i as u32 % views.width, i as u32 / views.width];
+                let line = serde_json::json!({
+                    "view": v, "pixel": pixel, "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
+                });
+                serde_json::to_writer(&mut w, &line)?;
+                w.write_all(b"\n")?;
+                rays += 1;
+            }
         }
-    }
+        w.flush()
+    };
+    lines().map_err(|e| format!("--rays-out {}: {e}", path.display()))?;
     if counted == 0 {
         return Err(count::CountError::NoView(views.views).into());
     }
-    w.into_inner().map_err(|e| e.into_error())?;
+    drop(w);
     staged.finish()?;
     println!(
         "{}: {rays} rays of {counted} views of scene {} (walk them through `tetwalk scene export {}` and judge your answers with `tetwalk judge {} ANSWERS`)",

@@ -468,7 +468,7 @@ impl Staged {
 
     fn finish(self) -> Result<(), Error> {
         self.tmp
-            .persist(&self.path)
+            .persist()
             .map_err(|e| format!("{}: {e}", self.path.display()))?;
         Ok(())
     }
@@ -504,8 +504,12 @@ impl JsonOut {
         let Some(mut staged) = self.0 else {
             return Ok(());
         };
-        serde_json::to_writer_pretty(staged.writer(), value)?;
-        staged.writer().write_all(b"\n")?;
+        let path = staged.path.display().to_string();
+        let at = |e: &dyn std::fmt::Display| format!("--json {path}: {e}");
+        let written = serde_json::to_writer_pretty(&mut *staged.writer(), value)
+            .map_err(|e| at(&e))
+            .and_then(|_| staged.writer().write_all(b"\n").map_err(|e| at(&e)));
+        written?;
         staged.finish()
     }
 }

@@ -238,7 +238,7 @@ pub fn build_scene(
         staged.push((tmp, to));
     }
     for (tmp, to) in staged {
-        tmp.persist(&to).map_err(SceneError::io(&to))?;
+        tmp.persist().map_err(SceneError::io(&to))?;
     }
     Ok(mesh)
 }
