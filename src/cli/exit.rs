@@ -90,6 +90,9 @@ pub(super) fn answer_lines(
     file: Option<&std::path::Path>,
     mut answer: impl FnMut(&[Line]) -> Result<String, super::Error>,
 ) -> Result<(), super::Error> {
+    if let Some(p) = file.filter(|p| p.is_dir()) {
+        return Err(format!("{}: is a folder, not a file of JSON lines", p.display()).into());
+    }
     let input: Box<dyn BufRead + Send> = match file {
         Some(p) => Box::new(std::io::BufReader::new(
             std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?,
