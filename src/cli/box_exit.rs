@@ -47,7 +47,7 @@ pub fn run(a: Args) -> Outcome {
         file: a.file.as_deref(),
         json: a.json.as_deref(),
         fail: a.fail,
-        standing: |t| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong),
+        standing: |t| Standing::cell(&t.method, t.right + t.wrong, t.wrong),
     }
     .run(
         |batch, summary| answer(batch, &methods, &backend, summary),

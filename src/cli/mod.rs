@@ -277,8 +277,8 @@ impl BackendArg {
 enum FailOn {
     /// Any method gave a wrong answer.
     Wrong,
-    /// A method's paper claim was refuted (the register's claims: `exact` and `certified` never
-    /// wrong, `woop-watertight` never leaks).
+    /// A method's claim was refuted (the register's claims: `exact` and `certified` never wrong, the
+    /// octree's `exact` cell test never wrong, `woop-watertight` never leaks).
     Claims,
 }
 
@@ -295,7 +295,8 @@ impl FailOn {
 #[derive(clap::Args, Clone, Copy, Debug)]
 struct FailArg {
     /// Exit with status 1 when a method gave a wrong answer (`wrong`) or when a method's claim was
-    /// refuted (`claims`: `exact` and `certified` wrong anywhere, `woop-watertight` leaking), after
+    /// refuted (`claims`: `exact` or `certified` wrong anywhere, the octree's `exact` too,
+    /// `woop-watertight` leaking), after
     /// writing everything the run writes; one summary line per method on standard error. Without it
     /// the status says only whether the run could be made.
     #[arg(long, value_enum, value_name = "RULE")]
@@ -322,7 +323,7 @@ impl FailArg {
             .collect();
         if rule == FailOn::Claims && standings.iter().all(|s| s.claim.is_none()) {
             eprintln!(
-                "tetwalk {command}: --fail-on claims: no method judged here makes a claim (exact and certified claim robustness, woop-watertight no leak)"
+                "tetwalk {command}: --fail-on claims: no method judged here makes a claim (exact and certified claim robustness, as the octree's exact does, woop-watertight no leak)"
             );
         }
         if failed.is_empty() {

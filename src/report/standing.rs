@@ -2,7 +2,7 @@
 //! its paper makes (the register's claims) was refuted. `--fail-on` turns standings into an exit
 //! status.
 
-use crate::registry::{METHODS, TRIANGLE_METHODS};
+use crate::registry::{METHODS, OCTREE_METHODS, TRIANGLE_METHODS};
 
 /// What a method's paper claims, and how often this run refuted it.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
@@ -57,7 +57,24 @@ impl Standing {
         }
     }
 
-    /// A method that claims nothing (octree cell methods, answers given from outside).
+    /// An octree cell method's standing: the exact reference claims `robust`, the seed's methods
+    /// nothing.
+    pub fn cell(method: &str, judged: u64, wrong: u64) -> Standing {
+        let exact = OCTREE_METHODS
+            .iter()
+            .any(|m| m.name == method && m.reference);
+        Standing {
+            method: method.to_string(),
+            judged,
+            wrong,
+            claim: exact.then_some(Claim {
+                claim: "robust",
+                refuted: Some(wrong),
+            }),
+        }
+    }
+
+    /// A method that claims nothing (answers given from outside).
     pub fn unclaimed(method: &str, judged: u64, wrong: u64) -> Standing {
         Standing {
             method: method.to_string(),
@@ -136,7 +153,7 @@ impl Standings for super::count::CountReport {
 impl Standings for super::octree::OctreeCountReport {
     fn standings(&self) -> Vec<Standing> {
         let each = self.methods.iter();
-        each.map(|m| Standing::unclaimed(&m.method, self.rays, m.wrong_total))
+        each.map(|m| Standing::cell(&m.method, self.rays, m.wrong_total))
             .collect()
     }
 }
@@ -177,7 +194,7 @@ impl Standings for super::octree::CellStressReport {
         summed(self.rows.iter().flat_map(|r| {
             r.tallies
                 .iter()
-                .map(|t| Standing::unclaimed(&t.method, t.judged, t.wrong))
+                .map(|t| Standing::cell(&t.method, t.judged, t.wrong))
         }))
     }
 }
