@@ -385,7 +385,7 @@ fn power_of_two(v: f32) -> String {
 fn prelude() -> String {
     let mut s = String::new();
     let _ = writeln!(s, "const GROUP: u32 = {GROUP}u;");
-    s += "const NONE: i32 = -1;\n";
+    let _ = writeln!(s, "const NONE: i32 = {};", super::NONE);
     let _ = writeln!(s, "const UNSETTLED: i32 = {UNSETTLED};");
     let _ = writeln!(s, "const FLAGGED: u32 = {FLAGGED}u;");
     {
