@@ -247,11 +247,8 @@ impl Dump {
         let Some(d) = self.0.as_mut() else {
             return Ok(());
         };
-        let path = d.path.display().to_string();
-        serde_json::to_writer(&mut *d.writer(), w)
-            .map_err(std::io::Error::from)
-            .and_then(|_| d.writer().write_all(b"\n"))
-            .map_err(|e| std::io::Error::new(e.kind(), format!("--dump {path}: {e}")))
+        serde_json::to_writer(&mut *d, w)?;
+        d.write_all(b"\n")
     }
 
     pub(super) fn finish(self) -> Result<(), super::Error> {
@@ -271,6 +268,23 @@ pub(super) struct RaysHeader {
     pub no_faces: bool,
 }
 
+/// The lines of `count --rays-out` for view `v` (camera `cam`, starting tetrahedron `start`): each
+/// ray's view, pixel, origin, direction and start.
+pub(super) fn ray_lines(
+    views: &Views,
+    v: usize,
+    cam: &crate::scenes::camera::Camera,
+    start: u32,
+) -> impl Iterator<Item = serde_json::Value> {
+    let width = views.width;
+    views.rays(cam).into_iter().enumerate().map(move |(i, r)| {
+        serde_json::json!({
+            "view": v, "pixel": [i as u32 % width, i as u32 / width],
+            "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
+        })
+    })
+}
+
 /// `count --rays-out FILE`: every ray of the views the shard holds whose camera is inside the mesh,
 /// with its view, pixel and starting tetrahedron.
 fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
@@ -286,7 +300,6 @@ fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
     held(shard, &views)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let mut staged = super::Staged::new("--rays-out", path)?;
-    let mut w = std::io::BufWriter::new(staged.writer());
     let header = RaysHeader {
         scene: a.scene.clone(),
         views,
@@ -294,28 +307,22 @@ fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
         tetrahedra: mesh.tets.len(),
         no_faces: a.no_faces,
     };
+    let mut w = std::io::BufWriter::new(&mut staged);
+    serde_json::to_writer(&mut w, &header)?;
+    w.write_all(b"\n")?;
     let (mut rays, mut counted) = (0u64, 0usize);
-    let mut lines = || -> std::io::Result<()> {
-        serde_json::to_writer(&mut w, &header)?;
-        w.write_all(b"\n")?;
-        for (v, cam, start) in count::located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
-            counted += 1;
-            for (i, r) in views.rays(&cam).iter().enumerate() {
-                let pixel = [i as u32 % views.width, i as u32 / views.width];
-                let line = serde_json::json!({
-                    "view": v, "pixel": pixel, "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
-                });
-                serde_json::to_writer(&mut w, &line)?;
-                w.write_all(b"\n")?;
-                rays += 1;
-            }
+    for (v, cam, start) in count::located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
+        counted += 1;
+        for line in ray_lines(&views, v, &cam, start) {
+            serde_json::to_writer(&mut w, &line)?;
+            w.write_all(b"\n")?;
+            rays += 1;
         }
-        w.flush()
-    };
-    lines().map_err(|e| format!("--rays-out {}: {e}", path.display()))?;
+    }
     if counted == 0 {
         return Err(count::CountError::NoView(views.views).into());
     }
+    w.flush()?;
     drop(w);
     staged.finish()?;
     println!(

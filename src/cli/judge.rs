@@ -345,14 +345,11 @@ fn check_rays(
     let shard = header.shard;
     let (mut rays, mut last) = (0u64, 1);
     for (v, cam, start) in count::located_views(mesh, views, |v| shard.holds(v), &|| ()) {
-        for (i, r) in views.rays(&cam).iter().enumerate() {
-            let pixel = [i as u32 % views.width, i as u32 / views.width];
-            let want = json!({
-                "view": v, "pixel": pixel, "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
-            });
+        for want in super::count::ray_lines(views, v, &cam, start) {
             let Some((n, line)) = lines.next() else {
                 return Err(format!(
-                    "{file}: ends after line {last}, {rays} rays, before view {v} pixel {pixel:?}: cut short? (its header names more)"
+                    "{file}: ends after line {last}, {rays} rays, before view {v} pixel {}: cut short? (its header names more)",
+                    want["pixel"]
                 )
                 .into());
             };
@@ -388,7 +385,7 @@ fn same_ray(got: &Value, want: &Value) -> bool {
     g.len() == w.len()
         && w.iter().all(|(k, wv)| match (k.as_str(), g.get(k)) {
             (_, None) => false,
-            ("org" | "dir", Some(gv)) => f32s(gv).is_some() && f32s(gv) == f32s(wv),
+            ("org" | "dir", Some(gv)) => f32s(gv).is_some_and(|g| Some(g) == f32s(wv)),
             (_, Some(gv)) => gv == wv,
         })
 }

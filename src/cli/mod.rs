@@ -447,9 +447,10 @@ impl WgslArg {
 
 /// A file written under a temporary name beside its target, made when the command starts (so an
 /// unwritable place fails before any work) and renamed onto the target when it is complete (so nothing
-/// half-written is left).
+/// half-written is left). Every error writing it names its flag and place.
 struct Staged {
     tmp: crate::staged::Staging,
+    flag: String,
     path: PathBuf,
 }
 
@@ -459,19 +460,31 @@ impl Staged {
             .map_err(|e| format!("{flag} {}: cannot write there: {e}", p.display()))?;
         Ok(Staged {
             tmp,
+            flag: flag.to_string(),
             path: p.to_path_buf(),
         })
     }
 
-    fn writer(&mut self) -> &mut std::fs::File {
-        self.tmp.as_file_mut()
+    /// `e`, with the flag and the place.
+    fn named(&self, e: std::io::Error) -> std::io::Error {
+        let place = format!("{} {}: {e}", self.flag, self.path.display());
+        std::io::Error::new(e.kind(), place)
     }
 
     fn finish(self) -> Result<(), Error> {
-        self.tmp
-            .persist()
-            .map_err(|e| format!("{}: {e}", self.path.display()))?;
+        let place = format!("{} {}", self.flag, self.path.display());
+        self.tmp.persist().map_err(|e| format!("{place}: {e}"))?;
         Ok(())
+    }
+}
+
+impl Write for Staged {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.tmp.write(buf).map_err(|e| self.named(e))
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.tmp.flush().map_err(|e| self.named(e))
     }
 }
 
@@ -505,12 +518,8 @@ impl JsonOut {
         let Some(mut staged) = self.0 else {
             return Ok(());
         };
-        let path = staged.path.display().to_string();
-        let at = |e: &dyn std::fmt::Display| format!("--json {path}: {e}");
-        let written = serde_json::to_writer_pretty(&mut *staged.writer(), value)
-            .map_err(|e| at(&e))
-            .and_then(|_| staged.writer().write_all(b"\n").map_err(|e| at(&e)));
-        written?;
+        serde_json::to_writer_pretty(&mut staged, value).map_err(std::io::Error::from)?;
+        staged.write_all(b"\n")?;
         staged.finish()
     }
 }

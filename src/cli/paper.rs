@@ -122,7 +122,7 @@ pub fn run(a: Args) -> Outcome {
 fn write(report: &PaperReport, mut out: Staged) -> Result<(), super::Error> {
     let text = report.markdown();
     print!("{text}");
-    out.writer().write_all(text.as_bytes())?;
+    out.write_all(text.as_bytes())?;
     out.finish()
 }
 

@@ -93,10 +93,7 @@ struct Drawn {
 fn write(path: &Path, im: &Image, drawn: &mut Drawn) -> Result<(), super::Error> {
     let png = im.png()?;
     let mut staged = super::Staged::new("--out", path)?;
-    staged
-        .writer()
-        .write_all(&png)
-        .map_err(|e| format!("--out {}: {e}", path.display()))?;
+    staged.write_all(&png)?;
     staged.finish()?;
     println!("{} ({}x{})", path.display(), im.width, im.height);
     drawn.files.push(path.display().to_string());

@@ -106,7 +106,7 @@ pub fn run(s: Scene) -> Outcome {
         } => {
             let mesh: Mesh = crate::scenes::load(&scene, super::faces(no_faces))?;
             let mut staged = super::Staged::new("scene export", &out)?;
-            serde_json::to_writer(staged.writer(), &Exported::of(&scene, &mesh))?;
+            serde_json::to_writer(&mut staged, &Exported::of(&scene, &mesh))?;
             staged.finish()?;
             println!(
                 "{}: scene {scene}, {} points, {} tetrahedra",
