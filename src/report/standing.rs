@@ -26,54 +26,6 @@ pub struct Standing {
 }
 
 impl Standing {
-    /// An exit-face method's standing: its claim (`robust`) refuted by every wrong answer.
-    pub fn exit_face(method: &str, judged: u64, wrong: u64) -> Standing {
-        let robust = METHODS.iter().any(|m| m.name == method && m.claims_robust);
-        Standing {
-            method: method.to_string(),
-            judged,
-            wrong,
-            claim: robust.then_some(Claim {
-                claim: "robust",
-                refuted: Some(wrong),
-            }),
-        }
-    }
-
-    /// A ray–triangle method's standing: its claim (`no leak`) refuted by its leaks, when the run
-    /// counts them.
-    pub fn triangle(method: &str, judged: u64, wrong: u64, leaks: Option<u64>) -> Standing {
-        let watertight = TRIANGLE_METHODS
-            .iter()
-            .any(|m| m.name == method && m.claims_watertight);
-        Standing {
-            method: method.to_string(),
-            judged,
-            wrong,
-            claim: watertight.then_some(Claim {
-                claim: "no leak",
-                refuted: leaks,
-            }),
-        }
-    }
-
-    /// An octree cell method's standing: the exact reference claims `robust`, the seed's methods
-    /// nothing.
-    pub fn cell(method: &str, judged: u64, wrong: u64) -> Standing {
-        let exact = OCTREE_METHODS
-            .iter()
-            .any(|m| m.name == method && m.reference);
-        Standing {
-            method: method.to_string(),
-            judged,
-            wrong,
-            claim: exact.then_some(Claim {
-                claim: "robust",
-                refuted: Some(wrong),
-            }),
-        }
-    }
-
     /// A method that claims nothing (answers given from outside).
     pub fn unclaimed(method: &str, judged: u64, wrong: u64) -> Standing {
         Standing {
@@ -82,6 +34,50 @@ impl Standing {
             wrong,
             claim: None,
         }
+    }
+
+    /// A method's standing with `claim` when it makes it.
+    fn claiming(method: &str, judged: u64, wrong: u64, makes: bool, claim: Claim) -> Standing {
+        Standing {
+            claim: makes.then_some(claim),
+            ..Standing::unclaimed(method, judged, wrong)
+        }
+    }
+
+    /// The claim `robust`, refuted by every wrong answer.
+    fn robust(wrong: u64) -> Claim {
+        Claim {
+            claim: "robust",
+            refuted: Some(wrong),
+        }
+    }
+
+    /// An exit-face method's standing: its claim (`robust`) refuted by every wrong answer.
+    pub fn exit_face(method: &str, judged: u64, wrong: u64) -> Standing {
+        let robust = METHODS.iter().any(|m| m.name == method && m.claims_robust);
+        Standing::claiming(method, judged, wrong, robust, Standing::robust(wrong))
+    }
+
+    /// A ray–triangle method's standing: its claim (`no leak`) refuted by its leaks, when the run
+    /// counts them.
+    pub fn triangle(method: &str, judged: u64, wrong: u64, leaks: Option<u64>) -> Standing {
+        let watertight = TRIANGLE_METHODS
+            .iter()
+            .any(|m| m.name == method && m.claims_watertight);
+        let claim = Claim {
+            claim: "no leak",
+            refuted: leaks,
+        };
+        Standing::claiming(method, judged, wrong, watertight, claim)
+    }
+
+    /// An octree cell method's standing: the exact reference claims `robust`, the seed's methods
+    /// nothing.
+    pub fn cell(method: &str, judged: u64, wrong: u64) -> Standing {
+        let exact = OCTREE_METHODS
+            .iter()
+            .any(|m| m.name == method && m.reference);
+        Standing::claiming(method, judged, wrong, exact, Standing::robust(wrong))
     }
 
     /// Its summary line: `method: W wrong of J judged`, then its claim's fate.
