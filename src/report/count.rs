@@ -574,12 +574,13 @@ pub fn merge<R: Sharded>(reports: &[(String, R)]) -> Result<R, MergeError> {
             field,
             why,
         })?;
-        let got = serde_json::json!({"same": r.same(), "shard": {"count": r.shard().count}});
-        let first_same = serde_json::json!({"same": want, "shard": {"count": count}});
-        if let Some((field, got, value)) = first_difference(&got, &first_same) {
+        let n = r.shard().count;
+        let other_count =
+            (n != count).then(|| ("shard.count".into(), n.to_string(), count.to_string()));
+        if let Some((field, got, value)) = first_difference(&r.same(), &want).or(other_count) {
             return Err(MergeError::Settings {
                 file: file.clone(),
-                field: field.trim_start_matches("same.").to_string(),
+                field,
                 got,
                 value,
                 first: first_name.clone(),
@@ -724,7 +725,6 @@ impl Sharded for CountReport {
                 format!("the first row is not the reference {}", s.reference),
             );
         }
-        let v = self.views_counted as f64;
         for (i, m) in self.methods.iter().enumerate() {
             let at = format!("methods[{i}] ({})", m.method);
             check_wrong(&at, m.wrong_total, &m.wrong.0, self.rays, i == 0)?;
@@ -749,43 +749,19 @@ impl Sharded for CountReport {
                     ),
                 );
             }
-            let p = &m.per_image;
-            let want = [
-                m.wrong_total,
-                m.wrong_face_adjacent,
-                m.wrong_face_elsewhere,
-                m.steps,
-            ];
-            let got = [
-                p.wrong,
-                p.wrong_face_adjacent,
-                p.wrong_face_elsewhere,
-                p.tetrahedra,
-            ];
-            let names = [
-                "wrong",
-                "wrong_face_adjacent",
-                "wrong_face_elsewhere",
-                "tetrahedra",
-            ];
-            for ((w, g), n) in want.iter().zip(got).zip(names) {
-                if g != *w as f64 / v {
-                    return inconsistent(
-                        format!("{at}.per_image.{n}"),
-                        format!("{g}, not its total {w} over {} views", self.views_counted),
-                    );
-                }
-            }
-            for (k, (w, g)) in OutcomeKind::ALL
-                .iter()
-                .zip(m.wrong.0.iter().zip(p.by_kind.0))
-            {
-                if g != *w as f64 / v {
-                    return inconsistent(
-                        format!("{at}.per_image.by_kind.{}", k.wrong_key()),
-                        format!("{g}, not its total {w} over {} views", self.views_counted),
-                    );
-                }
+            // The per-image figures are the totals' over the views, as `finish` makes them.
+            let mut derived = m.clone();
+            derived.finish(self.views_counted, self.rays);
+            let got = serde_json::json!(m.per_image);
+            let want = serde_json::json!(derived.per_image);
+            if let Some((field, got, want)) = first_difference(&got, &want) {
+                return inconsistent(
+                    format!("{at}.per_image.{field}"),
+                    format!(
+                        "{got}, not {want}, its total over {} views",
+                        self.views_counted
+                    ),
+                );
             }
         }
         Ok(())

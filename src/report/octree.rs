@@ -401,8 +401,10 @@ impl Sharded for OctreeCountReport {
         for (i, m) in self.methods.iter().enumerate() {
             let at = format!("methods[{i}] ({})", m.method);
             check_wrong(&at, m.wrong_total, &m.wrong, self.rays, false)?;
-            let per_image = m.wrong_total as f64 / self.views_counted as f64;
-            if m.wrong_per_image != per_image {
+            // As `finish` makes it from the total.
+            let mut derived = m.clone();
+            derived.finish(self.views_counted, self.rays);
+            if m.wrong_per_image != derived.wrong_per_image {
                 return inconsistent(
                     format!("{at}.wrong_per_image"),
                     format!(
