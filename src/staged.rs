@@ -13,23 +13,22 @@ static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// is written straight into it.
 pub struct Staging {
     file: std::fs::File,
-    path: PathBuf,
     /// Where it is renamed to: the target, its symbolic links followed (a link stays a link).
     target: PathBuf,
-    /// Removes the file when dropped, until persisted; `None` when writing straight into the target.
+    /// The staging file's path, which removes it when dropped, until persisted; `None` when writing
+    /// straight into the target.
     guard: Option<tempfile::TempPath>,
 }
 
 impl Staging {
-    pub fn as_file_mut(&mut self) -> &mut std::fs::File {
-        &mut self.file
-    }
-
     /// Rename it onto its target (or, written straight into it, flush).
     pub fn persist(mut self) -> std::io::Result<()> {
         std::io::Write::flush(&mut self.file)?;
         match self.guard.take() {
-            Some(g) => g.persist(&self.target).map_err(|e| e.error),
+            Some(g) => {
+                forget(&g);
+                g.persist(&self.target).map_err(|e| e.error)
+            }
             None => Ok(()),
         }
     }
@@ -47,7 +46,9 @@ impl std::io::Write for Staging {
 
 impl Drop for Staging {
     fn drop(&mut self) {
-        forget(&self.path);
+        if let Some(g) = &self.guard {
+            forget(g);
+        }
     }
 }
 
@@ -57,29 +58,22 @@ fn forget(path: &Path) {
     }
 }
 
-/// Whether `dest` can be written to: not a folder, in a folder that exists. Checked before any work.
-pub fn target(dest: &Path) -> std::io::Result<()> {
+/// A temporary file in the folder of `dest` (the current folder for a bare name; with symbolic links
+/// followed, the real target's folder), for renaming onto it with [`Staging::persist`] once complete;
+/// an error when `dest` is a folder. A target that exists and is not a regular file (a device, a
+/// FIFO) is opened and written straight into: renaming over it would replace it.
+pub fn beside(dest: &Path) -> std::io::Result<Staging> {
     if dest.is_dir() {
         return Err(std::io::Error::new(
             std::io::ErrorKind::IsADirectory,
             "is a folder: give a file's path",
         ));
     }
-    Ok(())
-}
-
-/// A temporary file in the folder of `dest` (the current folder for a bare name; with symbolic links
-/// followed, the real target's folder), for renaming onto it with [`Staging::persist`] once complete;
-/// an error when `dest` is a folder. A target that exists and is not a regular file (a device, a
-/// FIFO) is opened and written straight into: renaming over it would replace it.
-pub fn beside(dest: &Path) -> std::io::Result<Staging> {
-    target(dest)?;
     let real = std::fs::canonicalize(dest).unwrap_or_else(|_| dest.to_path_buf());
     if std::fs::metadata(&real).is_ok_and(|m| !m.is_file()) {
         let file = std::fs::OpenOptions::new().write(true).open(&real)?;
         return Ok(Staging {
             file,
-            path: real.clone(),
             target: real,
             guard: None,
         });
@@ -97,13 +91,11 @@ pub fn beside(dest: &Path) -> std::io::Result<Staging> {
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     let (file, guard) = builder.tempfile_in(dir)?.into_parts();
-    let path = guard.to_path_buf();
     if let Ok(mut live) = LIVE.lock() {
-        live.push(path.clone());
+        live.push(guard.to_path_buf());
     }
     Ok(Staging {
         file,
-        path,
         target: real,
         guard: Some(guard),
     })
