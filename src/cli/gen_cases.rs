@@ -129,9 +129,8 @@ pub fn run(a: Args) -> Outcome {
         else {
             continue;
         };
-        // Only cases `exit` can judge: finite, a tetrahedron that is not flat, a direction.
-        let finite = crate::tet::all_finite(&t) && crate::tet::all_finite(&[ray.org, ray.dir]);
-        if !finite || ray.dir == Vec3::ZERO || crate::tet::orientation(&t) == 0 {
+        // Only cases `exit` can judge: finite, a direction, a tetrahedron that is not flat.
+        if crate::exact::check_ray(&t, &ray).is_err() || crate::tet::orientation(&t) == 0 {
             continue;
         }
         let entry = if a.with_entry {

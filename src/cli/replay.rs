@@ -138,14 +138,13 @@ pub fn run(a: Args) -> Outcome {
             }
         };
         let ray = d.ray();
-        if !crate::tet::all_finite(&[ray.org, ray.dir]) || ray.dir == glam::Vec3::ZERO {
-            return Err(place(&format!(
-                "the ray ({:?}, {:?}) is not one a walk was made of: a finite origin and a nonzero direction",
+        crate::exact::check_ray(&[], &ray).map_err(|e| {
+            place(&format!(
+                "the ray ({:?}, {:?}) is not one a walk was made of ({e}): a finite origin and a nonzero direction",
                 ray.org.to_array(),
                 ray.dir.to_array()
             ))
-            .into());
-        }
+        })?;
         let start = locate(mesh, ray.org, 0).map_err(|e| place(&e))?;
         let max = default_max_steps(mesh);
         let on = backend.mesh(mesh);

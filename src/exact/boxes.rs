@@ -30,12 +30,7 @@ pub struct BoxExit {
 
 /// Where the line of `ray` leaves the closed box `[lo, hi]` (`lo < hi` on every axis), exactly.
 pub fn box_exit(lo: Vec3, hi: Vec3, ray: &Ray) -> Result<BoxExit, ExactError> {
-    if ![lo, hi, ray.org, ray.dir].iter().all(|v| v.is_finite()) {
-        return Err(ExactError::NonFinite);
-    }
-    if ray.dir == Vec3::ZERO {
-        return Err(ExactError::ZeroDirection);
-    }
+    super::check_ray(&[lo, hi], ray)?;
     if (0..3).any(|a| lo[a] >= hi[a]) {
         return Err(ExactError::FlatBox);
     }

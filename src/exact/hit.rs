@@ -4,7 +4,7 @@
 use super::ExactError;
 use super::rational::{det, neg, q3, sub};
 use crate::mesh::Mesh;
-use crate::tet::{Ray, all_finite, orientation};
+use crate::tet::{Ray, orientation};
 use glam::Vec3;
 use rug::Rational;
 
@@ -54,12 +54,7 @@ pub struct RayHit {
 /// triangle.
 pub fn ray_triangle(tri: [Vec3; 3], ray: &Ray) -> Result<RayHit, ExactError> {
     let [a, b, c] = tri;
-    if !all_finite(&tri) || !all_finite(&[ray.org, ray.dir]) {
-        return Err(ExactError::NonFinite);
-    }
-    if ray.dir == Vec3::ZERO {
-        return Err(ExactError::ZeroDirection);
-    }
+    super::check_ray(&tri, ray)?;
     if (0..3).all(|k| super::normal_dot(a, b, c, super::unit(k)) == 0) {
         return Err(ExactError::FlatTriangle);
     }

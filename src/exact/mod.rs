@@ -77,13 +77,19 @@ struct Signs {
     orient: i8,
 }
 
-fn check(tet: &Tet, ray: &Ray) -> Result<i8, ExactError> {
-    if !all_finite(tet) || !all_finite(&[ray.org, ray.dir]) {
+/// Whether the oracle can take `points` and `ray`: every coordinate finite, a nonzero direction.
+pub fn check_ray(points: &[Vec3], ray: &Ray) -> Result<(), ExactError> {
+    if !all_finite(points) || !all_finite(&[ray.org, ray.dir]) {
         return Err(ExactError::NonFinite);
     }
     if ray.dir == Vec3::ZERO {
         return Err(ExactError::ZeroDirection);
     }
+    Ok(())
+}
+
+fn check(tet: &Tet, ray: &Ray) -> Result<i8, ExactError> {
+    check_ray(tet, ray)?;
     match orientation(tet) {
         0 => Err(ExactError::FlatTet),
         s => Ok(s),
