@@ -363,28 +363,7 @@ fn sharded_counts_merge_to_the_whole_count() {
 fn a_shard_whose_reference_is_wrong_somewhere_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("a.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
-        .args([
-            "count",
-            "--scene",
-            "kuhn",
-            "--views",
-            "2",
-            "--size",
-            "8x8",
-            "--methods",
-            "stp",
-        ])
-        .args(["--json", p.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let mut v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    let (_, mut v) = count("2", &p, "kuhn");
     v["methods"][0]["wrong_total"] = 7.into();
     v["methods"][0]["wrong"]["no_exit_face"] = 7.into();
     std::fs::write(&p, v.to_string()).unwrap();
