@@ -302,7 +302,7 @@ fn a_failed_judge_writes_no_report_and_fail_on_wrong_gates() {
     let json = at("summary.json");
     // An answer for a line without a case: status 2, and no summary.
     let (code, _, err) = judge(
-        "{\"line\":1,\"face\":0}\n{\"line\":2,\"hit\":true,\"t\":1}\n{\"line\":3,\"tri\":0,\"t\":2.5}\n{\"line\":9,\"face\":1}\n",
+        &format!("{RIGHT}{{\"line\":9,\"face\":1}}\n"),
         &["--json", &json],
     );
     assert_eq!(code, 2, "{err}");
@@ -318,10 +318,9 @@ fn a_failed_judge_writes_no_report_and_fail_on_wrong_gates() {
     let (code, _, err) = judge(wrong, &["--fail-on", "wrong", "--name", "kernel"]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("kernel: 3 wrong of 3 judged"), "{err}");
-    let right = RIGHT;
-    let (code, _, err) = judge(right, &["--fail-on", "wrong"]);
+    let (code, _, err) = judge(RIGHT, &["--fail-on", "wrong"]);
     assert_eq!(code, 0, "{err}");
-    let (code, _, err) = judge(right, &["--fail-on", "claims"]);
+    let (code, _, err) = judge(RIGHT, &["--fail-on", "claims"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--fail-on wrong"), "{err}");
 }
