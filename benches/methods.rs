@@ -8,7 +8,8 @@ use tetwalk::exact::classify;
 use tetwalk::mesh::layout::Layout;
 use tetwalk::methods::Model;
 use tetwalk::registry::METHODS;
-use tetwalk::scenes::tets::{Family, stabbing_ray, tet};
+use tetwalk::registry::Named;
+use tetwalk::scenes::tets::{TetShape, stabbing_ray, tet};
 use tetwalk::scenes::{self, Generated, rng};
 use tetwalk::walk::layouts::{Kind, Source};
 use tetwalk::walk::{default_max_steps, locate};
@@ -17,20 +18,20 @@ fn exit_faces(c: &mut Criterion) {
     let mut r = rng(1);
     let cases: Vec<_> = (0..4096)
         .map(|_| {
-            let t = tet(Family::Well, 1.0, &mut r);
+            let t = tet(TetShape::Well, 1.0, &mut r);
             let ray = stabbing_ray(&t, &mut r);
             let entry = classify(&t, &ray).unwrap().entry.first();
             (t, ray, entry)
         })
         .collect();
     let mut g = c.benchmark_group("exit_face_4096_cases");
-    for m in METHODS.iter().filter(|m| m.name != "exact") {
+    for m in METHODS.iter().filter(|m| m.name() != "exact") {
         for model in [Model::Plain, Model::Fused] {
             let exit = m.exit(model);
             let name = if model == Model::Fused {
-                format!("{} fma", m.name)
+                format!("{} fma", m.name())
             } else {
-                m.name.to_string()
+                m.name().to_string()
             };
             g.bench_function(name, |b| {
                 b.iter(|| {
@@ -56,9 +57,9 @@ fn walks(c: &mut Criterion) {
         .filter_map(|ray| Some((ray, locate(&mesh, ray.org, 0).ok()?)))
         .collect();
     let mut g = c.benchmark_group("walk_2048_rays_jitter12");
-    for m in METHODS.iter().filter(|m| m.name != "exact") {
+    for m in METHODS.iter().filter(|m| m.name() != "exact") {
         let walk = m.walk(Model::Plain);
-        g.bench_function(m.name, |b| {
+        g.bench_function(m.name(), |b| {
             b.iter(|| {
                 rays.iter()
                     .map(|(ray, s)| walk(&mesh, ray, *s, max).steps)
@@ -67,7 +68,7 @@ fn walks(c: &mut Criterion) {
         });
         if let Some(lw) = m.layout_walk(Model::Plain) {
             for kind in [Kind::Tet32, Kind::Tet20, Kind::Tet16] {
-                g.bench_function(format!("{} {kind:?}", m.name), |b| {
+                g.bench_function(format!("{} {kind:?}", m.name()), |b| {
                     b.iter(|| {
                         rays.iter()
                             .map(|(ray, s)| {

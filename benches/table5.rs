@@ -5,8 +5,9 @@
 //! 512 rays); `TABLE5_FULL=1` for the paper's 10,000 × 16,384 (needs about 40 GB and long).
 
 use glam::Vec3;
-use tetwalk::methods::table5_queries;
+use tetwalk::engine::bench::table5_queries;
 use tetwalk::registry::METHODS;
+use tetwalk::registry::Named;
 use tetwalk::scenes::{self, Generated};
 use tetwalk::walk::{default_max_steps, locate};
 
@@ -33,9 +34,9 @@ fn main() {
     let times: Vec<(&str, f64)> = METHODS
         .iter()
         .map(|m| {
-            let repeats = if m.reference { 1 } else { 5 };
+            let repeats = if m.is_reference() { 1 } else { 5 };
             let (secs, _) = m.time_queries()(&tets, &queries, repeats);
-            (m.name, secs * 1e9 / queries.len() as f64)
+            (m.name(), secs * 1e9 / queries.len() as f64)
         })
         .collect();
     let base = times
@@ -94,7 +95,7 @@ fn walk_table(
             let walk = m.walk(tetwalk::methods::Model::Plain);
             let mut best = f64::INFINITY;
             let mut steps = 0;
-            for _ in 0..if m.reference { 1 } else { 3 } {
+            for _ in 0..if m.is_reference() { 1 } else { 3 } {
                 let t0 = std::time::Instant::now();
                 steps = rays
                     .iter()
@@ -102,7 +103,7 @@ fn walk_table(
                     .sum::<u64>();
                 best = best.min(t0.elapsed().as_secs_f64());
             }
-            (m.name, best * 1e9 / steps as f64, steps)
+            (m.name(), best * 1e9 / steps as f64, steps)
         })
         .collect();
     let base = walks.iter().find(|w| w.0 == "maria17").map_or(1.0, |w| w.1);

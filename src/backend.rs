@@ -5,7 +5,7 @@
 //! whatever the backend (it has no GPU version), and reports say so.
 
 use crate::cases::{BoxCase, Case, HitCase, normalized};
-use crate::choice::Choice;
+pub use crate::choice::{BackendKind, Ran};
 use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
@@ -17,34 +17,6 @@ use crate::walk::Walk;
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
 use crate::walk::octree::OctreeWalk;
 use rayon::prelude::*;
-
-/// Which backend: the one spelling used by every command (`--backend`), found cases and reports.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum BackendKind {
-    /// The CPU, every product and sum rounded as written.
-    Cpu,
-    /// The CPU as a GPU compiler may compile the method: `a·b + c` contracted to fused multiply-adds.
-    CpuFma,
-    /// The CPU as a GPU may compute: subnormal inputs read as zero, subnormal results flushed to zero.
-    CpuFtz,
-    /// A GPU through wgpu (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME`).
-    Gpu,
-}
-
-crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", CpuFtz => "cpu-ftz", Gpu => "gpu" });
-
-impl BackendKind {
-    /// The arithmetic model of a CPU backend (none for a GPU, whose compiler and driver choose).
-    pub fn model(self) -> Option<Model> {
-        match self {
-            BackendKind::Cpu => Some(Model::Plain),
-            BackendKind::CpuFma => Some(Model::Fused),
-            BackendKind::CpuFtz => Some(Model::Flushed),
-            BackendKind::Gpu => None,
-        }
-    }
-}
 
 /// Why a backend cannot give an answer.
 #[derive(Debug, thiserror::Error)]
@@ -67,6 +39,9 @@ pub enum BackendError {
         "method '{0}' answered UNSETTLED (-2), which asks the CPU to finish, and it has no CPU version"
     )]
     Unsettled(&'static str),
+    /// A case the backend cannot place (a walk case's origin outside its mesh).
+    #[error("{0}")]
+    Case(String),
 }
 
 /// Fewer items than this are answered on the calling thread: handing a few to the thread pool costs
@@ -160,20 +135,20 @@ impl Backend {
         }
     }
 
-    /// The backend's name, with the adapter and driver for a GPU.
-    pub fn describe(&self) -> String {
-        match self {
-            Backend::Gpu(g) => format!("gpu: {}", g.describe()),
-            b => b.kind().name().to_string(),
+    /// The backend's kind, with the adapter and driver for a GPU.
+    pub fn ran(&self) -> Ran {
+        Ran {
+            kind: self.kind(),
+            adapter: match self {
+                Backend::Gpu(g) => Some(g.describe()),
+                Backend::Cpu { .. } => None,
+            },
         }
     }
 
-    /// The adapter and driver, for a GPU.
-    pub fn adapter(&self) -> Option<String> {
-        match self {
-            Backend::Gpu(g) => Some(g.describe()),
-            Backend::Cpu { .. } => None,
-        }
+    /// The backend's name, with the adapter and driver for a GPU ([`Ran`]'s text).
+    pub fn describe(&self) -> String {
+        self.ran().to_string()
     }
 
     /// Whether walks here report a kernel time (a GPU with timestamp queries).
@@ -268,7 +243,9 @@ impl Backend {
         cases: &[Case],
     ) -> Result<(Vec<Option<usize>>, Option<f64>), BackendError> {
         match self.for_method(method) {
-            Backend::Cpu { .. } if !method.runs_on_cpu => Err(BackendError::GpuOnly(method.name)),
+            Backend::Cpu { .. } if !method.info.runs_on_cpu => {
+                Err(BackendError::GpuOnly(method.info.name))
+            }
             Backend::Cpu { model } => {
                 let exit = method.exit(*model);
                 let faces = map_all(cases, |c| {
@@ -285,8 +262,8 @@ impl Backend {
                     .map(|(c, (tet, entry, _))| gpu::shader::Case::new(tet, &c.ray(), *entry))
                     .collect();
                 let done = g.exit_faces(method, &input)?;
-                if !method.runs_on_cpu && done.items.contains(&gpu::shader::UNSETTLED) {
-                    return Err(BackendError::Unsettled(method.name));
+                if !method.info.runs_on_cpu && done.items.contains(&gpu::shader::UNSETTLED) {
+                    return Err(BackendError::Unsettled(method.info.name));
                 }
                 // What the GPU could not settle, the CPU answers.
                 let exit = method.exit(Model::Plain);
@@ -421,7 +398,7 @@ impl Backend {
             Backend::Cpu { model } => {
                 let walk = method
                     .layout_walk(*model)
-                    .ok_or(BackendError::NoLayoutWalk(method.name))?;
+                    .ok_or(BackendError::NoLayoutWalk(method.info.name))?;
                 Ok(LayoutWalked {
                     walks: map_all(rays, |(r, s)| {
                         walk(kind, on.layout, on.points, r, s, max_steps)
@@ -470,7 +447,9 @@ impl Backend {
         max_steps: u32,
     ) -> Result<Walked, BackendError> {
         match self.for_method(method) {
-            Backend::Cpu { .. } if !method.runs_on_cpu => Err(BackendError::GpuOnly(method.name)),
+            Backend::Cpu { .. } if !method.info.runs_on_cpu => {
+                Err(BackendError::GpuOnly(method.info.name))
+            }
             Backend::Cpu { model } => {
                 let walks = method.walks(*model);
                 Ok(Walked {
@@ -492,8 +471,8 @@ impl Backend {
                 }
                 let done = g.walks(method, uploaded, rays, max_steps)?;
                 let flagged = done.items.par_iter().filter(|e| e.walk().is_none()).count();
-                if flagged > 0 && !method.runs_on_cpu {
-                    return Err(BackendError::Unsettled(method.name));
+                if flagged > 0 && !method.info.runs_on_cpu {
+                    return Err(BackendError::Unsettled(method.info.name));
                 }
                 // Flagged rays (a step the GPU could not settle) are walked on the CPU.
                 let walk = method.walk(Model::Plain);

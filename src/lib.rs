@@ -1,6 +1,6 @@
 //! tetwalk: finds out, with proof, when ray traversal of tetrahedral meshes goes wrong in f32.
 //!
-//! Data flows one way, and so do the imports (tests/layering.rs checks it): files written whole
+//! Data flows one way, and so do the imports (tests/layering.rs states each module's allowed imports and checks them): files written whole
 //! (`staged`) → the floating-point environment (`fpenv`) → geometry (`tet`, with the named value sets of `choice`) → `mesh` → `octree` → oracle
 //! (`exact`) → `scenes` (generators, cameras) → `methods` → `walk` (outcomes, judging) → `registry` →
 //! the case format (`cases`) → `gpu` → `backend` → `found` → `report` → `conformance` (the kit that
@@ -10,11 +10,12 @@ pub mod backend;
 pub mod cases;
 pub mod choice;
 pub mod cli;
-pub mod conformance;
+pub mod engine;
 pub mod exact;
-pub mod found;
+pub mod family;
 pub mod fpenv;
 pub mod gpu;
+pub mod kit;
 pub mod mesh;
 pub mod methods;
 pub mod octree;

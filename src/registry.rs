@@ -20,28 +20,6 @@ use crate::walk::octree::{self as walk_octree, OctreeWalk};
 use crate::walk::{self, CheckedWalkFn, WalkFn, WalksFn};
 use glam::Vec3;
 
-/// What kind of traversal step a method answers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Family {
-    /// The face through which a ray leaves a tetrahedron (seeds 000 and 003).
-    ExitFace,
-    /// Whether and where a ray hits a triangle (seed 004).
-    Triangle,
-    /// The face and the quarter of it through which a ray leaves an octree cell (seed 001).
-    Octree,
-}
-
-impl Family {
-    pub fn name(self) -> &'static str {
-        match self {
-            Family::ExitFace => "exit-face",
-            Family::Triangle => "triangle",
-            Family::Octree => "octree",
-        }
-    }
-}
-
 /// A method's GPU identity: its WGSL sources (those it builds on first, as its Rust `use`s), which define `fn IDENT_prepare(o: vec3f, d: vec3f) -> R`
 /// (once per ray) and `fn IDENT_exit(t: ptr<function, array<vec3f, 4>>, r: R, entry: i32) -> i32`
 /// (`IDENT` is [`Method::ident`]); or why it has none.
@@ -49,6 +27,102 @@ impl Family {
 pub enum Gpu {
     Wgsl(&'static [&'static str]),
     CpuOnly(&'static str),
+}
+
+/// What a method's paper (or tetwalk, for its own) claims it never gets wrong: the register's claims.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Claim {
+    /// Never a wrong answer.
+    Robust,
+    /// A ray through a shared edge or vertex of a closed mesh hits at least one of the triangles
+    /// there: no leak (watertight). Claimed for f32 as written: not with products fused or subnormals
+    /// flushed.
+    NoLeak,
+}
+
+impl Claim {
+    /// `robust`, `no leak`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Claim::Robust => "robust",
+            Claim::NoLeak => "no leak",
+        }
+    }
+
+    /// Whether it is claimed only of f32 as written (plain on the CPU, or whatever a GPU's compiler
+    /// makes of the WGSL), not with products fused or subnormals flushed.
+    pub fn as_written_only(self) -> bool {
+        self == Claim::NoLeak
+    }
+}
+
+/// What every registered method is, whatever its family: the header of its registry row.
+#[derive(Clone, Copy, Debug)]
+pub struct Info {
+    pub name: &'static str,
+    /// Paper and algorithm it implements.
+    pub source: &'static str,
+    /// Its claim, which fuzzing, replay and `--fail-on claims` hold it to.
+    pub claim: Option<Claim>,
+    /// Whether it is its family's reference (exact; never judged itself, and run on the CPU
+    /// whatever the backend).
+    pub reference: bool,
+    /// Whether a paper publishes it (the others are tetwalk's own).
+    pub published: bool,
+    /// Whether tetwalk vouches for its claim: `TETWALK_FUZZ_METHOD=ours` (CI, ClusterFuzzLite) holds
+    /// it to that claim, and any failure there is a bug.
+    pub ours: bool,
+    /// Whether it has a CPU version: every method but a user's WGSL ([`USER_WGSL`]), which the backend
+    /// runs only on a GPU.
+    pub runs_on_cpu: bool,
+    pub gpu: Gpu,
+}
+
+impl Info {
+    /// A published method, claiming nothing, run on the CPU and (with its WGSL) the GPU.
+    const fn published(name: &'static str, source: &'static str, gpu: Gpu) -> Info {
+        Info {
+            name,
+            source,
+            claim: None,
+            reference: false,
+            published: true,
+            ours: false,
+            runs_on_cpu: true,
+            gpu,
+        }
+    }
+
+    /// A family's reference: tetwalk's exact oracle, claiming robustness.
+    const fn reference(name: &'static str, source: &'static str, why: &'static str) -> Info {
+        Info {
+            claim: Some(Claim::Robust),
+            reference: true,
+            published: false,
+            ours: true,
+            ..Info::published(name, source, Gpu::CpuOnly(why))
+        }
+    }
+
+    /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
+    const fn outside(name: &'static str) -> Info {
+        Info {
+            published: false,
+            ..Info::published(
+                name,
+                "a method outside tetwalk",
+                Gpu::CpuOnly("written in Rust outside tetwalk"),
+            )
+        }
+    }
+
+    /// The same with `claim`.
+    const fn claiming(self, claim: Claim) -> Info {
+        Info {
+            claim: Some(claim),
+            ..self
+        }
+    }
 }
 
 const RAY_PLANE: &str = include_str!("methods/ray_plane.wgsl");
@@ -87,23 +161,9 @@ fn exit_fn<M: ExitMethod, A: Arith>(tet: &Tet, ray: &Ray, entry: Option<usize>) 
     })
 }
 
-/// A registered method.
+/// A registered exit-face method (seeds 000 and 003): one tetrahedron's exit face, and the walks.
 pub struct Method {
-    pub name: &'static str,
-    pub family: Family,
-    /// Paper and algorithm it implements.
-    pub source: &'static str,
-    /// Whether its paper claims it never fails in f32 (fuzzing and the replay hold it to that).
-    pub claims_robust: bool,
-    /// Whether it is the reference every other method is judged against (it is never judged itself,
-    /// and runs on the CPU whatever the backend).
-    pub reference: bool,
-    /// Whether a paper publishes it (the others are tetwalk's own: the reference and `certified`).
-    pub published: bool,
-    /// Whether it has a CPU version: every method but a user's WGSL ([`USER_WGSL`]), which the
-    /// backend runs only on a GPU.
-    pub runs_on_cpu: bool,
-    pub gpu: Gpu,
+    pub info: Info,
     exit: [ExitFn; MODELS],
     walk: [WalkFn; MODELS],
     walks: [WalksFn; MODELS],
@@ -116,21 +176,9 @@ pub struct Method {
 pub type TimeQueriesFn = fn(&[Tet], &[Query], usize) -> (f64, usize);
 
 impl Method {
-    const fn of<M: ExitMethod>(
-        name: &'static str,
-        source: &'static str,
-        claims_robust: bool,
-        gpu: Gpu,
-    ) -> Self {
+    const fn of<M: ExitMethod>(info: Info) -> Self {
         Method {
-            name,
-            family: Family::ExitFace,
-            source,
-            claims_robust,
-            reference: false,
-            published: true,
-            runs_on_cpu: true,
-            gpu,
+            info,
             exit: by_model!(exit_fn, M),
             walk: by_model!(walk::walk, M),
             walks: by_model!(walk::walks, M),
@@ -147,22 +195,14 @@ impl Method {
     {
         Method {
             layout_walk: Some(by_model!(layouts::walk_layout_unobserved, M)),
-            ..Self::of::<M>(name, source, false, gpu)
+            ..Self::of::<M>(Info::published(name, source, gpu))
         }
     }
 
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's): judged
     /// on the CPU, plain or fused, like the registered ones.
     pub fn outside<M: ExitMethod>(name: &'static str) -> Self {
-        Method {
-            published: false,
-            ..Self::of::<M>(
-                name,
-                "a method outside tetwalk",
-                false,
-                Gpu::CpuOnly("written in Rust outside tetwalk"),
-            )
-        }
+        Self::of::<M>(Info::outside(name))
     }
 
     /// The exit function, in an arithmetic model.
@@ -196,59 +236,58 @@ impl Method {
     }
 }
 
-/// Every method, in the order reports list them.
+/// A published exit-face method with its WGSL.
+const fn published<M: ExitMethod>(name: &'static str, source: &'static str, gpu: Gpu) -> Method {
+    Method::of::<M>(Info::published(name, source, gpu))
+}
+
+/// Every exit-face method, in the order reports list them.
 pub static METHODS: &[Method] = &[
-    Method {
-        reference: true,
-        published: false,
-        ..Method::of::<Exact>(
-            "exact",
-            "exact oracle with Simulation of Simplicity tie-breaking (reference)",
-            true,
-            Gpu::CpuOnly("the oracle needs exact integer arithmetic (rug), which WGSL lacks"),
-        )
-    },
-    Method::of::<RayPlane>(
+    Method::of::<Exact>(Info::reference(
+        "exact",
+        "exact oracle with Simulation of Simplicity tie-breaking (reference)",
+        "the oracle needs exact integer arithmetic (rug), which WGSL lacks",
+    )),
+    published::<RayPlane>(
         "ray-plane",
         "Lagae & Dutré 2008 after Garrity 1990: four ray/plane intersections, smallest t (reconstructed)",
-        false,
         Gpu::Wgsl(&[RAY_PLANE]),
     ),
-    Method::of::<HalfSpace>(
+    published::<HalfSpace>(
         "halfspace",
         "Lagae & Dutré 2008: half-space classification (reconstructed)",
-        false,
         Gpu::Wgsl(&[RAY_PLANE, HALFSPACE]),
     ),
-    Method::of::<Plucker>(
+    published::<Plucker>(
         "plucker",
         "Lagae & Dutré 2008 after Platis & Theoharis 2003: six Plücker side products (reconstructed)",
-        false,
         Gpu::Wgsl(&[PLUCKER]),
     ),
-    Method::of::<Stp>(
+    published::<Stp>(
         "stp",
         "Lagae & Dutré 2008: three to six scalar triple products with early outs (reconstructed)",
-        false,
         Gpu::Wgsl(&[STP]),
     ),
-    Method::of::<Ms06>(
+    published::<Ms06>(
         "ms06",
         "Marmitt & Slusallek 2006: Plücker tests from the entry face, 2.67 on average (reconstructed)",
-        false,
         Gpu::Wgsl(&[PLUCKER, MS06]),
     ),
     Method::of::<Maria17<MomentFirst>>(
-        "maria17",
-        "Maria, Horna, Aveneau 2017, Algorithms 1-2, Tables 1-2, translated frame of §3.4 by its formula v' = v - V_f × u",
-        true,
-        Gpu::Wgsl(&[MARIA17]),
+        Info::published(
+            "maria17",
+            "Maria, Horna, Aveneau 2017, Algorithms 1-2, Tables 1-2, translated frame of §3.4 by its formula v' = v - V_f × u",
+            Gpu::Wgsl(&[MARIA17]),
+        )
+        .claiming(Claim::Robust),
     ),
     Method::of::<Maria17<OriginFirst>>(
-        "maria17-translated",
-        "Maria, Horna, Aveneau 2017 as maria17, §3.4 by its stated order of operations v' = (o - V_f) × u",
-        true,
-        Gpu::Wgsl(&[MARIA17, MARIA17_TRANSLATED]),
+        Info::published(
+            "maria17-translated",
+            "Maria, Horna, Aveneau 2017 as maria17, §3.4 by its stated order of operations v' = (o - V_f) × u",
+            Gpu::Wgsl(&[MARIA17, MARIA17_TRANSLATED]),
+        )
+        .claiming(Claim::Robust),
     ),
     Method::planar::<Aman20>(
         "aman20",
@@ -260,34 +299,34 @@ pub static METHODS: &[Method] = &[
         "Aman, Demirci, Güdükbay §4.1: specialised scaled basis (eqs. 1-3), Algorithm 1; walks Tet32/20/16",
         Gpu::Wgsl(&[AMAN20, AMAN20_SCALED]),
     ),
-    Method {
+    Method::of::<Certified>(Info {
         published: false,
-        ..Method::of::<Certified>(
+        ours: true,
+        ..Info::published(
             "certified",
             "tetwalk: Maria et al.'s Algorithm 1 (Platis & Theoharis' six signs in the starting tetrahedron) with each side product's sign certified by an f32 error bound (Shewchuk's o3derrboundA), else decided exactly with exact's tie-breaking",
-            true,
             // The f32 stage; what it cannot settle, the CPU finishes exactly.
             Gpu::Wgsl(&[CERTIFIED]),
         )
-    },
+        .claiming(Claim::Robust)
+    }),
 ];
 
 /// A user's WGSL exit-face functions (`--wgsl FILE`; the signature is `gpu::shader::USER_SIGNATURE`), spliced
 /// into the GPU's module as method `user` when the backend is opened with them; judged like every
 /// method, on the GPU only.
-pub static USER_WGSL: Method = Method {
+pub static USER_WGSL: Method = Method::of::<WgslOnly>(Info {
     published: false,
     runs_on_cpu: false,
-    ..Method::of::<WgslOnly>(
+    ..Info::published(
         "user",
         "a user's WGSL exit-face function (--wgsl FILE)",
-        false,
         Gpu::Wgsl(&[]),
     )
-};
+});
 
 /// The CPU side of [`USER_WGSL`], which has none: the backend refuses to run it on a CPU
-/// ([`Method::runs_on_cpu`]), so this answer is never asked for.
+/// ([`Info::runs_on_cpu`]), so this answer is never asked for.
 struct WgslOnly;
 
 impl ExitMethod for WgslOnly {
@@ -298,13 +337,17 @@ impl ExitMethod for WgslOnly {
     }
 }
 
-/// A registered method of any family, by name.
+/// A registered method of any family: its registry row's [`Info`].
 pub trait Named: Sync + 'static {
-    fn name(&self) -> &'static str;
+    fn info(&self) -> &Info;
+
+    fn name(&self) -> &'static str {
+        self.info().name
+    }
 
     /// Whether it is its family's reference, which runs on the CPU whatever the backend.
     fn is_reference(&self) -> bool {
-        false
+        self.info().reference
     }
 
     /// The name as a WGSL identifier (`-` becomes `_`).
@@ -314,28 +357,20 @@ pub trait Named: Sync + 'static {
 }
 
 impl Named for Method {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-
-    fn is_reference(&self) -> bool {
-        self.reference
+    fn info(&self) -> &Info {
+        &self.info
     }
 }
 
 impl Named for OctreeMethod {
-    fn name(&self) -> &'static str {
-        self.name
-    }
-
-    fn is_reference(&self) -> bool {
-        self.reference
+    fn info(&self) -> &Info {
+        &self.info
     }
 }
 
 impl Named for TriangleMethod {
-    fn name(&self) -> &'static str {
-        self.name
+    fn info(&self) -> &Info {
+        &self.info
     }
 }
 
@@ -347,7 +382,8 @@ pub struct UnknownMethod {
     known: String,
 }
 
-fn find<T: Named>(all: &'static [T], name: &str) -> Result<&'static T, UnknownMethod> {
+/// The method of `all` called `name`.
+pub fn find<T: Named>(all: &'static [T], name: &str) -> Result<&'static T, UnknownMethod> {
     all.iter()
         .find(|m| m.name() == name)
         .ok_or_else(|| UnknownMethod {
@@ -358,7 +394,7 @@ fn find<T: Named>(all: &'static [T], name: &str) -> Result<&'static T, UnknownMe
 
 /// Methods of `all` from a comma-separated list, where `all` stands for every one; each named once, in
 /// the order given.
-fn list<T: Named>(all: &'static [T], list: &str) -> Result<Vec<&'static T>, UnknownMethod> {
+pub fn list<T: Named>(all: &'static [T], list: &str) -> Result<Vec<&'static T>, UnknownMethod> {
     let mut out: Vec<&'static T> = Vec::new();
     for n in list.split(',').map(str::trim) {
         let add: Vec<&'static T> = if n == "all" {
@@ -380,27 +416,12 @@ pub fn by_name(name: &str) -> Result<&'static Method, UnknownMethod> {
     find(METHODS, name)
 }
 
-/// The reference method (`exact`).
+/// The exit-face reference (`exact`).
 pub fn reference() -> &'static Method {
     METHODS
         .iter()
-        .find(|m| m.reference)
+        .find(|m| m.info.reference)
         .expect("the registry has a reference method")
-}
-
-/// Exit-face methods from a comma-separated list ([`list`]).
-pub fn parse_list(names: &str) -> Result<Vec<&'static Method>, UnknownMethod> {
-    list(METHODS, names)
-}
-
-/// The ray–triangle method called `name`.
-pub fn triangle_by_name(name: &str) -> Result<&'static TriangleMethod, UnknownMethod> {
-    find(TRIANGLE_METHODS, name)
-}
-
-/// Ray–triangle methods from a comma-separated list ([`list`]).
-pub fn parse_triangle_list(names: &str) -> Result<Vec<&'static TriangleMethod>, UnknownMethod> {
-    list(TRIANGLE_METHODS, names)
 }
 
 /// One method's answer for a ray and a triangle: the `t` of a hit that counts ([`triangle::hit`]).
@@ -410,36 +431,21 @@ pub type TraceFn = fn(&[Tri], &[Ray], usize) -> Vec<Option<(u32, f32)>>;
 /// Every hit of one ray among triangles, in triangle order ([`triangle::hits`]).
 pub type HitsFn = fn(&[Tri], &Ray) -> Vec<(u32, f32)>;
 
-/// A registered ray–triangle method (the [`Family::Triangle`] family).
+/// A registered ray–triangle method (seed 004).
 pub struct TriangleMethod {
-    pub name: &'static str,
-    /// Paper and algorithm it implements.
-    pub source: &'static str,
-    /// Whether its paper claims it is watertight: a ray through a shared edge or vertex of a closed
-    /// mesh hits at least one of the triangles there (fuzzing and the replay hold it to that).
-    pub claims_watertight: bool,
+    pub info: Info,
     /// Whether it shares work across a packet of rays with one origin.
     pub packet: bool,
-    pub gpu: Gpu,
     hit: [HitFn; MODELS],
     trace: [TraceFn; MODELS],
     hits: [HitsFn; MODELS],
 }
 
 impl TriangleMethod {
-    const fn of<M: HitMethod>(
-        name: &'static str,
-        source: &'static str,
-        claims_watertight: bool,
-        packet: bool,
-        gpu: Gpu,
-    ) -> Self {
+    const fn of<M: HitMethod>(info: Info, packet: bool) -> Self {
         TriangleMethod {
-            name,
-            source,
-            claims_watertight,
+            info,
             packet,
-            gpu,
             hit: by_model!(triangle::hit, M),
             trace: by_model!(triangle::trace, M),
             hits: by_model!(triangle::hits, M),
@@ -448,13 +454,7 @@ impl TriangleMethod {
 
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
     pub fn outside<M: HitMethod>(name: &'static str) -> Self {
-        Self::of::<M>(
-            name,
-            "a method outside tetwalk",
-            false,
-            false,
-            Gpu::CpuOnly("written in Rust outside tetwalk"),
-        )
+        Self::of::<M>(Info::outside(name), false)
     }
 
     /// The test of one ray and one triangle, in an arithmetic model.
@@ -482,46 +482,56 @@ const TRI_WOOP: &str = include_str!("methods/triangle/woop.wgsl");
 /// Every ray–triangle method, in the order reports list them.
 pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
     TriangleMethod::of::<Mt>(
-        "mt",
-        "Möller & Trumbore 1997 as seed 004 eq. 1 describes it: front side tested first (back faces culled), then u, v, t",
+        Info::published(
+            "mt",
+            "Möller & Trumbore 1997 as seed 004 eq. 1 describes it: front side tested first (back faces culled), then u, v, t",
+            Gpu::Wgsl(&[TRI_MT]),
+        ),
         false,
-        false,
-        Gpu::Wgsl(&[TRI_MT]),
     ),
     TriangleMethod::of::<MtTwoSided>(
-        "mt-two-sided",
-        "Möller & Trumbore 1997, seed 004 eq. 1's other reading: both sides, 1/det first",
+        Info::published(
+            "mt-two-sided",
+            "Möller & Trumbore 1997, seed 004 eq. 1's other reading: both sides, 1/det first",
+            Gpu::Wgsl(&[TRI_MT]),
+        ),
         false,
-        false,
-        Gpu::Wgsl(&[TRI_MT]),
     ),
     TriangleMethod::of::<MtPrecomputed>(
-        "mt-precomputed",
-        "seed 004 eq. 2: N, E1, E2 precomputed per triangle (Barzel's jgt collection)",
+        Info::published(
+            "mt-precomputed",
+            "seed 004 eq. 2: N, E1, E2 precomputed per triangle (Barzel's jgt collection)",
+            Gpu::Wgsl(&[TRI_MT_PRECOMPUTED]),
+        ),
         false,
-        false,
-        Gpu::Wgsl(&[TRI_MT_PRECOMPUTED]),
     ),
     TriangleMethod::of::<KomatsuPacket>(
-        "komatsu-packet",
-        "Komatsu et al., seed 004 eq. 3 and Figure 3: N·S, -S×E2, S×E1 once per packet, early termination",
-        false,
+        Info::published(
+            "komatsu-packet",
+            "Komatsu et al., seed 004 eq. 3 and Figure 3: N·S, -S×E2, S×E1 once per packet, early termination",
+            Gpu::Wgsl(&[TRI_MT_PRECOMPUTED, TRI_KOMATSU]),
+        ),
         true,
-        Gpu::Wgsl(&[TRI_MT_PRECOMPUTED, TRI_KOMATSU]),
     ),
     TriangleMethod::of::<PluckerPacket>(
-        "plucker-packet",
-        "Benthin 2006 as seed 004 §2 describes it: packet origin at the coordinate origin, three dot products per ray",
-        false,
+        Info::published(
+            "plucker-packet",
+            "Benthin 2006 as seed 004 §2 describes it: packet origin at the coordinate origin, three dot products per ray",
+            Gpu::Wgsl(&[TRI_PLUCKER_PACKET]),
+        ),
         true,
-        Gpu::Wgsl(&[TRI_PLUCKER_PACKET]),
     ),
     TriangleMethod::of::<WoopWatertight>(
-        "woop-watertight",
-        "Woop, Benthin, Wald 2013, Listing 1: sheared ray space, f64 edge functions when one is 0 (the robustness anchor)",
-        true,
+        Info {
+            ours: true,
+            ..Info::published(
+                "woop-watertight",
+                "Woop, Benthin, Wald 2013, Listing 1: sheared ray space, f64 edge functions when one is 0 (the robustness anchor)",
+                Gpu::Wgsl(&[TRI_WOOP]),
+            )
+            .claiming(Claim::NoLeak)
+        },
         false,
-        Gpu::Wgsl(&[TRI_WOOP]),
     ),
 ];
 
@@ -564,27 +574,19 @@ fn exact_octree_traced(
     (exact_octree_walk(o, tris, h, ray, max), Vec::new())
 }
 
-/// A registered octree method (the [`Family::Octree`] family). Its WGSL defines `fn IDENT_pi(o: vec3f,
-/// d: vec3f) -> array<f32, 6>` (eq. 1) and uses the shared cell test, `portalez16_cell`.
+/// A registered octree method (seed 001). Its WGSL defines `fn IDENT_pi(o: vec3f, d: vec3f) ->
+/// array<f32, 6>` (eq. 1) and uses the shared cell test, `portalez16_cell`.
 pub struct OctreeMethod {
-    pub name: &'static str,
-    /// Paper and algorithm it implements.
-    pub source: &'static str,
-    /// Whether it is the reference (exact; never judged itself).
-    pub reference: bool,
-    pub gpu: Gpu,
+    pub info: Info,
     exit: [BoxExitFn; MODELS],
     walk: [OctreeWalkFn; MODELS],
     traced: [OctreeTracedFn; MODELS],
 }
 
 impl OctreeMethod {
-    const fn of<M: CellMethod>(name: &'static str, source: &'static str, gpu: Gpu) -> Self {
+    const fn of<M: CellMethod>(info: Info) -> Self {
         OctreeMethod {
-            name,
-            source,
-            reference: false,
-            gpu,
+            info,
             exit: by_model!(cell_exit, M),
             walk: by_model!(walk_octree::walk, M),
             traced: by_model!(walk_octree::walk_traced, M),
@@ -593,11 +595,7 @@ impl OctreeMethod {
 
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
     pub fn outside<M: CellMethod>(name: &'static str) -> Self {
-        Self::of::<M>(
-            name,
-            "a method outside tetwalk",
-            Gpu::CpuOnly("written in Rust outside tetwalk"),
-        )
+        Self::of::<M>(Info::outside(name))
     }
 
     /// The exit face and quarter of one cell, in an arithmetic model.
@@ -619,32 +617,23 @@ impl OctreeMethod {
 /// Every octree method, in the order reports list them.
 pub static OCTREE_METHODS: &[OctreeMethod] = &[
     OctreeMethod {
-        name: "exact",
-        source: "the exact oracle: the first exact exit face and quarter (reference)",
-        reference: true,
-        gpu: Gpu::CpuOnly("the oracle needs exact rational arithmetic (rug), which WGSL lacks"),
+        info: Info::reference(
+            "exact",
+            "the exact oracle: the first exact exit face and quarter (reference)",
+            "the oracle needs exact rational arithmetic (rug), which WGSL lacks",
+        ),
         exit: [exact_box_exit; MODELS],
         walk: [exact_octree_walk; MODELS],
         traced: [exact_octree_traced; MODELS],
     },
-    OctreeMethod::of::<Portalez16<portalez16::Points>>(
+    OctreeMethod::of::<Portalez16<portalez16::Points>>(Info::published(
         "portalez16",
         "Portalez & Duguet 2016, eqs. 1 (Q = o + d rounded to f32, as printed), 4-10 and §4.2.3",
         Gpu::Wgsl(&[PORTALEZ16]),
-    ),
-    OctreeMethod::of::<Portalez16<portalez16::Direction>>(
+    )),
+    OctreeMethod::of::<Portalez16<portalez16::Direction>>(Info::published(
         "portalez16-direction",
         "Portalez & Duguet 2016 as portalez16, eq. 1 read with Q - P = d substituted (pi2 = dx, ...)",
         Gpu::Wgsl(&[PORTALEZ16]),
-    ),
+    )),
 ];
-
-/// The octree method called `name`.
-pub fn octree_by_name(name: &str) -> Result<&'static OctreeMethod, UnknownMethod> {
-    find(OCTREE_METHODS, name)
-}
-
-/// Octree methods from a comma-separated list ([`list`]).
-pub fn parse_octree_list(names: &str) -> Result<Vec<&'static OctreeMethod>, UnknownMethod> {
-    list(OCTREE_METHODS, names)
-}

@@ -8,8 +8,10 @@ use common::{any_case, config, gpu_or_skip, model};
 use glam::Vec3;
 use proptest::prelude::*;
 use tetwalk::backend::{Backend, BackendKind};
-use tetwalk::cases::{Subject, classify};
+use tetwalk::cases::classify;
+use tetwalk::engine::found::Found;
 use tetwalk::exact::side;
+use tetwalk::family::ExitFace;
 use tetwalk::methods::certified::{Bound, GRADUAL, f32_stage};
 use tetwalk::methods::maria17::FACE_VERTICES;
 use tetwalk::registry::by_name;
@@ -22,10 +24,7 @@ use tetwalk::tet::{Case, Ray};
 const UNDERFLOW_CASE: &str = r#"{"tet":[[8.673617379884035e-19,0.0,0.0],[-1099511627776.0,0.0,-1099511627776.0],[8.673617379884035e-19,1099511627776.0,4398046511104.0],[0.0,-1099511627776.0,-4398046511104.0]],"org":[0.0,0.0,0.0],"dir":[0.0,4.0389678347315804e-28,1.2116903504194741e-27],"entry":0}"#;
 
 fn underflow_case() -> Case {
-    match Subject::parse(UNDERFLOW_CASE).unwrap() {
-        Subject::Exit(c) => c,
-        _ => unreachable!("an exit-face case"),
-    }
+    Found::<ExitFace>::parse(UNDERFLOW_CASE).unwrap().case
 }
 
 #[test]

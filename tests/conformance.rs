@@ -1,20 +1,21 @@
 //! The conformance kit judges like tetwalk's own reports: a registered method run through the kit (as
 //! a user's type) fails exactly the stress cases `tetwalk stress` counts for it, and the kit's report
-//! holds a case the method answers wrongly. The user-side routes are in `examples/conformance/`.
+//! holds a case the method answers wrongly, which read back fails again. The user-side routes are in
+//! `examples/conformance/`.
 
 use tetwalk::backend::CPU;
-use tetwalk::choice::Choice;
-use tetwalk::conformance::{Accept, Settings, check_exit_faces, check_triangles};
+use tetwalk::engine::found::Found;
+use tetwalk::engine::stress::{self, StressSettings};
+use tetwalk::family::{ExitFace, Family, OctreeCells, Triangle};
+use tetwalk::kit::{self, Accept, Failed, Passed, Settings};
 use tetwalk::methods::Model;
 use tetwalk::methods::triangle::Mt;
 use tetwalk::methods::{Certified, Plucker};
-use tetwalk::registry::by_name;
-use tetwalk::report::stress::{self, Row};
+use tetwalk::registry::Named;
 
 fn lenient() -> Settings {
     Settings {
         cases: 400,
-        rays: 300,
         properties: 400,
         accept: Accept {
             per_million: 1e6,
@@ -24,112 +25,73 @@ fn lenient() -> Settings {
     }
 }
 
+/// Each stress row of family `F` of `tetwalk stress` for registered method `name`, beside the kit's
+/// group of the same row for the same method run as a user's type: the same cases judged, the same
+/// failures; some row fails.
+fn kit_counts_as_stress_does<F: Family>(passed: &Passed, name: &str, s: &Settings) {
+    let st = StressSettings::<F> {
+        cases: F::kit_row_cases(s.cases),
+        rows: Default::default(),
+        seed: s.seed,
+        backend: CPU.ran(),
+    };
+    let m = tetwalk::family::by_name::<F>(name).unwrap();
+    let report = stress::run(&st, &[m], &CPU, &|_| {}, &mut |_| {}).unwrap();
+    let mut failed_somewhere = false;
+    for row in &report.rows {
+        let t = &row.tallies[0].counts;
+        let group = format!("stress row {}", F::row_name(&row.row));
+        let g = passed.groups.iter().find(|g| g.name == group).unwrap();
+        assert_eq!(
+            (g.judged, g.failed),
+            (F::judged(&row.facts, t), F::wrong(t)),
+            "{group}"
+        );
+        failed_somewhere |= g.failed > 0;
+    }
+    assert!(failed_somewhere, "{name} fails some stress row");
+}
+
 #[test]
 fn the_kit_counts_what_stress_counts_for_the_same_arithmetic() {
     let s = lenient();
-    let passed = check_exit_faces::<Plucker>("plucker", &s).unwrap();
-    let st = stress::Settings {
-        cases: s.cases,
-        rows: Row::ALL.to_vec(),
-        seed: s.seed,
-        backend: "cpu".into(),
-        flatness: 1e-3,
-        ulps: 4,
-        relabel: [0, 1, 2, 3],
-    };
-    let report = stress::run(
-        &st,
-        &[by_name("plucker").unwrap()],
-        &CPU,
-        &|_| {},
-        &mut |_, _, _, _| {},
-    )
-    .unwrap();
-    let mut failed_somewhere = false;
-    for row in &report.rows {
-        let t = &row.tallies[0];
-        let family = format!("stress row {}", row.row.name());
-        let (_, judged, failed) = passed
-            .families
-            .iter()
-            .find(|(f, _, _)| *f == family)
-            .unwrap();
-        assert_eq!(
-            (*judged, *failed),
-            (t.judged, t.wrong_face + t.no_exit_face),
-            "{family}"
-        );
-        failed_somewhere |= *failed > 0;
-    }
-    assert!(failed_somewhere, "plucker in f32 fails some stress row");
+    let passed = kit::exit_faces::<Plucker>(&s).unwrap();
+    kit_counts_as_stress_does::<ExitFace>(&passed, "plucker", &s);
+}
+
+#[test]
+fn the_kit_counts_what_octree_stress_counts() {
+    use tetwalk::methods::portalez16::{Direction, Portalez16};
+    let s = lenient();
+    let passed = kit::cells::<Portalez16<Direction>>(&s).unwrap();
+    kit_counts_as_stress_does::<OctreeCells>(&passed, "portalez16-direction", &s);
 }
 
 #[test]
 fn certified_passes_the_kit_and_mt_is_caught() {
     let strict = Settings {
         cases: 400,
-        rays: 300,
         properties: 400,
         ..Settings::default()
     };
-    check_exit_faces::<Certified>("certified", &strict).unwrap();
-    let failed = check_triangles::<Mt>("mt", &strict).unwrap_err();
-    // The report names the method and family and gives the case on one line, judged wrong again.
+    kit::exit_faces::<Certified>(&strict).unwrap();
+    let failed = kit::triangles::<Mt>(&strict).unwrap_err();
+    // The report names the method and group and gives the case on one line, judged wrong again.
     let text = failed.to_string();
     assert!(
-        text.contains("`mt`") && text.contains(&failed.family),
+        text.contains("`Mt`") && text.contains(&failed.group),
         "{text}"
     );
-    let case = tetwalk::cases::Subject::parse(&failed.case()).unwrap();
-    let tetwalk::cases::Subject::Hit(case) = case else {
-        panic!("{text}")
-    };
-    let truth = tetwalk::cases::judge_hit(&case).unwrap();
-    let hits = mt_hits(&case);
+    assert!(failed.reproduced, "{text}");
+    let case = Found::<Triangle>::parse(&failed.case).unwrap().case;
+    let truth = Triangle::truth(&case).unwrap();
+    let hits = tetwalk::family::by_name::<Triangle>("mt")
+        .unwrap()
+        .hits(Model::Plain)(case.tris(), &case.ray());
     assert!(
         !truth.right(tetwalk::methods::triangle::nearest_of(&hits).map(|h| h.0)),
         "{text}"
     );
-}
-
-fn mt_hits(case: &tetwalk::cases::HitCase) -> Vec<(u32, f32)> {
-    tetwalk::registry::triangle_by_name("mt")
-        .unwrap()
-        .hits(Model::Plain)(case.tris(), &case.ray())
-}
-
-#[test]
-fn the_kit_counts_what_octree_stress_counts() {
-    use tetwalk::methods::portalez16::{Direction, Portalez16};
-    use tetwalk::scenes::cells::{Aim, Place};
-    let s = lenient();
-    let passed = tetwalk::conformance::check_cells::<Portalez16<Direction>>("p16d", &s).unwrap();
-    let st = tetwalk::report::octree::StressSettings {
-        cases: s.cases,
-        aims: Aim::ALL.to_vec(),
-        places: Place::ALL.to_vec(),
-        seed: s.seed,
-        backend: "cpu".into(),
-        ulps: 4,
-    };
-    let m = tetwalk::registry::octree_by_name("portalez16-direction").unwrap();
-    let report = tetwalk::report::octree::stress(&st, &[m], &CPU, &mut |_, _| {}).unwrap();
-    let mut failed_somewhere = false;
-    for row in &report.rows {
-        let family = format!("stress row {}-{}", row.aim.name(), row.place.name());
-        let (_, judged, failed) = passed
-            .families
-            .iter()
-            .find(|(f, _, _)| *f == family)
-            .unwrap();
-        assert_eq!(
-            (*judged, *failed),
-            (row.tallies[0].judged, row.tallies[0].wrong),
-            "{family}"
-        );
-        failed_somewhere |= *failed > 0;
-    }
-    assert!(failed_somewhere, "corner rows reach eq. 8's 7");
 }
 
 /// Wrong exactly where the line only touches the tetrahedron (the perturbed line misses it): a face
@@ -163,7 +125,6 @@ impl tetwalk::methods::ExitMethod for WrongWhereTouching {
 fn touch_only_accepts_touching_lines_alone() {
     let with = |touch_only: bool| Settings {
         cases: 400,
-        rays: 100,
         properties: 400,
         accept: Accept {
             touch_only,
@@ -171,25 +132,35 @@ fn touch_only_accepts_touching_lines_alone() {
         },
         ..Settings::default()
     };
-    check_exit_faces::<WrongWhereTouching>("touching", &with(true)).unwrap();
+    kit::exit_faces::<WrongWhereTouching>(&with(true)).unwrap();
     // The perturbed line's exit face: none where the line only touches.
-    let perturbed = |caught: &tetwalk::conformance::Failed| {
-        let case = tetwalk::cases::Subject::parse(&caught.case()).unwrap();
-        let tetwalk::cases::Subject::Exit(c) = case else {
-            panic!("{caught}")
-        };
+    let perturbed = |caught: &Failed| {
+        let c = Found::<ExitFace>::parse(&caught.case).unwrap().case;
         let (tet, _, _) = tetwalk::cases::normalized(&c);
         tetwalk::exact::perturbed_exit(&tet, &c.ray()).unwrap().0
     };
-    let caught = check_exit_faces::<WrongWhereTouching>("touching", &with(false)).unwrap_err();
+    let caught = kit::exit_faces::<WrongWhereTouching>(&with(false)).unwrap_err();
     assert_eq!(
         perturbed(&caught),
         None,
         "caught where it touches: {caught}"
     );
-    let caught = check_exit_faces::<Plucker>("plucker", &with(true)).unwrap_err();
+    let caught = kit::exit_faces::<Plucker>(&with(true)).unwrap_err();
     assert!(
         perturbed(&caught).is_some(),
         "the case Plücker fails on is crossed, not touched: {caught}"
     );
+    assert!(caught.reproduced, "{caught}");
+    // The kit names a method by its type, without module paths.
+    assert_eq!(caught.method, "Plucker");
+}
+
+#[test]
+fn a_registered_method_through_the_kit_is_named_as_registered() {
+    let passed = kit::registered::<ExitFace>("certified", &lenient())
+        .unwrap()
+        .unwrap();
+    assert!(passed.groups.iter().all(|g| g.failed == 0 && g.judged > 0));
+    let m = tetwalk::family::by_name::<ExitFace>("certified").unwrap();
+    assert_eq!(m.name(), "certified");
 }

@@ -109,9 +109,11 @@ fn count_is_consistent_and_the_reference_is_never_wrong() {
 fn the_count_judges_and_tallies_every_kind_as_it_is() {
     use glam::Vec3;
     use tetwalk::backend::BackendKind;
+    use tetwalk::engine::count::wrong_rays;
+    use tetwalk::family::count::Counts;
+    use tetwalk::family::walk::MethodCount;
+    use tetwalk::family::wrong::{Class, Seen};
     use tetwalk::registry::{by_name, reference};
-    use tetwalk::report::count::{MethodCount, wrong_rays};
-    use tetwalk::report::wrong::{Class, Seen};
     use tetwalk::scenes::{Generated, generated_mesh};
     use tetwalk::tet::Ray;
     use tetwalk::walk::{Outcome, OutcomeKind, Walk, default_max_steps, locate};
@@ -184,9 +186,9 @@ fn the_count_judges_and_tallies_every_kind_as_it_is() {
     assert_eq!(wrong[0].exact.vertices, Some(right_face));
     let mut total = MethodCount::default();
     for w in &wrong {
-        total.add(w.kind().unwrap(), w.class);
+        total.add_wrong(w.kind().unwrap(), w.class);
     }
-    total.finish(2, 14);
+    total.finish(2);
     assert_eq!(total.wrong.0, [2, 1, 1, 1, 1]);
     assert_eq!(
         (total.wrong_face_adjacent, total.wrong_face_elsewhere),
@@ -200,23 +202,34 @@ fn the_count_judges_and_tallies_every_kind_as_it_is() {
 /// and a line that misses, each where it belongs.
 #[test]
 fn the_stress_tally_counts_each_answer_where_it_belongs() {
-    use tetwalk::cases::Judged;
-    use tetwalk::report::stress::Tally;
-    let j = |face: Option<u8>, correct: Option<bool>| Judged {
-        face,
-        exact_exit: vec![],
-        exact_entry: vec![],
-        correct,
+    use tetwalk::exact::{Classification, FaceSet};
+    use tetwalk::family::exit_face::ExitTally;
+    use tetwalk::family::{ExitFace, Family};
+    use tetwalk::tet::Case;
+    let case = Case {
+        tet: [glam::Vec3::ZERO; 4],
+        org: glam::Vec3::ZERO,
+        dir: glam::Vec3::X,
+        entry: None,
     };
-    let mut t = Tally::default();
-    for x in [
-        j(Some(1), Some(false)),
-        j(None, Some(false)),
-        j(None, Some(false)),
-        j(Some(2), Some(true)),
-        j(Some(0), None),
+    // The line leaves through face 2 only, or misses the tetrahedron.
+    let meets = Classification {
+        exit: FaceSet(1 << 2),
+        entry: FaceSet(1 << 3),
+    };
+    let misses = Classification {
+        exit: FaceSet(0),
+        entry: FaceSet(0),
+    };
+    let mut t = ExitTally::default();
+    for (x, face) in [
+        (meets, Some(1)),
+        (meets, None),
+        (meets, None),
+        (meets, Some(2)),
+        (misses, Some(0)),
     ] {
-        t.add(&x);
+        ExitFace::tally(&mut t, &case, &x, &face);
     }
     assert_eq!((t.judged, t.wrong_face, t.no_exit_face), (4, 1, 2));
 }
@@ -384,7 +397,9 @@ fn a_shard_whose_reference_is_wrong_somewhere_is_refused() {
 #[test]
 fn the_audit_stops_a_count_whose_reference_is_wrong() {
     use tetwalk::backend::Backend;
-    use tetwalk::report::count::{CountError, Settings, Shard, run};
+    use tetwalk::engine::count::{CountSettings, Shard, run};
+    use tetwalk::family::Walks;
+    use tetwalk::family::count::CountError;
     use tetwalk::scenes::camera::Views;
     let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
     let views = Views {
@@ -394,10 +409,11 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
         seed: 1,
         fov_deg: Views::FOV_DEG,
     };
-    let settings = |reference: &str| Settings {
+    let settings = |reference: &str| CountSettings::<Walks> {
         scene: "bunny-quality".into(),
         views,
         reference: reference.into(),
+        family: (),
         audit: u64::MAX,
         shard: Shard::ALL,
     };

@@ -3,8 +3,8 @@
 //! mixed scales inside one case included; and the checker is not vacuous: it refutes a bound without
 //! its underflow terms (the bug issue 24 found), and the exact stage is reached in every regime.
 
+use tetwalk::engine::filters::{Filter, Regime, check, draw};
 use tetwalk::methods::certified::{Bound, GRADUAL, f32_stage};
-use tetwalk::methods::filters::{Filter, Regime, check, draw};
 use tetwalk::tet::Ray;
 
 #[test]

@@ -1,34 +1,52 @@
-//! Replays every case the fuzzers found (corpora/found/<method>/*.json): each must still fail for the
-//! method that failed, on the backend it failed on, with the same recorded answer — it documents that
-//! method's weakness — and must pass for every other method that claims robustness unless that
-//! failure is filed too; where there is a GPU adapter, the robust methods are replayed there too.
-//! Every found file is also read by `tetwalk exit` as it is.
+//! Replays every case the fuzzers found (corpora/found/<method>/*.json), whatever its family: each
+//! must still fail for the method that failed, on the backend it failed on, with the same recorded
+//! answer — it documents that method's weakness — and must hold for every other method that makes a
+//! claim unless that failure is filed too; where there is a GPU adapter, the claims are held there
+//! too. Every found file is also read by `tetwalk exit`, `hit` or `box-exit` as it is.
 
 mod common;
 
 use tetwalk::backend::Backend;
-use tetwalk::cases::Subject;
-use tetwalk::found::{Answer, Record, Replay, check, check_boxes, check_hits, replay};
+use tetwalk::cases::object;
+use tetwalk::choice::Choice;
+use tetwalk::engine::found::{Found, Hold, Replay, check, replay};
+use tetwalk::family::{ExitFace, Family, Kind, owner};
 use tetwalk::methods::Model;
-use tetwalk::registry::{METHODS, OCTREE_METHODS, TRIANGLE_METHODS, octree_by_name};
+use tetwalk::registry::{Gpu, METHODS, Named, OCTREE_METHODS, TRIANGLE_METHODS};
 
-fn findings() -> Vec<(String, Record)> {
+/// Every found file, with its text, sorted by path.
+fn files() -> Vec<(String, String)> {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/found");
     let mut out = Vec::new();
     for dir in std::fs::read_dir(root).unwrap().flatten() {
         for file in std::fs::read_dir(dir.path()).unwrap().flatten() {
             let text = std::fs::read_to_string(file.path()).unwrap();
-            let r = Record::parse(text.trim())
-                .unwrap_or_else(|e| panic!("{}: {e}", file.path().display()));
-            out.push((file.path().display().to_string(), r));
+            out.push((file.path().display().to_string(), text.trim().to_string()));
         }
     }
-    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out.sort();
     out
 }
 
+/// The family a found file's case belongs to.
+fn kind(text: &str) -> Kind {
+    owner(&object(text).unwrap())
+}
+
+/// Every found case of family `F`, with its file.
+fn findings<F: Family>() -> Vec<(String, Found<F>)> {
+    files()
+        .into_iter()
+        .filter(|(_, t)| kind(t).name() == F::NAME)
+        .map(|(name, t)| {
+            let r = Found::<F>::parse(&t).unwrap_or_else(|e| panic!("{name}: {e}"));
+            (name, r)
+        })
+        .collect()
+}
+
 /// What is wrong with a found case's replay, if anything: it must fail again with its recorded answer.
-fn replay_problem(name: &str, r: &Record) -> Option<String> {
+fn replay_problem<F: Family>(name: &str, r: &Found<F>) -> Option<String> {
     let f = r.failure.as_ref()?;
     match replay(r).unwrap_or_else(|e| panic!("{name}: {e}")) {
         Replay::Holds => None,
@@ -38,71 +56,111 @@ fn replay_problem(name: &str, r: &Record) -> Option<String> {
         }
         Replay::Right => Some(format!("{name}: {} is now right here", f.method)),
         Replay::OtherAnswer(a) => Some(format!(
-            "{name}: {} now answers {a:?}, not the recorded {:?}",
+            "{name}: {} now answers {a}, not the recorded {:?}",
             f.method, f.answer
         )),
     }
 }
 
-#[test]
-fn found_cases_fail_again_with_their_recorded_answer() {
-    let found = findings();
-    assert!(
-        found.len() >= 50,
-        "the corpus of found cases is kept, not lost ({})",
-        found.len()
-    );
-    let problems: Vec<String> = found
+/// Every found case of family `F` that does not fail again with its recorded answer.
+fn problems<F: Family>() -> Vec<String> {
+    findings::<F>()
         .iter()
         .filter_map(|(name, r)| replay_problem(name, r))
-        .collect();
-    assert!(problems.is_empty(), "{}", problems.join("\n"));
+        .collect()
 }
 
 #[test]
-fn changing_one_recorded_answer_fails_the_replay() {
-    let found = findings();
-    let shape = |s: &Subject| match s {
-        Subject::Exit(_) => 0,
-        Subject::Walk(_) => 1,
-        Subject::Hit(_) => 2,
-        Subject::Box(_) => 3,
-    };
-    for want in 0..4 {
-        let (name, r) = found
-            .iter()
-            .find(|(_, r)| shape(&r.subject) == want)
-            .expect("found cases of every shape");
-        let mut changed = r.clone();
-        let f = changed.failure.as_mut().unwrap();
-        f.answer = match f.answer {
-            Answer::Face(x) => Answer::Face(Some(x.map_or(0, |x| (x + 1) % 4))),
-            Answer::Walk(o) => {
-                let (kind, tet, x) = o.parts();
-                Answer::Walk(tetwalk::walk::Outcome::from_parts(kind, tet + 1, x))
-            }
-            Answer::Hit(h) => Answer::Hit(match h {
-                Some((i, t)) => Some((i ^ 1, t)),
-                None => Some((0, 1.0)),
-            }),
-            Answer::Box(b) => Answer::Box(match b {
-                Some((f, q)) => Some(((f + 1) % 6, q)),
-                None => Some((0, [1, 1])),
-            }),
-        };
-        // Through the file format, as a hand edit would be.
-        let changed = Record::parse(&changed.to_json()).unwrap();
+fn found_cases_fail_again_with_their_recorded_answer() {
+    assert!(
+        files().len() >= 50,
+        "the corpus of found cases is kept, not lost ({})",
+        files().len()
+    );
+    let mut all = Vec::new();
+    for &k in Kind::ALL {
         assert!(
-            replay_problem(name, &changed).is_some(),
-            "{name}: a changed answer went unnoticed"
+            tetwalk::with_family!(k, F => !findings::<F>().is_empty()),
+            "found cases of every family ({})",
+            k.name()
         );
-        assert!(replay_problem(name, r).is_none());
+        all.extend(tetwalk::with_family!(k, F => problems::<F>()));
+    }
+    assert!(all.is_empty(), "{}", all.join("\n"));
+}
+
+/// A found case's recorded answer changed as a hand edit of its file would: another face, tetrahedron,
+/// triangle or cell face.
+fn changed_answer(k: Kind, answer: &serde_json::Value) -> serde_json::Value {
+    use serde_json::json;
+    match k {
+        Kind::ExitFace => json!(answer.as_u64().map_or(0, |f| (f + 1) % 4)),
+        Kind::Walk => {
+            let mut a = answer.clone();
+            a["tet"] = json!(a["tet"].as_u64().unwrap() + 1);
+            a
+        }
+        Kind::Triangle => match answer["tri"].as_u64() {
+            Some(i) => json!({"tri": i ^ 1, "t": answer["t"]}),
+            None => json!({"tri": 0, "t": 1.0}),
+        },
+        Kind::Octree => match answer["face"].as_str() {
+            Some(f) => {
+                json!({"face": if f == "-x" { "+x" } else { "-x" }, "quarter": answer["quarter"]})
+            }
+            None => json!({"face": "-x", "quarter": [1, 1]}),
+        },
     }
 }
 
 #[test]
-fn robust_methods_are_right_on_every_found_case_unless_their_failure_is_filed() {
-    let found = findings();
+fn changing_one_recorded_answer_fails_the_replay() {
+    for &k in Kind::ALL {
+        let (name, text) = files()
+            .into_iter()
+            .find(|(_, t)| kind(t) == k)
+            .expect("found cases of every family");
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        v["answer"] = changed_answer(k, &v["answer"]);
+        // Through the file format, as a hand edit would be.
+        let (before, after) = tetwalk::with_family!(k, F => {
+            let r = Found::<F>::parse(&text).unwrap();
+            let changed = Found::<F>::parse(&v.to_string()).unwrap();
+            (replay_problem(&name, &r), replay_problem(&name, &changed))
+        });
+        assert!(after.is_some(), "{name}: a changed answer went unnoticed");
+        assert!(before.is_none());
+    }
+}
+
+/// Each method of family `F` that makes a claim holds it on every found case (on the CPU, plain and
+/// fused) unless that failure is filed too.
+fn claims_hold_unless_filed<F: Family>(backends: &[&Backend]) {
+    let found = findings::<F>();
+    for (name, r) in &found {
+        let failed = &r.failure.as_ref().unwrap().method;
+        let filed = |m: &str| {
+            found.iter().any(|(_, g)| {
+                g.failure.as_ref().unwrap().method == m && g.case_line() == r.case_line()
+            })
+        };
+        for m in F::methods()
+            .iter()
+            .filter(|m| m.info().claim.is_some() && m.name() != failed && !filed(m.name()))
+        {
+            let now = check::<F>(std::slice::from_ref(&r.case), &[(m, Hold::Claim)], backends);
+            assert_eq!(
+                now.unwrap(),
+                None,
+                "{name}: {}'s claim must hold here",
+                m.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn claims_hold_on_every_found_case_unless_their_failure_is_filed() {
     let backends = [
         &Backend::Cpu {
             model: Model::Plain,
@@ -111,56 +169,18 @@ fn robust_methods_are_right_on_every_found_case_unless_their_failure_is_filed() 
             model: Model::Fused,
         },
     ];
-    for (name, r) in &found {
-        let failed = &r.failure.as_ref().unwrap().method;
-        let filed = |m: &str| {
-            found
-                .iter()
-                .any(|(_, g)| g.failure.as_ref().unwrap().method == m && g.key() == r.key())
-        };
-        if let Subject::Hit(h) = &r.subject {
-            // The watertight claim: no leak on a closed mesh.
-            for m in TRIANGLE_METHODS
-                .iter()
-                .filter(|m| m.claims_watertight && m.name != failed && !filed(m.name))
-            {
-                let now = check_hits(std::slice::from_ref(h), &[m], &backends, true).unwrap();
-                assert_eq!(now, None, "{name}: {} must not leak here", m.name);
-            }
-            continue;
-        }
-        if let Subject::Box(c) = &r.subject {
-            // No octree method's paper claims robustness; the exact reference must be right.
-            let exact = octree_by_name("exact").unwrap();
-            let now = check_boxes(std::slice::from_ref(c), &[exact], &backends).unwrap();
-            assert_eq!(
-                now, None,
-                "{name}: the exact octree exit must be right here"
-            );
-            continue;
-        }
-        for m in METHODS
-            .iter()
-            .filter(|m| m.claims_robust && m.name != failed)
-        {
-            let filed = found
-                .iter()
-                .any(|(_, g)| g.failure.as_ref().unwrap().method == m.name && g.key() == r.key());
-            if !filed {
-                let now = check(&r.subject, &[m], &backends).unwrap();
-                assert_eq!(now, None, "{name}: {} must be right here", m.name);
-            }
-        }
+    for &k in Kind::ALL {
+        tetwalk::with_family!(k, F => claims_hold_unless_filed::<F>(&backends));
     }
 }
 
 #[test]
 fn every_found_file_is_read_by_tetwalk_exit_hit_or_box_exit_as_it_is() {
-    for (name, r) in findings() {
-        let (command, methods) = match r.subject {
-            Subject::Hit(_) => ("hit", TRIANGLE_METHODS.len()),
-            Subject::Box(_) => ("box-exit", OCTREE_METHODS.len()),
-            _ => ("exit", METHODS.len()),
+    for (name, text) in files() {
+        let (command, methods) = match kind(&text) {
+            Kind::Triangle => ("hit", TRIANGLE_METHODS.len()),
+            Kind::Octree => ("box-exit", OCTREE_METHODS.len()),
+            Kind::ExitFace | Kind::Walk => ("exit", METHODS.len()),
         };
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
             .args([command, "--method", "all", &name])
@@ -177,39 +197,41 @@ fn every_found_file_is_read_by_tetwalk_exit_hit_or_box_exit_as_it_is() {
     }
 }
 
+/// Each method of family `F` with a GPU version on every found case, on the GPU: a method that makes
+/// a claim holds it there unless the case is its own finding.
+fn claims_hold_on_the_gpu<F: Family>(gpu: &Backend) {
+    let found = findings::<F>();
+    for (name, r) in &found {
+        let failed = &r.failure.as_ref().unwrap().method;
+        for m in F::methods()
+            .iter()
+            .filter(|m| matches!(m.info().gpu, Gpu::Wgsl(_)))
+        {
+            let hold = if m.info().claim.is_some() {
+                Hold::Claim
+            } else {
+                Hold::Every
+            };
+            let now = check::<F>(std::slice::from_ref(&r.case), &[(m, hold)], &[gpu]).unwrap();
+            let filed = found.iter().any(|(_, g)| {
+                g.failure.as_ref().unwrap().method == m.name() && g.case_line() == r.case_line()
+            });
+            if m.name() == failed || filed {
+                println!("{name}: {} on {}: {:?}", m.name(), gpu.describe(), now);
+            } else if hold == Hold::Claim {
+                assert_eq!(now, None, "{name}: {}'s claim on the GPU", m.name());
+            }
+        }
+    }
+}
+
 #[test]
 fn found_cases_replay_on_the_gpu() {
     let Some(gpu) = common::gpu_or_skip() else {
         return;
     };
-    let found = findings();
-    for (name, r) in &found {
-        let failed = &r.failure.as_ref().unwrap().method;
-        if let Subject::Hit(h) = &r.subject {
-            for m in TRIANGLE_METHODS.iter().filter(|m| m.claims_watertight) {
-                let now = check_hits(std::slice::from_ref(h), &[m], &[&gpu], true).unwrap();
-                assert_eq!(now, None, "{name}: {} leaks on the GPU", m.name);
-            }
-            continue;
-        }
-        if let Subject::Box(_) = &r.subject {
-            // The octree methods run on the CPU only so far.
-            continue;
-        }
-        for m in METHODS
-            .iter()
-            .filter(|m| matches!(m.gpu, tetwalk::registry::Gpu::Wgsl(_)))
-        {
-            let now = check(&r.subject, &[m], &[&gpu]).unwrap();
-            let filed = found
-                .iter()
-                .any(|(_, g)| g.failure.as_ref().unwrap().method == m.name && g.key() == r.key());
-            if m.name == failed || filed {
-                println!("{name}: {} on {}: {:?}", m.name, gpu.describe(), now);
-            } else if m.claims_robust {
-                assert_eq!(now, None, "{name}: {} on the GPU", m.name);
-            }
-        }
+    for &k in Kind::ALL {
+        tetwalk::with_family!(k, F => claims_hold_on_the_gpu::<F>(&gpu));
     }
 }
 
@@ -223,29 +245,32 @@ fn gpu_findings_record_their_adapter_and_replay_only_on_it() {
         return;
     };
     let maria17 = tetwalk::registry::by_name("maria17").unwrap();
-    let exits: Vec<Record> = findings()
+    let exits: Vec<Found<ExitFace>> = findings::<ExitFace>()
         .into_iter()
         .map(|(_, r)| r)
-        .filter(|r| {
-            matches!(r.subject, Subject::Exit(_)) && r.failure.as_ref().unwrap().method == "maria17"
-        })
+        .filter(|r| r.failure.as_ref().unwrap().method == "maria17")
         .collect();
     assert!(!exits.is_empty());
     let mut found = 0;
     for r in &exits {
-        let batch = tetwalk::found::neighbourhood(&r.subject);
-        assert_eq!(batch[0], r.subject, "the case itself comes first");
+        let batch = tetwalk::engine::fuzz::neighbourhood::<ExitFace>(&r.case);
+        assert_eq!(batch[0], r.case, "the case itself comes first");
         assert!(batch.len() > 40 && batch.len() <= 53, "{}", batch.len());
-        let Some((i, f)) = tetwalk::found::check_batch(&batch, &[maria17], &[&gpu]).unwrap() else {
+        let Some((i, f)) = check::<ExitFace>(&batch, &[(maria17, Hold::Every)], &[&gpu]).unwrap()
+        else {
             continue;
         };
         found += 1;
-        assert_eq!(f.adapter, gpu.adapter(), "a GPU finding names its adapter");
-        let finding = Record {
-            subject: batch[i],
+        assert_eq!(
+            f.adapter,
+            gpu.ran().adapter,
+            "a GPU finding names its adapter"
+        );
+        let finding = Found {
+            case: batch[i],
             failure: Some(f.clone()),
         };
-        let read = Record::parse(&finding.to_json()).unwrap();
+        let read = Found::<ExitFace>::parse(&finding.to_json()).unwrap();
         assert_eq!(read, finding, "the adapter is written and read back");
         assert_eq!(replay(&read).unwrap(), Replay::Holds);
         let mut elsewhere = read.clone();
@@ -253,7 +278,7 @@ fn gpu_findings_record_their_adapter_and_replay_only_on_it() {
         match replay(&elsewhere).unwrap() {
             Replay::Skipped(why) => {
                 assert!(
-                    why.contains("Some Other GPU") && why.contains(&gpu.adapter().unwrap()),
+                    why.contains("Some Other GPU") && why.contains(&gpu.ran().adapter.unwrap()),
                     "{why}"
                 )
             }
@@ -277,14 +302,11 @@ fn the_claims_register_counterexample_replays() {
         "/corpora/found/maria17/exit_face-wrong_face-50e741ec2f3d.json"
     ))
     .unwrap();
-    let r = Record::parse(text.trim()).unwrap();
-    let Subject::Exit(case) = r.subject else {
-        panic!("an exit case")
-    };
+    let case = Found::<ExitFace>::parse(text.trim()).unwrap().case;
     let written = r#"{"tet":[[6.5,-5.583333,1.0],[15.5,15.0,15.5],[-5.5,-16.0,-16.0],[-16.0,-16.0,-16.0]],"org":[-64.0,-64.0,-64.0],"dir":[70.5,58.416668,65.0],"entry":1}"#;
     assert_eq!(
-        Subject::parse(written).unwrap(),
-        r.subject,
+        Found::<ExitFace>::parse(written).unwrap().case,
+        case,
         "the README writes it out exactly"
     );
     let c = tetwalk::cases::classify(&case).unwrap();
@@ -305,8 +327,8 @@ fn the_claims_register_counterexample_replays() {
     }
 }
 
-/// `check_batch` names the failing case by its index in the batch it was given, also where cases of
-/// another kind sit in between (they are left out, not counted).
+/// `check` names the failing case by its index in the batch it was given, also where cases the oracle
+/// does not judge (a line that misses the tetrahedron) sit in between.
 #[test]
 fn a_batch_failure_names_its_own_case() {
     let text = std::fs::read_to_string(concat!(
@@ -314,21 +336,20 @@ fn a_batch_failure_names_its_own_case() {
         "/corpora/found/maria17/exit_face-wrong_face-50e741ec2f3d.json"
     ))
     .unwrap();
-    let wrong = Record::parse(text.trim()).unwrap().subject;
-    let right = Subject::parse(
+    let parse = |line: &str| Found::<ExitFace>::parse(line).unwrap().case;
+    let wrong = parse(text.trim());
+    let right = parse(
         r#"{"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[0.2,0.2,-1],"dir":[0.01,0.02,1]}"#,
-    )
-    .unwrap();
-    let walk = Subject::parse(
-        r#"{"mesh":"kuhn","size":3,"offset":0,"org":[1.5,1.25,1.125],"dir":[1,0.5,0.25]}"#,
-    )
-    .unwrap();
+    );
+    let missing =
+        parse(r#"{"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[5,5,-1],"dir":[0,0,1]}"#);
     let maria17 = tetwalk::registry::by_name("maria17").unwrap();
     let cpu = Backend::Cpu {
         model: Model::Plain,
     };
-    assert_eq!(check(&right, &[maria17], &[&cpu]).unwrap(), None);
-    let (i, f) = tetwalk::found::check_batch(&[right, walk, wrong], &[maria17], &[&cpu])
+    let held = [(maria17, Hold::Every)];
+    assert_eq!(check::<ExitFace>(&[right], &held, &[&cpu]).unwrap(), None);
+    let (i, f) = check::<ExitFace>(&[right, missing, wrong], &held, &[&cpu])
         .unwrap()
         .expect("maria17 fails on the third case");
     assert_eq!(i, 2);

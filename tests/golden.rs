@@ -6,10 +6,11 @@ mod common;
 
 use tetwalk::backend::Backend;
 use tetwalk::methods::Model;
+use tetwalk::registry::Named;
 use tetwalk::registry::{METHODS, reference};
 use tetwalk::render::{self, Image, face_image, predicate_grid};
 use tetwalk::scenes::camera::Views;
-use tetwalk::scenes::tets::{Family, Target, through};
+use tetwalk::scenes::tets::{Target, TetShape, through};
 use tetwalk::tet::Case;
 
 use common::settings;
@@ -27,7 +28,7 @@ fn rows(width: u32, cells: impl Iterator<Item = String>) -> String {
 #[test]
 fn bunny_view_is_unchanged() {
     let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
-    let methods: Vec<_> = METHODS.iter().filter(|m| !m.reference).collect();
+    let methods: Vec<_> = METHODS.iter().filter(|m| !m.is_reference()).collect();
     let views = Views {
         views: 160,
         width: 64,
@@ -81,7 +82,7 @@ fn bunny_view_is_unchanged() {
 
 fn predicate_case() -> Case {
     let (tet, ray) = through(
-        Family::Sliver,
+        TetShape::Sliver,
         0.05,
         Target::Edge,
         &mut tetwalk::scenes::rng(7),
@@ -115,16 +116,19 @@ fn predicate_maps_are_unchanged() {
     let exact = predicate_grid(&case, GRID, reference(), &cpu).unwrap();
     settings().bind(|| {
         insta::assert_snapshot!("predicate_exact", faces_text(&exact));
-        for m in METHODS.iter().filter(|m| !m.reference) {
+        for m in METHODS.iter().filter(|m| !m.is_reference()) {
             let mut sheet = vec![face_image(&exact, GRID)];
             for model in [Model::Plain, Model::Fused] {
                 let faces = predicate_grid(&case, GRID, m, &Backend::Cpu { model }).unwrap();
                 let tag = if model == Model::Fused { "fma" } else { "cpu" };
-                insta::assert_snapshot!(format!("predicate_{}_{tag}", m.name), faces_text(&faces));
+                insta::assert_snapshot!(
+                    format!("predicate_{}_{tag}", m.name()),
+                    faces_text(&faces)
+                );
                 sheet.push(face_image(&faces, GRID));
             }
             insta::assert_binary_snapshot!(
-                &format!("predicate_{}.png", m.name),
+                &format!("predicate_{}.png", m.name()),
                 Image::sheet(&sheet, 2).png().unwrap()
             );
         }
@@ -138,7 +142,7 @@ fn predicate_maps_from_each_entry_face_are_unchanged() {
     let mut r = tetwalk::scenes::rng(17);
     let mut cases: Vec<Option<Case>> = vec![None; 4];
     while cases.iter().any(Option::is_none) {
-        let (tet, ray) = through(Family::Well, 1.0, Target::Edge, &mut r).unwrap();
+        let (tet, ray) = through(TetShape::Well, 1.0, Target::Edge, &mut r).unwrap();
         let c = tetwalk::exact::classify(&tet, &ray).unwrap();
         // One exact entry face, with the origin behind it: the ray really enters there.
         if c.entry.0.count_ones() == 1 {
@@ -155,7 +159,7 @@ fn predicate_maps_from_each_entry_face_are_unchanged() {
     }
     const SMALL: u32 = 24;
     settings().bind(|| {
-        for m in METHODS.iter().filter(|m| !m.reference) {
+        for m in METHODS.iter().filter(|m| !m.is_reference()) {
             let mut text = String::new();
             for (e, case) in cases.iter().enumerate() {
                 let faces = predicate_grid(
@@ -175,7 +179,7 @@ fn predicate_maps_from_each_entry_face_are_unchanged() {
                         .map(|f| f.map_or("-".into(), |f| f.to_string())),
                 );
             }
-            insta::assert_snapshot!(format!("predicate_entries_{}", m.name), text);
+            insta::assert_snapshot!(format!("predicate_entries_{}", m.name()), text);
         }
     });
 }
@@ -194,7 +198,7 @@ fn gpu_predicate_maps_are_within_tolerance() {
         (GRID * GRID / 10) as usize
     };
     let case = predicate_case();
-    for m in METHODS.iter().filter(|m| !m.reference) {
+    for m in METHODS.iter().filter(|m| !m.is_reference()) {
         let cpu = predicate_grid(
             &case,
             GRID,
@@ -216,12 +220,12 @@ fn gpu_predicate_maps_are_within_tolerance() {
                     if d { [255, 0, 0] } else { [40, 40, 40] },
                 );
             }
-            let path = std::env::temp_dir().join(format!("tetwalk-golden-diff-{}.png", m.name));
+            let path = std::env::temp_dir().join(format!("tetwalk-golden-diff-{}.png", m.name()));
             let path = path.display();
             std::fs::write(path.to_string(), diff.png().unwrap()).unwrap();
             panic!(
                 "{} on {}: {n} pixels differ from the CPU (tolerance {tolerance}); see {path}",
-                m.name,
+                m.name(),
                 gpu.describe()
             );
         }
@@ -266,36 +270,28 @@ fn a_failure_map_with_every_kind_is_unchanged() {
 /// wrong faces and "no exit face" each reached, `exact` never wrong.
 #[test]
 fn a_small_stress_table_is_unchanged() {
-    use tetwalk::choice::Choice;
-    use tetwalk::report::stress::{self, Row, Settings};
-    let s = Settings {
+    use tetwalk::engine::stress::{self, StressSettings};
+    use tetwalk::family::ExitFace;
+    use tetwalk::report::Formats;
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
+    let s = StressSettings::<ExitFace> {
         cases: 1500,
-        rows: Row::ALL.to_vec(),
+        rows: Default::default(),
         seed: 5,
-        backend: "cpu".into(),
-        flatness: 1e-3,
-        ulps: 4,
-        relabel: tetwalk::tet::EVEN_PERMUTATIONS[0],
+        backend: cpu.ran(),
     };
     let methods: Vec<_> = METHODS.iter().collect();
-    let report = stress::run(
-        &s,
-        &methods,
-        &Backend::Cpu {
-            model: Model::Plain,
-        },
-        &|_| {},
-        &mut |_, _, _, _| {},
-    )
-    .unwrap();
+    let report = stress::run(&s, &methods, &cpu, &|_| {}, &mut |_| {}).unwrap();
     let all = report.rows.iter().flat_map(|r| &r.tallies);
-    assert!(all.clone().any(|t| t.wrong_face > 0));
-    assert!(all.clone().any(|t| t.no_exit_face > 0));
+    assert!(all.clone().any(|t| t.counts.wrong_face > 0));
+    assert!(all.clone().any(|t| t.counts.no_exit_face > 0));
     assert!(
         all.filter(|t| t.method == "exact")
-            .all(|t| t.wrong_face == 0 && t.no_exit_face == 0)
+            .all(|t| t.counts.wrong_face == 0 && t.counts.no_exit_face == 0)
     );
-    settings().bind(|| insta::assert_snapshot!("stress_small", report.markdown()));
+    settings().bind(|| insta::assert_snapshot!("stress_small", ExitFace::stress_table(&report)));
 }
 
 /// Leak maps (seed 004's question, pictured): around an edge shared by two triangles of a closed
@@ -306,9 +302,9 @@ fn a_small_stress_table_is_unchanged() {
 #[test]
 fn leak_maps_are_unchanged() {
     use tetwalk::render::{LeakGrid, leak_case, leak_image};
-    use tetwalk::scenes::closed::{Place, Shape};
+    use tetwalk::scenes::closed::{MeshShape, TriPlace};
     const SIZE: u32 = 48;
-    let (case, pair) = leak_case(Shape::Octahedron, Place::Embree, 1).unwrap();
+    let (case, pair) = leak_case(MeshShape::Octahedron, TriPlace::Embree, 1).unwrap();
     let grid = LeakGrid::new(&case, pair, SIZE);
     let exact = grid.exact();
     let text = |cells: &[tetwalk::render::EdgeHit]| {
@@ -321,11 +317,11 @@ fn leak_maps_are_unchanged() {
             for model in [Model::Plain, Model::Fused] {
                 let cells = grid.of(m, &Backend::Cpu { model }).unwrap();
                 let tag = if model == Model::Fused { "fma" } else { "cpu" };
-                insta::assert_snapshot!(format!("leak_{}_{tag}", m.name), text(&cells));
+                insta::assert_snapshot!(format!("leak_{}_{tag}", m.name()), text(&cells));
                 sheet.push(leak_image(&cells, SIZE));
             }
             insta::assert_binary_snapshot!(
-                &format!("leak_{}.png", m.name),
+                &format!("leak_{}.png", m.name()),
                 Image::sheet(&sheet, 2).png().unwrap()
             );
         }
@@ -344,8 +340,9 @@ fn octree_heat_is_unchanged() {
         seed: 1,
         fov_deg: Views::FOV_DEG,
     };
-    let method = tetwalk::registry::octree_by_name("portalez16-direction").unwrap();
-    let hit = tetwalk::registry::triangle_by_name("mt")
+    let method =
+        tetwalk::family::by_name::<tetwalk::family::OctreeCells>("portalez16-direction").unwrap();
+    let hit = tetwalk::family::by_name::<tetwalk::family::Triangle>("mt")
         .unwrap()
         .hit(Model::Plain);
     let im = render::octree_heat(

@@ -7,12 +7,15 @@ mod common;
 
 use glam::Vec3;
 use tetwalk::backend::Backend;
-use tetwalk::cases::{classify, judged};
+use tetwalk::backend::BackendKind;
+use tetwalk::cases::classify;
+use tetwalk::engine::count::Shard;
 use tetwalk::exact::edge_margin;
+use tetwalk::family::{ExitFace, Family, Verdict};
 use tetwalk::methods::Model;
+use tetwalk::registry::Named;
 use tetwalk::registry::{Gpu as GpuSupport, METHODS, Method};
-use tetwalk::report::count::Shard;
-use tetwalk::scenes::tets::{Family, Target, near, stabbing_ray, tet};
+use tetwalk::scenes::tets::{Target, TetShape, near, stabbing_ray, tet};
 use tetwalk::scenes::{self, Generated, rng};
 use tetwalk::tet::{Case, Ray};
 use tetwalk::walk::{default_max_steps, locate};
@@ -25,7 +28,7 @@ fn contracts(g: &Backend) -> bool {
 fn gpu_methods() -> impl Iterator<Item = &'static Method> {
     METHODS
         .iter()
-        .filter(|m| matches!(m.gpu, GpuSupport::Wgsl(_)))
+        .filter(|m| matches!(m.info.gpu, GpuSupport::Wgsl(_)))
 }
 
 /// Near-edge and near-vertex cases of every family; every other one carries its exact entry face.
@@ -38,7 +41,7 @@ fn near_cases(seed: u64, n: usize) -> Vec<Case> {
             } else {
                 Target::Vertex
             };
-            let (t, ray) = near(Family::ALL[i % 5], 1e-3, target, 4, &mut r)?;
+            let (t, ray) = near(TetShape::ALL[i % 5], 1e-3, target, 4, &mut r)?;
             let mut c = Case {
                 tet: t,
                 org: ray.org,
@@ -61,7 +64,7 @@ fn every_gpu_method_is_exact_with_margin() {
     let mut r = rng(11);
     let mut cases = Vec::new();
     while cases.len() < 3000 {
-        let t = tet(Family::Well, 1.0, &mut r);
+        let t = tet(TetShape::Well, 1.0, &mut r);
         let ray = stabbing_ray(&t, &mut r);
         if edge_margin(&t, &ray) < 1e-4 {
             continue;
@@ -83,10 +86,10 @@ fn every_gpu_method_is_exact_with_margin() {
         let faces = g.exit_faces(m, &plain).unwrap();
         for ((c, x), f) in cases.iter().zip(faces) {
             assert_eq!(
-                judged(x, f).correct,
-                Some(true),
+                ExitFace::verdict(c, x, &f.map(|f| f as u8)),
+                Verdict::Right,
                 "{} on the GPU: {f:?} for {c:?}",
-                m.name
+                m.name()
             );
         }
     }
@@ -114,12 +117,12 @@ fn gpu_answers_equal_the_cpu_from_entry_faces_and_starts_where_the_adapter_does_
         let differ = gpu.iter().zip(&cpu).filter(|(a, b)| a != b).count();
         println!(
             "{}: GPU and CPU differ on {differ} of {} near-edge/vertex cases",
-            m.name,
+            m.name(),
             cases.len()
         );
         // tetwalk's own method is exact on every adapter: what the GPU cannot settle, the CPU does.
-        if !contracts(&g) || !m.published {
-            assert_eq!(differ, 0, "{}", m.name);
+        if !contracts(&g) || !m.info.published {
+            assert_eq!(differ, 0, "{}", m.name());
         }
     }
 }
@@ -130,9 +133,9 @@ fn a_method_without_a_gpu_version_is_refused_on_the_gpu_with_its_reason() {
         return;
     };
     for m in METHODS {
-        if let GpuSupport::CpuOnly(why) = m.gpu {
+        if let GpuSupport::CpuOnly(why) = m.info.gpu {
             let err = g.exit_faces(m, &[]).unwrap_err().to_string();
-            assert!(err.contains(why) && err.contains(m.name), "{err}");
+            assert!(err.contains(why) && err.contains(m.name()), "{err}");
         }
     }
 }
@@ -163,18 +166,22 @@ fn gpu_walks_run_end_to_end_and_match_the_cpu_on_llvmpipe() {
             && let Backend::Gpu(gpu) = &g
             && gpu.measures_kernels()
         {
-            assert!(on_gpu.kernel_seconds.is_some_and(|s| s > 0.0), "{}", m.name);
+            assert!(
+                on_gpu.kernel_seconds.is_some_and(|s| s > 0.0),
+                "{}",
+                m.name()
+            );
         }
         let on_gpu = on_gpu.walks;
         assert_eq!(on_gpu.len(), rays.len());
         let differ = on_gpu.iter().zip(&on_cpu).filter(|(a, b)| a != b).count();
         println!(
             "{}: {differ} of {} walks differ between GPU and CPU",
-            m.name,
+            m.name(),
             rays.len()
         );
-        if llvmpipe || !m.published {
-            assert_eq!(on_gpu, on_cpu, "{}", m.name);
+        if llvmpipe || !m.info.published {
+            assert_eq!(on_gpu, on_cpu, "{}", m.name());
         }
         assert!(on_gpu.iter().all(|w| w.steps >= 1 && w.steps <= max));
     }
@@ -205,7 +212,7 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
         },
         g,
     ];
-    let r = tetwalk::report::bench::run(
+    let r = tetwalk::engine::bench::run(
         "kuhn",
         &mesh,
         false,
@@ -218,7 +225,7 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
     .unwrap();
     assert!(r.views_timed >= 2, "several views in one batch");
     let [cpu, gpu] = [&r.rows[0], &r.rows[1]];
-    assert_eq!(gpu.backend, "gpu");
+    assert_eq!(gpu.backend, BackendKind::Gpu);
     assert_eq!(gpu.rays, cpu.rays);
     assert_eq!(gpu.rays, r.views_timed as u64 * 24 * 24);
     assert_eq!(gpu.tetrahedra, cpu.tetrahedra);
@@ -267,11 +274,11 @@ fn layout_walks_on_the_gpu_equal_the_cpu_ones() {
                 let b = cpu.layout_walks(m, *kind, &on_cpu, &rays, max).unwrap();
                 assert_eq!(a.walks.len(), rays.len());
                 let differ = a.walks.iter().zip(&b.walks).filter(|(x, y)| x != y).count();
-                println!("{} {kind:?}: {differ} of {} differ", m.name, rays.len());
+                println!("{} {kind:?}: {differ} of {} differ", m.name(), rays.len());
                 if exact_adapter {
-                    assert_eq!(a.walks, b.walks, "{} {kind:?}", m.name);
+                    assert_eq!(a.walks, b.walks, "{} {kind:?}", m.name());
                 } else {
-                    assert!(differ * 20 < rays.len(), "{} {kind:?}: {differ}", m.name);
+                    assert!(differ * 20 < rays.len(), "{} {kind:?}: {differ}", m.name());
                 }
                 assert!(a.walks.iter().all(|(_, steps)| *steps >= 1));
             }
@@ -328,7 +335,7 @@ fn paper_gives_a_gpu_its_columns_with_its_adapter() {
         return;
     };
     let mesh = scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
-    let size = tetwalk::report::paper::Size {
+    let size = tetwalk::engine::paper::Size {
         views: 2,
         side: 16,
         tets: 20,
@@ -337,7 +344,7 @@ fn paper_gives_a_gpu_its_columns_with_its_adapter() {
         bench_views: 2,
     };
     let measures = g.measures_kernels();
-    let adapter = g.describe();
+    let adapter = g.ran();
     let backends = [
         Backend::Cpu {
             model: Model::Plain,
@@ -345,7 +352,7 @@ fn paper_gives_a_gpu_its_columns_with_its_adapter() {
         g,
     ];
     let r =
-        tetwalk::report::paper::run("kuhn", &mesh, size, Shard::ALL, &backends, &|| ()).unwrap();
+        tetwalk::engine::paper::run("kuhn", &mesh, size, Shard::ALL, &backends, &|| ()).unwrap();
     assert_eq!(r.counts.len(), 2);
     assert_eq!(r.counts[1].backend, adapter);
     assert_eq!(r.counts[1].rays, r.counts[0].rays);
@@ -356,11 +363,16 @@ fn paper_gives_a_gpu_its_columns_with_its_adapter() {
         assert_eq!(t.backend, adapter);
         assert_eq!(
             t.times.len(),
-            gpu_methods().filter(|m| !m.reference).count()
+            gpu_methods().filter(|m| !m.is_reference()).count()
         );
         assert!(t.times.iter().all(|q| q.ns_per_query > 0.0), "{t:?}");
     }
-    let on_gpu: Vec<_> = r.speed.rows.iter().filter(|x| x.backend == "gpu").collect();
+    let on_gpu: Vec<_> = r
+        .speed
+        .rows
+        .iter()
+        .filter(|x| x.backend == BackendKind::Gpu)
+        .collect();
     for (method, layout) in [("stp", "cells"), ("maria17", "cells"), ("aman20", "tet20")] {
         assert!(
             on_gpu

@@ -23,25 +23,25 @@ fn committed_wgsl_is_what_the_generator_writes() {
 #[test]
 fn every_method_has_a_gpu_version_or_says_why_not() {
     for m in METHODS {
-        match m.gpu {
+        match m.info.gpu {
             Gpu::Wgsl(sources) => {
                 let id = m.ident();
                 let all = sources.concat();
                 for f in [format!("fn {id}_prepare("), format!("fn {id}_exit(")] {
-                    assert!(all.contains(&f), "{}: its WGSL lacks `{f}`", m.name);
+                    assert!(all.contains(&f), "{}: its WGSL lacks `{f}`", m.name());
                 }
                 for e in shader::entry_points(m) {
                     assert!(
                         COMMITTED.contains(&format!("fn {e}(")),
                         "{}: no entry point {e}",
-                        m.name
+                        m.name()
                     );
                 }
             }
             Gpu::CpuOnly(why) => assert!(
                 why.len() > 10,
                 "{} has no GPU version and must say why",
-                m.name
+                m.name()
             ),
         }
     }
@@ -50,20 +50,20 @@ fn every_method_has_a_gpu_version_or_says_why_not() {
 #[test]
 fn every_triangle_method_has_its_wgsl_and_entry_points() {
     for m in TRIANGLE_METHODS {
-        let Gpu::Wgsl(sources) = m.gpu else {
-            panic!("{} has no WGSL", m.name);
+        let Gpu::Wgsl(sources) = m.info.gpu else {
+            panic!("{} has no WGSL", m.name());
         };
         let f = format!("fn {}_hit(", m.ident());
         assert!(
             sources.concat().contains(&f),
             "{}: its WGSL lacks `{f}`",
-            m.name
+            m.name()
         );
         for e in shader::triangle_entry_points(m) {
             assert!(
                 COMMITTED.contains(&format!("fn {e}(")),
                 "{}: no {e}",
-                m.name
+                m.name()
             );
         }
     }

@@ -7,9 +7,10 @@ use common::{Kind, any_case, config, judge, lattice_case, make, model};
 use proptest::prelude::*;
 use tetwalk::exact::{classify, edge_margin};
 use tetwalk::methods::Model;
+use tetwalk::registry::Named;
 use tetwalk::registry::{METHODS, by_name};
 use tetwalk::scenes::rng;
-use tetwalk::scenes::tets::{Family, Target, stabbing_ray, tet};
+use tetwalk::scenes::tets::{Target, TetShape, stabbing_ray, tet};
 use tetwalk::tet::Case;
 use tetwalk::tet::{Ray, Tet};
 
@@ -50,14 +51,14 @@ proptest! {
     #[test]
     fn every_method_is_right_with_margin(seed: u64, with_entry: bool, model in model()) {
         let mut r = rng(seed);
-        let t = tet(Family::Well, 1.0, &mut r);
+        let t = tet(TetShape::Well, 1.0, &mut r);
         let ray = stabbing_ray(&t, &mut r);
         prop_assume!(edge_margin(&t, &ray) >= SAFE_MARGIN);
         let (case, c) = case_of(t, ray, with_entry);
         prop_assert_eq!(c.exit.0.count_ones(), 1);
         for m in METHODS {
             let j = judge(&case, &c, m, model);
-            prop_assert_eq!(j.correct, Some(true), "{} ({:?}) answered {:?}, exact {:?}", m.name, model, j.face, j.exact_exit);
+            prop_assert_eq!(j.correct, Some(true), "{} ({:?}) answered {:?}, exact {:?}", m.name(), model, j.face, j.exact_exit);
         }
     }
 }
@@ -74,7 +75,7 @@ proptest! {
         prop_assume!(edge_margin(&t, &ray) >= SAFE_MARGIN);
         let (case, c) = case_of(t, ray, with_entry);
         for m in METHODS {
-            prop_assert!(judge(&case, &c, m, model).face.is_some(), "{} found no exit face", m.name);
+            prop_assert!(judge(&case, &c, m, model).face.is_some(), "{} found no exit face", m.name());
         }
     }
 }
@@ -98,7 +99,7 @@ fn degenerate_families_failures_are_measured() {
         let mut wrong_anywhere = 0;
         for model in [Model::Plain, Model::Fused] {
             let fma = model == Model::Fused;
-            for family in Family::ALL {
+            for family in TetShape::ALL {
                 for flatness in [1e-2f32, 1e-4] {
                     for (name, kind) in kinds {
                         let (mut wrong, mut n, mut misses) = (0, 0, 0);
@@ -118,24 +119,24 @@ fn degenerate_families_failures_are_measured() {
                             n >= 250,
                             "the generator must produce cases ({family:?} {name}: {n})"
                         );
-                        if m.name == "exact" {
+                        if m.name() == "exact" {
                             assert_eq!(wrong, 0, "exact was wrong on {family:?} {flatness} {name}");
                         }
                         wrong_anywhere += wrong;
                         if wrong > 0 {
                             table += &format!(
                                 "| {} | {fma} | {family:?} | {flatness} | {name} | {n} | {wrong} | {misses} |\n",
-                                m.name
+                                m.name()
                             );
                         }
                     }
                 }
             }
         }
-        if m.published {
-            assert!(wrong_anywhere > 0, "{} never failed here", m.name);
+        if m.info.published {
+            assert!(wrong_anywhere > 0, "{} never failed here", m.name());
         } else {
-            assert_eq!(wrong_anywhere, 0, "{} is never wrong", m.name);
+            assert_eq!(wrong_anywhere, 0, "{} is never wrong", m.name());
         }
     }
     print!("{table}");

@@ -9,13 +9,14 @@ use glam::Vec3;
 use rand::RngExt;
 use rug::Rational;
 use tetwalk::exact::boxes::box_exit;
+use tetwalk::family::{OctreeCells, by_name as family_by_name};
 use tetwalk::methods::Model;
 use tetwalk::methods::portalez16::{
     FACE_TO_NEIGHBOR_INDEX, NO_FACE, OUT_FACES_LOOKUP, exit_vertex,
 };
 use tetwalk::octree::cell::{FACE_AXIS, FACE_HIGH, FACE_NAMES, face_named, quarter_signs};
 use tetwalk::octree::{Octree, Settings};
-use tetwalk::registry::octree_by_name;
+use tetwalk::registry::Named;
 use tetwalk::scenes::rng;
 use tetwalk::tet::{Ray, Tri};
 
@@ -188,8 +189,10 @@ fn the_exact_octree_walk_ends_at_the_exact_first_hit() {
         },
     )
     .unwrap();
-    let exact = octree_by_name("exact").unwrap().walk(Model::Plain);
-    let hit = tetwalk::registry::triangle_by_name("mt")
+    let exact = family_by_name::<OctreeCells>("exact")
+        .unwrap()
+        .walk(Model::Plain);
+    let hit = tetwalk::family::by_name::<tetwalk::family::Triangle>("mt")
         .unwrap()
         .hit(Model::Plain);
     let mut r = rng(9);
@@ -266,11 +269,16 @@ fn the_cell_test_on_the_gpu_answers_as_the_cpu() {
         return;
     };
     use tetwalk::choice::Choice;
-    use tetwalk::scenes::cells::{Aim, Place, case};
+    use tetwalk::scenes::cells::{CellAim, CellPlace, case};
     let mut r = rng(17);
     let mut cases = Vec::new();
     for i in 0..4000 {
-        let (lo, hi, ray) = case(Aim::ALL[i % Aim::ALL.len()], Place::ALL[i % 3], 4, &mut r);
+        let (lo, hi, ray) = case(
+            CellAim::ALL[i % CellAim::ALL.len()],
+            CellPlace::ALL[i % 3],
+            4,
+            &mut r,
+        );
         cases.push(tetwalk::cases::BoxCase {
             lo,
             hi,
@@ -287,11 +295,11 @@ fn the_cell_test_on_the_gpu_answers_as_the_cpu() {
             cpu.box_exits(m, &cases).unwrap(),
         );
         let same = a.iter().zip(&b).filter(|(x, y)| x == y).count();
-        println!("{}: {same} of {} as on the CPU", m.name, cases.len());
+        println!("{}: {same} of {} as on the CPU", m.name(), cases.len());
         assert!(
             same * 100 >= cases.len() * 99,
             "{}: {same} of {}",
-            m.name,
+            m.name(),
             cases.len()
         );
     }
@@ -315,18 +323,18 @@ fn the_octree_walk_on_the_gpu_ends_as_on_the_cpu() {
     let (lo, hi) = tetwalk::mesh::bounds(&mesh.points);
     let cam = views.camera(lo, hi, 3);
     let start = tetwalk::walk::locate(&mesh, cam.eye, 0).unwrap();
-    let region = tetwalk::report::triangle::region_of(&mesh, start);
-    let (tris, _) = tetwalk::report::triangle::scene_triangles(&mesh, &region);
+    let region = tetwalk::mesh::surface::region_of(&mesh, start);
+    let (tris, _) = tetwalk::mesh::surface::scene_triangles(&mesh, &region);
     let o = Octree::build(&tris, Settings::PAPER).unwrap();
     let rays = views.rays(&cam);
-    let mt = tetwalk::registry::triangle_by_name("mt").unwrap();
+    let mt = tetwalk::family::by_name::<tetwalk::family::Triangle>("mt").unwrap();
     let cap = tetwalk::walk::octree::default_max_steps(&o);
     let cpu = tetwalk::backend::Backend::Cpu {
         model: Model::Plain,
     };
     for m in tetwalk::registry::OCTREE_METHODS
         .iter()
-        .filter(|m| !m.reference)
+        .filter(|m| !m.is_reference())
     {
         let (on_gpu, on_cpu) = (gpu.octree(&o, &tris), cpu.octree(&o, &tris));
         let a = gpu
@@ -340,11 +348,11 @@ fn the_octree_walk_on_the_gpu_ends_as_on_the_cpu() {
             .zip(&b)
             .filter(|(x, y)| x.end.kind() == y.end.kind() && x.cells == y.cells)
             .count();
-        println!("{}: {same} of {} as on the CPU", m.name, rays.len());
+        println!("{}: {same} of {} as on the CPU", m.name(), rays.len());
         assert!(
             same * 100 >= rays.len() * 99,
             "{}: {same} of {}",
-            m.name,
+            m.name(),
             rays.len()
         );
         assert!(

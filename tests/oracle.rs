@@ -97,8 +97,14 @@ fn generators_reach_the_exact_stage_and_ties() {
             common::Kind::Through(tetwalk::scenes::tets::Target::Edge),
             common::Kind::Near(tetwalk::scenes::tets::Target::Vertex, 1),
         ] {
-            let (t, ray) =
-                common::make(tetwalk::scenes::tets::Family::Sliver, 1e-3, kind, 0.0, seed).unwrap();
+            let (t, ray) = common::make(
+                tetwalk::scenes::tets::TetShape::Sliver,
+                1e-3,
+                kind,
+                0.0,
+                seed,
+            )
+            .unwrap();
             let c = classify(&t, &ray).unwrap();
             ties += (c.exit.0.count_ones() > 1) as u32;
         }

@@ -5,9 +5,9 @@
 mod common;
 
 use tetwalk::backend::Backend;
+use tetwalk::engine::count::{Shard, merge};
+use tetwalk::engine::paper::{self, PaperReport, Size};
 use tetwalk::methods::Model;
-use tetwalk::report::count::{Shard, merge};
-use tetwalk::report::paper::{self, PaperReport, Size};
 
 /// A run small enough for a test: six views of 16², three of which hold a camera inside the mesh.
 const TINY: Size = Size {
@@ -42,7 +42,14 @@ fn counted(r: &PaperReport) -> serde_json::Value {
             let methods: Vec<_> = c
                 .methods
                 .iter()
-                .map(|m| serde_json::json!([m.method, m.wrong_total, m.wrong.0, m.steps]))
+                .map(|m| {
+                    serde_json::json!([
+                        m.method,
+                        m.counts.wrong_total,
+                        m.counts.wrong.0,
+                        m.counts.steps
+                    ])
+                })
                 .collect();
             serde_json::json!([c.backend, c.rays, c.views_counted, methods])
         })
@@ -54,7 +61,14 @@ fn counted(r: &PaperReport) -> serde_json::Value {
             let methods: Vec<_> = o
                 .methods
                 .iter()
-                .map(|m| serde_json::json!([m.method, m.wrong_total, m.wrong, m.cells]))
+                .map(|m| {
+                    serde_json::json!([
+                        m.method,
+                        m.counts.wrong_total,
+                        m.counts.wrong,
+                        m.counts.cells
+                    ])
+                })
                 .collect();
             serde_json::json!([o.backend, o.rays, o.views_counted, methods])
         })

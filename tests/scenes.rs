@@ -2,10 +2,10 @@
 //! that independent counts confirm, and `exact` walks of camera rays end on the brute-force first hit.
 
 use std::process::Command;
+use tetwalk::engine::info::SceneInfo;
 use tetwalk::exact::hit::first_hit;
 use tetwalk::methods::Model;
 use tetwalk::registry::by_name;
-use tetwalk::report::scene_info::SceneInfo;
 use tetwalk::scenes::camera::view;
 use tetwalk::walk::{Outcome, default_max_steps, locate};
 

@@ -7,13 +7,17 @@ mod common;
 use glam::Vec3;
 use rand::RngExt;
 use tetwalk::backend::{Backend, CPU};
-use tetwalk::cases::{HitCase, Subject, judge_hit};
+use tetwalk::cases::HitCase;
 use tetwalk::choice::Choice;
+use tetwalk::engine::found::{Found, Replay, replay};
+use tetwalk::engine::stress::{StressSettings, row_cases, run};
 use tetwalk::exact::hit::{line_triangle, ray_triangle, ray_triangle_t};
+use tetwalk::family::triangle::TriRows;
+use tetwalk::family::{Family, Triangle};
 use tetwalk::methods::Model;
+use tetwalk::registry::Named;
 use tetwalk::registry::TRIANGLE_METHODS;
-use tetwalk::report::triangle::{StressSettings, stress};
-use tetwalk::scenes::closed::{Aim, Place, Shape, case, mesh};
+use tetwalk::scenes::closed::{MeshShape, TriAim, TriPlace, case, mesh};
 use tetwalk::scenes::rng;
 use tetwalk::tet::{Ray, Tri, orientation};
 
@@ -110,10 +114,10 @@ fn every_method_is_right_on_clear_hits_and_misses() {
                         got.is_some(),
                         inside,
                         "{} {model:?}: {tri:?} {ray:?}",
-                        m.name
+                        m.name()
                     );
                     if let Some(t) = got {
-                        assert!((t - 1.0).abs() < 1e-4, "{}: t = {t}", m.name);
+                        assert!((t - 1.0).abs() < 1e-4, "{}: t = {t}", m.name());
                     }
                 }
             }
@@ -144,14 +148,14 @@ fn packets_answer_as_single_rays_do() {
             assert!(
                 one.iter().filter(|h| h.is_some()).count() > 20,
                 "{}",
-                m.name
+                m.name()
             );
             for p in [4, 16, 64] {
                 assert_eq!(
                     m.trace(model)(&tris, &rays, p),
                     one,
                     "{} packets of {p}",
-                    m.name
+                    m.name()
                 );
             }
             for (ray, h) in rays.iter().zip(&one) {
@@ -163,7 +167,7 @@ fn packets_answer_as_single_rays_do() {
                         Some((_, bt)) if bt <= t => b,
                         _ => Some((i, t)),
                     });
-                assert_eq!(*h, single, "{}", m.name);
+                assert_eq!(*h, single, "{}", m.name());
             }
         }
     }
@@ -174,12 +178,12 @@ fn packets_answer_as_single_rays_do() {
 #[test]
 fn the_stress_meshes_are_closed_and_outward() {
     let mut r = rng(5);
-    for shape in Shape::ALL.iter().copied() {
+    for shape in MeshShape::ALL.iter().copied() {
         for _ in 0..20 {
             let m = mesh(shape, 1e-3, &mut r);
             let want = match shape {
-                Shape::Octahedron => 8,
-                Shape::Icosahedron => 20,
+                MeshShape::Octahedron => 8,
+                MeshShape::Icosahedron => 20,
                 _ => 4,
             };
             assert_eq!(m.len(), want, "{shape:?}");
@@ -208,12 +212,12 @@ fn the_stress_meshes_are_closed_and_outward() {
 #[test]
 fn exact_rays_meet_their_edge_or_vertex() {
     let mut r = rng(9);
-    for aim in [Aim::Edge, Aim::Vertex, Aim::Grazing] {
+    for aim in [TriAim::Edge, TriAim::Vertex, TriAim::Grazing] {
         let (mut crossing, mut boundary) = (0, 0);
-        for place in Place::ALL.iter().copied() {
+        for place in TriPlace::ALL.iter().copied() {
             for _ in 0..100 {
-                let (m, ray) = case(Shape::Icosahedron, aim, place, 1e-3, 4, &mut r);
-                let truth = judge_hit(&HitCase::closed(&m, ray).unwrap()).unwrap();
+                let (m, ray) = case(MeshShape::Icosahedron, aim, place, 1e-3, 4, &mut r);
+                let truth = Triangle::truth(&HitCase::closed(&m, ray).unwrap()).unwrap();
                 let first = truth.first().expect("aimed at the surface");
                 boundary += first
                     .holding
@@ -231,16 +235,12 @@ fn exact_rays_meet_their_edge_or_vertex() {
     }
 }
 
-fn stress_settings(cases: usize, aims: Vec<Aim>) -> StressSettings {
+fn stress_settings(cases: usize) -> StressSettings<Triangle> {
     StressSettings {
         cases,
-        shapes: Shape::ALL.to_vec(),
-        aims,
-        places: Place::ALL.to_vec(),
+        rows: TriRows::default(),
         seed: 1,
-        backend: "cpu".into(),
-        flatness: 1e-3,
-        ulps: 4,
+        backend: CPU.ran(),
     }
 }
 
@@ -249,7 +249,7 @@ fn stress_settings(cases: usize, aims: Vec<Aim>) -> StressSettings {
 /// does once its 2x2 determinants are fused (as a GPU compiler may).
 #[test]
 fn woop_watertight_never_leaks_and_the_others_do() {
-    let s = stress_settings(150, Aim::ALL.to_vec());
+    let s = stress_settings(150);
     let methods: Vec<_> = TRIANGLE_METHODS.iter().collect();
     for (backend, fma) in [
         (&CPU, false),
@@ -260,16 +260,16 @@ fn woop_watertight_never_leaks_and_the_others_do() {
             true,
         ),
     ] {
-        let r = stress(&s, &methods, backend, &|_| {}, &mut |_, _| {}).unwrap();
+        let r = run(&s, &methods, backend, &|_| {}, &mut |_| {}).unwrap();
         for (k, m) in methods.iter().enumerate() {
-            let leaks: u64 = r.rows.iter().map(|row| row.tallies[k].leaks).sum();
-            if m.claims_watertight && !fma {
-                assert_eq!(leaks, 0, "{} leaks", m.name);
-            } else if m.name != "plucker-packet" || fma {
-                assert!(leaks > 0, "{} (fma {fma}) never leaks here", m.name);
+            let leaks: u64 = r.rows.iter().map(|row| row.tallies[k].counts.leaks).sum();
+            if m.info.claim.is_some() && !fma {
+                assert_eq!(leaks, 0, "{} leaks", m.name());
+            } else if m.name() != "plucker-packet" || fma {
+                assert!(leaks > 0, "{} (fma {fma}) never leaks here", m.name());
             }
         }
-        assert!(r.rows.iter().all(|row| row.crossing > 0));
+        assert!(r.rows.iter().all(|row| row.facts.crossing > 0));
     }
 }
 
@@ -383,16 +383,16 @@ fn hit_judges_a_closed_mesh_by_its_first_crossing() {
 #[test]
 fn a_triangle_case_reads_back_and_its_recorded_answer_is_compared() {
     let (m, ray) = case(
-        Shape::Tetrahedron,
-        Aim::Edge,
-        Place::Embree,
+        MeshShape::Tetrahedron,
+        TriAim::Edge,
+        TriPlace::Embree,
         1e-3,
         4,
         &mut rng(2),
     );
-    let subject = Subject::Hit(HitCase::closed(&m, ray).unwrap());
-    let line = serde_json::Value::Object(subject.to_json()).to_string();
-    assert_eq!(Subject::parse(&line).unwrap(), subject);
+    let case = HitCase::closed(&m, ray).unwrap();
+    let line = serde_json::Value::Object(Triangle::case_json(&case)).to_string();
+    assert_eq!(Found::<Triangle>::parse(&line).unwrap().case, case);
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/found/mt");
     let file = std::fs::read_dir(dir)
         .unwrap()
@@ -400,22 +400,16 @@ fn a_triangle_case_reads_back_and_its_recorded_answer_is_compared() {
         .map(|f| std::fs::read_to_string(f.path()).unwrap())
         .find(|t| t.contains("\"tris\"") && t.contains("\"tri\":"))
         .expect("a wrong-triangle finding of mt");
-    let r = tetwalk::found::Record::parse(file.trim()).unwrap();
-    assert_eq!(
-        tetwalk::found::replay(&r).unwrap(),
-        tetwalk::found::Replay::Holds
-    );
+    let r = Found::<Triangle>::parse(file.trim()).unwrap();
+    assert_eq!(replay(&r).unwrap(), Replay::Holds);
     let mut other = r.clone();
     if let Some(f) = other.failure.as_mut()
-        && let tetwalk::found::Answer::Hit(Some((i, t))) = f.answer
+        && let Some((i, t)) = f.answer.nearest()
     {
-        f.answer = tetwalk::found::Answer::Hit(Some((i, t.next_up())));
+        f.answer = tetwalk::family::triangle::Hits::of(&[(i, t.next_up())]);
     }
-    let other = tetwalk::found::Record::parse(&other.to_json()).unwrap();
-    assert!(matches!(
-        tetwalk::found::replay(&other).unwrap(),
-        tetwalk::found::Replay::OtherAnswer(_)
-    ));
+    let other = Found::<Triangle>::parse(&other.to_json()).unwrap();
+    assert!(matches!(replay(&other).unwrap(), Replay::OtherAnswer(_)));
 }
 
 /// `count --family triangle` on the bunny: every primary ray judged per method, the scene's 3,686
@@ -467,44 +461,34 @@ fn the_gpu_answers_as_the_cpu_does() {
     let Some(gpu) = common::gpu_or_skip() else {
         return;
     };
-    let s = stress_settings(30, Aim::ALL.to_vec());
-    let mut judged = Vec::new();
-    let mut row = 0;
-    for shape in Shape::ALL.iter().copied() {
-        for aim in Aim::ALL.iter().copied() {
-            for place in Place::ALL.iter().copied() {
-                judged.extend(tetwalk::report::triangle::row_cases(
-                    &s,
-                    (shape, aim, place),
-                    row,
-                ));
-                row += 1;
-            }
-        }
-    }
+    let s = stress_settings(30);
+    let judged: Vec<_> = Triangle::rows(&s.rows)
+        .into_iter()
+        .flat_map(|row| row_cases(&s, row).0)
+        .collect();
     let cases: Vec<HitCase> = judged.iter().map(|(c, _)| *c).collect();
     for m in TRIANGLE_METHODS {
         let on_cpu = CPU.triangle_hits(m, &cases).unwrap();
         let on_gpu = gpu.triangle_hits(m, &cases).unwrap();
         let same = on_cpu.iter().zip(&on_gpu).filter(|(a, b)| a == b).count();
-        if m.claims_watertight {
+        if m.info.claim.is_some() {
             for ((_, truth), h) in judged.iter().zip(&on_gpu) {
                 let ids: Vec<u32> = h.iter().map(|&(i, _)| i).collect();
-                assert!(!truth.leaks(&ids), "{} leaks on the GPU", m.name);
+                assert!(!truth.leaks(&ids), "{} leaks on the GPU", m.name());
             }
         }
         // lavapipe's f32 division is not correctly rounded (Vulkan allows 2.5 ulps): the methods that
         // divide before their tests differ from the CPU's on a few cases right at an edge; the others
         // are bit for bit the CPU's.
-        if DIVIDE_BEFORE_TESTS.contains(&m.name) {
+        if DIVIDE_BEFORE_TESTS.contains(&m.name()) {
             assert!(
                 same * 100 >= cases.len() * 97,
                 "{}: {same} of {}",
-                m.name,
+                m.name(),
                 cases.len()
             );
         } else {
-            assert_eq!(same, cases.len(), "{}", m.name);
+            assert_eq!(same, cases.len(), "{}", m.name());
         }
     }
     let tris: Vec<Tri> = cases
@@ -522,13 +506,13 @@ fn the_gpu_answers_as_the_cpu_does() {
         .collect();
     for m in TRIANGLE_METHODS
         .iter()
-        .filter(|m| !DIVIDE_BEFORE_TESTS.contains(&m.name))
+        .filter(|m| !DIVIDE_BEFORE_TESTS.contains(&m.name()))
     {
         assert_eq!(
             CPU.trace_triangles(m, &tris, &rays, 4).unwrap(),
             gpu.trace_triangles(m, &tris, &rays, 4).unwrap(),
             "{}",
-            m.name
+            m.name()
         );
     }
 }
@@ -543,15 +527,12 @@ fn the_claims_register_woop_counterexample_replays() {
         "/corpora/found/woop-watertight/stress-tetrahedron-edge-origin-wrong_face-15054ba8dc6ab2ef.json"
     ))
     .unwrap();
-    let r = tetwalk::found::Record::parse(text.trim()).unwrap();
-    let Subject::Hit(case) = r.subject else {
-        panic!("a triangle case")
-    };
-    let truth = judge_hit(&case).unwrap();
+    let case = Found::<Triangle>::parse(text.trim()).unwrap().case;
+    let truth = Triangle::truth(&case).unwrap();
     let first = truth.first_crossing().unwrap();
     assert_eq!(first.holding, vec![0, 2]);
     assert_eq!(first.t, rug::Rational::from(1));
-    let woop = tetwalk::registry::triangle_by_name("woop-watertight").unwrap();
+    let woop = tetwalk::family::by_name::<tetwalk::family::Triangle>("woop-watertight").unwrap();
     let hits = |model| {
         Backend::Cpu { model }
             .triangle_hits(woop, std::slice::from_ref(&case))

@@ -8,6 +8,7 @@ use tetwalk::exact::hit::{first_hit, line_triangle};
 use tetwalk::mesh::{Mesh, load_tetgen};
 use tetwalk::methods::Model;
 use tetwalk::methods::{ExitMethod, Plain};
+use tetwalk::registry::Named;
 use tetwalk::registry::by_name;
 use tetwalk::scenes::{self, Generated};
 use tetwalk::tet::{FACE_VERTICES, Ray, Tet, orientation};
@@ -293,7 +294,7 @@ fn interleaved_walks_equal_walks_one_at_a_time() {
                         *got,
                         m.walk(model)(&mesh, ray, start, max),
                         "{} {ray:?}",
-                        m.name
+                        m.name()
                     );
                     kinds.insert(got.outcome.kind());
                 }

@@ -7,7 +7,12 @@ use tetwalk::mesh::{TetgenTexts, parse_tetgen};
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    let _ = tetwalk::found::Record::parse(&text);
+    // A case line of whichever family its keys name, a found case too.
+    if let Ok(obj) = tetwalk::cases::object(&text) {
+        let _ = tetwalk::with_family!(tetwalk::family::owner(&obj), F => {
+            tetwalk::engine::found::Found::<F>::from_object(obj).is_ok()
+        });
+    }
     // Four files separated by form feeds.
     let mut parts = text.split('\x0c');
     let (node, ele) = (parts.next().unwrap_or(""), parts.next().unwrap_or(""));

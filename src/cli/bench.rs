@@ -1,9 +1,9 @@
 //! `tetwalk bench`: walk speed per method and backend on a scene's primary rays.
 
-use super::{JsonOut, Outcome};
+use super::{JsonOut, Status};
 use crate::backend::Backend;
-use crate::registry::{parse_list, parse_triangle_list};
-use crate::report::{bench, triangle};
+use crate::engine::bench;
+use crate::family::{self, Triangle, Walks};
 use crate::scenes::camera::Views;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -51,11 +51,11 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
-pub fn run(a: Args) -> Outcome {
+pub fn run(a: Args) -> Status {
     if a.family == "triangle" {
         return run_triangle(a);
     }
-    let methods = parse_list(&a.methods)?;
+    let methods = family::parse_list::<Walks>(&a.methods)?;
     let kinds = super::backend_list(&a.backend)?;
     super::view_count(a.views, "bench")?;
     if a.batch == 0 {
@@ -95,17 +95,17 @@ pub fn run(a: Args) -> Outcome {
 }
 
 /// `bench --family triangle`.
-fn run_triangle(a: Args) -> Outcome {
+fn run_triangle(a: Args) -> Status {
     if a.backend != "cpu" || a.layouts || a.hilbert {
         return Err("--family triangle times the CPU, plain f32; leave out --backend, --layouts and --hilbert".into());
     }
     super::view_count(a.views, "bench")?;
-    let methods = parse_triangle_list(&a.methods)?;
+    let methods = family::parse_list::<Triangle>(&a.methods)?;
     let (width, height) = super::size(a.size.as_deref().unwrap_or("256x256"), false, 4096)?;
     let out = JsonOut::new(a.json.as_deref())?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let views = views(&a, width, height);
-    let report = triangle::speed(&mesh, &a.scene, &views, &methods, 3)?;
+    let report = bench::speed(&mesh, &a.scene, &views, &methods, 3)?;
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)

@@ -1,9 +1,9 @@
-//! `tetwalk check-filters`: the filter checker ([`crate::methods::filters`]) as a campaign — every
+//! `tetwalk check-filters`: the filter checker ([`crate::engine::filters`]) as a campaign — every
 //! filtered sign beside the exact sign, per exponent regime, with how often the exact stage was needed.
 
-use super::{JsonOut, Outcome};
+use super::{JsonOut, Status};
 use crate::choice::Choice;
-use crate::methods::filters::{Checked, Filter, Regime, Tally, check};
+use crate::engine::filters::{Checked, Filter, Regime, Tally, check};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -39,7 +39,7 @@ struct Report {
     refuted: Vec<String>,
 }
 
-pub fn run(a: Args) -> Outcome {
+pub fn run(a: Args) -> Status {
     if a.cases == 0 {
         return Err("--cases 0 checks nothing: give at least 1".into());
     }

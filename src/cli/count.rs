@@ -1,14 +1,17 @@
-//! `tetwalk count`: wrong rays per image, per method, on a scene.
+//! `tetwalk count`: wrong rays per image, per method, on a scene, for every family that counts one.
 
-use super::{BackendArg, FailArg, JsonOut, Outcome, WgslArg};
-use crate::registry::{by_name, parse_octree_list, parse_triangle_list};
-use crate::report::count::{self, Settings};
-use crate::report::octree as octree_report;
-use crate::report::standing::Standings;
-use crate::report::triangle;
-use crate::report::wrong::WrongRay;
+use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg};
+use crate::choice::Choice;
+use crate::engine::count::{self, Answerer, CountReport, CountSettings, Shard, located_views};
+use crate::engine::standing::Standings;
+use crate::family::count::{CountKind, Counted};
+use crate::family::octree::OctreeCountSettings;
+use crate::family::triangle::TriCountSettings;
+use crate::family::wrong::WrongRay;
+use crate::family::{OctreeCells, Triangle, Walks};
+use crate::registry::Named;
+use crate::report::count::CountFormats;
 use crate::scenes::camera::Views;
-use crate::tet::EVEN_PERMUTATIONS;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -18,12 +21,13 @@ use std::process::ExitCode;
 pub struct Args {
     #[command(subcommand)]
     merge: Option<Merge>,
-    /// Which family of methods: `exit-face` (walks through the tetrahedra, seed 000 Table 4) or
-    /// `triangle` (each primary ray's nearest hit among the scene's constrained faces, every triangle
-    /// tested, seed 004's methods; judged against the reference walk's exact first hit) or `octree`
-    /// (each primary ray walked through seed 001's octree over those faces, judged the same way).
-    #[arg(long, value_parser = ["exit-face", "triangle", "octree"], default_value = "exit-face")]
-    family: String,
+    /// Which family: `walk` (the exit-face methods' walks through the tetrahedra, seed 000 Table 4;
+    /// `exit-face` says the same), `triangle` (each primary ray's nearest hit among the scene's
+    /// constrained faces, every triangle tested, seed 004's methods) or `octree` (each primary ray
+    /// walked through seed 001's octree over those faces); each judged against the reference walk's
+    /// exact first hit.
+    #[arg(long, value_parser = count_family(), default_value = "walk")]
+    family: CountKind,
     /// `--family octree`: the octree's deepest level (seed 001: 8 for the bunny).
     #[arg(long, default_value_t = 8)]
     depth: u32,
@@ -35,8 +39,8 @@ pub struct Args {
     triangle_method: String,
     /// `--family triangle`: primary rays per packet side (1, 2, 4 or 8: packets of 1, 4, 16 or 64
     /// rays sharing the camera's origin).
-    #[arg(long, value_parser = ["1", "2", "4", "8"], default_value = "2")]
-    packet: String,
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8), default_value_t = 2)]
+    packet: u32,
     /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, kuhn, jitter, fan and
     /// their -far), or a TetGen stem.
     #[arg(long, default_value = "bunny-quality")]
@@ -45,8 +49,8 @@ pub struct Args {
     /// leaves the mesh.
     #[arg(long)]
     no_faces: bool,
-    /// Viewpoints on a sphere around the model [default: 160, 16 with --family triangle, or 1282 with
-    /// --preset paper].
+    /// Viewpoints on a sphere around the model [default: 160, 16 with --family triangle or octree, or
+    /// 1282 with --preset paper].
     #[arg(long, allow_negative_numbers = true)]
     views: Option<usize>,
     /// Image size, WxH [default: 256x256 (128x128 with --family triangle), or 1024x1024 with
@@ -102,8 +106,8 @@ pub struct Args {
 
 #[derive(clap::Subcommand)]
 enum Merge {
-    /// Add up the JSON reports of a sharded count (`--shard I/N`, every I once) into one: walks
-    /// through the tetrahedra or through the octree (`--family octree`), not both.
+    /// Add up the JSON reports of a sharded count (`--shard I/N`, every I once) into one, of one
+    /// family.
     Merge {
         /// The shards' reports (`count --shard I/N --json FILE`).
         #[arg(required = true)]
@@ -114,121 +118,151 @@ enum Merge {
     },
 }
 
-fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Outcome {
+/// `count --family`: a counted family's name, `exit-face` an alias of `walk`.
+fn count_family() -> impl clap::builder::TypedValueParser<Value = CountKind> {
+    use clap::builder::TypedValueParser;
+    let names: Vec<&str> = CountKind::ALL.iter().map(|k| k.name()).collect();
+    clap::builder::PossibleValuesParser::new(names.into_iter().chain(["exit-face"]))
+        .map(|s| CountKind::from_name(&s).unwrap_or(CountKind::Walk))
+}
+
+fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Status {
     let out = JsonOut::new(json)?;
-    // An octree count's report is the one with leaves.
-    let (mut walks, mut octree) = (Vec::new(), Vec::new());
     let read: Vec<(String, serde_json::Value)> = super::read_reports(reports)?;
-    for (file, r) in read {
-        let named = |e: serde_path_to_error::Error<serde_json::Error>| {
-            format!("{file}: {}: {}", e.path(), e.inner())
-        };
-        if r.get("leaves").is_some() {
-            let report = serde_path_to_error::deserialize(r).map_err(named)?;
-            octree.push((file, report));
-        } else {
-            let report = serde_path_to_error::deserialize(r).map_err(named)?;
-            walks.push((file, report));
+    let mut kind = None;
+    for (file, r) in &read {
+        let named = r
+            .get("family")
+            .and_then(|f| f.as_str())
+            .and_then(CountKind::from_name)
+            .ok_or_else(|| {
+                format!("{file}: family: not a count report's family (walk, triangle or octree)")
+            })?;
+        match kind {
+            Some(k) if k != named => {
+                return Err(format!(
+                    "{file}: counts {} where {} counts {}: merge each family apart",
+                    named.name(),
+                    read[0].0,
+                    CountKind::name(k)
+                )
+                .into());
+            }
+            _ => kind = Some(named),
         }
     }
-    let (text, merged) = match (walks.is_empty(), octree.is_empty()) {
-        (false, true) => {
-            let m: count::CountReport = count::merge(&walks)?;
-            (m.markdown(), serde_json::to_value(&m)?)
-        }
-        (true, false) => {
-            let m: octree_report::OctreeCountReport = count::merge(&octree)?;
-            (m.markdown(), serde_json::to_value(&m)?)
-        }
-        _ => return Err("the reports count walks through the tetrahedra and through the octree: merge each family apart".into()),
-    };
-    print!("{text}");
-    out.finish(&merged)?;
+    let kind = kind.ok_or("nothing to merge")?;
+    crate::with_counted!(kind, F => merged::<F>(read, out))
+}
+
+/// The shards of a count of family `F`, added up.
+fn merged<F: CountFormats>(read: Vec<(String, serde_json::Value)>, out: JsonOut) -> Status {
+    let mut shards: Vec<(String, CountReport<F>)> = Vec::new();
+    for (file, r) in read {
+        let report = serde_path_to_error::deserialize(r)
+            .map_err(|e| format!("{file}: {}: {}", e.path(), e.inner()))?;
+        shards.push((file, report));
+    }
+    let m = count::merge(&shards)?;
+    print!("{}", F::count_table(&m));
+    out.finish(&m)?;
     Ok(ExitCode::SUCCESS)
 }
 
 /// `I/N` with `I < N`.
-pub(super) fn shard(text: &str) -> Result<count::Shard, super::Error> {
+pub(super) fn shard(text: &str) -> Result<Shard, Error> {
     text.split_once('/')
         .and_then(|(i, n)| Some((i.trim().parse().ok()?, n.trim().parse().ok()?)))
         .filter(|&(i, n)| n >= 1 && i < n)
-        .map(|(index, count)| count::Shard { index, count })
+        .map(|(index, count)| Shard { index, count })
         .ok_or_else(|| format!("--shard {text} is not I/N with 0 <= I < N").into())
 }
 
-pub fn run(a: Args) -> Outcome {
+/// What a counted family's flags set.
+trait Flags: CountFormats {
+    fn settings(a: &Args) -> Self::CountSettings;
+}
+
+impl Flags for Walks {
+    fn settings(_: &Args) {}
+}
+
+impl Flags for Triangle {
+    fn settings(a: &Args) -> TriCountSettings {
+        TriCountSettings { packet: a.packet }
+    }
+}
+
+impl Flags for OctreeCells {
+    fn settings(a: &Args) -> OctreeCountSettings {
+        OctreeCountSettings {
+            octree: crate::octree::Settings {
+                depth: a.depth,
+                capacity: a.capacity,
+            },
+            triangle_method: a.triangle_method.clone(),
+        }
+    }
+}
+
+pub fn run(a: Args) -> Status {
     if let Some(Merge::Merge { reports, json }) = &a.merge {
         return merge(reports, json.as_deref());
     }
     let shard = shard(&a.shard)?;
-    let reference = by_name(&a.reference)?;
-    if a.family == "triangle" {
-        return run_triangle(a);
-    }
-    if a.family == "octree" {
-        return run_octree(a, shard);
-    }
+    crate::registry::by_name(&a.reference)?;
     if let Some(path) = &a.rays_out {
         return rays_out(&a, shard, path);
     }
+    crate::with_counted!(a.family, F => counted::<F>(a, shard))
+}
+
+/// The count of family `F`.
+fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
+    let family = F::settings(&a);
+    F::check(&family)?;
     let fail = a.fail;
-    let (backend, methods) = a.wgsl.open(a.backend, &a.methods)?;
+    let (backend, methods) = a.wgsl.open::<F>(a.backend, &a.methods)?;
     let methods: Vec<_> = methods
         .into_iter()
-        .filter(|m| !m.reference && m.name != reference.name)
+        .filter(|m| !m.is_reference() && m.name() != a.reference)
         .collect();
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;
-    let views = views(&a, 160, "256x256")?;
+    let views = views::<F>(&a)?;
     held(shard, &views)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-    let settings = Settings {
+    let settings = CountSettings::<F> {
         scene: a.scene,
         views,
-        reference: reference.name.to_string(),
+        reference: a.reference,
+        family,
         audit: a.audit,
         shard,
     };
-    let labellings: &[[usize; 4]] = if a.relabel.is_some() {
-        &EVEN_PERMUTATIONS
+    let labellings = if a.relabel.is_some() {
+        crate::tet::EVEN_PERMUTATIONS.len()
     } else {
-        &EVEN_PERMUTATIONS[..1]
+        1
     };
-    let bar = super::progress((shard.held(views.views) * labellings.len()) as u64, "views");
+    let bar = super::progress((shard.held(views.views) * labellings) as u64, "views");
+    let answerers: Vec<Answerer<F>> = methods.iter().map(|m| Answerer::Method(*m)).collect();
     let mut write = |w: &WrongRay| dump.write(w);
-    // The mesh's own labelling (the identity, first) gives the report and the dump.
+    // The mesh's own labelling gives the report and the dump.
     let mut report = count::run(
         &mesh,
         &settings,
-        &methods,
+        &answerers,
         &backend,
         &|| bar.inc(1),
         Some(&mut write),
     )?;
-    if labellings.len() > 1 {
-        let mut wrong: Vec<[u64; 12]> =
-            report.methods.iter().map(|m| [m.wrong_total; 12]).collect();
-        for (k, p) in labellings.iter().enumerate().skip(1) {
-            let relabelled = mesh.relabelled(*p)?;
-            let r = count::run(
-                &relabelled,
-                &settings,
-                &methods,
-                &backend,
-                &|| bar.inc(1),
-                None,
-            )?;
-            for (w, m) in wrong.iter_mut().zip(&r.methods) {
-                w[k] = m.wrong_total;
-            }
-        }
-        for (m, w) in report.methods.iter_mut().zip(wrong) {
-            m.relabelled = Some(w);
-        }
+    if labellings > 1 {
+        count::relabel_all(&mut report, &mesh, &answerers, &backend, &|| bar.inc(1))?;
     }
     bar.finish_and_clear();
     dump.finish()?;
-    print!("{}", report.markdown());
+    print!("{}", F::count_table(&report));
     out.finish(&report)?;
     Ok(fail.status("count", &report.standings()))
 }
@@ -261,7 +295,7 @@ impl Dump {
 pub(super) struct RaysHeader {
     pub scene: String,
     pub views: Views,
-    pub shard: count::Shard,
+    pub shard: Shard,
     pub tetrahedra: usize,
     /// Loaded with `--no-faces`.
     #[serde(default)]
@@ -287,16 +321,16 @@ pub(super) fn ray_lines(
 
 /// `count --rays-out FILE`: every ray of the views the shard holds whose camera is inside the mesh,
 /// with its view, pixel and starting tetrahedron.
-fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
-    if a.family == "triangle"
+fn rays_out(a: &Args, shard: Shard, path: &std::path::Path) -> Status {
+    if a.family != CountKind::Walk
         || a.wgsl.wgsl.is_some()
         || a.relabel.is_some()
         || a.dump.is_some()
         || a.fail.fail_on.is_some()
     {
-        return Err("--rays-out writes the inputs of an exit-face count and judges nothing: leave out --family triangle, --wgsl, --relabel, --dump and --fail-on".into());
+        return Err("--rays-out writes the inputs of a walk count and judges nothing: leave out --family triangle or octree, --wgsl, --relabel, --dump and --fail-on".into());
     }
-    let views = views(a, 160, "256x256")?;
+    let views = views::<Walks>(a)?;
     held(shard, &views)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let mut staged = super::Staged::new("--rays-out", path)?;
@@ -311,7 +345,7 @@ fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
     serde_json::to_writer(&mut w, &header)?;
     w.write_all(b"\n")?;
     let (mut rays, mut counted) = (0u64, 0usize);
-    for (v, cam, start) in count::located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
+    for (v, cam, start) in located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
         counted += 1;
         for line in ray_lines(&views, v, &cam, start) {
             serde_json::to_writer(&mut w, &line)?;
@@ -320,7 +354,7 @@ fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
         }
     }
     if counted == 0 {
-        return Err(count::CountError::NoView(views.views).into());
+        return Err(crate::family::count::CountError::NoView(views.views).into());
     }
     w.flush()?;
     drop(w);
@@ -336,7 +370,7 @@ fn rays_out(a: &Args, shard: count::Shard, path: &std::path::Path) -> Outcome {
 }
 
 /// A shard that holds at least one of the views (`--shard 5/10` of 3 views holds none).
-pub(super) fn held(shard: count::Shard, views: &Views) -> Result<(), super::Error> {
+pub(super) fn held(shard: Shard, views: &Views) -> Result<(), super::Error> {
     if shard.held(views.views) == 0 {
         return Err(format!(
             "--shard {}/{} holds no view of the {} (views v with v % {} == {})",
@@ -348,8 +382,9 @@ pub(super) fn held(shard: count::Shard, views: &Views) -> Result<(), super::Erro
 }
 
 /// The views a count asks for: `--views` and `--size`, else seed 000's with `--preset paper`, else the
-/// defaults given.
-fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
+/// family's.
+fn views<F: Counted>(a: &Args) -> Result<Views, super::Error> {
+    let (views, size) = F::DEFAULT_VIEWS;
     let paper = a.preset.is_some();
     let views = super::view_count(a.views.unwrap_or(if paper { 1282 } else { views }), "count")?;
     let size = a
@@ -368,77 +403,4 @@ fn views(a: &Args, views: usize, size: &str) -> Result<Views, super::Error> {
         seed: a.seed,
         fov_deg: Views::FOV_DEG,
     })
-}
-
-/// `count --family octree`.
-fn run_octree(a: Args, shard: count::Shard) -> Outcome {
-    if a.relabel.is_some() || a.wgsl.wgsl.is_some() {
-        return Err("--relabel and --wgsl are for --family exit-face".into());
-    }
-    let methods: Vec<_> = parse_octree_list(&a.methods)?
-        .into_iter()
-        .filter(|m| !m.reference)
-        .collect();
-    let octree = crate::octree::Settings {
-        depth: a.depth,
-        capacity: a.capacity,
-    };
-    octree
-        .check()
-        .map_err(|e| format!("--depth {} --capacity {}: {e}", a.depth, a.capacity))?;
-    crate::registry::triangle_by_name(&a.triangle_method)?;
-    let out = JsonOut::new(a.json.as_deref())?;
-    let views = views(&a, 16, "256x256")?;
-    held(shard, &views)?;
-    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-    let settings = octree_report::CountSettings {
-        scene: a.scene,
-        views,
-        reference: a.reference,
-        octree,
-        triangle_method: a.triangle_method,
-        audit: a.audit,
-        shard,
-    };
-    let bar = super::progress(shard.held(views.views) as u64, "views");
-    let backend = a.backend.open()?;
-    let mut dump = Dump::new(a.dump.as_deref())?;
-    let mut write = |w: &WrongRay| dump.write(w);
-    let report = octree_report::count(
-        &mesh,
-        &settings,
-        &methods,
-        &backend,
-        &|| bar.inc(1),
-        Some(&mut write),
-    )?;
-    bar.finish_and_clear();
-    dump.finish()?;
-    print!("{}", report.markdown());
-    out.finish(&report)?;
-    Ok(a.fail.status("count", &report.standings()))
-}
-
-/// `count --family triangle`.
-fn run_triangle(a: Args) -> Outcome {
-    if a.relabel.is_some() || a.dump.is_some() || a.shard != "0/1" || a.wgsl.wgsl.is_some() {
-        return Err("--relabel, --dump, --shard and --wgsl are for --family exit-face".into());
-    }
-    let methods = parse_triangle_list(&a.methods)?;
-    let out = JsonOut::new(a.json.as_deref())?;
-    let views = views(&a, 16, "128x128")?;
-    let backend = a.backend.open()?;
-    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-    let settings = triangle::CountSettings {
-        scene: a.scene,
-        views,
-        reference: a.reference,
-        packet: a.packet.parse().expect("clap checked it"),
-    };
-    let bar = super::progress(views.views as u64, "views");
-    let report = triangle::count(&mesh, &settings, &methods, &backend, &|| bar.inc(1))?;
-    bar.finish_and_clear();
-    print!("{}", report.markdown());
-    out.finish(&report)?;
-    Ok(a.fail.status("count", &report.standings()))
 }

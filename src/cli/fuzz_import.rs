@@ -1,14 +1,15 @@
 //! `tetwalk fuzz-import`: turn fuzzer artifacts into readable found cases under `corpora/found/`.
 
-use super::{JsonOut, Outcome};
-use crate::cases::{HitCase, Subject};
-use crate::found::{
-    Record, fuzz_find, octree_walk_find, required_methods, required_octree_methods,
-    required_triangle_methods,
-};
-use crate::scenes::from_bytes::{cell_case, exit_case, hit_case, walk_case};
-use std::path::PathBuf;
+use super::{JsonOut, Status};
+use crate::engine::found::Found;
+use crate::engine::fuzz::{find, held, octree_walk_find};
+use crate::family::{Family, Kind, OctreeCells};
+use crate::registry::Named;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+/// The fuzz targets: each family's (its [`Family::FUZZ_TARGET`]), and the octree walk's.
+const OCTREE_WALK: &str = "octree_walk";
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -25,69 +26,62 @@ pub struct Args {
     artifacts: Vec<PathBuf>,
 }
 
-pub fn run(a: Args) -> Outcome {
-    // The same methods the fuzz run held to exactness (TETWALK_FUZZ_METHOD), on the same backend
-    // (TETWALK_FUZZ_BACKEND: the CPU plain and fused, or a GPU with each case's neighbourhood), as the
-    // fuzz targets do.
-    let held: Vec<&str> = match a.target.as_str() {
-        "triangle_hit" => required_triangle_methods()?
-            .0
-            .iter()
-            .map(|m| m.name)
-            .collect(),
-        "octree_cell" | "octree_walk" => {
-            required_octree_methods()?.iter().map(|m| m.name).collect()
-        }
-        _ => required_methods()?.iter().map(|m| m.name).collect(),
-    };
+pub fn run(a: Args) -> Status {
     let json = JsonOut::new(a.json.as_deref())?;
     let mut filed = Vec::new();
+    if a.target == OCTREE_WALK {
+        import::<OctreeCells>(&a, &mut filed, walk_finding)?;
+    } else {
+        let kind = crate::choice::Choice::ALL
+            .iter()
+            .copied()
+            .find(|&k: &Kind| crate::with_family!(k, F => F::FUZZ_TARGET) == a.target)
+            .ok_or_else(|| format!("--target {}: no family's fuzz target", a.target))?;
+        crate::with_family!(kind, F => import::<F>(&a, &mut filed, finding::<F>))?;
+    }
+    json.finish(&serde_json::json!({ "filed": filed }))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// What a held method fails on the case in `bytes`: a found case (`.json`) read back, or the fuzz
+/// target's decoding of a crash file.
+fn finding<F: Family>(path: &Path, bytes: &[u8]) -> Result<Option<Found<F>>, super::Error> {
+    let case = if path.extension().is_some_and(|e| e == "json") {
+        let text = String::from_utf8_lossy(bytes);
+        Some(Found::<F>::parse(text.trim())?.case)
+    } else {
+        F::arbitrary(&mut arbitrary::Unstructured::new(bytes))
+    };
+    Ok(match case {
+        Some(c) => find::<F>(&c)?,
+        None => None,
+    })
+}
+
+/// An octree walk's finding: the box case of its first wrong cell.
+fn walk_finding(_: &Path, bytes: &[u8]) -> Result<Option<Found<OctreeCells>>, super::Error> {
+    match crate::scenes::from_bytes::hit_case(&mut arbitrary::Unstructured::new(bytes)) {
+        Ok((mesh, ray)) => Ok(octree_walk_find(&mesh, &ray)?),
+        Err(_) => Ok(None),
+    }
+}
+
+/// What a held method fails on one artifact, if anything ([`finding`], [`walk_finding`]).
+type Finding<F> = fn(&Path, &[u8]) -> Result<Option<Found<F>>, super::Error>;
+
+/// File each artifact's finding, and the same case for the methods that claim and fail it too, under
+/// `corpora/found/<method>/`. The methods the fuzz run held (`TETWALK_FUZZ_METHOD`) on the backend it
+/// held them on (`TETWALK_FUZZ_BACKEND`), as the fuzz targets do.
+fn import<F: Family>(
+    a: &Args,
+    filed: &mut Vec<String>,
+    finding: Finding<F>,
+) -> Result<(), super::Error> {
+    let held: Vec<&str> = held::<F>()?.iter().map(|(m, _)| m.name()).collect();
     for path in &a.artifacts {
         let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let mut u = arbitrary::Unstructured::new(&bytes);
-        let subject = if path.extension().is_some_and(|e| e == "json") {
-            let text = String::from_utf8_lossy(&bytes);
-            Some(
-                Record::parse(text.trim())
-                    .map_err(|e| format!("{}: {e}", path.display()))?
-                    .subject,
-            )
-        } else if a.target == "exit_face" {
-            exit_case(&mut u).ok().flatten().map(Subject::Exit)
-        } else if a.target == "octree_cell" {
-            cell_case(&mut u).ok().map(|(lo, hi, r)| {
-                Subject::Box(crate::cases::BoxCase {
-                    lo,
-                    hi,
-                    org: r.org,
-                    dir: r.dir,
-                })
-            })
-        } else if a.target == "octree_walk" {
-            None
-        } else if a.target == "triangle_hit" {
-            hit_case(&mut u)
-                .ok()
-                .and_then(|(mesh, ray)| HitCase::closed(&mesh, ray).ok())
-                .map(Subject::Hit)
-        } else {
-            walk_case(&mut u).ok().map(Subject::Walk)
-        };
-        let found = if a.target == "octree_walk" && subject.is_none() {
-            // A walk's finding is the box case of its first wrong cell.
-            match hit_case(&mut arbitrary::Unstructured::new(&bytes)) {
-                Ok((mesh, ray)) => {
-                    octree_walk_find(&mesh, &ray).map_err(|e| format!("{}: {e}", path.display()))?
-                }
-                Err(_) => None,
-            }
-        } else {
-            match subject {
-                Some(s) => fuzz_find(&s).map_err(|e| format!("{}: {e}", path.display()))?,
-                None => None,
-            }
-        };
-        let Some(found) = found else {
+        let Some(found) = finding(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?
+        else {
             eprintln!(
                 "{}: does not fail (any more) for {:?}",
                 path.display(),
@@ -97,7 +91,7 @@ pub fn run(a: Args) -> Outcome {
         };
         let name = path.file_stem().and_then(|n| n.to_str()).unwrap_or("case");
         let stem = name.rsplit('-').next().unwrap_or(name);
-        for record in found.with_robust_failures()? {
+        for record in found.with_claim_failures()? {
             let f = record
                 .failure
                 .as_ref()
@@ -122,6 +116,5 @@ pub fn run(a: Args) -> Outcome {
             filed.push(file.display().to_string());
         }
     }
-    json.finish(&serde_json::json!({ "filed": filed }))?;
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }

@@ -1,12 +1,13 @@
 //! `tetwalk gen-cases`: generated (tetrahedron, ray) cases as JSON Lines, for `tetwalk exit`, or, with
 //! `--shape`, closed triangle meshes and rays for `tetwalk hit`.
 
-use super::{JsonOut, Outcome, choice};
-use crate::cases::{Case, HitCase, Subject};
+use super::{JsonOut, Status, choice};
+use crate::cases::{Case, HitCase};
 use crate::exact::classify;
-use crate::scenes::closed::{self, Aim, Place, Shape};
+use crate::family::{ExitFace, Family, Triangle};
+use crate::scenes::closed::{self, MeshShape, TriAim, TriPlace};
 use crate::scenes::rng;
-use crate::scenes::tets::{self, Family, Target};
+use crate::scenes::tets::{self, Target, TetShape};
 use glam::Vec3;
 use std::io::Write;
 use std::path::PathBuf;
@@ -31,8 +32,8 @@ pub enum Rays {
 #[derive(clap::Args)]
 pub struct Args {
     /// The tetrahedron family.
-    #[arg(long, value_parser = choice::<Family>(), default_value = "well")]
-    family: Family,
+    #[arg(long, value_parser = choice::<TetShape>(), default_value = "well")]
+    family: TetShape,
     /// How the ray meets the tetrahedron.
     #[arg(long, value_enum, default_value = "stab")]
     rays: Rays,
@@ -56,14 +57,14 @@ pub struct Args {
     with_entry: bool,
     /// Write ray–triangle cases for `tetwalk hit` instead: closed meshes of this shape (`tris` lines;
     /// the stress rows' generator), with `--aim`, `--place`, `--flatness` and `--ulps`.
-    #[arg(long, value_parser = choice::<Shape>(), conflicts_with_all = ["family", "rays", "offset", "with_entry"])]
-    shape: Option<Shape>,
+    #[arg(long, value_parser = choice::<MeshShape>(), conflicts_with_all = ["family", "rays", "offset", "with_entry"])]
+    shape: Option<MeshShape>,
     /// With `--shape`: where the rays are aimed.
-    #[arg(long, value_parser = choice::<Aim>(), default_value = "edge", requires = "shape")]
-    aim: Aim,
+    #[arg(long, value_parser = choice::<TriAim>(), default_value = "edge", requires = "shape")]
+    aim: TriAim,
     /// With `--shape`: where the mesh is placed.
-    #[arg(long, value_parser = choice::<Place>(), default_value = "origin", requires = "shape")]
-    place: Place,
+    #[arg(long, value_parser = choice::<TriPlace>(), default_value = "origin", requires = "shape")]
+    place: TriPlace,
     /// Also write what was generated (settings and count) as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -71,7 +72,7 @@ pub struct Args {
 
 #[derive(serde::Serialize)]
 struct Generated {
-    family: Family,
+    family: TetShape,
     rays: Rays,
     flatness: f32,
     ulps: i32,
@@ -81,7 +82,7 @@ struct Generated {
     written: usize,
 }
 
-pub fn run(a: Args) -> Outcome {
+pub fn run(a: Args) -> Status {
     super::generator(a.flatness, a.ulps)?;
     if a.count > 100_000_000 {
         return Err(format!("--count {} is more than 100,000,000 cases", a.count).into());
@@ -99,7 +100,7 @@ pub fn run(a: Args) -> Outcome {
             writeln!(
                 w,
                 "{}",
-                serde_json::Value::Object(Subject::Hit(case).to_json())
+                serde_json::Value::Object(Triangle::case_json(&case))
             )?;
         }
         w.flush()?;
@@ -150,7 +151,7 @@ pub fn run(a: Args) -> Outcome {
         writeln!(
             w,
             "{}",
-            serde_json::Value::Object(Subject::Exit(case).to_json())
+            serde_json::Value::Object(ExitFace::case_json(&case))
         )?;
         written += 1;
     }

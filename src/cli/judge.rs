@@ -1,17 +1,17 @@
 //! `tetwalk judge`: answers computed anywhere (a C++ or CUDA kernel's, dumped as JSON Lines) judged
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
+use super::answer::{Answered, Answering, MAX_LINE, Part, Takes, answer, reader};
 use super::count::{Dump, RaysHeader};
-use super::exit::{Answering, Line, MAX_LINE, Summary, exit_verdict, reader};
-use super::hit::hit_verdict;
-use super::{JsonOut, Outcome};
-use crate::cases::{Subject, classify, judge_hit, number};
-use crate::found::Record;
-use crate::report::count;
-use crate::report::standing::{Standing, Standings};
-use crate::report::wrong::WrongRay;
+use super::{JsonOut, Status};
+use crate::cases::number;
+use crate::engine::count::{self, Answerer, CountSettings, located_views};
+use crate::engine::standing::{Standing, Standings};
+use crate::family::count::CountError;
+use crate::family::wrong::WrongRay;
+use crate::family::{ExitFace, Kind, OctreeCells, Triangle, Walks};
 use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
-use serde_json::{Value, json};
+use serde_json::Value;
 use std::collections::HashMap;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
@@ -104,7 +104,7 @@ fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, JudgeError> {
     Ok(out)
 }
 
-pub fn run(a: Args) -> Outcome {
+pub fn run(a: Args) -> Status {
     if a.fail.fail_on == Some(super::FailOn::Claims) {
         return Err("--fail-on claims: judge's answers are yours, and tetwalk knows no claim of theirs; --fail-on wrong fails on any wrong answer".into());
     }
@@ -135,8 +135,13 @@ pub fn run(a: Args) -> Outcome {
     }
     .run(
         |batch, summary| {
-            let mut answers = answers.borrow_mut();
-            Ok(verdicts(batch, &a.name, &mut answers, t_ulps, summary))
+            let mut parts: [Box<dyn Takes>; 3] = [
+                Box::new(Part::<ExitFace>::new(Answered::Given(&a.name), t_ulps)),
+                Box::new(Part::<Triangle>::new(Answered::Given(&a.name), t_ulps)),
+                Box::new(Part::<OctreeCells>::new(Answered::Given(&a.name), t_ulps)),
+            ];
+            let mut given = answers.borrow_mut();
+            answer(batch, &mut parts, refuse, Some(&mut given), summary)
         },
         || {
             let mut extra: Vec<usize> = answers.borrow().keys().copied().collect();
@@ -153,150 +158,10 @@ pub fn run(a: Args) -> Outcome {
         },
     )
 }
-/// The verdict lines of a batch of case lines, each judged against its answer (taken out of `answers`).
-fn verdicts(
-    batch: &[Line],
-    name: &str,
-    answers: &mut HashMap<usize, Value>,
-    t_ulps: f64,
-    summary: &mut Summary,
-) -> String {
-    let mut s = String::new();
-    for (n, l) in batch {
-        if l.as_ref().is_ok_and(|t| t.trim().is_empty()) {
-            continue;
-        }
-        summary.lines += 1;
-        let answer = answers.remove(n);
-        let line = l
-            .clone()
-            .and_then(|text| verdict(*n, &text, name, answer, t_ulps, &mut summary.methods[0]));
-        let line = line.unwrap_or_else(|e| {
-            summary.errors += 1;
-            json!({"line": n, "error": e})
-        });
-        s += &line.to_string();
-        s.push('\n');
-    }
-    s
-}
 
-/// An answer's fields, checked as strictly as a case's: only the keys `allowed` for this kind of case
-/// (and `line`), each of `required` present (null allowed where the kind allows no answer).
-fn fields<'a>(
-    answer: &'a Value,
-    kind: &str,
-    allowed: &[&str],
-    required: &[&str],
-) -> Result<&'a serde_json::Map<String, Value>, String> {
-    let o = answer.as_object().ok_or("an answer is a JSON object")?;
-    let shape = || {
-        let keys: Vec<String> = allowed.iter().map(|k| format!("\"{k}\"")).collect();
-        format!("an answer to {kind} holds \"line\" and {}", keys.join(", "))
-    };
-    if let Some(k) = o
-        .keys()
-        .find(|k| *k != "line" && !allowed.contains(&k.as_str()))
-    {
-        return Err(format!("unknown field \"{k}\": {}", shape()));
-    }
-    if let Some(k) = required.iter().find(|k| !o.contains_key(**k)) {
-        return Err(format!("missing field \"{k}\": {}", shape()));
-    }
-    Ok(o)
-}
-
-/// A hit's `t`: present and a number when there is a hit, absent or null when there is none.
-fn hit_t(o: &serde_json::Map<String, Value>, hit: bool) -> Result<Option<f32>, String> {
-    let t = match o.get("t") {
-        None | Some(Value::Null) => None,
-        Some(x) => Some(number(x).map_err(|e| format!("t: {e}"))?),
-    };
-    match (hit, t) {
-        (true, None) => Err("a hit's answer needs its \"t\"".into()),
-        (false, Some(t)) => Err(format!("\"t\": {t} given for a miss")),
-        (_, t) => Ok(t),
-    }
-}
-
-fn verdict(
-    n: usize,
-    text: &str,
-    name: &str,
-    answer: Option<Value>,
-    t_ulps: f64,
-    tally: &mut super::exit::Tally,
-) -> Result<Value, String> {
-    let subject = Record::parse(text).map_err(|e| e.to_string())?.subject;
-    let answer = answer.ok_or_else(|| "no answer for this line in the answers".to_string())?;
-    match subject {
-        Subject::Exit(c) => {
-            let x = classify(&c).map_err(|e| e.to_string())?;
-            let o = fields(&answer, "a tetrahedron case", &["face"], &["face"])?;
-            let face = match &o["face"] {
-                Value::Null => None,
-                f => Some(
-                    f.as_u64()
-                        .filter(|&f| f < 4)
-                        .ok_or_else(|| format!("the answer's face {f} is not 0..3 or null"))?
-                        as usize,
-                ),
-            };
-            Ok(exit_verdict(n, name, "given", &x, face, tally))
-        }
-        Subject::Hit(h) => {
-            let truth = judge_hit(&h).map_err(|e| e.to_string())?;
-            let g = if h.closed {
-                let kind = "a closed-mesh case (tris)";
-                let o = fields(&answer, kind, &["tri", "t"], &["tri"])?;
-                match &o["tri"] {
-                    Value::Null => hit_t(o, false).map(|_| None)?,
-                    i => {
-                        let len = h.tris().len();
-                        let i = i.as_u64().filter(|&i| (i as usize) < len).ok_or_else(|| {
-                            format!("the answer's tri {i} is not a triangle of the case (0..{len})")
-                        })?;
-                        hit_t(o, true)?.map(|t| (i as u32, t))
-                    }
-                }
-            } else {
-                let kind = "a one-triangle case (tri)";
-                let o = fields(&answer, kind, &["hit", "t"], &["hit"])?;
-                let hit = o["hit"]
-                    .as_bool()
-                    .ok_or("the answer's \"hit\" is true or false")?;
-                hit_t(o, hit)?.map(|t| (0, t))
-            };
-            let hits: Vec<u32> = g.iter().map(|&(i, _)| i).collect();
-            Ok(hit_verdict(
-                (n, name, "given"),
-                (&h, &truth),
-                g,
-                &hits,
-                t_ulps,
-                tally,
-            ))
-        }
-        Subject::Box(c) => {
-            let x =
-                crate::exact::boxes::box_exit(c.lo, c.hi, &c.ray()).map_err(|e| e.to_string())?;
-            let kind = "an octree cell case (box)";
-            let o = fields(&answer, kind, &["face", "quarter"], &["face"])?;
-            let quarter = o.get("quarter").cloned().unwrap_or(Value::Null);
-            let given = match &o["face"] {
-                Value::Null if quarter.is_null() => None,
-                Value::Null => return Err("\"quarter\" given without a face".into()),
-                f => crate::found::box_answer(&json!({"face": f, "quarter": quarter}))?,
-            };
-            let given = given.map(|(f, q)| (f as usize, q));
-            Ok(super::box_exit::box_verdict(
-                n, name, "given", &x, given, tally,
-            ))
-        }
-        Subject::Walk(_) => {
-            Err("judge answers tetrahedron, triangle and octree cell cases, not walk cases".into())
-        }
-    }
+/// `judge` judges no walk case: answers to walks come as a scene's rays.
+fn refuse(_: Kind) -> String {
+    "judge answers tetrahedron, triangle and octree cell cases, not walk cases".into()
 }
 
 /// The header of a `count --rays-out` file, when `path` is one (its first line holds a scene).
@@ -344,7 +209,7 @@ fn check_rays(
     let views = &header.views;
     let shard = header.shard;
     let (mut rays, mut last) = (0u64, 1);
-    for (v, cam, start) in count::located_views(mesh, views, |v| shard.holds(v), &|| ()) {
+    for (v, cam, start) in located_views(mesh, views, |v| shard.holds(v), &|| ()) {
         for want in super::count::ray_lines(views, v, &cam, start) {
             let Some((n, line)) = lines.next() else {
                 return Err(format!(
@@ -419,7 +284,7 @@ fn walk_answer(mut v: Value) -> Result<((usize, u32, u32), Walk), String> {
 }
 
 /// A scene's walks computed elsewhere, judged as `count` judges its methods.
-fn judge_scene(a: &Args, header: RaysHeader) -> Outcome {
+fn judge_scene(a: &Args, header: RaysHeader) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;
     let mesh = crate::scenes::load(&header.scene, super::faces(header.no_faces))?;
@@ -457,30 +322,29 @@ fn judge_scene(a: &Args, header: RaysHeader) -> Outcome {
         }
     })?;
     let width = header.views.width;
-    let lookup = |v: usize, rays: &[crate::tet::Ray]| -> Result<Vec<Walk>, count::CountError> {
+    let lookup = |v: usize, rays: &[crate::tet::Ray]| -> Result<Vec<Walk>, CountError> {
         (0..rays.len() as u32)
             .map(|i| {
                 let (x, y) = (i % width, i / width);
                 given.get(&(v, x, y)).copied().ok_or_else(|| {
-                    count::CountError::Given(format!(
-                        "{file}: no answer for view {v} pixel [{x}, {y}]"
-                    ))
+                    CountError::Given(format!("{file}: no answer for view {v} pixel [{x}, {y}]"))
                 })
             })
             .collect()
     };
-    let settings = count::Settings {
+    let settings = CountSettings::<Walks> {
         scene: header.scene.clone(),
         views: header.views,
         reference: "certified".into(),
+        family: (),
         audit: 1000,
         shard: header.shard,
     };
     let mut write = |w: &WrongRay| dump.write(w);
-    let report = count::run_walkers(
+    let report = count::run(
         &mesh,
         &settings,
-        &[count::Walker::Given(&a.name, &lookup)],
+        &[Answerer::Given(&a.name, &lookup)],
         &crate::backend::CPU,
         &|| (),
         Some(&mut write),
@@ -495,7 +359,10 @@ fn judge_scene(a: &Args, header: RaysHeader) -> Outcome {
         .into());
     }
     dump.finish()?;
-    print!("{}", report.markdown());
+    print!(
+        "{}",
+        <Walks as crate::report::count::CountFormats>::count_table(&report)
+    );
     out.finish(&report)?;
     Ok(a.fail.status("judge", &report.standings()))
 }

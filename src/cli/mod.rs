@@ -1,6 +1,7 @@
 //! The `tetwalk` command line: every command-line type lives here; each subcommand builds a report
 //! value, prints it, and can write it as JSON (`--json FILE`, checked writable before the run starts).
 
+mod answer;
 mod bench;
 mod box_exit;
 mod check_filters;
@@ -19,7 +20,8 @@ mod walk;
 
 use crate::backend::{Backend, BackendKind};
 use crate::choice::Choice;
-use crate::registry::{Family, Gpu, METHODS, TRIANGLE_METHODS};
+use crate::family::Family;
+use crate::registry::{Gpu, Named};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand};
 use std::io::Write;
@@ -28,7 +30,8 @@ use std::process::ExitCode;
 
 /// Any error a command reports; rendered once, by [`main`].
 pub type Error = Box<dyn std::error::Error + Send + Sync>;
-type Outcome = Result<ExitCode, Error>;
+/// How a command ends: its exit status, or the error that stopped it.
+type Status = Result<ExitCode, Error>;
 
 #[derive(Parser)]
 #[command(
@@ -161,48 +164,52 @@ fn quiet_mesa() {
     }
 }
 
-fn methods(json: Option<PathBuf>) -> Outcome {
-    let out = JsonOut::new(json.as_deref())?;
-    #[derive(serde::Serialize)]
-    struct Row {
-        name: &'static str,
-        family: &'static str,
-        claims_robust: bool,
-        reference: bool,
-        gpu: String,
-        implements: &'static str,
-    }
-    let gpu = |g: Gpu| match g {
-        Gpu::Wgsl(_) => "yes".into(),
-        Gpu::CpuOnly(why) => format!("no: {why}"),
-    };
-    let rows: Vec<Row> = METHODS
+/// One registered method, as `tetwalk methods` lists it.
+#[derive(serde::Serialize)]
+struct Listed {
+    name: &'static str,
+    family: &'static str,
+    claims_robust: bool,
+    reference: bool,
+    gpu: String,
+    implements: &'static str,
+}
+
+/// The methods of family `F`.
+fn listed<F: Family>() -> Vec<Listed> {
+    F::methods()
         .iter()
-        .map(|m| Row {
-            name: m.name,
-            family: m.family.name(),
-            claims_robust: m.claims_robust,
-            reference: m.reference,
-            gpu: gpu(m.gpu),
-            implements: m.source,
+        .map(|m| {
+            let i = m.info();
+            Listed {
+                name: i.name,
+                family: F::NAME,
+                claims_robust: i.claim.is_some(),
+                reference: i.reference,
+                gpu: match i.gpu {
+                    Gpu::Wgsl(_) => "yes".into(),
+                    Gpu::CpuOnly(why) => format!("no: {why}"),
+                },
+                implements: i.source,
+            }
         })
-        .chain(TRIANGLE_METHODS.iter().map(|m| Row {
-            name: m.name,
-            family: Family::Triangle.name(),
-            claims_robust: m.claims_watertight,
-            reference: false,
-            gpu: gpu(m.gpu),
-            implements: m.source,
-        }))
-        .chain(crate::registry::OCTREE_METHODS.iter().map(|m| Row {
-            name: m.name,
-            family: Family::Octree.name(),
-            claims_robust: false,
-            reference: m.reference,
-            gpu: gpu(m.gpu),
-            implements: m.source,
-        }))
-        .collect();
+        .collect()
+}
+
+fn methods(json: Option<PathBuf>) -> Status {
+    let out = JsonOut::new(json.as_deref())?;
+    // Each registry once: families that share one (exit faces and walks) list it under the first.
+    let mut seen: Vec<*const ()> = Vec::new();
+    let mut rows: Vec<Listed> = Vec::new();
+    for &k in crate::family::Kind::ALL {
+        crate::with_family!(k, F => {
+            let at = F::methods().as_ptr() as *const ();
+            if !seen.contains(&at) {
+                seen.push(at);
+                rows.extend(listed::<F>());
+            }
+        });
+    }
     println!("| method | family | claims robust | GPU | implements |\n|---|---|---|---|---|");
     for r in &rows {
         let yes = |b: bool| if b { "yes" } else { "no" };
@@ -220,7 +227,7 @@ fn methods(json: Option<PathBuf>) -> Outcome {
     Ok(ExitCode::SUCCESS)
 }
 
-fn gpu_info(json: Option<PathBuf>) -> Outcome {
+fn gpu_info(json: Option<PathBuf>) -> Status {
     let out = JsonOut::new(json.as_deref())?;
     let found = crate::gpu::adapters();
     if found.is_empty() {
@@ -306,7 +313,7 @@ struct FailArg {
 impl FailArg {
     /// The exit status `standings` earn under the rule, each method's summary line (and the verdict)
     /// on standard error.
-    fn status(self, command: &str, standings: &[crate::report::standing::Standing]) -> ExitCode {
+    fn status(self, command: &str, standings: &[crate::engine::standing::Standing]) -> ExitCode {
         let Some(rule) = self.fail_on else {
             return ExitCode::SUCCESS;
         };
@@ -408,16 +415,24 @@ struct WgslArg {
 }
 
 impl WgslArg {
-    /// The backend `b` asks for and the methods `list` names, the user's WGSL method first when
-    /// `--wgsl` gives one (the GPU opened with it, after the compiler has checked it).
-    fn open(
+    /// The backend `b` asks for and the methods of family `F` `list` names, the user's WGSL method
+    /// first when `--wgsl` gives one (the GPU opened with it, after the compiler has checked it).
+    fn open<F: Family>(
         &self,
         b: BackendArg,
         list: &str,
-    ) -> Result<(Backend, Vec<&'static crate::registry::Method>), Error> {
-        let mut methods = crate::registry::parse_list(list)?;
+    ) -> Result<(Backend, Vec<&'static F::Method>), Error> {
+        let mut methods = crate::family::parse_list::<F>(list)?;
         let Some(path) = &self.wgsl else {
             return Ok((b.open()?, methods));
+        };
+        let Some(user) = F::user_wgsl() else {
+            return Err(format!(
+                "--wgsl {} takes an exit-face function (exit faces and walks), not {} methods",
+                path.display(),
+                F::NAME
+            )
+            .into());
         };
         if b.fma || b.backend != BackendKind::Gpu {
             return Err(format!(
@@ -440,7 +455,7 @@ impl WgslArg {
             std::fs::read_to_string(path).map_err(|e| format!("--wgsl {}: {e}", path.display()))?;
         let backend = Backend::gpu_with_user(&path.display().to_string(), &source)?;
         eprintln!("tetwalk: {}", backend.describe());
-        methods.insert(0, &crate::registry::USER_WGSL);
+        methods.insert(0, user);
         Ok((backend, methods))
     }
 }

@@ -1,9 +1,9 @@
 //! `tetwalk paper`: the seeds' tables that tetwalk reproduces, ours beside theirs.
 
-use super::{JsonOut, Outcome, Staged};
+use super::{JsonOut, Staged, Status};
 use crate::backend::Backend;
-use crate::report::count::Shard;
-use crate::report::paper::{self, PaperReport, Size};
+use crate::engine::count::Shard;
+use crate::engine::paper::{self, PaperReport, Size};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -59,7 +59,7 @@ enum Merge {
     },
 }
 
-pub fn run(a: Args) -> Outcome {
+pub fn run(a: Args) -> Status {
     if let Some(Merge::Merge { reports, out, json }) = &a.merge {
         return merge(reports, out, json.as_deref());
     }
@@ -126,10 +126,10 @@ fn write(report: &PaperReport, mut out: Staged) -> Result<(), super::Error> {
     out.finish()
 }
 
-fn merge(reports: &[PathBuf], out: &Path, json: Option<&Path>) -> Outcome {
+fn merge(reports: &[PathBuf], out: &Path, json: Option<&Path>) -> Status {
     let json = JsonOut::new(json)?;
     let out = Staged::new("--out", out)?;
-    let merged = crate::report::count::merge::<PaperReport>(&super::read_reports(reports)?)?;
+    let merged = crate::engine::count::merge::<PaperReport>(&super::read_reports(reports)?)?;
     write(&merged, out)?;
     json.finish(&merged)?;
     Ok(ExitCode::SUCCESS)

@@ -1,14 +1,15 @@
 //! `tetwalk render`: shaded renders, failure maps, heat maps and predicate maps as PNG.
 
-use super::{BackendArg, JsonOut, Outcome, choice};
+use super::{BackendArg, JsonOut, Status, choice};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::Case;
+use crate::family::{self, OctreeCells, Triangle, Walks};
 use crate::methods::Model;
-use crate::registry::{parse_list, parse_triangle_list, reference};
+use crate::registry::{Named, reference};
 use crate::render::{self, Image};
 use crate::scenes::camera::Views;
-use crate::scenes::closed::{Place, Shape};
-use crate::scenes::tets::{self, Family, Target};
+use crate::scenes::closed::{MeshShape, TriPlace};
+use crate::scenes::tets::{self, Target, TetShape};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -60,17 +61,17 @@ pub struct Args {
     #[command(flatten)]
     backend: BackendArg,
     /// Predicate maps: the tetrahedron family.
-    #[arg(long, value_parser = choice::<Family>(), default_value = "well")]
-    family: Family,
+    #[arg(long, value_parser = choice::<TetShape>(), default_value = "well")]
+    family: TetShape,
     /// Predicate maps: what the ray goes exactly through.
     #[arg(long, value_parser = ["edge", "vertex"], default_value = "edge")]
     through: String,
     /// Leak maps: the closed mesh.
-    #[arg(long, value_parser = choice::<Shape>(), default_value = "octahedron")]
-    shape: Shape,
+    #[arg(long, value_parser = choice::<MeshShape>(), default_value = "octahedron")]
+    shape: MeshShape,
     /// Leak maps: where the mesh is placed.
-    #[arg(long, value_parser = choice::<Place>(), default_value = "embree")]
-    place: Place,
+    #[arg(long, value_parser = choice::<TriPlace>(), default_value = "embree")]
+    place: TriPlace,
     /// Seed: of the viewpoints (as `tetwalk count --seed`), or of the predicate or leak map's case.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
@@ -108,7 +109,7 @@ fn beside(out: &Path, suffix: &str) -> PathBuf {
     out.with_file_name(format!("{stem}-{suffix}.png"))
 }
 
-pub fn run(a: Args) -> Outcome {
+pub fn run(a: Args) -> Status {
     // The place checked writable before any work (a probe staged there and removed).
     drop(super::Staged::new("--out", &a.out)?);
     if a.what == What::Leak {
@@ -117,9 +118,9 @@ pub fn run(a: Args) -> Outcome {
     if a.what == What::OctreeHeat {
         return octree_heat(a);
     }
-    let methods: Vec<_> = parse_list(&a.methods)?
+    let methods: Vec<_> = family::parse_list::<Walks>(&a.methods)?
         .into_iter()
-        .filter(|m| !m.reference)
+        .filter(|m| !m.is_reference())
         .collect();
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = super::size(&a.size, true, 65536)?;
@@ -171,7 +172,11 @@ pub fn run(a: Args) -> Outcome {
                     let faces = render::predicate_grid(&case, w, m, b)?;
                     row.push(render::face_image(&faces, w));
                 }
-                write(&beside(&a.out, m.name), &Image::sheet(&row, 4), &mut drawn)?;
+                write(
+                    &beside(&a.out, m.name()),
+                    &Image::sheet(&row, 4),
+                    &mut drawn,
+                )?;
             }
             drawn.legend = render::predicate_legend();
             println!(
@@ -211,7 +216,7 @@ pub fn run(a: Args) -> Outcome {
                         "sheet order: {}",
                         methods
                             .iter()
-                            .map(|m| m.name)
+                            .map(|m| m.name())
                             .collect::<Vec<_>>()
                             .join(", ")
                     );
@@ -246,20 +251,20 @@ fn square(text: &str, w: u32, h: u32) -> Result<(), super::Error> {
 }
 
 /// `render octree-heat`: octree cells per pixel.
-fn octree_heat(a: Args) -> Outcome {
+fn octree_heat(a: Args) -> Status {
     let names = if a.methods == "all" {
         "portalez16-direction"
     } else {
         &a.methods
     };
-    let method = *crate::registry::parse_octree_list(names)?
+    let method = *family::parse_list::<OctreeCells>(names)?
         .first()
         .ok_or("--methods names no octree method")?;
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = super::size(&a.size, false, 4096)?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let views = views_of(&a, w, h);
-    let hit = crate::registry::triangle_by_name("mt")?.hit(Model::Plain);
+    let hit = family::by_name::<Triangle>("mt")?.hit(Model::Plain);
     let im = render::octree_heat(
         &mesh,
         &views,
@@ -277,8 +282,8 @@ fn octree_heat(a: Args) -> Outcome {
 }
 
 /// `render leak`: a sheet per ray–triangle method, exact | cpu | cpu-fma (| gpu).
-fn leak(a: Args) -> Outcome {
-    let methods = parse_triangle_list(&a.methods)?;
+fn leak(a: Args) -> Status {
+    let methods = family::parse_list::<Triangle>(&a.methods)?;
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = super::size(&a.size, true, 4096)?;
     square(&a.size, w, h)?;
@@ -303,7 +308,11 @@ fn leak(a: Args) -> Outcome {
         for b in &backends {
             row.push(render::leak_image(&grid.of(m, b)?, w));
         }
-        write(&beside(&a.out, m.name), &Image::sheet(&row, 4), &mut drawn)?;
+        write(
+            &beside(&a.out, m.name()),
+            &Image::sheet(&row, 4),
+            &mut drawn,
+        )?;
     }
     drawn.legend = render::leak_legend();
     println!(

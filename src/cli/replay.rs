@@ -2,11 +2,15 @@
 //! the same way (the same method on the same backend stopping at the same place, and still wrong);
 //! with `--found`, the same for found cases (on their backend, and for a GPU finding on its adapter).
 
-use super::{JsonOut, Outcome};
+use super::{JsonOut, Status};
 use crate::backend::{Backend, BackendKind};
+use crate::cases::object;
+use crate::engine::found::{Found, FoundError, Replay, replay};
+use crate::family::wrong::WrongRay;
+use crate::family::{Family, owner};
 use crate::mesh::Mesh;
+use crate::registry::Named;
 use crate::registry::{by_name, reference};
-use crate::report::wrong::WrongRay;
 use crate::walk::{default_max_steps, judge, locate};
 use std::collections::HashMap;
 use std::io::{BufRead, Write};
@@ -37,9 +41,16 @@ struct Summary {
     skipped: u64,
 }
 
+/// Replay one found case of family `F`: how it replays now, and the method that failed on it.
+fn replayed<F: Family>(
+    obj: serde_json::Map<String, serde_json::Value>,
+) -> Result<(Replay, Option<String>), FoundError> {
+    let r = Found::<F>::from_object(obj)?;
+    Ok((replay(&r)?, r.failure.map(|f| f.method)))
+}
+
 /// Replay found cases: each must fail again on its backend with its recorded answer.
-fn found(a: &Args) -> Outcome {
-    use crate::found::{Record, Replay, replay};
+fn found(a: &Args) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let mut summary = Summary::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
@@ -52,9 +63,10 @@ fn found(a: &Args) -> Outcome {
         {
             let place =
                 |e: &dyn std::fmt::Display| format!("{} line {}: {e}", path.display(), n + 1);
-            let r = Record::parse(line).map_err(|e| place(&e))?;
+            let obj = object(line).map_err(|e| place(&e))?;
+            let (now, method) =
+                crate::with_family!(owner(&obj), F => replayed::<F>(obj)).map_err(|e| place(&e))?;
             summary.lines += 1;
-            let now = replay(&r).map_err(|e| place(&e))?;
             let what = match &now {
                 Replay::Holds => {
                     summary.same += 1;
@@ -71,12 +83,12 @@ fn found(a: &Args) -> Outcome {
                 }
                 Replay::OtherAnswer(x) => {
                     summary.changed += 1;
-                    format!("other answer {x:?}")
+                    format!("other answer {x}")
                 }
             };
             let v = serde_json::json!({
                 "file": path.display().to_string(), "line": n + 1,
-                "method": r.failure.as_ref().map(|f| f.method.clone()), "replay": what,
+                "method": method, "replay": what,
             });
             writeln!(w, "{v}")?;
         }
@@ -89,7 +101,7 @@ fn found(a: &Args) -> Outcome {
     )
 }
 
-pub fn run(a: Args) -> Outcome {
+pub fn run(a: Args) -> Status {
     if a.found {
         return found(&a);
     }
@@ -158,7 +170,7 @@ pub fn run(a: Args) -> Outcome {
             summary.changed += 1;
         }
         let v = serde_json::json!({
-            "line": n, "method": m.name, "backend": backend.describe(), "still_wrong": still_wrong,
+            "line": n, "method": m.name(), "backend": backend.describe(), "still_wrong": still_wrong,
             "same": same, "now": now.outcome, "recorded": d.stopped.outcome,
         });
         writeln!(w, "{v}")?;
@@ -174,7 +186,7 @@ pub fn run(a: Args) -> Outcome {
 impl Summary {
     /// Write the summary, say it, and end: an error when nothing was replayed, status 1 when a case
     /// changed.
-    fn finish(self, out: JsonOut, nothing: &str, what: &str) -> Outcome {
+    fn finish(self, out: JsonOut, nothing: &str, what: &str) -> Status {
         if self.lines == 0 {
             return Err(nothing.into());
         }

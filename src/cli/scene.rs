@@ -1,8 +1,8 @@
 //! `tetwalk scene build`, `scene export` and `scene info`.
 
-use super::{JsonOut, Outcome};
+use super::{JsonOut, Status};
+use crate::engine::info::SceneInfo;
 use crate::mesh::Mesh;
-use crate::report::scene_info::SceneInfo;
 use crate::scenes::build::build_scene;
 use crate::scenes::model::Model;
 use glam::Vec3;
@@ -62,7 +62,7 @@ pub enum Scene {
     },
 }
 
-pub fn run(s: Scene) -> Outcome {
+pub fn run(s: Scene) -> Status {
     match s {
         Scene::Build {
             model,

@@ -1,51 +1,57 @@
-//! `tetwalk stress`: the failure table over tetrahedron families and ray kinds.
+//! `tetwalk stress`: the failure table over a family's stress rows, a campaign over them, or the
+//! backends compared, for every family.
 
-use super::{BackendArg, FailArg, JsonOut, Outcome, WgslArg, choice};
-use crate::backend::{Backend, BackendKind};
-use crate::cases::{Case, Subject};
+use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg, choice};
+use crate::backend::BackendKind;
 use crate::choice::Choice;
-use crate::found::{Answer, Failure, Record};
-use crate::registry::Method;
-use crate::registry::{TriangleMethod, parse_triangle_list};
-use crate::registry::{parse_list, parse_octree_list};
-use crate::report::octree as cell_report;
-use crate::report::standing::{Standings, summed};
-use crate::report::stress::{self, Row, Settings};
-use crate::report::triangle::{self as tri, StressSettings};
-use crate::scenes::cells;
-use crate::scenes::closed::{Aim, Place, Shape};
+use crate::engine::found::Found;
+use crate::engine::standing::Standings;
+use crate::engine::stress::{self, StressSettings, Wrong};
+use crate::family::exit_face::{ExitRows, TetRow};
+use crate::family::octree::CellRows;
+use crate::family::triangle::TriRows;
+use crate::family::walk::{WalkRows, WalkScene};
+use crate::family::{self, ExitFace, Family, Kind, OctreeCells, Triangle, Walks};
+use crate::report::Formats;
+use crate::report::stress::disagreements;
+use crate::scenes::cells::{CellAim, CellPlace};
+use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Which family of methods: `exit-face` (tetrahedra, seeds 000 and 003), `triangle` (closed
-    /// triangle meshes, seed 004: leaks, double hits, wrong first hits) or `octree` (octree cells,
-    /// seed 001: wrong exit faces and quarters).
-    #[arg(long, value_parser = ["exit-face", "triangle", "octree"], default_value = "exit-face")]
-    family: String,
-    /// Cases per row [default: 100000 for exit-face, 2000 for triangle].
+    /// Which family: `exit-face` (one tetrahedron's exit face, seeds 000 and 003), `walk` (walks
+    /// through the lattice-tie scenes: Kuhn and jittered grids, an edge fan, near and far), `triangle`
+    /// (closed triangle meshes, seed 004: leaks, double hits, wrong first hits) or `octree` (octree
+    /// cells, seed 001: wrong exit faces and quarters).
+    #[arg(long, value_parser = choice::<Kind>(), default_value = "exit-face")]
+    family: Kind,
+    /// Cases per row [default: 100000, 10000 for walk, 2000 for triangle].
     #[arg(long, allow_negative_numbers = true)]
     cases: Option<i64>,
-    /// Rows (comma-separated) [default: all of them]; exit-face only.
-    #[arg(long, value_parser = choice::<Row>(), value_delimiter = ',')]
-    families: Vec<Row>,
+    /// Exit-face rows (comma-separated) [default: all].
+    #[arg(long, alias = "families", value_parser = choice::<TetRow>(), value_delimiter = ',')]
+    rows: Vec<TetRow>,
+    /// Walk rows: the scenes walked (comma-separated) [default: all].
+    #[arg(long, value_parser = choice::<WalkScene>(), value_delimiter = ',')]
+    scenes: Vec<WalkScene>,
     /// Triangle rows: closed mesh shapes (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<Shape>(), value_delimiter = ',')]
-    shapes: Vec<Shape>,
+    #[arg(long, value_parser = choice::<MeshShape>(), value_delimiter = ',')]
+    shapes: Vec<MeshShape>,
     /// Triangle rows: where rays are aimed (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<Aim>(), value_delimiter = ',')]
-    aims: Vec<Aim>,
-    /// Octree rows: where rays leave the cell (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<cells::Aim>(), value_delimiter = ',')]
-    cell_aims: Vec<cells::Aim>,
-    /// Octree rows: where cells are placed (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<cells::Place>(), value_delimiter = ',')]
-    cell_places: Vec<cells::Place>,
+    #[arg(long, value_parser = choice::<TriAim>(), value_delimiter = ',')]
+    aims: Vec<TriAim>,
     /// Triangle rows: where meshes are placed (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<Place>(), value_delimiter = ',')]
-    places: Vec<Place>,
+    #[arg(long, value_parser = choice::<TriPlace>(), value_delimiter = ',')]
+    places: Vec<TriPlace>,
+    /// Octree rows: where rays leave the cell (comma-separated) [default: all].
+    #[arg(long, value_parser = choice::<CellAim>(), value_delimiter = ',')]
+    cell_aims: Vec<CellAim>,
+    /// Octree rows: where cells are placed (comma-separated) [default: all].
+    #[arg(long, value_parser = choice::<CellPlace>(), value_delimiter = ',')]
+    cell_places: Vec<CellPlace>,
     /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
     methods: String,
@@ -61,19 +67,19 @@ pub struct Args {
     /// Instead of judging, count how often cpu, cpu-fma and gpu answer differently (needs a GPU).
     #[arg(long)]
     compare: bool,
-    /// Flatness of the degenerate families, in (0, 1].
+    /// Exit-face and triangle rows: flatness of the degenerate shapes, in (0, 1].
     #[arg(long, allow_negative_numbers = true, default_value_t = 1e-3)]
     flatness: f32,
     /// Largest ulp offset of the near-edge and near-vertex rows.
     #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
-    /// `all`: run again under each of the 12 orientation-preserving relabellings of every case's
-    /// tetrahedron and give each row's and method's wrong answers with the cases' own labelling beside
-    /// their min / median / max.
+    /// `all`: run again under each orientation-preserving relabelling of every case's tetrahedron
+    /// (exit-face: 12) and give each row's and method's wrong answers with the cases' own labelling
+    /// beside their min / median / max.
     #[arg(long, value_parser = ["all"])]
     relabel: Option<String>,
     /// A differential campaign: rounds of new cases (seed, seed + 1, …) until this many seconds have
-    /// passed, every new failure filed under `--found`.
+    /// passed, the tallies summed, every new failure filed under `--found`.
     #[arg(long, allow_negative_numbers = true)]
     seconds: Option<f64>,
     /// Where a campaign files its failures as found cases (one folder per method), replayed by
@@ -88,37 +94,120 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
-pub fn run(a: Args) -> Outcome {
+/// The stress rows a family's flags choose.
+trait Rows: Formats {
+    fn chosen(a: &Args) -> Self::Rows;
+}
+
+/// `given`, or every value when none is.
+fn or_all<T: Choice>(given: &[T]) -> Vec<T> {
+    if given.is_empty() {
+        T::ALL.to_vec()
+    } else {
+        given.to_vec()
+    }
+}
+
+impl Rows for ExitFace {
+    fn chosen(a: &Args) -> ExitRows {
+        ExitRows {
+            rows: or_all(&a.rows),
+            flatness: a.flatness,
+            ulps: a.ulps,
+            ..ExitRows::default()
+        }
+    }
+}
+
+impl Rows for Walks {
+    fn chosen(a: &Args) -> WalkRows {
+        WalkRows {
+            scenes: or_all(&a.scenes),
+        }
+    }
+}
+
+impl Rows for Triangle {
+    fn chosen(a: &Args) -> TriRows {
+        TriRows {
+            shapes: or_all(&a.shapes),
+            aims: or_all(&a.aims),
+            places: or_all(&a.places),
+            flatness: a.flatness,
+            ulps: a.ulps,
+        }
+    }
+}
+
+impl Rows for OctreeCells {
+    fn chosen(a: &Args) -> CellRows {
+        CellRows {
+            aims: or_all(&a.cell_aims),
+            places: or_all(&a.cell_places),
+            ulps: a.ulps,
+        }
+    }
+}
+
+/// Each family's own row flags, whether given: one given with another family is refused.
+fn foreign(a: &Args) -> Result<(), Error> {
+    use Kind::*;
+    let flags: [(&str, bool, Kind); 7] = [
+        ("--rows", !a.rows.is_empty(), ExitFace),
+        ("--scenes", !a.scenes.is_empty(), Walk),
+        ("--shapes", !a.shapes.is_empty(), Triangle),
+        ("--aims", !a.aims.is_empty(), Triangle),
+        ("--places", !a.places.is_empty(), Triangle),
+        ("--cell-aims", !a.cell_aims.is_empty(), Octree),
+        ("--cell-places", !a.cell_places.is_empty(), Octree),
+    ];
+    match flags
+        .iter()
+        .find(|(_, given, of)| *given && *of != a.family)
+    {
+        Some((flag, _, of)) => Err(format!(
+            "{flag} chooses {} rows; add --family {} (this run is --family {})",
+            of.name(),
+            of.name(),
+            a.family.name()
+        )
+        .into()),
+        None => Ok(()),
+    }
+}
+
+pub fn run(a: Args) -> Status {
     super::generator(a.flatness, a.ulps)?;
     if let Some(seconds) = a.seconds
         && !(seconds.is_finite() && seconds >= 0.0)
     {
         return Err(format!("--seconds {seconds} is not a number of seconds").into());
     }
-    let triangle = a.family == "triangle";
-    if a.wgsl.wgsl.is_some() && (triangle || a.seconds.is_some()) {
-        return Err("--wgsl judges an exit-face function in a stress table (a campaign files found cases for tetwalk's own methods: fuzz a --wgsl function with TETWALK_FUZZ_WGSL)".into());
-    }
-    let cases = a.cases.unwrap_or(if triangle { 2_000 } else { 100_000 });
+    foreign(&a)?;
+    crate::with_family!(a.family, F => stress::<F>(a))
+}
+
+/// The stress table of family `F`, its campaign, or its backends compared.
+fn stress<F: Rows>(a: Args) -> Status {
+    let cases = a.cases.unwrap_or(F::STRESS_CASES as i64);
     if cases <= 0 {
         return Err(
             format!("--cases {cases}: a stress run needs at least one case per row").into(),
         );
     }
     let cases = cases as usize;
-    if triangle {
-        return run_triangle(a, cases);
+    if a.wgsl.wgsl.is_some() && (F::user_wgsl().is_none() || a.seconds.is_some()) {
+        return Err("--wgsl judges an exit-face function in a stress table of exit faces or walks (a campaign files found cases for tetwalk's own methods: fuzz a --wgsl function with TETWALK_FUZZ_WGSL)".into());
     }
-    if a.family == "octree" {
-        return run_octree(a, cases);
+    if a.relabel.is_some() && F::LABELLINGS == 1 {
+        return Err(format!(
+            "--relabel all: a {} case has one labelling (the exit-face family's tetrahedra have 12)",
+            F::NAME
+        )
+        .into());
     }
-    if !(a.cell_aims.is_empty() && a.cell_places.is_empty()) {
-        return Err("--cell-aims and --cell-places choose octree rows; add --family octree".into());
-    }
-    if !(a.shapes.is_empty() && a.aims.is_empty() && a.places.is_empty()) {
-        return Err(
-            "--shapes, --aims and --places choose triangle rows; add --family triangle".into(),
-        );
+    if a.relabel.is_some() && (a.compare || a.seconds.is_some()) {
+        return Err("--relabel reruns one stress table; leave out --compare and --seconds".into());
     }
     if a.compare && a.fail.fail_on.is_some() {
         return Err("--compare counts disagreements between backends and judges nothing: leave out --fail-on".into());
@@ -126,8 +215,11 @@ pub fn run(a: Args) -> Outcome {
     if a.compare && a.wgsl.wgsl.is_some() {
         return Err("--compare runs every method on cpu and cpu-fma too; a --wgsl function runs on the GPU only".into());
     }
-    // A row's cases, their classifications and one method's answers are held at once.
-    super::fits(&format!("--cases {cases}"), cases as u128 * 112)?;
+    // A row's cases, their truths and one method's answers are held at once.
+    super::fits(
+        &format!("--cases {cases}"),
+        cases as u128 * F::BYTES_PER_CASE,
+    )?;
     let out = JsonOut::new(a.json.as_deref())?;
     let (backend, methods) = if a.compare {
         if a.backend.backend != BackendKind::Cpu {
@@ -137,67 +229,49 @@ pub fn run(a: Args) -> Outcome {
             backend: BackendKind::Gpu,
             ..a.backend
         };
-        (gpu.open()?, parse_list(&a.methods)?)
+        (gpu.open()?, family::parse_list::<F>(&a.methods)?)
     } else {
-        a.wgsl.open(a.backend, &a.methods)?
+        a.wgsl.open::<F>(a.backend, &a.methods)?
     };
-    let settings = Settings {
+    let settings = StressSettings::<F> {
         cases,
-        rows: if a.families.is_empty() {
-            Row::ALL.to_vec()
-        } else {
-            a.families
-        },
+        rows: F::chosen(&a),
         seed: a.seed,
-        backend: backend.describe(),
-        flatness: a.flatness,
-        ulps: a.ulps,
-        relabel: crate::tet::EVEN_PERMUTATIONS[0],
+        backend: backend.ran(),
     };
-    if a.relabel.is_some() && (a.compare || a.seconds.is_some()) {
-        return Err("--relabel reruns one stress table; leave out --compare and --seconds".into());
-    }
     if a.compare {
         let d = stress::compare(&settings, &methods, &backend)?;
-        print!("{}", d.markdown());
+        print!("{}", disagreements(&d));
         out.finish(&d)?;
         return Ok(ExitCode::SUCCESS);
     }
     let Some(seconds) = a.seconds else {
-        let bar = super::progress((settings.cases * settings.rows.len()) as u64, "cases");
-        let mut report = stress::run(
-            &settings,
-            &methods,
-            &backend,
-            &|n| bar.inc(n),
-            &mut |_, _, _, _| {},
-        )?;
+        let rows = F::rows(&settings.rows).len();
+        let bar = super::progress((settings.cases * rows) as u64, "cases");
+        let mut report = stress::run(&settings, &methods, &backend, &|n| bar.inc(n), &mut |_| {})?;
         if a.relabel.is_some() {
             report.relabel_all(&methods, &backend)?;
         }
         bar.finish_and_clear();
-        return shown(out, a.fail, report.markdown(), &report);
+        print!("{}", F::stress_table(&report));
+        out.finish(&report)?;
+        return Ok(a.fail.status("stress", &report.standings()));
     };
     let mut filing = Filing::new(a.found, a.keep);
-    let report = stress::campaign(
-        &settings,
-        &methods,
-        &backend,
-        seconds,
-        &|_| {},
-        &mut |row, m, case, face| filing.file(row, m, &backend, case, face),
-    )?;
+    let report = stress::campaign(&settings, &methods, &backend, seconds, &|_| {}, &mut |w| {
+        filing.file::<F>(w)
+    })?;
     if let Some(e) = filing.error {
         return Err(e.into());
     }
-    print!("{}", report.markdown());
-    filing.print(report.rounds, "");
+    print!("{}", F::stress_table(&report));
+    filing.print(report.rounds);
     out.finish(&report)?;
     Ok(a.fail.status("stress", &report.standings()))
 }
 
 /// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
-/// kind (each with the same case for the robust methods that fail on it too); the first error stops
+/// kind (each with the same case for the methods that claim and fail it too); the first error stops
 /// filing and is reported.
 struct Filing {
     dir: PathBuf,
@@ -221,9 +295,9 @@ impl Filing {
     }
 
     /// What the campaign filed, after its table.
-    fn print(&self, rounds: u64, note: &str) {
+    fn print(&self, rounds: u64) {
         println!(
-            "\n{} wrong answers in {rounds} rounds{note}; {} new found cases filed under {} (at most {} per method, row and kind):",
+            "\n{} wrong answers in {rounds} rounds; {} new found cases filed under {} (at most {} per method, row and kind):",
             self.seen,
             self.filed.len(),
             self.dir.display(),
@@ -234,40 +308,28 @@ impl Filing {
         }
     }
 
-    /// A wrong exit face of `m` on `case`.
-    fn file(&mut self, row: Row, m: &Method, backend: &Backend, case: &Case, face: Option<usize>) {
-        let on = backend.for_method(m);
-        self.file_record(
-            row.name(),
-            Record {
-                subject: Subject::Exit(*case),
-                failure: Some(Failure {
-                    method: m.name.to_string(),
-                    backend: on.kind(),
-                    adapter: on.adapter(),
-                    answer: Answer::Face(face.map(|f| f as u8)),
-                }),
-            },
-        );
-    }
-
-    /// A found case of a row (named `row`).
-    fn file_record(&mut self, row: &str, record: Record) {
+    /// A wrong answer of a row.
+    fn file<F: Family>(&mut self, w: Wrong<F>) {
         self.seen += 1;
-        let kind = record.failure.as_ref().map_or("", |f| f.kind().wrong_key());
-        let method = record
-            .failure
-            .as_ref()
-            .map_or(String::new(), |f| f.method.clone());
-        let key = (method, row.to_string(), kind);
+        let row = F::row_name(w.row);
+        let found = Found::<F> {
+            case: *w.case,
+            failure: Some(crate::engine::found::Failure::of(w.method, w.on, *w.answer)),
+        };
+        let kind = F::kind(w.answer).wrong_key();
+        let key = (
+            crate::registry::Named::name(w.method).to_string(),
+            row.clone(),
+            kind,
+        );
         let n = self.kept.get(&key).copied().unwrap_or(0);
-        if n >= self.keep || self.error.is_some() || self.path(row, &record).exists() {
+        if n >= self.keep || self.error.is_some() || self.path(&row, &found).exists() {
             return;
         }
         self.kept.insert(key, n + 1);
-        // The same case for every method that claims robustness and fails on it too (on the CPU):
-        // a failure of a claim is a finding of its own, as `fuzz-import` files it.
-        let records = match record.with_robust_failures() {
+        // The same case for every method that claims and fails it too (on the CPU): a failure of a
+        // claim is a finding of its own, as `fuzz-import` files it.
+        let records = match found.with_claim_failures() {
             Ok(r) => r,
             Err(e) => {
                 self.error = Some(e.to_string());
@@ -275,7 +337,7 @@ impl Filing {
             }
         };
         for r in records {
-            let file = self.path(row, &r);
+            let file = self.path(&row, &r);
             if file.exists() {
                 continue;
             }
@@ -293,7 +355,7 @@ impl Filing {
 
     /// Where a found case is filed: by method, row, kind and an FNV-1a hash of its line, so that the
     /// same failure always files under the same name, once.
-    fn path(&self, row: &str, r: &Record) -> PathBuf {
+    fn path<F: Family>(&self, row: &str, r: &Found<F>) -> PathBuf {
         let line = r.to_json();
         let hash = line.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
             (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
@@ -306,144 +368,4 @@ impl Filing {
             .join(method)
             .join(format!("stress-{row}-{kind}-{hash:016x}.json"))
     }
-}
-
-/// `stress --family triangle`: the closed-mesh rows, or a campaign over them with `--seconds`.
-fn run_triangle(a: Args, cases: usize) -> Outcome {
-    if a.compare || a.relabel.is_some() || !a.families.is_empty() {
-        return Err("--compare, --relabel and --families are for --family exit-face".into());
-    }
-    let methods: Vec<&TriangleMethod> = parse_triangle_list(&a.methods)?;
-    // A row's cases (about 1 KiB each with their exact answers) and one method's hits are held at once.
-    super::fits(&format!("--cases {cases}"), cases as u128 * 2048)?;
-    let out = JsonOut::new(a.json.as_deref())?;
-    let backend = a.backend.open()?;
-    let mut settings = StressSettings {
-        cases,
-        shapes: or_all(a.shapes),
-        aims: or_all(a.aims),
-        places: or_all(a.places),
-        seed: a.seed,
-        backend: backend.describe(),
-        flatness: a.flatness,
-        ulps: a.ulps,
-    };
-    let rows = settings.shapes.len() * settings.aims.len() * settings.places.len();
-    let Some(seconds) = a.seconds else {
-        let bar = super::progress((cases * rows) as u64, "rays");
-        let report = tri::stress(
-            &settings,
-            &methods,
-            &backend,
-            &|n| bar.inc(n),
-            &mut |_, _| {},
-        )?;
-        bar.finish_and_clear();
-        return shown(out, a.fail, report.markdown(), &report);
-    };
-    rounds(
-        Filing::new(a.found, a.keep),
-        seconds,
-        out,
-        a.fail,
-        |round, filing| {
-            settings.seed = a.seed + round;
-            let r = tri::stress(
-                &settings,
-                &methods,
-                &backend,
-                &|_| {},
-                &mut |row, record| filing.file_record(row, record),
-            )?;
-            Ok((r.markdown(), r))
-        },
-    )
-}
-
-/// A campaign over tables that are not summed: rounds of `round` (given its number, from 0) until
-/// `seconds` have passed (one at least), filing failures; the last round's table is printed and
-/// written with `--json`, the exit status from every round's standings.
-fn rounds<R: serde::Serialize + Standings>(
-    mut filing: Filing,
-    seconds: f64,
-    out: JsonOut,
-    fail: FailArg,
-    mut round: impl FnMut(u64, &mut Filing) -> Result<(String, R), super::Error>,
-) -> Outcome {
-    let t0 = std::time::Instant::now();
-    let mut done = 0;
-    let mut last = None;
-    let mut standings = Vec::new();
-    while done == 0 || t0.elapsed().as_secs_f64() < seconds {
-        let (text, report) = round(done, &mut filing)?;
-        standings = summed(standings.into_iter().chain(report.standings()));
-        last = Some((text, report));
-        done += 1;
-    }
-    if let Some(e) = filing.error {
-        return Err(e.into());
-    }
-    let (text, report) = last.expect("one round at least");
-    print!("{text}");
-    filing.print(done, " (the table is the last round's)");
-    out.finish(&report)?;
-    Ok(fail.status("stress", &standings))
-}
-
-/// `stress --family octree`.
-fn run_octree(a: Args, cases: usize) -> Outcome {
-    if a.compare || a.relabel.is_some() || !a.families.is_empty() {
-        return Err("--compare, --relabel and --families are for --family exit-face".into());
-    }
-    let methods = parse_octree_list(&a.methods)?;
-    // A row's cases with their exact answers (about 200 bytes each) are held at once.
-    super::fits(&format!("--cases {cases}"), cases as u128 * 256)?;
-    let out = JsonOut::new(a.json.as_deref())?;
-    let backend = a.backend.open()?;
-    let mut settings = cell_report::StressSettings {
-        cases,
-        aims: or_all(a.cell_aims),
-        places: or_all(a.cell_places),
-        seed: a.seed,
-        backend: backend.describe(),
-        ulps: a.ulps,
-    };
-    let Some(seconds) = a.seconds else {
-        let report = cell_report::stress(&settings, &methods, &backend, &mut |_, _| {})?;
-        return shown(out, a.fail, report.markdown(), &report);
-    };
-    rounds(
-        Filing::new(a.found, a.keep),
-        seconds,
-        out,
-        a.fail,
-        |round, filing| {
-            settings.seed = a.seed + round;
-            let r = cell_report::stress(&settings, &methods, &backend, &mut |row, record| {
-                filing.file_record(row, record)
-            })?;
-            Ok((r.markdown(), r))
-        },
-    )
-}
-
-/// The values given, or every value when none is.
-fn or_all<T: Choice>(given: Vec<T>) -> Vec<T> {
-    if given.is_empty() {
-        T::ALL.to_vec()
-    } else {
-        given
-    }
-}
-
-/// Print a report and write it with `--json`; the exit status `--fail-on` gives it.
-fn shown(
-    out: JsonOut,
-    fail: FailArg,
-    text: String,
-    report: &(impl serde::Serialize + Standings),
-) -> Outcome {
-    print!("{text}");
-    out.finish(report)?;
-    Ok(fail.status("stress", &report.standings()))
 }

@@ -1,12 +1,12 @@
 //! `tetwalk walk`: rays through a generated mesh, each method's walk judged step by step.
 
-use super::{BackendArg, JsonOut, Outcome, WgslArg, choice};
+use super::{BackendArg, JsonOut, Status, WgslArg, choice};
 use crate::backend::Backend;
 use crate::choice::Choice;
 use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
 use crate::methods::Model;
-use crate::registry::reference;
+use crate::registry::{Named, reference};
 use crate::report::relabel_spread;
 use crate::scenes::{self, Generated};
 use crate::tet::EVEN_PERMUTATIONS;
@@ -102,8 +102,8 @@ struct WalkReport {
     relabellings: Option<Vec<Relabelled>>,
 }
 
-pub fn run(a: Args) -> Outcome {
-    let (backend, methods) = a.wgsl.open(a.backend, &a.methods)?;
+pub fn run(a: Args) -> Status {
+    let (backend, methods) = a.wgsl.open::<crate::family::Walks>(a.backend, &a.methods)?;
     // Every ray keeps one tally per method until the table is made.
     super::fits(
         &format!("--rays {}", a.rays),
@@ -201,7 +201,7 @@ pub fn run(a: Args) -> Outcome {
         let on_layout = a
             .layout
             .filter(|_| m.layout_walk(model.unwrap_or(Model::Plain)).is_some());
-        let name = on_layout.map_or(m.name.to_string(), |k| format!("{} ({k:?})", m.name));
+        let name = on_layout.map_or(m.name().to_string(), |k| format!("{} ({k:?})", m.name()));
         let diverged = if on_layout.is_some() || !checked {
             "-".to_string()
         } else {
@@ -220,7 +220,7 @@ pub fn run(a: Args) -> Outcome {
             s.steps as f64 / s.rays.max(1) as f64
         );
         report.methods.push(Row {
-            method: m.name.into(),
+            method: m.name().into(),
             layout: on_layout,
             tally: s,
         });
@@ -357,7 +357,7 @@ fn relabellings(
     let mut out: Vec<Relabelled> = methods
         .iter()
         .map(|m| Relabelled {
-            method: m.name.into(),
+            method: m.name().into(),
             wrong: [0; 12],
             cycles: [0; 12],
         })

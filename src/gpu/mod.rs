@@ -6,7 +6,7 @@ use crate::choice::Choice;
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::methods::Model;
-use crate::registry::{Gpu as GpuSupport, Method, OctreeMethod, TriangleMethod};
+use crate::registry::{Gpu as GpuSupport, Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};
@@ -272,10 +272,10 @@ impl Gpu {
 
     /// The entry points of `method`, or why it has none.
     fn entry_points(method: &Method) -> Result<[String; 2], GpuError> {
-        match method.gpu {
+        match method.info().gpu {
             GpuSupport::Wgsl(_) => Ok(shader::entry_points(method)),
             GpuSupport::CpuOnly(why) => Err(GpuError::NoGpuMethod {
-                method: method.name,
+                method: method.name(),
                 why,
             }),
         }
@@ -563,9 +563,9 @@ impl Gpu {
         method: &OctreeMethod,
         cases: &[shader::Case],
     ) -> Result<Vec<i32>, GpuError> {
-        if let GpuSupport::CpuOnly(why) = method.gpu {
+        if let GpuSupport::CpuOnly(why) = method.info().gpu {
             return Err(GpuError::NoGpuMethod {
-                method: method.name,
+                method: method.name(),
                 why,
             });
         }
@@ -600,7 +600,10 @@ impl Gpu {
         rays: &[(Ray, u32)],
         max_steps: u32,
     ) -> Result<Vec<Ending>, GpuError> {
-        for (name, gpu) in [(method.name, method.gpu), (tri.name, tri.gpu)] {
+        for (name, gpu) in [
+            (method.name(), method.info().gpu),
+            (tri.name(), tri.info().gpu),
+        ] {
             if let GpuSupport::CpuOnly(why) = gpu {
                 return Err(GpuError::NoGpuMethod { method: name, why });
             }
@@ -689,10 +692,10 @@ impl Gpu {
 impl Gpu {
     /// The entry points of a ray–triangle method, or why it has none.
     fn triangle_entry_points(method: &TriangleMethod) -> Result<[String; 2], GpuError> {
-        match method.gpu {
+        match method.info().gpu {
             GpuSupport::Wgsl(_) => Ok(shader::triangle_entry_points(method)),
             GpuSupport::CpuOnly(why) => Err(GpuError::NoGpuMethod {
-                method: method.name,
+                method: method.name(),
                 why,
             }),
         }
@@ -793,7 +796,7 @@ impl Gpu {
     ) -> Result<Dispatched<Ending>, GpuError> {
         Self::entry_points(method)?;
         if method.layout_walk(Model::Plain).is_none() {
-            return Err(GpuError::NoLayoutWalk(method.name));
+            return Err(GpuError::NoLayoutWalk(method.name()));
         }
         let entry = shader::layout_entry_point(method, kind);
         let words = &layout.words[Kind::ALL.iter().position(|&k| k == kind).unwrap_or(0)];

@@ -502,9 +502,9 @@ pub fn generate() -> String {
     let mut included: Vec<&str> = Vec::new();
     let gpus = METHODS
         .iter()
-        .map(|m| m.gpu)
-        .chain(TRIANGLE_METHODS.iter().map(|m| m.gpu))
-        .chain(OCTREE_METHODS.iter().map(|m| m.gpu));
+        .map(|m| m.info().gpu)
+        .chain(TRIANGLE_METHODS.iter().map(|m| m.info().gpu))
+        .chain(OCTREE_METHODS.iter().map(|m| m.info().gpu));
     for g in gpus {
         if let Gpu::Wgsl(sources) = g {
             for src in sources {
@@ -537,8 +537,8 @@ pub fn generate() -> String {
     let _ = writeln!(s, "const BOUNDARY: u32 = {BOUNDARY:#x}u;");
     s += include_str!("../walk/layouts.wgsl");
     for m in METHODS {
-        if let Gpu::Wgsl(_) = m.gpu {
-            let _ = write!(s, "\n// ---- {} ----\n\n", m.name);
+        if let Gpu::Wgsl(_) = m.info().gpu {
+            let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
             s += &ENTRY_POINTS.replace("IDENT", &m.ident());
             if m.layout_walk(Model::Plain).is_some() {
                 for kind in Kind::ALL {
@@ -551,17 +551,17 @@ pub fn generate() -> String {
         }
     }
     for m in TRIANGLE_METHODS {
-        if let Gpu::Wgsl(_) = m.gpu {
-            let _ = write!(s, "\n// ---- {} ----\n\n", m.name);
+        if let Gpu::Wgsl(_) = m.info().gpu {
+            let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
             s += &TRIANGLE_ENTRY_POINTS.replace("IDENT", &m.ident());
         }
     }
     for m in OCTREE_METHODS {
-        if let Gpu::Wgsl(_) = m.gpu {
-            let _ = write!(s, "\n// ---- {} ----\n\n", m.name);
+        if let Gpu::Wgsl(_) = m.info().gpu {
+            let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
             s += &CELL_ENTRY_POINT.replace("IDENT", &m.ident());
             for t in TRIANGLE_METHODS {
-                if let Gpu::Wgsl(_) = t.gpu {
+                if let Gpu::Wgsl(_) = t.info().gpu {
                     s += "\n";
                     s += &OCTREE_ENTRY_POINT
                         .replace("IDENT", &m.ident())

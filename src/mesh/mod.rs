@@ -3,6 +3,7 @@
 
 pub mod layout;
 pub mod reorder;
+pub mod surface;
 mod tetgen;
 
 pub use tetgen::{Faces, TetgenTexts, load_tetgen, load_tetgen_with, parse_tetgen};

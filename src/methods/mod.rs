@@ -13,7 +13,6 @@
 pub mod aman20;
 pub mod certified;
 mod exact;
-pub mod filters;
 mod halfspace;
 pub mod maria17;
 mod ms06;
@@ -69,17 +68,7 @@ pub trait Arith {
     }
 }
 
-/// The arithmetic models a CPU backend computes in, each an [`Arith`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Model {
-    Plain,
-    Fused,
-    Flushed,
-}
-
-impl Model {
-    pub const ALL: [Model; 3] = [Model::Plain, Model::Fused, Model::Flushed];
-}
+pub use crate::choice::Model;
 
 /// Every product and sum rounded separately.
 pub struct Plain;
@@ -148,27 +137,6 @@ pub(crate) fn leaves(s: &[f32; 3]) -> bool {
 
 /// One exit-face query of a batch: a tetrahedron (by index), a ray, and its entry face.
 pub type Query = (u32, Ray, Option<usize>);
-
-/// Seed 000 Table 5's queries: `n_rays` random rays stabbing each of `n_tets` random well-shaped
-/// tetrahedra, each with its exact entry face (as a walk has it).
-pub fn table5_queries(n_tets: usize, n_rays: usize, seed: u64) -> (Vec<Tet>, Vec<Query>) {
-    use crate::scenes::tets::{Family, stabbing_ray, tet};
-    let mut r = crate::scenes::rng(seed);
-    let tets: Vec<Tet> = (0..n_tets)
-        .map(|_| tet(Family::Well, 1.0, &mut r))
-        .collect();
-    let mut queries: Vec<Query> = Vec::with_capacity(n_tets * n_rays);
-    for (i, t) in tets.iter().enumerate() {
-        for _ in 0..n_rays {
-            let ray = stabbing_ray(t, &mut r);
-            let entry = crate::exact::classify(t, &ray)
-                .ok()
-                .and_then(|c| c.entry.first());
-            queries.push((i as u32, ray, entry));
-        }
-    }
-    (tets, queries)
-}
 
 /// Time `M`'s exit-face search over `queries` (seed 000 Table 5's measure): the per-ray data prepared
 /// first, once per ray and untimed, then every query answered in one loop, statically dispatched; the

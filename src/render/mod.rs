@@ -7,9 +7,9 @@ use crate::backend::{Backend, BackendError};
 use crate::cases::{Case, HitCase};
 use crate::mesh::{HULL, Mesh, bounds};
 use crate::methods::Model;
-use crate::registry::{Method, OctreeMethod, TriangleMethod, reference};
+use crate::registry::{Method, Named, OctreeMethod, TriangleMethod, reference};
 use crate::scenes::camera::Views;
-use crate::scenes::closed::{self, Place, Shape};
+use crate::scenes::closed::{self, MeshShape, TriPlace};
 use crate::scenes::tets::ulps;
 use crate::walk::{LocateError, Outcome, OutcomeKind, Walk, default_max_steps, judge, locate};
 use rayon::prelude::*;
@@ -173,7 +173,7 @@ pub fn frame(
             .zip(&exact)
             .map(|((r, w), re)| judge(mesh, r, w, re))
             .collect();
-        wrong.push((m.name.to_string(), w));
+        wrong.push((m.name().to_string(), w));
     }
     let shade = rays
         .iter()
@@ -331,8 +331,8 @@ pub fn octree_heat(
     settings: crate::octree::Settings,
 ) -> Result<Image, RenderError> {
     let (cam, start) = view(mesh, views, index)?;
-    let region = crate::report::triangle::region_of(mesh, start);
-    let (tris, _) = crate::report::triangle::scene_triangles(mesh, &region);
+    let region = crate::mesh::surface::region_of(mesh, start);
+    let (tris, _) = crate::mesh::surface::scene_triangles(mesh, &region);
     let octree = crate::octree::Octree::build(&tris, settings)
         .map_err(|e| RenderError::Octree(e.to_string()))?;
     let cap = crate::walk::octree::default_max_steps(&octree);
@@ -481,8 +481,8 @@ impl LeakGrid {
 /// the coordinate origin for the far places, from `(-2^18, -2^18, -2^18)` near the origin): a ray
 /// exactly through the midpoint of an edge whose two triangles (the pair) both face it. Seeded; `None`
 /// if 1,000 draws found no such edge.
-pub fn leak_case(shape: Shape, place: Place, seed: u64) -> Option<(HitCase, [u32; 2])> {
-    let org = if place == Place::Origin {
+pub fn leak_case(shape: MeshShape, place: TriPlace, seed: u64) -> Option<(HitCase, [u32; 2])> {
+    let org = if place == TriPlace::Origin {
         glam::Vec3::splat(-262144.0)
     } else {
         glam::Vec3::ZERO
@@ -507,7 +507,8 @@ pub fn leak_case(shape: Shape, place: Place, seed: u64) -> Option<(HitCase, [u32
                     dir: (a + b) * 0.5 - org,
                 };
                 let case = HitCase::closed(&mesh, ray).ok()?;
-                let truth = crate::cases::judge_hit(&case).ok()?;
+                let truth =
+                    crate::exact::hit::judge_hit(case.tris(), case.closed, &case.ray()).ok()?;
                 let first = truth.first()?;
                 let [p, q] = first.holding[..] else {
                     return None;

@@ -1,210 +1,7 @@
-//! Walk speed per method and backend on a scene's primary rays (`tetwalk bench`): rays and tetrahedra
-//! per second end to end (upload, kernel, readback, and the CPU's walks of rays the GPU flagged), and
-//! the GPU's kernel time alone where the adapter has timestamp queries. Rays are made before the clock
-//! starts, in batches of whole views; every backend walks the same batches in one run.
+//! Speed tables: walk speed per method and backend, and seed 004 Figure 5's packet speed.
 
-use crate::backend::{Backend, BackendError};
 use crate::choice::Choice;
-use crate::mesh::Mesh;
-use crate::mesh::layout::Layout;
-use crate::methods::Model;
-use crate::registry::{Gpu, Method};
-use crate::scenes::camera::Views;
-use crate::tet::Ray;
-use crate::walk::layouts::{Kind, Source};
-use crate::walk::{default_max_steps, locate};
-use rayon::prelude::*;
-use std::time::Instant;
-
-#[derive(Debug, thiserror::Error)]
-pub enum BenchError {
-    #[error(transparent)]
-    Backend(#[from] BackendError),
-    #[error(
-        "nothing to time: none of the {0} camera positions lies inside the mesh (a scene needs the box around the model that `tetwalk scene build` adds)"
-    )]
-    NoView(usize),
-    #[error("nothing to time: no method runs on {0}")]
-    NoMethod(String),
-}
-
-/// One method on one backend.
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
-pub struct BenchRow {
-    pub method: String,
-    /// `cells` (the mesh's cells: 80 bytes on the CPU, 64 on the GPU) or one of seed 003's layouts.
-    pub layout: String,
-    pub backend: String,
-    pub rays: u64,
-    /// Tetrahedra traversed.
-    pub tetrahedra: u64,
-    /// Wall-clock seconds from handing the rays over to having every walk back.
-    pub seconds: f64,
-    /// GPU kernel seconds (timestamp queries), where measured.
-    pub kernel_seconds: Option<f64>,
-    /// Rays the GPU flagged and the CPU walked.
-    pub flagged: u64,
-}
-
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
-pub struct BenchReport {
-    pub scene: String,
-    pub tetrahedra_in_mesh: usize,
-    pub views: Views,
-    /// Views whose camera lies inside the mesh (the others are skipped, as `count` skips them).
-    pub views_timed: usize,
-    /// Rays per batch handed to a backend at once.
-    pub batch: usize,
-    /// Each backend, with its adapter and driver for a GPU.
-    pub backends: Vec<String>,
-    /// Whether the mesh was put in Hilbert order first (seed 003 §3).
-    pub hilbert: bool,
-    pub rows: Vec<BenchRow>,
-}
-
-/// Methods a backend can time: on a GPU, those with a GPU version (the others would time the CPU).
-pub fn runs_on<'a>(methods: &[&'a Method], backend: &Backend) -> Vec<&'a Method> {
-    methods
-        .iter()
-        .copied()
-        .filter(|m| !matches!(backend, Backend::Gpu(_)) || matches!(m.gpu, Gpu::Wgsl(_)))
-        .collect()
-}
-
-/// What one row times: a method's walk over the mesh's cells, or over one of seed 003's layouts.
-#[derive(Clone, Copy)]
-enum Walker<'a> {
-    Cells(&'a Method),
-    Layout(&'a Method, Kind),
-}
-
-/// Time every method on every backend over the views' primary rays, `batch` rays at most at once
-/// (whole views; one view when a view is larger); with `layouts`, also the methods that walk seed
-/// 003's layouts over Tet32, Tet20 and Tet16. `hilbert` records that the mesh was put in Hilbert order.
-#[allow(clippy::too_many_arguments)]
-pub fn run(
-    scene: &str,
-    mesh: &Mesh,
-    hilbert: bool,
-    views: &Views,
-    methods: &[&Method],
-    backends: &[&Backend],
-    (batch, layouts): (usize, bool),
-    tick: &dyn Fn(),
-) -> Result<BenchReport, BenchError> {
-    let (lo, hi) = crate::mesh::bounds(&mesh.points);
-    let max = default_max_steps(mesh);
-    let layout = layouts.then(|| Layout::build(mesh));
-    let mut rows: Vec<BenchRow> = Vec::new();
-    // (row, backend, what) in the order they are timed.
-    let mut plan: Vec<(usize, usize, Walker)> = Vec::new();
-    for (bi, b) in backends.iter().enumerate() {
-        let on = runs_on(methods, b);
-        if on.is_empty() {
-            return Err(BenchError::NoMethod(b.describe()));
-        }
-        let mut walkers: Vec<Walker> = on.iter().map(|m| Walker::Cells(m)).collect();
-        if layout.is_some() {
-            for m in on.iter().filter(|m| m.layout_walk(Model::Plain).is_some()) {
-                walkers.extend(Kind::ALL.iter().map(|k| Walker::Layout(m, *k)));
-            }
-        }
-        for w in walkers {
-            let (m, layout) = match w {
-                Walker::Cells(m) => (m, "cells"),
-                Walker::Layout(m, k) => (m, k.name()),
-            };
-            plan.push((rows.len(), bi, w));
-            rows.push(BenchRow {
-                method: m.name.to_string(),
-                layout: layout.to_string(),
-                backend: b.kind().name().to_string(),
-                rays: 0,
-                tetrahedra: 0,
-                seconds: 0.0,
-                kernel_seconds: b.for_method(m).measures_kernels().then_some(0.0),
-                flagged: 0,
-            });
-        }
-    }
-    let meshes: Vec<_> = backends.iter().map(|b| b.mesh(mesh)).collect();
-    let layouts_on: Vec<_> = backends
-        .iter()
-        .map(|b| layout.as_ref().map(|l| b.layout(l, &mesh.points)))
-        .collect();
-    let per_view = views.width as usize * views.height as usize;
-    let views_per_batch = (batch / per_view.max(1)).max(1);
-    let (mut start, mut timed, mut warm) = (0, 0, false);
-    let mut v = 0;
-    while v < views.views {
-        // The next batch of whole views, rays made before the clock starts.
-        let mut rays: Vec<(Ray, u32)> = Vec::with_capacity(views_per_batch * per_view);
-        while v < views.views && rays.len() + per_view <= (views_per_batch * per_view) {
-            let cam = views.camera(lo, hi, v);
-            v += 1;
-            tick();
-            let Ok(located) = locate(mesh, cam.eye, start) else {
-                continue;
-            };
-            start = located;
-            timed += 1;
-            rays.extend(views.rays(&cam).into_iter().map(|r| (r, located)));
-        }
-        if rays.is_empty() {
-            continue;
-        }
-        let sourced: Vec<(Ray, Source)> = layout.as_ref().map_or(Vec::new(), |l| {
-            rays.iter().map(|(r, s)| (*r, Source::new(l, *s))).collect()
-        });
-        // One pass per walker; the first batch once more before, untimed, to compile every pipeline
-        // and size every buffer.
-        let passes = if warm { 1 } else { 2 };
-        warm = true;
-        for pass in 0..passes {
-            for &(row, b, w) in &plan {
-                let t0 = Instant::now();
-                // The clock stops when the walks are back; counting their steps is not timed.
-                let (seconds, steps, kernel, flagged) = match w {
-                    Walker::Cells(m) => {
-                        let done = backends[b].walks_from(m, &meshes[b], &rays, max)?;
-                        let seconds = t0.elapsed().as_secs_f64();
-                        let steps = done.walks.par_iter().map(|w| w.steps as u64).sum::<u64>();
-                        (seconds, steps, done.kernel_seconds, done.flagged as u64)
-                    }
-                    Walker::Layout(m, kind) => {
-                        let Some(on) = &layouts_on[b] else { continue };
-                        let done = backends[b].layout_walks(m, kind, on, &sourced, max)?;
-                        let seconds = t0.elapsed().as_secs_f64();
-                        let steps = done.walks.par_iter().map(|w| w.1 as u64).sum::<u64>();
-                        (seconds, steps, done.kernel_seconds, 0)
-                    }
-                };
-                if pass + 1 < passes {
-                    continue;
-                }
-                let r = &mut rows[row];
-                r.seconds += seconds;
-                r.kernel_seconds = r.kernel_seconds.zip(kernel).map(|(a, k)| a + k);
-                r.rays += rays.len() as u64;
-                r.tetrahedra += steps;
-                r.flagged += flagged;
-            }
-        }
-    }
-    if timed == 0 {
-        return Err(BenchError::NoView(views.views));
-    }
-    Ok(BenchReport {
-        scene: scene.to_string(),
-        tetrahedra_in_mesh: mesh.tets.len(),
-        views: *views,
-        views_timed: timed,
-        batch: views_per_batch * per_view,
-        backends: backends.iter().map(|b| b.describe()).collect(),
-        hilbert,
-        rows,
-    })
-}
+use crate::engine::bench::{BenchReport, PACKETS, SpeedReport};
 
 impl BenchReport {
     pub fn markdown(&self) -> String {
@@ -235,7 +32,7 @@ impl BenchReport {
                 "| {} | {} | {} | {} | {:.1} | {} | {} | {} | {} | {} |\n",
                 r.method,
                 r.layout,
-                r.backend,
+                r.backend.name(),
                 r.rays,
                 r.tetrahedra as f64 / r.rays.max(1) as f64,
                 per(r.rays, r.seconds),
@@ -245,6 +42,48 @@ impl BenchReport {
                 r.flagged
             );
         }
+        out
+    }
+}
+
+impl SpeedReport {
+    pub fn markdown(&self) -> String {
+        let mut out = format!(
+            "seed 004 Figure 5's measure: scene {} ({} triangles), one view of {}x{} ({} primary rays), \
+             every ray against every triangle (no spatial structure), one thread, best of {}; speedup = \
+             mt-precomputed's time (the paper's \"improved Möller\" baseline) in packets of the same size over \
+             the method's; every method loops over triangles outside and the packet's rays inside, the \
+             single-ray methods testing ray by ray\n\n",
+            self.scene,
+            self.triangles,
+            self.views.width,
+            self.views.height,
+            self.rays,
+            self.repeats
+        );
+        out += "| method |";
+        for p in PACKETS {
+            out += &format!(" {p}x{p}: ns/test | speedup |");
+        }
+        out += "\n|---|";
+        out += &"---|---|".repeat(PACKETS.len());
+        out += "\n";
+        let mut names: Vec<&str> = Vec::new();
+        for r in &self.rows {
+            if !names.contains(&r.method.as_str()) {
+                names.push(&r.method);
+            }
+        }
+        for n in names {
+            out += &format!("| {n} |");
+            for r in self.rows.iter().filter(|r| r.method == n) {
+                out += &format!(" {:.2} | {:.2} |", r.ns_per_test, r.speedup);
+            }
+            out += "\n";
+        }
+        out += "\nseed 004 (Figure 5) reports 1.1x to 1.4x for its packet method over the improved Möller test \
+                (2x2 primary-ray packets, 256x256 images, a Pentium 4 with SIMD), the Plücker packet test \
+                below it\n";
         out
     }
 }

@@ -1,20 +1,38 @@
-//! Reports: failure counts per method, as markdown tables and JSON.
+//! Reports: what the engine's runs return (`crate::engine`), formatted as markdown tables; each
+//! family's own tables are its [`Formats`]. Reports compute nothing and run nothing.
 
 pub mod bench;
 pub mod count;
-pub mod octree;
+pub mod lines;
 pub mod paper;
 pub mod scene_info;
-pub mod standing;
 pub mod stress;
-pub mod triangle;
-pub mod wrong;
 
-/// Counts under the 12 orientation-preserving relabellings (`crate::tet::EVEN_PERMUTATIONS`, the
-/// mesh's own labelling first) as table cells: own | min | median | max (the median of 12 is the mean
-/// of the 6th and 7th, rounded down).
-pub fn relabel_spread(v: &[u64; 12]) -> String {
-    let mut s = *v;
+use crate::engine::stress::StressReport;
+use crate::family::Family;
+
+/// How a family's reports read.
+pub trait Formats: Family {
+    /// The stress table (and a campaign's, summed over its rounds).
+    fn stress_table(r: &StressReport<Self>) -> String;
+}
+
+/// Counts under each labelling (the own first) as table cells: own | min | median | max (the median
+/// of an even number is the mean of the middle two, rounded down).
+pub fn relabel_spread(v: &[u64]) -> String {
+    let mut s = v.to_vec();
     s.sort_unstable();
-    format!("{} | {} | {} | {}", v[0], s[0], (s[5] + s[6]) / 2, s[11])
+    let n = s.len();
+    let median = match n {
+        0 => 0,
+        _ if n.is_multiple_of(2) => (s[n / 2 - 1] + s[n / 2]) / 2,
+        _ => s[n / 2],
+    };
+    format!(
+        "{} | {} | {} | {}",
+        v.first().copied().unwrap_or(0),
+        s.first().copied().unwrap_or(0),
+        median,
+        s.last().copied().unwrap_or(0)
+    )
 }

@@ -108,3 +108,18 @@ impl Views {
             .collect()
     }
 }
+
+/// Pixel indices (row-major) in packet order: `p × p` tiles, row by row, each tile row by row.
+pub fn packet_order(width: u32, height: u32, p: u32) -> Vec<usize> {
+    let mut out = Vec::with_capacity(width as usize * height as usize);
+    for by in (0..height).step_by(p as usize) {
+        for bx in (0..width).step_by(p as usize) {
+            for y in by..(by + p).min(height) {
+                for x in bx..(bx + p).min(width) {
+                    out.push((y * width + x) as usize);
+                }
+            }
+        }
+    }
+    out
+}

@@ -13,7 +13,7 @@ use rand::RngExt;
 /// Where the ray leaves the cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Aim {
+pub enum CellAim {
     /// Exactly through a point of an edge.
     Edge,
     /// Exactly through a corner.
@@ -34,7 +34,7 @@ pub enum Aim {
     Face,
 }
 
-crate::choice!(Aim {
+crate::choice!(CellAim {
     Edge => "edge",
     Corner => "corner",
     CentreLine => "centre-line",
@@ -49,7 +49,7 @@ crate::choice!(Aim {
 /// How far from the origin the cell lies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Place {
+pub enum CellPlace {
     Origin,
     /// Around 2^16 on every axis.
     Far,
@@ -57,22 +57,22 @@ pub enum Place {
     Farthest,
 }
 
-crate::choice!(Place { Origin => "origin", Far => "far", Farthest => "farthest" });
+crate::choice!(CellPlace { Origin => "origin", Far => "far", Farthest => "farthest" });
 
-impl Place {
+impl CellPlace {
     /// The offset, and the smallest cell side whose quarter points are exact there.
     fn at(self) -> (f32, i32) {
         match self {
-            Place::Origin => (0.0, -4),
-            Place::Far => (65536.0, -2),
-            Place::Farthest => (16_777_216.0, 5),
+            CellPlace::Origin => (0.0, -4),
+            CellPlace::Far => (65536.0, -2),
+            CellPlace::Farthest => (16_777_216.0, 5),
         }
     }
 }
 
 /// A cell `[lo, hi]` and a ray aimed as `aim` says, placed as `place` says; `k` the largest ulp
 /// offset.
-pub fn case(aim: Aim, place: Place, k: i32, r: &mut Rng) -> (Vec3, Vec3, Ray) {
+pub fn case(aim: CellAim, place: CellPlace, k: i32, r: &mut Rng) -> (Vec3, Vec3, Ray) {
     let (offset, least) = place.at();
     let side = 2f32.powi(r.random_range(least..least + 6));
     let lo = Vec3::from_array([0; 3].map(|_| offset + side * r.random_range(-8..8) as f32));
@@ -89,22 +89,22 @@ pub fn case(aim: Aim, place: Place, k: i32, r: &mut Rng) -> (Vec3, Vec3, Ray) {
     x[axis] = if high { hi[axis] } else { lo[axis] };
     let side_of = |r: &mut Rng, a: usize| if r.random_bool(0.5) { hi[a] } else { lo[a] };
     match aim {
-        Aim::Edge | Aim::NearEdge => x[u] = side_of(r, u),
-        Aim::Corner | Aim::NearCorner => {
+        CellAim::Edge | CellAim::NearEdge => x[u] = side_of(r, u),
+        CellAim::Corner | CellAim::NearCorner => {
             x[u] = side_of(r, u);
             x[v] = side_of(r, v);
         }
-        Aim::CentreLine | Aim::NearCentreLine => {
+        CellAim::CentreLine | CellAim::NearCentreLine => {
             let a = if r.random_bool(0.5) { u } else { v };
             x[a] = centre[a];
         }
-        Aim::Centre => {
+        CellAim::Centre => {
             x[u] = centre[u];
             x[v] = centre[v];
         }
-        Aim::AxisParallel | Aim::Face => {}
+        CellAim::AxisParallel | CellAim::Face => {}
     }
-    let (org, dir) = if aim == Aim::AxisParallel {
+    let (org, dir) = if aim == CellAim::AxisParallel {
         // Along the face normal (and maybe one more axis), from inside, through a centre line or an
         // edge's plane.
         let mut d = Vec3::ZERO;
@@ -126,7 +126,7 @@ pub fn case(aim: Aim, place: Place, k: i32, r: &mut Rng) -> (Vec3, Vec3, Ray) {
         (o, x - o)
     };
     let (org, dir) = match aim {
-        Aim::NearEdge | Aim::NearCorner | Aim::NearCentreLine => {
+        CellAim::NearEdge | CellAim::NearCorner | CellAim::NearCentreLine => {
             let a = r.random_range(0..3usize);
             let mut o = org;
             let n = r.random_range(1..=k.max(1)) * if r.random_bool(0.5) { 1 } else { -1 };

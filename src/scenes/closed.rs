@@ -3,7 +3,7 @@
 //! a shared edge or vertex, within ulps of one, or along an edge; moved far from the origin.
 
 use super::Rng;
-use super::tets::{Family, tet, ulps};
+use super::tets::{TetShape, tet, ulps};
 use crate::tet::{FACE_VERTICES, Ray, Tri, orientation};
 use glam::Vec3;
 use rand::RngExt;
@@ -11,7 +11,7 @@ use rand::RngExt;
 /// A closed mesh shape.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Shape {
+pub enum MeshShape {
     /// Six integer vertices on the axes, axes scaled by random integers.
     Octahedron,
     /// The pyritohedral icosahedron `(0, ±1, ±3/2)` and its cyclic shifts: dyadic coordinates, axes
@@ -25,12 +25,12 @@ pub enum Shape {
     Needle,
 }
 
-crate::choice!(Shape { Octahedron => "octahedron", Icosahedron => "icosahedron", Tetrahedron => "tetrahedron", Sliver => "sliver", Needle => "needle" });
+crate::choice!(MeshShape { Octahedron => "octahedron", Icosahedron => "icosahedron", Tetrahedron => "tetrahedron", Sliver => "sliver", Needle => "needle" });
 
 /// Where a ray is aimed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Aim {
+pub enum TriAim {
     /// Exactly through the midpoint of an edge (shared by two triangles).
     Edge,
     /// Exactly through a vertex.
@@ -43,12 +43,12 @@ pub enum Aim {
     Grazing,
 }
 
-crate::choice!(Aim { Edge => "edge", Vertex => "vertex", NearEdge => "near-edge", NearVertex => "near-vertex", Grazing => "grazing" });
+crate::choice!(TriAim { Edge => "edge", Vertex => "vertex", NearEdge => "near-edge", NearVertex => "near-vertex", Grazing => "grazing" });
 
 /// Where the mesh and ray are moved to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Place {
+pub enum TriPlace {
     /// Near the origin.
     Origin,
     /// Moved by 2^16 along (1, 1, 1).
@@ -57,14 +57,14 @@ pub enum Place {
     Embree,
 }
 
-crate::choice!(Place { Origin => "origin", Far => "far", Embree => "embree" });
+crate::choice!(TriPlace { Origin => "origin", Far => "far", Embree => "embree" });
 
-impl Place {
+impl TriPlace {
     pub fn offset(self) -> Vec3 {
         match self {
-            Place::Origin => Vec3::ZERO,
-            Place::Far => Vec3::splat(65536.0),
-            Place::Embree => Vec3::new(148376.0, 1234.0, -223423.0),
+            TriPlace::Origin => Vec3::ZERO,
+            TriPlace::Far => Vec3::splat(65536.0),
+            TriPlace::Embree => Vec3::new(148376.0, 1234.0, -223423.0),
         }
     }
 }
@@ -104,9 +104,9 @@ fn axis_scales(rng: &mut Rng) -> Vec3 {
 }
 
 /// A mesh of `shape` near the origin, outward-oriented and closed; `flatness` as for tetrahedra.
-pub fn mesh(shape: Shape, flatness: f32, rng: &mut Rng) -> Vec<Tri> {
+pub fn mesh(shape: MeshShape, flatness: f32, rng: &mut Rng) -> Vec<Tri> {
     let points: Vec<Vec3> = match shape {
-        Shape::Octahedron => {
+        MeshShape::Octahedron => {
             let s = axis_scales(rng) * 2.0;
             [
                 Vec3::X,
@@ -119,7 +119,7 @@ pub fn mesh(shape: Shape, flatness: f32, rng: &mut Rng) -> Vec<Tri> {
             .map(|p| p * s)
             .to_vec()
         }
-        Shape::Icosahedron => {
+        MeshShape::Icosahedron => {
             let s = axis_scales(rng) * 2.0;
             let mut p = Vec::new();
             for a in [-1.0f32, 1.0] {
@@ -131,11 +131,11 @@ pub fn mesh(shape: Shape, flatness: f32, rng: &mut Rng) -> Vec<Tri> {
             }
             p.into_iter().map(|q| q * s).collect()
         }
-        Shape::Tetrahedron | Shape::Sliver | Shape::Needle => {
+        MeshShape::Tetrahedron | MeshShape::Sliver | MeshShape::Needle => {
             let family = match shape {
-                Shape::Sliver => Family::Sliver,
-                Shape::Needle => Family::Needle,
-                _ => Family::Well,
+                MeshShape::Sliver => TetShape::Sliver,
+                MeshShape::Needle => TetShape::Needle,
+                _ => TetShape::Well,
             };
             let scale = (64.0 / flatness.clamp(1e-5, 1.0)).log2().ceil().exp2();
             loop {
@@ -174,9 +174,9 @@ fn random_unit(rng: &mut Rng) -> Vec3 {
 /// target (most cross the surface, some only touch it), the grazing ones come in nearly within the plane of one of the two
 /// triangles at an edge. The near rows then move the origin by up to `max_ulps` ulps along one axis.
 pub fn case(
-    shape: Shape,
-    aim: Aim,
-    place: Place,
+    shape: MeshShape,
+    aim: TriAim,
+    place: TriPlace,
     flatness: f32,
     max_ulps: i32,
     rng: &mut Rng,
@@ -200,12 +200,12 @@ pub fn case(
         ((target - centre).normalize_or_zero() + random_unit(rng) * turn) * size * 2.0
     };
     let (target, from) = match aim {
-        Aim::Edge | Aim::NearEdge => {
+        TriAim::Edge | TriAim::NearEdge => {
             let m = (a + b) * 0.5;
             (m, from_centre(m, rng))
         }
-        Aim::Vertex | Aim::NearVertex => (a, from_centre(a, rng)),
-        Aim::Grazing => {
+        TriAim::Vertex | TriAim::NearVertex => (a, from_centre(a, rng)),
+        TriAim::Grazing => {
             // Nearly along the triangle's plane, away from its third vertex, a little outside.
             let m = (a + b) * 0.5;
             let along = (m - c).normalize_or_zero() * size * 2.0;
@@ -222,7 +222,7 @@ pub fn case(
     let dir = target - org;
     let off = place.offset();
     let mut org = org + off;
-    if matches!(aim, Aim::NearEdge | Aim::NearVertex) {
+    if matches!(aim, TriAim::NearEdge | TriAim::NearVertex) {
         let axis = rng.random_range(0..3);
         let k = rng.random_range(1..=max_ulps.max(1)) * if rng.random_bool(0.5) { 1 } else { -1 };
         org[axis] = ulps(org[axis], k);

@@ -149,11 +149,11 @@ pub fn walk_case(u: &mut Unstructured) -> Result<WalkCase> {
 /// A closed triangle mesh and a ray from outside it ([`super::closed::case`]: shape, aim and place from
 /// the bytes, the rest from a seed they give), the origin and direction then moved by a few ulps.
 pub fn hit_case(u: &mut Unstructured) -> Result<(Vec<crate::tet::Tri>, Ray)> {
-    use super::closed::{Aim, Place, Shape, case};
+    use super::closed::{MeshShape, TriAim, TriPlace, case};
     use crate::choice::Choice;
-    let shape = *u.choose(Shape::ALL)?;
-    let aim = *u.choose(Aim::ALL)?;
-    let place = *u.choose(Place::ALL)?;
+    let shape = *u.choose(MeshShape::ALL)?;
+    let aim = *u.choose(TriAim::ALL)?;
+    let place = *u.choose(TriPlace::ALL)?;
     let flatness = *u.choose(&[1.0, 1e-2, 1e-3, 1e-4])?;
     let mut rng = super::rng(u.arbitrary()?);
     let (mesh, ray) = case(shape, aim, place, flatness, 4, &mut rng);
@@ -167,10 +167,10 @@ pub fn hit_case(u: &mut Unstructured) -> Result<(Vec<crate::tet::Tri>, Ray)> {
 /// An octree cell and a ray ([`super::cells::case`]: aim and place from the bytes, the rest from a seed
 /// they give), the origin and direction then moved by a few ulps.
 pub fn cell_case(u: &mut Unstructured) -> Result<(Vec3, Vec3, Ray)> {
-    use super::cells::{Aim, Place, case};
+    use super::cells::{CellAim, CellPlace, case};
     use crate::choice::Choice;
-    let aim = *u.choose(Aim::ALL)?;
-    let place = *u.choose(Place::ALL)?;
+    let aim = *u.choose(CellAim::ALL)?;
+    let place = *u.choose(CellPlace::ALL)?;
     let mut rng = super::rng(u.arbitrary()?);
     let (lo, hi, ray) = case(aim, place, 4, &mut rng);
     let k = u.int_in_range(0..=2)?;

@@ -165,51 +165,60 @@ pub fn generated_mesh(
 /// Coordinates are multiples of 1/16, so the rays move exactly with the mesh's `offset`.
 pub fn rays(kind: Generated, mesh: &Mesh, offset: Vec3, n: usize, seed: u64) -> Vec<Ray> {
     let mut r = rng(seed ^ 0x005e_ed0f_4a75);
-    let (lo, hi) = crate::mesh::bounds(&mesh.points);
+    let bounds = crate::mesh::bounds(&mesh.points);
+    (0..n)
+        .map(|i| ray(kind, bounds, offset, i % 2 == 1, &mut r))
+        .collect()
+}
+
+/// One ray of [`rays`] for a mesh within `(lo, hi)`: aimed exactly through vertices and edges when
+/// `tie`, else in a random direction.
+pub fn ray(kind: Generated, (lo, hi): (Vec3, Vec3), offset: Vec3, tie: bool, r: &mut Rng) -> Ray {
     let (lo, hi) = (lo - offset, hi - offset);
     let q = |x: f32| (x * 16.0).round() / 16.0;
-    (0..n)
-        .map(|i| {
-            let tie = i % 2 == 1;
-            let (org, dir) = match kind {
-                Generated::Fan => {
-                    let a = r.random_range(0.0..std::f32::consts::TAU);
-                    let rad = r.random_range(0.5..3.0);
-                    let org = Vec3::new(
-                        q(rad * a.cos()),
-                        q(rad * a.sin()),
-                        q(r.random_range(-0.5..0.5)),
-                    );
-                    let dz = q(r.random_range(-0.5..0.5));
-                    let dir = if tie {
-                        Vec3::new(-org.x, -org.y, dz)
-                    } else {
-                        Vec3::new(r.random_range(-1.0..1.0), r.random_range(-1.0..1.0), dz)
-                    };
-                    (org, dir)
-                }
-                Generated::Kuhn | Generated::Jitter => {
-                    let span = hi - lo;
-                    let org = Vec3::from_array(std::array::from_fn(|a| {
-                        q(lo[a] + span[a] * r.random_range(0.1..0.9))
-                    }));
-                    if tie {
-                        let d = Vec3::from_array(std::array::from_fn(|_| {
-                            r.random_range(-2..=2) as f32
-                        }));
-                        (org.round(), d)
-                    } else {
-                        (
-                            org,
-                            Vec3::from_array(std::array::from_fn(|_| r.random_range(-1.0..1.0))),
-                        )
-                    }
-                }
+    let (org, dir) = match kind {
+        Generated::Fan => {
+            let a = r.random_range(0.0..std::f32::consts::TAU);
+            let rad = r.random_range(0.5..3.0);
+            let org = Vec3::new(
+                q(rad * a.cos()),
+                q(rad * a.sin()),
+                q(r.random_range(-0.5..0.5)),
+            );
+            let dz = q(r.random_range(-0.5..0.5));
+            let dir = if tie {
+                Vec3::new(-org.x, -org.y, dz)
+            } else {
+                Vec3::new(r.random_range(-1.0..1.0), r.random_range(-1.0..1.0), dz)
             };
-            Ray {
-                org: org + offset,
-                dir: if dir == Vec3::ZERO { Vec3::Z } else { dir },
+            (org, dir)
+        }
+        Generated::Kuhn | Generated::Jitter => {
+            let span = hi - lo;
+            let org = Vec3::from_array(std::array::from_fn(|a| {
+                q(lo[a] + span[a] * r.random_range(0.1..0.9))
+            }));
+            if tie {
+                let d = Vec3::from_array(std::array::from_fn(|_| r.random_range(-2..=2) as f32));
+                (org.round(), d)
+            } else {
+                (
+                    org,
+                    Vec3::from_array(std::array::from_fn(|_| r.random_range(-1.0..1.0))),
+                )
             }
-        })
-        .collect()
+        }
+    };
+    Ray {
+        org: org + offset,
+        dir: if dir == Vec3::ZERO { Vec3::Z } else { dir },
+    }
+}
+
+/// The random source of case `i` of the stress row keyed `row` (a value fixed per row, whichever rows
+/// run beside it) under `seed`.
+pub fn row_rng(seed: u64, row: u64, i: usize) -> Rng {
+    rng(seed
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(row << 32 | i as u64))
 }

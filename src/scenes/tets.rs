@@ -9,7 +9,7 @@ use rand::RngExt;
 /// Shape families (Cheng et al.'s taxonomy of badly shaped tetrahedra), plus the well-shaped one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Family {
+pub enum TetShape {
     /// Near-regular.
     Well,
     /// Four well-separated vertices near one plane, no short edge.
@@ -22,18 +22,18 @@ pub enum Family {
     Wedge,
 }
 
-crate::choice!(Family { Well => "well", Sliver => "sliver", Cap => "cap", Needle => "needle", Wedge => "wedge" });
+crate::choice!(TetShape { Well => "well", Sliver => "sliver", Cap => "cap", Needle => "needle", Wedge => "wedge" });
 
-impl Family {
-    pub const ALL: [Family; 5] = [
-        Family::Well,
-        Family::Sliver,
-        Family::Cap,
-        Family::Needle,
-        Family::Wedge,
+impl TetShape {
+    pub const ALL: [TetShape; 5] = [
+        TetShape::Well,
+        TetShape::Sliver,
+        TetShape::Cap,
+        TetShape::Needle,
+        TetShape::Wedge,
     ];
 
-    /// The family in its own frame; `flatness` in (0, 1], smaller is flatter.
+    /// The shape in its own frame; `flatness` in (0, 1], smaller is flatter.
     fn canonical(self, flatness: f32, rng: &mut Rng) -> [Vec3; 4] {
         let h = flatness;
         let mut j = |s: f32| {
@@ -44,19 +44,19 @@ impl Family {
             )
         };
         match self {
-            Family::Well => [
+            TetShape::Well => [
                 Vec3::new(1.0, 1.0, 1.0) + j(0.15),
                 Vec3::new(1.0, -1.0, -1.0) + j(0.15),
                 Vec3::new(-1.0, 1.0, -1.0) + j(0.15),
                 Vec3::new(-1.0, -1.0, 1.0) + j(0.15),
             ],
-            Family::Sliver => [
+            TetShape::Sliver => [
                 Vec3::new(1.0, 0.0, h) + j(0.1) * Vec3::new(1.0, 1.0, h),
                 Vec3::new(-1.0, 0.0, h) + j(0.1) * Vec3::new(1.0, 1.0, h),
                 Vec3::new(0.0, 1.0, -h) + j(0.1) * Vec3::new(1.0, 1.0, h),
                 Vec3::new(0.0, -1.0, -h) + j(0.1) * Vec3::new(1.0, 1.0, h),
             ],
-            Family::Cap => {
+            TetShape::Cap => {
                 let apex = j(0.3) * Vec3::new(1.0, 1.0, 0.0) + Vec3::new(0.0, 0.0, h);
                 [
                     Vec3::new(1.0, 0.0, 0.0),
@@ -65,13 +65,13 @@ impl Family {
                     apex,
                 ]
             }
-            Family::Needle => [
+            TetShape::Needle => [
                 Vec3::new(h, 0.0, 0.0) + j(0.2 * h),
                 Vec3::new(-0.5 * h, 0.866 * h, 0.0) + j(0.2 * h),
                 Vec3::new(-0.5 * h, -0.866 * h, 0.0) + j(0.2 * h),
                 Vec3::new(0.0, 0.0, 2.0) + j(0.3),
             ],
-            Family::Wedge => [
+            TetShape::Wedge => [
                 Vec3::new(-0.5 * h, 0.0, 0.0),
                 Vec3::new(0.5 * h, 0.0, 0.0),
                 Vec3::new(0.3, 1.0, 0.0) + j(0.2),
@@ -96,12 +96,12 @@ pub(crate) fn rotation(rng: &mut Rng) -> Mat3 {
     })
 }
 
-/// A positively oriented, non-flat tetrahedron of `family`, randomly rotated, of size about 1 near the
+/// A positively oriented, non-flat tetrahedron of `shape`, randomly rotated, of size about 1 near the
 /// origin; `flatness` in (0, 1].
-pub fn tet(family: Family, flatness: f32, rng: &mut Rng) -> Tet {
+pub fn tet(shape: TetShape, flatness: f32, rng: &mut Rng) -> Tet {
     loop {
         let r = rotation(rng);
-        let c = family.canonical(flatness, rng).map(|v| r * v);
+        let c = shape.canonical(flatness, rng).map(|v| r * v);
         let (t, _) = normalize(&c);
         if orientation(&t) != 0 {
             return t;
@@ -149,14 +149,19 @@ pub enum Target {
     Vertex,
 }
 
-/// A tetrahedron of `family` with integer coordinates (scaled by a power of two so its flat dimension
+/// A tetrahedron of `shape` with integer coordinates (scaled by a power of two so its flat dimension
 /// still spans a few dozen units), and a ray from a lattice point inside it passing exactly through the
 /// midpoint of an edge or through a vertex; all of it exact in f32, so the line truly meets the edge or
 /// vertex. `None` if 100 draws found none (only for flatness far below 1e-4).
-pub fn through(family: Family, flatness: f32, target: Target, rng: &mut Rng) -> Option<(Tet, Ray)> {
+pub fn through(
+    shape: TetShape,
+    flatness: f32,
+    target: Target,
+    rng: &mut Rng,
+) -> Option<(Tet, Ray)> {
     let scale = (64.0 / flatness.clamp(1e-5, 1.0)).log2().ceil().exp2();
     for _ in 0..100 {
-        let t = tet(family, flatness, rng).map(|v| (v * scale).round());
+        let t = tet(shape, flatness, rng).map(|v| (v * scale).round());
         if orientation(&t) <= 0 {
             continue;
         }
@@ -197,13 +202,13 @@ pub fn ulps(x: f32, k: i32) -> f32 {
 /// [`through`], then the origin moved by 1 to `k` ulps along a random axis: a line that misses the edge
 /// or vertex by a hair.
 pub fn near(
-    family: Family,
+    shape: TetShape,
     flatness: f32,
     target: Target,
     k: i32,
     rng: &mut Rng,
 ) -> Option<(Tet, Ray)> {
-    let (t, mut ray) = through(family, flatness, target, rng)?;
+    let (t, mut ray) = through(shape, flatness, target, rng)?;
     let axis = rng.random_range(0..3);
     let by = rng.random_range(1..=k.max(1)) * if rng.random_bool(0.5) { 1 } else { -1 };
     ray.org[axis] = ulps(ray.org[axis], by);

@@ -159,6 +159,36 @@ impl<'de> serde::Deserialize<'de> for OutcomeKind {
     }
 }
 
+/// Numbers per kind of wrong ending, in [`OutcomeKind::ALL`] order; written as a map labelled by
+/// [`OutcomeKind::wrong_key`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PerKind<T>(pub [T; 5]);
+
+impl<'de, T: serde::Deserialize<'de> + Default + Copy> serde::Deserialize<'de> for PerKind<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let m = std::collections::BTreeMap::<String, T>::deserialize(d)?;
+        let mut out = [T::default(); 5];
+        for (k, v) in m {
+            let kind = OutcomeKind::from_wrong_key(&k).ok_or_else(|| {
+                serde::de::Error::custom(format!("unknown kind of wrong ray '{k}'"))
+            })?;
+            out[kind.code() as usize] = v;
+        }
+        Ok(PerKind(out))
+    }
+}
+
+impl<T: serde::Serialize> serde::Serialize for PerKind<T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(5))?;
+        for (k, v) in OutcomeKind::ALL.iter().zip(&self.0) {
+            m.serialize_entry(k.wrong_key(), v)?;
+        }
+        m.end()
+    }
+}
+
 /// How a walk ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]

@@ -6,12 +6,12 @@ use glam::Vec3;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, FileFailurePersistence};
 use tetwalk::backend::{Backend, BackendKind};
-use tetwalk::cases::{Judged, judged};
 use tetwalk::exact::Classification;
+use tetwalk::family::{ExitFace, Family, Verdict};
 use tetwalk::methods::Model;
 use tetwalk::registry::Method;
 use tetwalk::scenes::rng;
-use tetwalk::scenes::tets::{self, Family, Target};
+use tetwalk::scenes::tets::{self, Target, TetShape};
 use tetwalk::tet::{Case, Ray, Tet};
 
 /// Proptest configuration persisting failures under `corpora/proptest/<name>.txt`.
@@ -34,13 +34,13 @@ pub enum Kind {
     Near(Target, i32),
 }
 
-pub fn family() -> impl Strategy<Value = Family> {
+pub fn family() -> impl Strategy<Value = TetShape> {
     prop_oneof![
-        Just(Family::Well),
-        Just(Family::Sliver),
-        Just(Family::Cap),
-        Just(Family::Needle),
-        Just(Family::Wedge),
+        Just(TetShape::Well),
+        Just(TetShape::Sliver),
+        Just(TetShape::Cap),
+        Just(TetShape::Needle),
+        Just(TetShape::Wedge),
     ]
 }
 
@@ -56,7 +56,7 @@ pub fn kind() -> impl Strategy<Value = Kind> {
 
 /// A generated case.
 pub fn make(
-    family: Family,
+    family: TetShape,
     flatness: f32,
     kind: Kind,
     offset: f32,
@@ -117,9 +117,30 @@ pub fn gpu_or_skip() -> Option<Backend> {
     }
 }
 
+/// A method's exit face beside the exact ones, and whether it is right (`None`: the line misses the
+/// tetrahedron).
+#[derive(Debug)]
+pub struct Judged {
+    pub face: Option<u8>,
+    pub exact_exit: Vec<usize>,
+    pub correct: Option<bool>,
+}
+
 /// `m`'s answer on a case on the CPU in an arithmetic model, judged against its classification.
 pub fn judge(case: &Case, c: &Classification, m: &Method, model: Model) -> Judged {
-    judged(c, Backend::Cpu { model }.exit_face(m, case).unwrap())
+    let face = Backend::Cpu { model }
+        .exit_face(m, case)
+        .unwrap()
+        .map(|f| f as u8);
+    Judged {
+        face,
+        exact_exit: c.exit.to_vec(),
+        correct: match ExitFace::verdict(case, c, &face) {
+            Verdict::Right => Some(true),
+            Verdict::Wrong(_) => Some(false),
+            Verdict::NotJudged => None,
+        },
+    }
 }
 
 /// Every CPU arithmetic model: plain, fused, flushing subnormals.

@@ -1,13 +1,11 @@
 //! A user's traversal code, as it would live in their own crate: two exit-face methods, two
-//! ray–triangle tests and two octree cell tests, written against tetwalk's traits only. `tests/conformance.rs` judges them with
-//! `tetwalk::conformance`: the exact ones pass, the f32 ones are caught.
+//! ray–triangle tests and two octree cell tests, written against tetwalk's kit prelude only (it
+//! builds with tetwalk's `default-features = false`). `tests/conformance.rs` judges them with
+//! `tetwalk::kit`: the exact ones pass, the f32 ones are caught.
 
-use glam::Vec3;
 use rug::Rational;
 use std::cmp::Ordering;
-use tetwalk::methods::triangle::SingleRay;
-use tetwalk::methods::{Arith, CellMethod, ExitMethod};
-use tetwalk::tet::{FACE_VERTICES, Ray, Tet, Tri};
+use tetwalk::kit::prelude::*;
 
 /// A vector of exact rationals (every f32 is one).
 fn exact(v: Vec3) -> [Rational; 3] {
@@ -166,9 +164,9 @@ pub struct F32Slabs;
 /// smallest, and the quarter the exact exit point lies in (the lower one on a centre line).
 pub struct ExactSlabs;
 
-/// Face numbering of tetwalk's octree cells (seed 001's Figure 4, `tetwalk::octree::cell`).
+/// Face numbering of tetwalk's octree cells (seed 001's Figure 4, `tetwalk::kit::prelude::cell`).
 fn face(axis: usize, high: bool) -> usize {
-    tetwalk::octree::cell::face_of(axis, high)
+    cell::face_of(axis, high)
 }
 
 impl CellMethod for F32Slabs {
@@ -188,7 +186,7 @@ impl CellMethod for F32Slabs {
             .min_by(|x, y| x.1.total_cmp(&y.1))?;
         let p = r.org + r.dir * t;
         let c = (lo + hi) * 0.5;
-        let [u, v] = tetwalk::octree::cell::face_axes(axis);
+        let [u, v] = cell::face_axes(axis);
         let q = (p[u] < c[u]) as usize | ((p[v] < c[v]) as usize) << 1;
         Some((face(axis, r.dir[axis] > 0.0), q))
     }
@@ -212,7 +210,7 @@ impl CellMethod for ExactSlabs {
             .min_by(|x, y| x.1.cmp(&y.1))?;
         let p: [Rational; 3] = std::array::from_fn(|a| Rational::from(&d[a] * &t) + &o[a]);
         let c: [Rational; 3] = std::array::from_fn(|a| Rational::from(&l[a] + &h[a]) / 2u32);
-        let [u, v] = tetwalk::octree::cell::face_axes(axis);
+        let [u, v] = cell::face_axes(axis);
         let q = (p[u] < c[u]) as usize | ((p[v] < c[v]) as usize) << 1;
         Some((face(axis, d[axis].cmp0().is_gt()), q))
     }

@@ -4,11 +4,9 @@
 //!
 //! Usage: answer-walks exact|f32 MESH.json RAYS.jsonl > ANSWERS.jsonl
 
-use glam::Vec3;
 use serde_json::{Value, json};
 use std::io::{BufRead, Write};
-use tetwalk::methods::{ExitMethod, Plain};
-use tetwalk::tet::{Ray, Tet};
+use tetwalk::kit::prelude::*;
 use tetwalk_conformance_example::{ExactPlucker, F32Plucker};
 
 /// The exported mesh, as this program keeps it.

@@ -2,14 +2,14 @@
 //! exact sign, on inputs drawn from every exponent regime — the oracle's f64 filter
 //! ([`crate::exact::sign::filter`], side products and face normals), `robust`'s orient3d behind
 //! [`crate::tet::orientation`], and `certified`'s f32 stage under each model's bound
-//! ([`super::certified::f32_stage`]: gradual underflow, flushed to zero, the GPU's). A decided sign
+//! ([`crate::methods::certified::f32_stage`]: gradual underflow, flushed to zero, the GPU's). A decided sign
 //! that differs from the exact one is a refutation; undecided signs count the exact stage's cost.
 //! The box oracle has no filter (rationals throughout), so there is nothing of it to check here.
 
-use super::certified::{self, Bound};
 use crate::exact::rational::{det, q3, sub};
+use crate::methods::certified::{self, Bound};
 use crate::scenes::Rng;
-use crate::scenes::tets::{self, Family, Target};
+use crate::scenes::tets::{self, Target, TetShape};
 use crate::tet::Ray;
 use glam::Vec3;
 use rand::RngExt;
@@ -249,7 +249,7 @@ pub fn draw(regime: Regime, rng: &mut Rng) -> Inputs {
 
 /// A stress row's near-edge or near-vertex case, scaled by 2^k (exact unless it underflows).
 fn scaled(rng: &mut Rng) -> Inputs {
-    let family = Family::ALL[rng.random_range(0..Family::ALL.len())];
+    let family = TetShape::ALL[rng.random_range(0..TetShape::ALL.len())];
     let target = if rng.random() {
         Target::Edge
     } else {

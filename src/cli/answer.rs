@@ -1,0 +1,406 @@
+//! Answering case lines, for `exit`, `hit`, `box-exit` and `judge`: lines read as they come (a reader
+//! thread; whatever has arrived is answered as one batch), so a stream gets its answers as it goes and
+//! memory stays bounded; each line's family (by its keys) takes it, if the command answers that
+//! family, and answers it with the command's methods, or with answers given from outside.
+
+use super::{BackendArg, FailArg, JsonOut, Status, WgslArg};
+use crate::backend::Backend;
+use crate::cases::object;
+use crate::choice::Choice;
+use crate::engine::found::Found;
+use crate::engine::standing::Standing;
+use crate::family::{Family, Kind, owner};
+use crate::registry::Named;
+use crate::report::lines::{Lines, Said};
+use serde_json::{Map, Value, json};
+use std::collections::HashMap;
+use std::io::{BufRead, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::mpsc;
+
+/// The arguments of `exit` and `hit`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// A method name, a comma-separated list, or `all`.
+    #[arg(long, default_value = "all")]
+    pub(super) method: String,
+    #[command(flatten)]
+    pub(super) backend: BackendArg,
+    #[command(flatten)]
+    pub(super) wgsl: WgslArg,
+    #[command(flatten)]
+    pub(super) fail: FailArg,
+    /// `hit`: a hit's `t` is right within this many ulps of the exact `t` (of the f32 nearest it),
+    /// and always needs `0 < t < ∞` [default: 4096].
+    #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
+    pub(super) t_ulps: Option<f64>,
+    /// Also write a summary (lines, errors, per method right / wrong, and for `exit` lines missing the
+    /// tetrahedron) as JSON here.
+    #[arg(long)]
+    pub(super) json: Option<PathBuf>,
+    /// JSON Lines file of cases (found cases too); standard input when absent.
+    pub(super) file: Option<PathBuf>,
+}
+
+/// Longest line read, in bytes; a longer one is an error for that line.
+pub(super) const MAX_LINE: u64 = 1 << 20;
+/// Most lines answered as one batch.
+const BATCH: usize = 4096;
+
+/// One input line: its number and its text, or why it could not be read.
+pub(super) type Line = (usize, Result<String, String>);
+
+/// Read lines on a thread, each at most [`MAX_LINE`] bytes, invalid UTF-8 an error for its line.
+pub(super) fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
+    let (tx, rx) = mpsc::sync_channel(BATCH);
+    std::thread::spawn(move || {
+        let mut n = 0;
+        loop {
+            n += 1;
+            let mut buf = Vec::new();
+            let got = std::io::Read::take(&mut *input, MAX_LINE).read_until(b'\n', &mut buf);
+            let line = match got {
+                Ok(0) => return,
+                Err(e) => Err(format!("reading: {e}")),
+                Ok(_) if buf.last() != Some(&b'\n') && buf.len() as u64 == MAX_LINE => {
+                    // Skip the rest of an over-long line.
+                    let mut rest = Vec::new();
+                    while let Ok(k) =
+                        std::io::Read::take(&mut *input, MAX_LINE).read_until(b'\n', &mut rest)
+                    {
+                        if k == 0 || rest.last() == Some(&b'\n') {
+                            break;
+                        }
+                        rest.clear();
+                    }
+                    Err(format!("line longer than {MAX_LINE} bytes"))
+                }
+                Ok(_) => String::from_utf8(buf).map_err(|_| "not valid UTF-8".to_string()),
+            };
+            let stop = matches!(line, Err(ref e) if e.starts_with("reading"));
+            if tx.send((n, line)).is_err() || stop {
+                return;
+            }
+        }
+    });
+    rx
+}
+
+/// Answer the JSON Lines of `file` (standard input when `None`) batch by batch as they arrive: block
+/// for one line, take whatever else has arrived, write `answer`'s text for them to standard output.
+pub(super) fn answer_lines(
+    file: Option<&std::path::Path>,
+    mut answer: impl FnMut(&[Line]) -> Result<String, super::Error>,
+) -> Result<(), super::Error> {
+    if let Some(p) = file.filter(|p| p.is_dir()) {
+        return Err(format!("{}: is a folder, not a file of JSON lines", p.display()).into());
+    }
+    let input: Box<dyn BufRead + Send> = match file {
+        Some(p) => Box::new(std::io::BufReader::new(
+            std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?,
+        )),
+        None => Box::new(std::io::BufReader::new(std::io::stdin())),
+    };
+    let rx = reader(input);
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    while let Ok(first) = rx.recv() {
+        let mut batch = vec![first];
+        while batch.len() < BATCH {
+            match rx.try_recv() {
+                Ok(l) => batch.push(l),
+                Err(_) => break,
+            }
+        }
+        let text = answer(&batch)?;
+        w.write_all(text.as_bytes())?;
+        w.flush()?;
+    }
+    Ok(())
+}
+
+/// Per method: lines judged right, wrong, (`exit`, `box-exit`) whose line missed the cell, and (`hit`,
+/// `judge` on closed meshes) leaks.
+#[derive(Clone, Default, serde::Serialize)]
+pub(super) struct Tally {
+    pub method: String,
+    pub right: u64,
+    pub wrong: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub missed: Option<u64>,
+    /// Wrong answers on closed meshes where the ray passes through the surface.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub leaks: Option<u64>,
+}
+
+/// What a command answering JSON Lines writes with `--json`.
+#[derive(serde::Serialize)]
+pub(super) struct Summary {
+    backend: String,
+    pub lines: u64,
+    pub errors: u64,
+    pub methods: Vec<Tally>,
+}
+
+/// A command answering JSON Lines: its name, its methods' names, what their tallies count, where the
+/// lines come from and the summary goes, and how a tally stands under `--fail-on`.
+pub(super) struct Answering<'a> {
+    pub command: &'static str,
+    pub names: Vec<String>,
+    /// The tallies count lines missing the cell.
+    pub missed: bool,
+    /// The tallies count leaks.
+    pub leaks: bool,
+    pub backend: String,
+    pub file: Option<&'a std::path::Path>,
+    pub json: Option<&'a std::path::Path>,
+    pub fail: FailArg,
+    pub standing: fn(&Tally) -> Standing,
+}
+
+impl Answering<'_> {
+    /// Answer the lines with `answer` (given each batch and the summary); then `after` checks what
+    /// only the whole input tells (an error there writes no summary); then the summary goes to
+    /// `--json`. Exit status 1 when a line could not be answered, or under `--fail-on`.
+    pub(super) fn run(
+        self,
+        mut answer: impl FnMut(&[Line], &mut Summary) -> Result<String, super::Error>,
+        after: impl FnOnce() -> Result<(), super::Error>,
+    ) -> Status {
+        let out = JsonOut::new(self.json)?;
+        let mut summary = Summary {
+            backend: self.backend,
+            lines: 0,
+            errors: 0,
+            methods: self
+                .names
+                .into_iter()
+                .map(|method| Tally {
+                    method,
+                    missed: self.missed.then_some(0),
+                    leaks: self.leaks.then_some(0),
+                    ..Tally::default()
+                })
+                .collect(),
+        };
+        answer_lines(self.file, |batch| answer(batch, &mut summary))?;
+        after()?;
+        if summary.lines == 0 {
+            return Err(format!(
+                "{}: no case to answer (the input holds no line but blank ones)",
+                self.file
+                    .map_or("standard input".into(), |p| p.display().to_string())
+            )
+            .into());
+        }
+        out.finish(&summary)?;
+        let standings: Vec<Standing> = summary.methods.iter().map(self.standing).collect();
+        let status = self.fail.status(self.command, &standings);
+        if summary.errors > 0 {
+            eprintln!(
+                "tetwalk {}: {} line(s) could not be answered",
+                self.command, summary.errors
+            );
+            return Ok(ExitCode::FAILURE);
+        }
+        Ok(status)
+    }
+}
+
+/// Who answers a family's lines: methods on a backend, or answers given from outside (`judge`),
+/// named.
+pub(super) enum Answered<'a, F: Family> {
+    Methods(&'a [&'static F::Method], &'a Backend),
+    Given(&'a str),
+}
+
+/// A case line taken: its number, the case, its truth, and the answer given for it (`judge`).
+type Taken<F> = (
+    usize,
+    <F as Family>::Case,
+    <F as Family>::Truth,
+    Option<<F as Family>::Answer>,
+);
+
+/// One family's part of a command: who answers its cases, and the cases of a batch taken so far.
+pub(super) struct Part<'a, F: Family> {
+    pub answered: Answered<'a, F>,
+    pub t_ulps: f64,
+    taken: Vec<Taken<F>>,
+}
+
+impl<'a, F: Lines> Part<'a, F> {
+    pub fn new(answered: Answered<'a, F>, t_ulps: f64) -> Self {
+        Part {
+            answered,
+            t_ulps,
+            taken: Vec::new(),
+        }
+    }
+}
+
+/// A family's part, whatever the family.
+pub(super) trait Takes {
+    fn kind(&self) -> Kind;
+    /// Take line `n`'s object (a case of this family), with its answer given from outside where the
+    /// command has such answers (`Some(None)`: none given for it): an error for the line, or `Ok` once
+    /// taken.
+    fn take(
+        &mut self,
+        n: usize,
+        obj: Map<String, Value>,
+        given: Option<Option<Value>>,
+    ) -> Result<(), String>;
+    /// The verdict lines of the cases taken (by line number), each method's counted in `summary`.
+    fn answer(&mut self, summary: &mut Summary) -> Result<Vec<(usize, Value)>, super::Error>;
+}
+
+impl<F: Lines> Takes for Part<'_, F> {
+    fn kind(&self) -> Kind {
+        Kind::ALL
+            .iter()
+            .copied()
+            .find(|k| k.name() == F::NAME)
+            .unwrap_or(Kind::ExitFace)
+    }
+
+    fn take(
+        &mut self,
+        n: usize,
+        obj: Map<String, Value>,
+        given: Option<Option<Value>>,
+    ) -> Result<(), String> {
+        let case = Found::<F>::from_object(obj)
+            .map_err(|e| e.to_string())?
+            .case;
+        let given = match given {
+            None => None,
+            Some(a) => Some(a.ok_or("no answer for this line in the answers")?),
+        };
+        let truth = F::truth(&case).map_err(|e| e.to_string())?;
+        let given = match given {
+            None => None,
+            Some(a) => {
+                let o = a.as_object().ok_or("an answer is a JSON object")?;
+                Some(F::given(o, &case)?)
+            }
+        };
+        self.taken.push((n, case, truth, given));
+        Ok(())
+    }
+
+    fn answer(&mut self, summary: &mut Summary) -> Result<Vec<(usize, Value)>, super::Error> {
+        let taken = std::mem::take(&mut self.taken);
+        let mut out = Vec::new();
+        match &self.answered {
+            Answered::Given(name) => {
+                for (n, case, truth, given) in &taken {
+                    let a = given
+                        .as_ref()
+                        .expect("a given answer was taken with its case");
+                    let (fields, said) = F::verdict_line(case, truth, a, self.t_ulps);
+                    summary.methods[0].count(said);
+                    out.push((*n, line(*n, name, "given", fields)));
+                }
+            }
+            Answered::Methods(methods, backend) => {
+                let cases: Vec<F::Case> = taken.iter().map(|(_, c, ..)| *c).collect();
+                let mut answers = Vec::new();
+                for m in methods.iter() {
+                    answers.push(F::answers(backend, m, &cases)?);
+                }
+                for (k, (n, case, truth, _)) in taken.iter().enumerate() {
+                    for (i, m) in methods.iter().enumerate() {
+                        let (fields, said) =
+                            F::verdict_line(case, truth, &answers[i][k], self.t_ulps);
+                        let tally = summary
+                            .methods
+                            .iter_mut()
+                            .find(|t| t.method == m.name())
+                            .expect("every method has a tally");
+                        tally.count(said);
+                        let on = backend.for_method(*m).ran().kind.name();
+                        out.push((*n, line(*n, m.name(), on, fields)));
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// A verdict line: `line`, `method`, `backend`, then the family's fields.
+fn line(n: usize, method: &str, backend: &str, fields: Map<String, Value>) -> Value {
+    let mut o = Map::new();
+    o.insert("line".into(), json!(n));
+    o.insert("method".into(), json!(method));
+    o.insert("backend".into(), json!(backend));
+    o.extend(fields);
+    Value::Object(o)
+}
+
+impl Tally {
+    /// Count one verdict line.
+    fn count(&mut self, said: Said) {
+        self.right += (said.correct == Some(true)) as u64;
+        self.wrong += (said.correct == Some(false)) as u64;
+        if let Some(m) = self.missed.as_mut() {
+            *m += said.correct.is_none() as u64;
+        }
+        if let Some(l) = self.leaks.as_mut() {
+            *l += said.leak as u64;
+        }
+    }
+}
+
+/// The output lines for a batch of input lines: each line's family's part takes it (or `refuse`
+/// says why no part answers that family here), with its answer taken out of `given` where the command
+/// judges answers given from outside; then each part answers what it took, the lines in input order.
+pub(super) fn answer(
+    batch: &[Line],
+    parts: &mut [Box<dyn Takes + '_>],
+    refuse: fn(Kind) -> String,
+    given: Option<&mut HashMap<usize, Value>>,
+    summary: &mut Summary,
+) -> Result<String, super::Error> {
+    let mut given = given;
+    let mut out: Vec<(usize, Value)> = Vec::new();
+    for (n, l) in batch {
+        if l.as_ref().is_ok_and(|t| t.trim().is_empty()) {
+            continue;
+        }
+        summary.lines += 1;
+        let answer = given.as_mut().map(|g| g.remove(n));
+        let taken = l.clone().and_then(|text| {
+            let obj = object(&text).map_err(|e| e.to_string())?;
+            let kind = owner(&obj);
+            match parts.iter_mut().find(|p| p.kind() == kind) {
+                Some(p) => p.take(*n, obj, answer),
+                None => Err(refuse(kind)),
+            }
+        });
+        if let Err(e) = taken {
+            summary.errors += 1;
+            out.push((*n, json!({"line": n, "error": e})));
+        }
+    }
+    for p in parts.iter_mut() {
+        out.extend(p.answer(summary)?);
+    }
+    out.sort_by_key(|(n, _)| *n);
+    let mut s = String::new();
+    for (_, v) in out {
+        s += &v.to_string();
+        s.push('\n');
+    }
+    Ok(s)
+}
+
+/// Each method's tally's standing, as `F`'s claims have it: a robust method's claim refuted by every
+/// wrong answer, a watertight one's by its leaks.
+pub(super) fn standing<F: Family>(t: &Tally) -> Standing {
+    Standing::named::<F>(&t.method, t.right + t.wrong, t.wrong, |c| match c {
+        crate::registry::Claim::Robust => Some(t.wrong),
+        crate::registry::Claim::NoLeak => t.leaks,
+    })
+}

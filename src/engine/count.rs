@@ -1,0 +1,574 @@
+//! Counts, for every family that answers a scene's primary rays ([`Counted`]): seed 000 Table 4's
+//! measure — for a scene, how many rays of an image each method gets wrong in f32, judged exactly
+//! against the reference walk (`certified`, which ends where `exact` ends, or `exact`), with the work
+//! per image and speed. One view loop for every family: the reference walk, the audit (the family's
+//! exact answer on about 1,000 rays must agree with the reference), each method's answers judged and
+//! each wrong ray described ([`WrongRay`]), shards that add up, the labellings of the tetrahedra.
+
+use crate::backend::{Backend, Ran};
+use crate::family::Family;
+use crate::family::count::through_value;
+use crate::family::count::{
+    CountError, CountRow, Counted, Counts, Scene, first_difference, inconsistent,
+};
+use crate::family::wrong::{Seen, WrongRay};
+use crate::mesh::Mesh;
+use crate::registry::Named;
+use crate::scenes::camera::{Camera, Views};
+use crate::tet::Ray;
+use crate::walk::{Walk, default_max_steps, judge, locate};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// One of `count` disjoint slices of the views (`--shard INDEX/COUNT`); `0/1` is all of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    pub const ALL: Shard = Shard { index: 0, count: 1 };
+
+    pub fn holds(self, view: usize) -> bool {
+        view % self.count == self.index
+    }
+
+    /// How many of `views` views this shard holds.
+    pub fn held(self, views: usize) -> usize {
+        (0..views).filter(|&v| self.holds(v)).count()
+    }
+}
+
+/// Whether ray `index` (counted over all views) is audited: about `audit` of `total`, chosen by `seed`.
+pub fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
+    let mut z = seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^= z >> 31;
+    (z % total.max(1)) < audit
+}
+
+/// The views that `holds` keeps whose camera lies inside the mesh, each with its camera and the
+/// tetrahedron holding it (located from the previous view's); `tick` is called for every view tried.
+pub fn located_views<'a>(
+    mesh: &'a Mesh,
+    views: &'a Views,
+    holds: impl Fn(usize) -> bool + 'a,
+    tick: &'a (dyn Fn() + Sync),
+) -> impl Iterator<Item = (usize, Camera, u32)> + 'a {
+    let (lo, hi) = crate::mesh::bounds(&mesh.points);
+    let mut start = 0;
+    (0..views.views)
+        .filter(move |&v| holds(v))
+        .filter_map(move |v| {
+            let cam = views.camera(lo, hi, v);
+            tick();
+            let located = locate(mesh, cam.eye, start).ok()?;
+            start = located;
+            Some((v, cam, located))
+        })
+}
+
+/// What is counted, and how the rays are made.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(remote = "Self", bound = "")]
+pub struct CountSettings<F: Counted> {
+    pub scene: String,
+    pub views: Views,
+    /// The walk every method is judged against: `exact`, or `certified` (which ends where `exact` ends,
+    /// faster).
+    pub reference: String,
+    /// What the family's count sets besides (the packets, the octree).
+    #[serde(flatten)]
+    pub family: F::CountSettings,
+    /// Rays the family's exact answer re-judges (chosen by the seed, about this many): it must agree
+    /// with the reference on each.
+    pub audit: u64,
+    /// Which slice of the views this run counts: views `v` with `v % count == index`.
+    pub shard: Shard,
+}
+
+/// A count's report, one shape for every family: its settings, the rays and views counted and
+/// audited, where the methods ran, what the family says of the scene, and each method's totals (the
+/// reference walk's first where it is one of the family's methods).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[serde(remote = "Self", bound = "")]
+pub struct CountReport<F: Counted> {
+    /// The family counted (`count merge` reads it).
+    pub family: String,
+    pub settings: CountSettings<F>,
+    /// Rays the audit re-judged with the family's exact answer, all in agreement.
+    pub audited: u64,
+    /// Where the methods ran (the `exact` reference always on the CPU).
+    pub backend: Ran,
+    #[serde(flatten)]
+    pub scene: F::SceneFacts,
+    /// Rays judged (all pixels of all views whose camera is inside the mesh).
+    pub rays: u64,
+    pub views_counted: usize,
+    pub methods: Vec<CountRow<F::Counts>>,
+}
+
+through_value!(CountSettings<F: Counted>);
+through_value!(CountReport<F: Counted>);
+
+/// Whose answers a count judges.
+pub enum Answerer<'a, F: Family> {
+    /// A method, run on the count's backend.
+    Method(&'a F::Method),
+    /// Walks computed elsewhere (`tetwalk judge`), named: given a view, every pixel's walk, row by row.
+    Given(&'a str, &'a GivenWalks<'a>),
+}
+
+/// Walks given from outside for one view (its index and its rays).
+pub type GivenWalks<'a> = dyn Fn(usize, &[Ray]) -> Result<Vec<Walk>, CountError> + 'a;
+
+impl<F: Family> Answerer<'_, F> {
+    fn name(&self) -> &str {
+        match self {
+            Answerer::Method(m) => m.name(),
+            Answerer::Given(name, _) => name,
+        }
+    }
+}
+
+/// Where each wrong ray goes besides the tallies (`count --dump`).
+pub type Sink<'a> = dyn FnMut(&WrongRay) -> std::io::Result<()> + 'a;
+
+/// Count wrong rays per answerer over the views the shard holds; `tick` is called once per view, and
+/// `sink` sees every wrong ray written out ([`WrongRay`]). Memory holds one view's rays and walks at a
+/// time.
+pub fn run<F: Counted>(
+    mesh: &Mesh,
+    s: &CountSettings<F>,
+    answerers: &[Answerer<F>],
+    backend: &Backend,
+    tick: &(dyn Fn() + Sync),
+    mut sink: Option<&mut Sink>,
+) -> Result<CountReport<F>, CountError> {
+    let reference = crate::registry::by_name(&s.reference)?;
+    let max = default_max_steps(mesh);
+    let scene = Scene {
+        mesh,
+        on: backend.mesh(mesh),
+        max_steps: max,
+        views: s.views,
+    };
+    let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
+    let own = F::reference_row() as usize;
+    let mut rows: Vec<CountRow<F::Counts>> = std::iter::once(reference.name())
+        .take(own)
+        .chain(answerers.iter().map(|a| a.name()))
+        .map(CountRow::new)
+        .collect();
+    let (mut rays_counted, mut views_counted, mut audits) = (0u64, 0usize, 0u64);
+    let mut ready: Option<F::Ready> = None;
+    for (v, cam, located) in located_views(mesh, &s.views, |v| s.shard.holds(v), tick) {
+        views_counted += 1;
+        if ready.as_ref().is_none_or(|r| !F::serves(r, located)) {
+            ready = Some(F::prepare(&scene, &s.family, backend, located)?);
+        }
+        let r = ready.as_ref().expect("made ready above");
+        let rays = s.views.rays(&cam);
+        rays_counted += rays.len() as u64;
+        let t0 = Instant::now();
+        let walked = backend.walks(reference, &scene.on, &rays, located, max)?;
+        if own == 1 {
+            let steps = walked.iter().map(|w| w.steps as u64).sum();
+            rows[0].add_work(steps, t0.elapsed().as_secs_f64());
+        }
+        let first = v as u64 * rays.len() as u64;
+        let picked: Vec<usize> = (0..rays.len())
+            .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))
+            .collect();
+        if !picked.is_empty() {
+            let picked_rays: Vec<Ray> = picked.iter().map(|&i| rays[i]).collect();
+            let exact = F::audit(backend, &scene, r, &s.family, &picked_rays, located)?;
+            audits += picked.len() as u64;
+            for (&i, e) in picked.iter().zip(&exact) {
+                if !F::agrees(mesh, &rays[i], e, &walked[i]) {
+                    return Err(CountError::Audit {
+                        reference: s.reference.clone(),
+                        exact: F::EXACT,
+                        view: v,
+                        pixel: [i as u32 % s.views.width, i as u32 / s.views.width],
+                        walked: walked[i],
+                        answered: *e,
+                    });
+                }
+            }
+        }
+        for (a, row) in answerers.iter().zip(&mut rows[own..]) {
+            let t0 = Instant::now();
+            // Given walks were timed elsewhere, if at all: their speed is not measured here.
+            let (walks, seconds) = match a {
+                Answerer::Method(m) => {
+                    let w = F::answer_rays(backend, m, &scene, r, &s.family, &rays, located)?;
+                    (w, t0.elapsed().as_secs_f64())
+                }
+                Answerer::Given(_, given) => (given(v, &rays)?, 0.0),
+            };
+            row.add_work(walks.iter().map(|w| w.steps as u64).sum(), seconds);
+            let seen = Seen {
+                scene: &s.scene,
+                view: v,
+                pixel: [0, 0],
+                name: a.name(),
+                walked: match a {
+                    Answerer::Method(m) => {
+                        F::walker(m).map(|w| (w, backend.for_method(*m).ran().kind))
+                    }
+                    Answerer::Given(..) => None,
+                },
+            };
+            let described = wrong_rays(
+                mesh,
+                &seen,
+                s.views.width,
+                &rays,
+                &walks,
+                &walked,
+                located,
+                max,
+            );
+            for d in &described {
+                row.counts
+                    .add_wrong(d.kind().expect("a wrong ray has a kind"), d.class);
+                if let Some(sink) = sink.as_mut() {
+                    sink(d).map_err(CountError::Dump)?;
+                }
+            }
+        }
+    }
+    if views_counted == 0 {
+        return Err(CountError::NoView(s.views.views));
+    }
+    for row in &mut rows {
+        row.finish(views_counted, rays_counted);
+    }
+    Ok(CountReport {
+        family: F::NAME.to_string(),
+        settings: s.clone(),
+        audited: audits,
+        backend: backend.ran(),
+        scene: F::facts(&scene, ready.as_ref()),
+        rays: rays_counted,
+        views_counted,
+        methods: rows,
+    })
+}
+
+/// Count again under each other orientation-preserving relabelling of the tetrahedra
+/// (`crate::tet::EVEN_PERMUTATIONS`, the same for the whole mesh; `report` is the mesh's own) and keep
+/// each row's wrong rays under all 12.
+pub fn relabel_all<F: Counted>(
+    report: &mut CountReport<F>,
+    mesh: &Mesh,
+    answerers: &[Answerer<F>],
+    backend: &Backend,
+    tick: &(dyn Fn() + Sync),
+) -> Result<(), CountError> {
+    let mut wrong: Vec<Vec<u64>> = report
+        .methods
+        .iter()
+        .map(|m| vec![m.counts.wrong_total()])
+        .collect();
+    for p in &crate::tet::EVEN_PERMUTATIONS[1..] {
+        let relabelled = mesh.relabelled(*p)?;
+        let r = run(
+            &relabelled,
+            &report.settings,
+            answerers,
+            backend,
+            tick,
+            None,
+        )?;
+        for (w, m) in wrong.iter_mut().zip(&r.methods) {
+            w.push(m.counts.wrong_total());
+        }
+    }
+    for (m, w) in report.methods.iter_mut().zip(wrong) {
+        m.relabelled = Some(w);
+    }
+    Ok(())
+}
+
+/// One view's wrong rays for one method (`walks` beside the `exact` walks `reference`, pixel `i` at
+/// column `i % width`), each described; wrong rays are few, so each is described where it is found.
+#[allow(clippy::too_many_arguments)]
+pub fn wrong_rays(
+    mesh: &Mesh,
+    seen: &Seen,
+    width: u32,
+    rays: &[Ray],
+    walks: &[Walk],
+    reference: &[Walk],
+    start: u32,
+    max_steps: u32,
+) -> Vec<WrongRay> {
+    let wrong: Vec<usize> = (0..rays.len())
+        .into_par_iter()
+        .filter(|&i| judge(mesh, &rays[i], &walks[i], &reference[i]).is_some())
+        .collect();
+    wrong
+        .par_iter()
+        .map(|&i| {
+            let seen = Seen {
+                pixel: [i as u32 % width, i as u32 / width],
+                ..*seen
+            };
+            WrongRay::of(
+                mesh,
+                &seen,
+                &rays[i],
+                &walks[i],
+                &reference[i],
+                start,
+                max_steps,
+            )
+        })
+        .collect()
+}
+
+/// Why sharded reports cannot be merged; each names the report's file (or name) and the field.
+#[derive(Debug, thiserror::Error)]
+pub enum MergeError {
+    #[error("nothing to merge")]
+    Empty,
+    #[error("{file}: {field} is {got}, but {value} in {first}: a shard of another run")]
+    Settings {
+        file: String,
+        field: String,
+        got: String,
+        value: String,
+        first: String,
+    },
+    #[error("{file}: judged the methods {got:?}, {first} judged {want:?}")]
+    Methods {
+        file: String,
+        got: Vec<String>,
+        first: String,
+        want: Vec<String>,
+    },
+    #[error("the shards do not cover the views once each: have {have:?} of {count}")]
+    Shards { have: Vec<usize>, count: usize },
+    /// A report whose own numbers contradict each other (edited, or cut).
+    #[error("{file}: {field}: {why}")]
+    Inconsistent {
+        file: String,
+        field: String,
+        why: String,
+    },
+}
+
+/// A count that runs in shards (`--shard I/N`, disjoint slices of the views) and adds up.
+pub trait Sharded: Clone {
+    /// What every shard of one run shares (its settings but the shard, the backend, the scene), as
+    /// JSON so that a difference is named by its field.
+    fn same(&self) -> serde_json::Value;
+    fn shard(&self) -> Shard;
+    /// The methods counted, in order.
+    fn methods(&self) -> Vec<String>;
+    /// Whether the report's own numbers agree with each other: the field that does not, and why.
+    fn check(&self) -> Result<(), (String, String)>;
+    /// Add `other`'s totals (another shard's) to these.
+    fn add(&mut self, other: &Self);
+    /// The whole run's report from the added totals (shard `0/1`, per-image and per-second figures).
+    fn finish(&mut self);
+}
+
+/// The shards of one run (every `I` of `I/N` once, all else alike), each named by its file, added
+/// up: the same totals as an unsharded run, exactly; what is not added up (timings, dates) is shard
+/// 0's. Each shard's own sums are checked first ([`Sharded::check`]).
+pub fn merge<R: Sharded>(reports: &[(String, R)]) -> Result<R, MergeError> {
+    let (first_name, first) = reports.first().ok_or(MergeError::Empty)?;
+    let count = first.shard().count;
+    let (want, names) = (first.same(), first.methods());
+    let mut have = Vec::new();
+    for (file, r) in reports {
+        r.check().map_err(|(field, why)| MergeError::Inconsistent {
+            file: file.clone(),
+            field,
+            why,
+        })?;
+        let n = r.shard().count;
+        let other_count =
+            (n != count).then(|| ("shard.count".into(), n.to_string(), count.to_string()));
+        if let Some((field, got, value)) = first_difference(&r.same(), &want).or(other_count) {
+            return Err(MergeError::Settings {
+                file: file.clone(),
+                field,
+                got,
+                value,
+                first: first_name.clone(),
+            });
+        }
+        if r.methods() != names {
+            return Err(MergeError::Methods {
+                file: file.clone(),
+                got: r.methods(),
+                first: first_name.clone(),
+                want: names,
+            });
+        }
+        have.push(r.shard().index);
+    }
+    have.sort_unstable();
+    if have != (0..count).collect::<Vec<_>>() {
+        return Err(MergeError::Shards { have, count });
+    }
+    let mut order: Vec<&R> = reports.iter().map(|(_, r)| r).collect();
+    order.sort_by_key(|r| r.shard().index);
+    let mut out = order[0].clone();
+    for r in &order[1..] {
+        out.add(r);
+    }
+    out.finish();
+    Ok(out)
+}
+
+/// The checks every sharded count's totals share: its shard is one of its views' slices, at least
+/// one view counted and no more than the shard holds, every pixel of each counted view judged,
+/// audited rays among them.
+pub fn check_totals(
+    shard: Shard,
+    views: &Views,
+    views_counted: usize,
+    rays: u64,
+    audited: u64,
+) -> Result<(), (String, String)> {
+    if shard.count == 0 || shard.index >= shard.count {
+        return inconsistent(
+            "shard",
+            format!("{}/{} is not I/N with 0 <= I < N", shard.index, shard.count),
+        );
+    }
+    let held = shard.held(views.views);
+    if views_counted == 0 || views_counted > held {
+        return inconsistent(
+            "views_counted",
+            format!(
+                "{views_counted}, not 1 to the {held} views shard {}/{} holds",
+                shard.index, shard.count
+            ),
+        );
+    }
+    let pixels = views.width as u128 * views.height as u128;
+    if rays as u128 != views_counted as u128 * pixels {
+        return inconsistent(
+            "rays",
+            format!(
+                "{rays}, not views_counted × pixels = {views_counted} × {}x{}",
+                views.width, views.height
+            ),
+        );
+    }
+    if audited > rays {
+        return inconsistent("audited", format!("{audited}, more than the {rays} rays"));
+    }
+    Ok(())
+}
+
+/// The checks of one method's wrong rays: the kinds add up to the total, no more than the rays, and
+/// the reference row (the first) wrong nowhere.
+pub fn check_wrong(
+    at: &str,
+    total: u64,
+    kinds: &[u64; 5],
+    rays: u64,
+    reference: bool,
+) -> Result<(), (String, String)> {
+    let sum: u128 = kinds.iter().map(|&k| k as u128).sum();
+    if sum != total as u128 {
+        return inconsistent(
+            format!("{at}.wrong_total"),
+            format!("{total}, but its kinds add up to {sum}"),
+        );
+    }
+    if total > rays {
+        return inconsistent(
+            format!("{at}.wrong_total"),
+            format!("{total}, more than the {rays} rays"),
+        );
+    }
+    if reference && total != 0 {
+        return inconsistent(
+            format!("{at}.wrong_total"),
+            format!(
+                "{total}: the reference's row is what the others are judged against, wrong nowhere"
+            ),
+        );
+    }
+    Ok(())
+}
+
+impl<F: Counted> Sharded for CountReport<F> {
+    fn same(&self) -> serde_json::Value {
+        let settings = CountSettings::<F> {
+            shard: Shard::ALL,
+            ..self.settings.clone()
+        };
+        let mut same = serde_json::json!({"settings": settings, "backend": self.backend});
+        if let (Some(m), serde_json::Value::Object(facts)) =
+            (same.as_object_mut(), serde_json::json!(self.scene))
+        {
+            m.extend(facts);
+        }
+        same
+    }
+
+    fn shard(&self) -> Shard {
+        self.settings.shard
+    }
+
+    fn methods(&self) -> Vec<String> {
+        self.methods.iter().map(|m| m.method.clone()).collect()
+    }
+
+    fn check(&self) -> Result<(), (String, String)> {
+        let s = &self.settings;
+        check_totals(
+            s.shard,
+            &s.views,
+            self.views_counted,
+            self.rays,
+            self.audited,
+        )?;
+        let own = F::reference_row();
+        if own && self.methods.first().is_none_or(|m| m.method != s.reference) {
+            return inconsistent(
+                "methods",
+                format!("the first row is not the reference {}", s.reference),
+            );
+        }
+        for (i, m) in self.methods.iter().enumerate() {
+            let at = format!("methods[{i}] ({})", m.method);
+            check_wrong(
+                &at,
+                m.counts.wrong_total(),
+                &m.counts.kinds(),
+                self.rays,
+                own && i == 0,
+            )?;
+            m.check(&at, self.views_counted)?;
+        }
+        Ok(())
+    }
+
+    fn add(&mut self, r: &Self) {
+        self.rays += r.rays;
+        self.views_counted += r.views_counted;
+        self.audited += r.audited;
+        for (t, m) in self.methods.iter_mut().zip(&r.methods) {
+            t.add(m);
+        }
+    }
+
+    fn finish(&mut self) {
+        self.settings.shard = Shard::ALL;
+        for t in &mut self.methods {
+            t.finish(self.views_counted, self.rays);
+        }
+    }
+}

@@ -1,0 +1,303 @@
+//! Found cases: failures kept as readable JSON lines under `corpora/found/<method>/` and replayed by
+//! `cargo test` — a case of the case format (its family's) plus what failed on it: `"method"`,
+//! `"backend"`, `"kind"` (the wrong ending, [`OutcomeKind::wrong_key`]) and `"answer"` (the method's
+//! wrong answer as its family records it). Also the check that fuzzing, filing and replay share.
+
+use crate::backend::{Backend, BackendError, BackendKind, CPU, CPU_FMA, CPU_FTZ};
+use crate::cases::{CaseError, object};
+use crate::choice::Choice;
+use crate::family::{self, Family, Verdict};
+use crate::registry::{Named, UnknownMethod};
+use crate::walk::OutcomeKind;
+use serde_json::{Map, Value};
+
+/// Why a found case cannot be read or replayed.
+#[derive(Debug, thiserror::Error)]
+pub enum FoundError {
+    #[error(transparent)]
+    Case(#[from] CaseError),
+    #[error(transparent)]
+    Method(#[from] UnknownMethod),
+    #[error(transparent)]
+    Backend(#[from] BackendError),
+    #[error("{field}: {why}")]
+    Field { field: &'static str, why: String },
+    #[error("TETWALK_FUZZ_METHOD: {0}")]
+    FuzzMethod(UnknownMethod),
+    #[error("TETWALK_FUZZ_BACKEND: {0}")]
+    FuzzBackend(String),
+    /// An octree walk that never ends though every cell's exit it chose was right where judged.
+    #[error("endless octree walk: {0}")]
+    EndlessWalk(String),
+}
+
+/// The backends a finding is checked on when it is filed for the methods that claim (the CPU plain,
+/// as a GPU compiles the methods, and as a GPU that flushes subnormals computes them).
+pub const CPU_BACKENDS: [&Backend; 3] = [&CPU, &CPU_FMA, &CPU_FTZ];
+
+/// A failure: which method, on which backend, and what it answered.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failure<F: Family> {
+    pub method: String,
+    pub backend: BackendKind,
+    /// The adapter and driver, for a failure found on a GPU.
+    pub adapter: Option<String>,
+    pub answer: F::Answer,
+}
+
+impl<F: Family> Failure<F> {
+    /// What `m` answered wrongly where `b` runs it (the reference on the CPU), with the adapter where
+    /// that is a GPU.
+    pub fn of(m: &F::Method, b: &Backend, answer: F::Answer) -> Failure<F> {
+        let on = b.for_method(m);
+        let ran = on.ran();
+        Failure {
+            method: m.name().to_string(),
+            backend: ran.kind,
+            adapter: ran.adapter,
+            answer,
+        }
+    }
+
+    /// The kind of wrong ([`OutcomeKind::wrong_key`] is its name in files).
+    pub fn kind(&self) -> OutcomeKind {
+        F::kind(&self.answer)
+    }
+}
+
+/// One line of the case format, with what failed on it when it is a found case.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Found<F: Family> {
+    pub case: F::Case,
+    pub failure: Option<Failure<F>>,
+}
+
+/// The fields a found case adds to its case.
+const FAILURE_FIELDS: [&str; 5] = ["method", "backend", "adapter", "kind", "answer"];
+
+impl<F: Family> Found<F> {
+    /// Read a line: a case of this family, or a found case.
+    pub fn parse(line: &str) -> Result<Found<F>, FoundError> {
+        Self::from_object(object(line)?)
+    }
+
+    /// Read a line's object ([`family::owner`] says which family's it is).
+    pub fn from_object(mut obj: Map<String, Value>) -> Result<Found<F>, FoundError> {
+        let case = F::take_case(&mut obj)?;
+        if let Some(k) = obj.keys().find(|k| !FAILURE_FIELDS.contains(&k.as_str())) {
+            return Err(CaseError::UnknownField(k.clone()).into());
+        }
+        if obj.is_empty() {
+            return Ok(Found {
+                case,
+                failure: None,
+            });
+        }
+        let adapter = obj.remove("adapter");
+        let mut field = |k: &'static str| {
+            obj.remove(k).ok_or(FoundError::Field {
+                field: k,
+                why: "missing (a found case has method, backend, kind and answer)".into(),
+            })
+        };
+        let bad = |field: &'static str, why: String| FoundError::Field { field, why };
+        let method = field("method")?;
+        let method = family::by_name::<F>(method.as_str().unwrap_or_default())?
+            .name()
+            .to_string();
+        let backend = field("backend")?;
+        let backend = backend
+            .as_str()
+            .and_then(BackendKind::from_name)
+            .ok_or_else(|| {
+                bad(
+                    "backend",
+                    format!("{backend} is not cpu, cpu-fma, cpu-ftz or gpu"),
+                )
+            })?;
+        let adapter = match adapter {
+            None => None,
+            Some(Value::String(a)) if backend == BackendKind::Gpu => Some(a),
+            Some(v) => {
+                return Err(bad(
+                    "adapter",
+                    format!("{v} is not the name of the GPU a gpu finding was made on"),
+                ));
+            }
+        };
+        let kind = field("kind")?;
+        let kind = kind
+            .as_str()
+            .and_then(OutcomeKind::from_wrong_key)
+            .ok_or_else(|| bad("kind", format!("{kind} is not a kind of wrong ending")))?;
+        let answer = F::parse_answer(&field("answer")?, &case).map_err(|e| bad("answer", e))?;
+        if F::kind(&answer) != kind {
+            return Err(bad(
+                "kind",
+                format!(
+                    "'{}' does not match the answer, which is a {}",
+                    kind.wrong_key(),
+                    F::kind(&answer).wrong()
+                ),
+            ));
+        }
+        Ok(Found {
+            case,
+            failure: Some(Failure {
+                method,
+                backend,
+                adapter,
+                answer,
+            }),
+        })
+    }
+
+    /// The line, as kept in `corpora/found/`.
+    pub fn to_json(&self) -> String {
+        let mut m = F::case_json(&self.case);
+        if let Some(f) = &self.failure {
+            m.insert("method".into(), f.method.clone().into());
+            m.insert("backend".into(), f.backend.name().into());
+            if let Some(a) = &f.adapter {
+                m.insert("adapter".into(), a.clone().into());
+            }
+            m.insert("kind".into(), f.kind().wrong_key().into());
+            m.insert("answer".into(), F::answer_json(&f.answer));
+        }
+        Value::Object(m).to_string()
+    }
+
+    /// The case alone, one line of the case format.
+    pub fn case_line(&self) -> String {
+        Value::Object(F::case_json(&self.case)).to_string()
+    }
+
+    /// The same case filed for another failure.
+    pub fn with_failure(&self, f: Failure<F>) -> Found<F> {
+        Found {
+            case: self.case,
+            failure: Some(f),
+        }
+    }
+
+    /// This finding, and the same case filed for every method that makes a claim (but the family's
+    /// reference) and fails it there too, on the CPU plain, fused and flushed: a failure of a claim is
+    /// a finding of its own.
+    pub fn with_claim_failures(&self) -> Result<Vec<Found<F>>, FoundError> {
+        let mut out = vec![self.clone()];
+        let mine = self.failure.as_ref().map(|f| f.method.as_str());
+        for m in F::methods()
+            .iter()
+            .filter(|m| m.info().claim.is_some() && !m.is_reference() && Some(m.name()) != mine)
+        {
+            let held = [(m, Hold::Claim)];
+            if let Some((_, f)) =
+                check::<F>(std::slice::from_ref(&self.case), &held, &CPU_BACKENDS)?
+            {
+                out.push(self.with_failure(f));
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// What a check holds a method to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Hold {
+    /// Its family's claim ([`Family::refutes_claim`]): for ray–triangle tests, no leak.
+    Claim,
+    /// Every answer right.
+    Every,
+}
+
+/// The first of `held`'s methods (each on each of `backends` in turn; the reference on the CPU, once)
+/// that answers a case wrongly as it is held, by index, with what it answered. A case the oracle
+/// cannot judge is left out, but for the first, whose error is returned.
+pub fn check<F: Family>(
+    cases: &[F::Case],
+    held: &[(&F::Method, Hold)],
+    backends: &[&Backend],
+) -> Result<Option<(usize, Failure<F>)>, FoundError> {
+    let mut judged = Vec::with_capacity(cases.len());
+    for (i, c) in cases.iter().enumerate() {
+        match F::truth(c) {
+            Ok(t) => judged.push((i, t)),
+            Err(e) if i == 0 => return Err(e.into()),
+            Err(_) => {}
+        }
+    }
+    if judged.is_empty() {
+        return Ok(None);
+    }
+    let asked: Vec<F::Case> = judged.iter().map(|&(i, _)| cases[i]).collect();
+    let mut done = Vec::new();
+    for &(m, hold) in held {
+        for b in backends {
+            // The reference runs on the CPU whatever the backend: answer it once.
+            let key = (m.name(), b.for_method(m).ran().kind);
+            if done.contains(&key) {
+                continue;
+            }
+            done.push(key);
+            let answers = F::answers(b, m, &asked)?;
+            for (a, (i, truth)) in answers.iter().zip(&judged) {
+                let c = &cases[*i];
+                let wrong = match hold {
+                    Hold::Every => matches!(F::verdict(c, truth, a), Verdict::Wrong(_)),
+                    Hold::Claim => F::refutes_claim(c, truth, a),
+                };
+                if wrong {
+                    return Ok(Some((*i, Failure::of(m, b, *a))));
+                }
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// How a found case replays now.
+#[derive(Debug, PartialEq)]
+pub enum Replay {
+    /// Still wrong, with the recorded answer.
+    Holds,
+    /// Still wrong, but with another answer than the recorded one (as found cases write it).
+    OtherAnswer(Value),
+    /// The method is now right on it.
+    Right,
+    /// Recorded on a backend that cannot be opened here (why).
+    Skipped(String),
+}
+
+/// Replay a found case: its method on its backend, its answer compared with the recorded one as found
+/// cases record it.
+pub fn replay<F: Family>(found: &Found<F>) -> Result<Replay, FoundError> {
+    let Some(f) = &found.failure else {
+        return Err(FoundError::Field {
+            field: "method",
+            why: "not a found case (it records no failure)".into(),
+        });
+    };
+    let backend = match Backend::open(f.backend) {
+        Ok(b) => b,
+        Err(e) => return Ok(Replay::Skipped(e.to_string())),
+    };
+    // A GPU finding replays on the adapter and driver it was found on; another compiles differently.
+    if let (Some(want), Some(here)) = (&f.adapter, backend.ran().adapter)
+        && *want != here
+    {
+        return Ok(Replay::Skipped(format!(
+            "found on {want}; this GPU is {here}"
+        )));
+    }
+    let m = family::by_name::<F>(&f.method)?;
+    let now = check::<F>(
+        std::slice::from_ref(&found.case),
+        &[(m, Hold::Every)],
+        &[&backend],
+    )?;
+    Ok(match now {
+        None => Replay::Right,
+        Some((_, now)) if F::answer_json(&now.answer) == F::answer_json(&f.answer) => Replay::Holds,
+        Some((_, now)) => Replay::OtherAnswer(F::answer_json(&now.answer)),
+    })
+}

@@ -1,0 +1,344 @@
+//! Stress runs, for every family: each stress row's cases with their exact truths, every method's
+//! answers on a backend, judged and tallied; campaigns (rounds of new cases, the tallies summed), the
+//! labellings (`--relabel all`), and the backends compared.
+
+use crate::backend::{Backend, BackendError, CPU, CPU_FMA, Ran};
+use crate::exact::Counts;
+use crate::family::{Family, Summed, Verdict};
+use crate::registry::Named;
+use rayon::prelude::*;
+
+/// Settings of a stress run: cases per row, the seed, where the methods run, and the family's rows.
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(bound = "")]
+pub struct StressSettings<F: Family> {
+    pub cases: usize,
+    #[serde(flatten)]
+    pub rows: F::Rows,
+    pub seed: u64,
+    pub backend: Ran,
+}
+
+/// One method's counts on one row.
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(bound = "")]
+pub struct Tally<F: Family> {
+    pub method: String,
+    #[serde(flatten)]
+    pub counts: F::Tally,
+}
+
+/// One row: what it is, what it reports of its cases, and each method's counts.
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(bound = "")]
+pub struct RowReport<F: Family> {
+    #[serde(flatten)]
+    pub row: F::Row,
+    #[serde(flatten)]
+    pub facts: F::RowFacts,
+    /// Per method, in the order of [`StressReport::methods`].
+    pub tallies: Vec<Tally<F>>,
+}
+
+/// One row and method under every labelling ([`Family::LABELLINGS`], the cases' own first).
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(bound = "")]
+pub struct Relabelled<F: Family> {
+    #[serde(flatten)]
+    pub row: F::Row,
+    pub method: String,
+    /// Wrong answers under each labelling.
+    pub wrong: Vec<u64>,
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(bound = "")]
+pub struct StressReport<F: Family> {
+    pub settings: StressSettings<F>,
+    /// Rounds of `settings.cases` cases per row, seeds `seed`, `seed + 1`, … (one unless a campaign).
+    pub rounds: u64,
+    pub methods: Vec<String>,
+    pub rows: Vec<RowReport<F>>,
+    /// Signs the oracle decided in its f64 filter and exactly, making the cases' truths (none where
+    /// the family's oracle decides with rationals alone).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub oracle: Counts,
+    /// With `--relabel all`: per row and method, wrong answers under each labelling.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub relabelled: Option<Vec<Relabelled<F>>>,
+}
+
+/// Whether no sign was counted.
+fn is_zero(c: &Counts) -> bool {
+    *c == Counts::default()
+}
+
+/// A wrong answer a run shows: its row, the method and where it ran, the case, its truth and the
+/// answer.
+pub struct Wrong<'a, F: Family> {
+    pub row: &'a F::Row,
+    pub method: &'a F::Method,
+    pub on: &'a Backend,
+    pub case: &'a F::Case,
+    pub truth: &'a F::Truth,
+    pub answer: &'a F::Answer,
+}
+
+/// What [`run`] shows of each wrong answer.
+pub type OnWrong<'a, F> = dyn FnMut(Wrong<F>) + 'a;
+
+/// `F::case` with the oracle's stage counts on this thread.
+fn counted<T>(f: impl FnOnce() -> T) -> (T, Counts) {
+    let before = crate::exact::counts();
+    let out = f();
+    (out, crate::exact::counts().since(before))
+}
+
+/// Cases of family `F` with their exact truths.
+pub type Judged<F> = Vec<(<F as Family>::Case, <F as Family>::Truth)>;
+
+/// A row's cases with their truths, and the oracle's counts making them; case `i` a pure function of
+/// the seed, the row and `i`, generated in parallel.
+pub fn row_cases<F: Family>(s: &StressSettings<F>, row: F::Row) -> (Judged<F>, Counts) {
+    let made: Vec<_> = (0..s.cases)
+        .into_par_iter()
+        .map(|i| counted(|| F::case(&s.rows, row, s.seed, i)))
+        .collect();
+    let mut counts = Counts::default();
+    let mut cases = Vec::with_capacity(made.len());
+    for (c, k) in made {
+        counts += k;
+        cases.extend(c);
+    }
+    (cases, counts)
+}
+
+/// Each method's answers to `cases` on `backend`, as the methods see them under the rows' labelling
+/// and mapped back.
+fn answered<F: Family>(
+    s: &StressSettings<F>,
+    m: &F::Method,
+    backend: &Backend,
+    cases: &[(F::Case, F::Truth)],
+) -> Result<Vec<F::Answer>, BackendError> {
+    let seen: Vec<F::Case> = cases.iter().map(|(c, _)| F::relabel(&s.rows, c)).collect();
+    Ok(F::answers(backend, m, &seen)?
+        .into_iter()
+        .map(|a| F::unrelabel(&s.rows, a))
+        .collect())
+}
+
+/// `m`'s answers to a row's cases on `backend`, judged and tallied; `each` sees every answer with its
+/// verdict. The stress table and the conformance kit judge with this.
+pub fn judge<F: Family>(
+    s: &StressSettings<F>,
+    m: &F::Method,
+    backend: &Backend,
+    cases: &[(F::Case, F::Truth)],
+    mut each: impl FnMut(&F::Case, &F::Truth, &F::Answer, Verdict),
+) -> Result<F::Tally, BackendError> {
+    let mut t = F::Tally::default();
+    for ((c, x), a) in cases.iter().zip(answered(s, m, backend, cases)?) {
+        F::tally(&mut t, c, x, &a);
+        each(c, x, &a, F::verdict(c, x, &a));
+    }
+    Ok(t)
+}
+
+/// Every method on `s.cases` cases of every row on `backend`, each answer judged exactly; `tick` is
+/// told how many cases each row held, and `wrong` sees every wrong answer.
+pub fn run<F: Family>(
+    s: &StressSettings<F>,
+    methods: &[&F::Method],
+    backend: &Backend,
+    tick: &(dyn Fn(u64) + Sync),
+    wrong: &mut OnWrong<F>,
+) -> Result<StressReport<F>, BackendError> {
+    let mut rows = Vec::new();
+    let mut oracle = Counts::default();
+    for row in F::rows(&s.rows) {
+        let (cases, counts) = row_cases(s, row);
+        oracle += counts;
+        let mut tallies = Vec::new();
+        for &m in methods {
+            let counts = judge(s, m, backend, &cases, |case, truth, answer, v| {
+                if let Verdict::Wrong(_) = v {
+                    wrong(Wrong {
+                        row: &row,
+                        method: m,
+                        on: backend.for_method(m),
+                        case,
+                        truth,
+                        answer,
+                    });
+                }
+            })?;
+            tallies.push(Tally {
+                method: m.name().to_string(),
+                counts,
+            });
+        }
+        tick(s.cases as u64);
+        rows.push(RowReport {
+            row,
+            facts: F::row_facts(&cases),
+            tallies,
+        });
+    }
+    Ok(StressReport {
+        settings: s.clone(),
+        rounds: 1,
+        methods: methods.iter().map(|m| m.name().to_string()).collect(),
+        rows,
+        oracle,
+        relabelled: None,
+    })
+}
+
+impl<F: Family> StressReport<F> {
+    /// Another round's report of the same run added to this one.
+    pub fn add(&mut self, more: &StressReport<F>) {
+        for (a, b) in self.rows.iter_mut().zip(&more.rows) {
+            a.facts.add(&b.facts);
+            for (x, y) in a.tallies.iter_mut().zip(&b.tallies) {
+                x.counts.add(&y.counts);
+            }
+        }
+        self.oracle += more.oracle;
+        self.rounds += more.rounds;
+    }
+
+    /// Run again under every other labelling ([`Family::LABELLINGS`]; the cases' own is this report)
+    /// and keep each row's and method's wrong answers under all of them.
+    pub fn relabel_all(
+        &mut self,
+        methods: &[&F::Method],
+        backend: &Backend,
+    ) -> Result<(), BackendError> {
+        let wrong = |r: &StressReport<F>| -> Vec<u64> {
+            r.rows
+                .iter()
+                .flat_map(|row| row.tallies.iter().map(|t| F::wrong(&t.counts)))
+                .collect()
+        };
+        let mut all: Vec<Vec<u64>> = wrong(self).into_iter().map(|w| vec![w]).collect();
+        for k in 1..F::LABELLINGS {
+            let s = StressSettings {
+                rows: F::relabelled(&self.settings.rows, k),
+                ..self.settings.clone()
+            };
+            let r = run(&s, methods, backend, &|_| {}, &mut |_| {})?;
+            for (a, w) in all.iter_mut().zip(wrong(&r)) {
+                a.push(w);
+            }
+        }
+        let mut all = all.into_iter();
+        self.relabelled = Some(
+            self.rows
+                .iter()
+                .flat_map(|row| row.tallies.iter().map(move |t| (row.row, t.method.clone())))
+                .map(|(row, method)| Relabelled {
+                    row,
+                    method,
+                    wrong: all.next().unwrap_or_default(),
+                })
+                .collect(),
+        );
+        Ok(())
+    }
+}
+
+/// A differential campaign: rounds of [`run`], round `k` with seed `seed + k`, until `seconds` have
+/// passed (one round at least); the tallies summed over rounds.
+pub fn campaign<F: Family>(
+    s: &StressSettings<F>,
+    methods: &[&F::Method],
+    backend: &Backend,
+    seconds: f64,
+    tick: &(dyn Fn(u64) + Sync),
+    wrong: &mut OnWrong<F>,
+) -> Result<StressReport<F>, BackendError> {
+    let t0 = std::time::Instant::now();
+    let mut total = run(s, methods, backend, tick, wrong)?;
+    while t0.elapsed().as_secs_f64() < seconds {
+        let round = StressSettings {
+            seed: s.seed.wrapping_add(total.rounds),
+            ..s.clone()
+        };
+        total.add(&run(&round, methods, backend, tick, wrong)?);
+    }
+    Ok(total)
+}
+
+/// Cases one method answers differently on each pair of backends.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Pairs {
+    pub method: String,
+    pub cpu_vs_cpu_fma: u64,
+    pub cpu_vs_gpu: u64,
+    pub cpu_fma_vs_gpu: u64,
+}
+
+/// One row of the comparison: per method, how many of the row's cases each pair of backends answers
+/// differently.
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(bound = "")]
+pub struct CompareRow<F: Family> {
+    #[serde(flatten)]
+    pub row: F::Row,
+    pub cases: usize,
+    pub methods: Vec<Pairs>,
+}
+
+/// How often two backends answer differently, per row and method: cpu vs cpu-fma, cpu vs gpu, cpu-fma
+/// vs gpu (the comparison mode).
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(bound = "")]
+pub struct Disagreements<F: Family> {
+    pub methods: Vec<String>,
+    pub rows: Vec<CompareRow<F>>,
+    pub gpu: Ran,
+}
+
+/// The same generated cases on the CPU, the CPU as a GPU compiles it, and `gpu`, every method but
+/// the reference.
+pub fn compare<F: Family>(
+    s: &StressSettings<F>,
+    methods: &[&F::Method],
+    gpu: &Backend,
+) -> Result<Disagreements<F>, BackendError> {
+    let judged: Vec<&F::Method> = methods
+        .iter()
+        .copied()
+        .filter(|m| !m.is_reference())
+        .collect();
+    let mut rows = Vec::new();
+    for row in F::rows(&s.rows) {
+        let cases: Vec<F::Case> = row_cases(s, row).0.into_iter().map(|(c, _)| c).collect();
+        let mut per = Vec::new();
+        for &m in &judged {
+            let a = F::answers(&CPU, m, &cases)?;
+            let b = F::answers(&CPU_FMA, m, &cases)?;
+            let c = F::answers(gpu, m, &cases)?;
+            let diff = |x: &[F::Answer], y: &[F::Answer]| {
+                x.iter().zip(y).filter(|(p, q)| p != q).count() as u64
+            };
+            per.push(Pairs {
+                method: m.name().to_string(),
+                cpu_vs_cpu_fma: diff(&a, &b),
+                cpu_vs_gpu: diff(&a, &c),
+                cpu_fma_vs_gpu: diff(&b, &c),
+            });
+        }
+        rows.push(CompareRow {
+            row,
+            cases: cases.len(),
+            methods: per,
+        });
+    }
+    Ok(Disagreements {
+        methods: judged.iter().map(|m| m.name().to_string()).collect(),
+        rows,
+        gpu: gpu.ran(),
+    })
+}

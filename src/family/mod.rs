@@ -1,0 +1,279 @@
+//! Families: the kinds of traversal question tetwalk judges — one tetrahedron's exit face
+//! ([`ExitFace`]), a walk through a generated mesh ([`Walks`]), a ray and a closed triangle mesh
+//! ([`Triangle`]), an octree cell's exit ([`OctreeCells`]). A family is what its methods are, what a case,
+//! an answer and the exact truth are, how a verdict is reached, how a backend answers a batch, its
+//! stress rows and their seeding, and its claims; stress, campaigns, found cases and replay, the fuzz
+//! targets' policy, the conformance kit, counts and the command line are written once, generic over
+//! [`Family`] (`crate::engine`, `crate::kit`). A new family is a file here, a line in [`Kind`] and [`with_family!`],
+//! its registry rows and its report's formatting.
+
+pub mod count;
+pub mod exit_face;
+pub mod octree;
+pub mod triangle;
+pub mod walk;
+pub mod wrong;
+
+pub use exit_face::ExitFace;
+pub use octree::OctreeCells;
+pub use triangle::Triangle;
+pub use walk::Walks;
+
+use crate::backend::{Backend, BackendError};
+use crate::cases::CaseError;
+use crate::registry::{Named, UnknownMethod};
+use crate::tet::Ray;
+use crate::walk::OutcomeKind;
+use serde_json::{Map, Value};
+use std::fmt::Debug;
+
+/// What the oracle says of one answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    Right,
+    /// Wrong, and what kind of ending the wrong answer is ([`OutcomeKind::wrong`] names it).
+    Wrong(OutcomeKind),
+    /// The case has no exact answer to judge against (a line that misses the tetrahedron or cell).
+    NotJudged,
+}
+
+/// Counts that add up: a stress row's tallies over a campaign's rounds, a count's over shards.
+pub trait Summed: Default + Clone + Debug + serde::Serialize + Send + Sync {
+    fn add(&mut self, other: &Self);
+}
+
+impl Summed for () {
+    fn add(&mut self, _: &()) {}
+}
+
+/// A family of traversal questions (module docs). Everything generic in tetwalk reaches a family
+/// through this trait; nothing else tells the families apart.
+pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static {
+    /// Its name on the command line and in reports (`--family`).
+    const NAME: &'static str;
+    /// The cargo-fuzz target whose inputs decode to its cases ([`Family::arbitrary`]).
+    const FUZZ_TARGET: &'static str;
+    /// How many labellings of a case the methods can see (`--relabel all`); one where the answer
+    /// cannot depend on it.
+    const LABELLINGS: usize = 1;
+    /// Cases per stress row when `--cases` gives none.
+    const STRESS_CASES: usize = 100_000;
+    /// About how many bytes a stress row holds per case at once (the case, its truth, one method's
+    /// answers): runs that would need more than tetwalk plans to hold are refused.
+    const BYTES_PER_CASE: u128;
+
+    /// A registered method of the family.
+    type Method: Named;
+    /// One case: a line of the case format.
+    type Case: Copy + Debug + PartialEq + Send + Sync;
+    /// The exact answer to a case.
+    type Truth: Send + Sync;
+    /// A method's answer to a case (for ray–triangle tests every hit it reports, for its leaks).
+    type Answer: Copy + Debug + PartialEq + Send + Sync;
+    /// What shapes a stress run's cases besides their count and seed: which rows, flatness, ulps.
+    type Rows: Clone + Debug + Default + serde::Serialize + Send + Sync;
+    /// One stress row, written into its report's row as its fields.
+    type Row: Copy + Debug + PartialEq + serde::Serialize + Send + Sync;
+    /// What a stress row reports of its cases, whatever the methods.
+    type RowFacts: Summed;
+    /// One method's counts on one stress row.
+    type Tally: Summed;
+
+    /// Every registered method, in the order reports list them.
+    fn methods() -> &'static [Self::Method];
+
+    // ---- The case format (`crate::cases`) ----
+
+    /// Whether a JSON object holds this family's case (by its keys).
+    fn owns(obj: &Map<String, Value>) -> bool;
+    /// Take the case's fields out of `obj`, leaving the others to the caller.
+    fn take_case(obj: &mut Map<String, Value>) -> Result<Self::Case, CaseError>;
+    /// The case's fields (numbers written so that they read back as the same f32).
+    fn case_json(case: &Self::Case) -> Map<String, Value>;
+    fn ray(case: &Self::Case) -> Ray;
+    /// The same case with another ray.
+    fn with_ray(case: &Self::Case, ray: Ray) -> Self::Case;
+
+    // ---- Truth and verdicts ----
+
+    /// The oracle's answer; an error names what is wrong with the case.
+    fn truth(case: &Self::Case) -> Result<Self::Truth, CaseError>;
+    fn verdict(case: &Self::Case, truth: &Self::Truth, answer: &Self::Answer) -> Verdict;
+    /// Whether `answer` refutes what the family's claim promises ([`crate::registry::Claim`]): by
+    /// default any wrong answer (robust); a ray–triangle test's claim is refuted only by a leak.
+    fn refutes_claim(case: &Self::Case, truth: &Self::Truth, answer: &Self::Answer) -> bool {
+        matches!(Self::verdict(case, truth, answer), Verdict::Wrong(_))
+    }
+    /// Whether a wrong answer may be let pass as one on a line that only touches the case's cell
+    /// (`kit::Accept::touch_only`).
+    fn touch_only(_case: &Self::Case) -> bool {
+        false
+    }
+    /// The right answers, in words.
+    fn right_answers(case: &Self::Case, truth: &Self::Truth) -> String;
+
+    // ---- Answers ----
+
+    /// `method`'s answer to each case on `backend` (the reference on the CPU whatever the backend).
+    fn answers(
+        backend: &Backend,
+        method: &Self::Method,
+        cases: &[Self::Case],
+    ) -> Result<Vec<Self::Answer>, BackendError>;
+    /// The kind of ending an answer is (a face or a hit counts as [`OutcomeKind::Hit`]).
+    fn kind(answer: &Self::Answer) -> OutcomeKind;
+    /// An answer as a found case records it.
+    fn answer_json(answer: &Self::Answer) -> Value;
+    /// A recorded answer ([`Family::answer_json`]) read back for `case`.
+    fn parse_answer(v: &Value, case: &Self::Case) -> Result<Self::Answer, String>;
+    /// An answer given from outside (`tetwalk judge`: `{"line": n, …}`), its fields checked strictly.
+    fn given(obj: &Map<String, Value>, case: &Self::Case) -> Result<Self::Answer, String>;
+    /// An answer in words.
+    fn describe(answer: &Self::Answer) -> String;
+    /// A user's WGSL method of this family (`--wgsl`, `TETWALK_FUZZ_WGSL`), where the family has one.
+    fn user_wgsl() -> Option<&'static Self::Method> {
+        None
+    }
+
+    // ---- Stress rows ----
+
+    /// The rows `rows` picks, in order.
+    fn rows(rows: &Self::Rows) -> Vec<Self::Row>;
+    fn row_name(row: &Self::Row) -> String;
+    /// Case `i` of `row` with its exact truth: a pure function of `(seed, row, i)` (which rows run
+    /// beside it, and on which thread, do not matter); `None` for a case the oracle cannot judge.
+    fn case(
+        rows: &Self::Rows,
+        row: Self::Row,
+        seed: u64,
+        i: usize,
+    ) -> Option<(Self::Case, Self::Truth)>;
+    /// What a row reports of its cases.
+    fn row_facts(_cases: &[(Self::Case, Self::Truth)]) -> Self::RowFacts {
+        Self::RowFacts::default()
+    }
+    /// Count one answer in a method's tally.
+    fn tally(t: &mut Self::Tally, case: &Self::Case, truth: &Self::Truth, answer: &Self::Answer);
+    /// Answers a tally judged.
+    fn judged(facts: &Self::RowFacts, t: &Self::Tally) -> u64;
+    /// Wrong answers among them.
+    fn wrong(t: &Self::Tally) -> u64;
+    /// Answers that refute the family's claim ([`Family::refutes_claim`]).
+    fn refuted(t: &Self::Tally) -> u64 {
+        Self::wrong(t)
+    }
+    /// The same rows under labelling `k` (`0..LABELLINGS`, 0 the cases' own).
+    fn relabelled(rows: &Self::Rows, _k: usize) -> Self::Rows {
+        rows.clone()
+    }
+    /// A case as the methods see it under `rows`' labelling.
+    fn relabel(_rows: &Self::Rows, case: &Self::Case) -> Self::Case {
+        *case
+    }
+    /// An answer to [`Family::relabel`]'s case in the case's own labelling.
+    fn unrelabel(_rows: &Self::Rows, answer: Self::Answer) -> Self::Answer {
+        answer
+    }
+
+    // ---- Fuzzing and the kit ----
+
+    /// A case decoded from fuzzer bytes (favouring near-degenerate geometry); `None` for bytes that
+    /// make no case.
+    fn arbitrary(u: &mut arbitrary::Unstructured) -> Option<Self::Case>;
+    /// Cases per stress row in a kit run asking for `cases`.
+    fn kit_row_cases(cases: usize) -> usize {
+        cases
+    }
+    /// Random inputs of the kit's property campaign asking for `properties`.
+    fn kit_properties(properties: usize) -> usize {
+        properties
+    }
+}
+
+/// The method of family `F` called `name`.
+pub fn by_name<F: Family>(name: &str) -> Result<&'static F::Method, UnknownMethod> {
+    crate::registry::find(F::methods(), name)
+}
+
+/// Methods of family `F` from a comma-separated list (`all` for every one).
+pub fn parse_list<F: Family>(names: &str) -> Result<Vec<&'static F::Method>, UnknownMethod> {
+    crate::registry::list(F::methods(), names)
+}
+
+/// The family's reference method, if it has one.
+pub fn reference<F: Family>() -> Option<&'static F::Method> {
+    F::methods().iter().find(|m| m.is_reference())
+}
+
+/// A family, by name: a typed `--family` choice. The families are listed here and in
+/// [`with_family!`], beside each other, and nowhere else.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Kind {
+    ExitFace,
+    Walk,
+    Triangle,
+    Octree,
+}
+
+crate::choice!(Kind { ExitFace => "exit-face", Walk => "walk", Triangle => "triangle", Octree => "octree" });
+
+/// Run `$body` with `$F` the family type a [`Kind`] names.
+#[macro_export]
+macro_rules! with_family {
+    ($kind:expr, $F:ident => $body:expr) => {
+        match $kind {
+            $crate::family::Kind::ExitFace => {
+                type $F = $crate::family::ExitFace;
+                $body
+            }
+            $crate::family::Kind::Walk => {
+                type $F = $crate::family::Walks;
+                $body
+            }
+            $crate::family::Kind::Triangle => {
+                type $F = $crate::family::Triangle;
+                $body
+            }
+            $crate::family::Kind::Octree => {
+                type $F = $crate::family::OctreeCells;
+                $body
+            }
+        }
+    };
+}
+
+/// The family whose case a JSON object holds, by its keys.
+pub fn owner(obj: &Map<String, Value>) -> Kind {
+    use crate::choice::Choice;
+    Kind::ALL
+        .iter()
+        .copied()
+        .find(|&k| crate::with_family!(k, F => F::owns(obj)))
+        .unwrap_or(Kind::ExitFace)
+}
+
+/// An answer given from outside, its fields checked as strictly as a case's: only the keys
+/// `allowed` for this kind of case (and `line`), each of `required` present (null allowed where the
+/// kind allows no answer).
+pub fn given_fields<'a>(
+    o: &'a Map<String, Value>,
+    kind: &str,
+    allowed: &[&str],
+    required: &[&str],
+) -> Result<&'a Map<String, Value>, String> {
+    let shape = || {
+        let keys: Vec<String> = allowed.iter().map(|k| format!("\"{k}\"")).collect();
+        format!("an answer to {kind} holds \"line\" and {}", keys.join(", "))
+    };
+    if let Some(k) = o
+        .keys()
+        .find(|k| *k != "line" && !allowed.contains(&k.as_str()))
+    {
+        return Err(format!("unknown field \"{k}\": {}", shape()));
+    }
+    if let Some(k) = required.iter().find(|k| !o.contains_key(**k)) {
+        return Err(format!("missing field \"{k}\": {}", shape()));
+    }
+    Ok(o)
+}

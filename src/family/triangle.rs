@@ -1,0 +1,563 @@
+//! A ray and triangles (seed 004's question): one triangle, or a closed mesh whose first hit is asked;
+//! the answer every hit the method reports (its nearest judged, its misses judged for leaks).
+
+use super::count::{CountError, Counted, Counts, Scene, per_image};
+use super::wrong::Class;
+use super::{Family, Summed, Verdict, given_fields};
+use crate::backend::{Backend, BackendError};
+use crate::cases::{CaseError, HitCase, MAX_TRIS, field_error, number, vec3};
+use crate::choice::Choice;
+use crate::exact::hit::{HitTruth, Missed, first_crossing, judge_hit};
+use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
+use crate::methods::triangle::nearest_of;
+use crate::registry::{TRIANGLE_METHODS, TriangleMethod};
+use crate::scenes::camera::packet_order;
+use crate::scenes::closed::{MeshShape, TriAim, TriPlace, case};
+use crate::tet::{Ray, Tri};
+use crate::walk::{Outcome, OutcomeKind, Walk};
+use glam::Vec3;
+use serde_json::{Map, Value, json};
+
+/// Rays and triangles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Triangle;
+
+/// Every hit a method reports on a case (a triangle and its f32 `t`), in triangle order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hits {
+    len: u8,
+    at: [(u32, f32); MAX_TRIS],
+}
+
+impl Hits {
+    pub fn of(hits: &[(u32, f32)]) -> Hits {
+        let mut at = [(0, 0.0); MAX_TRIS];
+        let len = hits.len().min(MAX_TRIS);
+        at[..len].copy_from_slice(&hits[..len]);
+        Hits { len: len as u8, at }
+    }
+
+    pub fn all(&self) -> &[(u32, f32)] {
+        &self.at[..self.len as usize]
+    }
+
+    /// The nearest hit: the first with the smallest `t`.
+    pub fn nearest(&self) -> Option<(u32, f32)> {
+        nearest_of(self.all())
+    }
+
+    /// The triangles hit.
+    pub fn ids(&self) -> Vec<u32> {
+        self.all().iter().map(|&(i, _)| i).collect()
+    }
+}
+
+/// A stress row of closed meshes: a shape, an aim and a place.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct TriRow {
+    pub shape: MeshShape,
+    pub aim: TriAim,
+    pub place: TriPlace,
+}
+
+/// What shapes a stress run of closed meshes.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TriRows {
+    pub shapes: Vec<MeshShape>,
+    pub aims: Vec<TriAim>,
+    pub places: Vec<TriPlace>,
+    pub flatness: f32,
+    pub ulps: i32,
+}
+
+impl Default for TriRows {
+    fn default() -> Self {
+        TriRows {
+            shapes: MeshShape::ALL.to_vec(),
+            aims: TriAim::ALL.to_vec(),
+            places: TriPlace::ALL.to_vec(),
+            flatness: 1e-3,
+            ulps: 4,
+        }
+    }
+}
+
+/// What a row of closed meshes reports of its rays.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct TriFacts {
+    /// Rays judged.
+    pub rays: u64,
+    /// Rays that cross the surface (the others only touch it, or miss).
+    pub crossing: u64,
+}
+
+impl Summed for TriFacts {
+    fn add(&mut self, o: &Self) {
+        self.rays += o.rays;
+        self.crossing += o.crossing;
+    }
+}
+
+/// One method's counts on one row.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct HitTally {
+    /// Rays that pass through the closed surface ([`Missed::Leak`]).
+    pub leaks: u64,
+    /// Rays that cross the surface but pass beside the object as the method rounds them
+    /// ([`Missed::Beside`]).
+    pub misses_beside: u64,
+    /// Rays with a hit on a triangle holding the first crossing point and another on a triangle the
+    /// exact ray misses (near a shared edge, both neighbours report it).
+    pub double_hits: u64,
+    /// Rays whose nearest hit is wrong ([`HitTruth::right`]).
+    pub wrong_first_hits: u64,
+}
+
+impl Summed for HitTally {
+    fn add(&mut self, o: &Self) {
+        self.leaks += o.leaks;
+        self.misses_beside += o.misses_beside;
+        self.double_hits += o.double_hits;
+        self.wrong_first_hits += o.wrong_first_hits;
+    }
+}
+
+/// A triangle `[[x, y, z] ×3]` at `at`.
+fn tri(v: &Value, at: &str) -> Result<Tri, CaseError> {
+    let a = v
+        .as_array()
+        .filter(|a| a.len() == 3)
+        .ok_or_else(|| field_error(at, "must hold three points"))?;
+    let mut t = [Vec3::ZERO; 3];
+    for (i, p) in a.iter().enumerate() {
+        t[i] = vec3(p).map_err(|e| field_error(format!("{at}[{i}]"), e))?;
+    }
+    Ok(t)
+}
+
+/// A hit's `t`: present and a number when there is a hit, absent or null when there is none.
+fn hit_t(o: &Map<String, Value>, hit: bool) -> Result<Option<f32>, String> {
+    let t = match o.get("t") {
+        None | Some(Value::Null) => None,
+        Some(x) => Some(number(x).map_err(|e| format!("t: {e}"))?),
+    };
+    match (hit, t) {
+        (true, None) => Err("a hit's answer needs its \"t\"".into()),
+        (false, Some(t)) => Err(format!("\"t\": {t} given for a miss")),
+        (_, t) => Ok(t),
+    }
+}
+
+/// The key of a row: its place in the run of every row (shapes, then aims, then places).
+fn row_key(row: &TriRow) -> u64 {
+    let at = |i: Option<usize>| i.unwrap_or(0) as u64;
+    let shape = at(MeshShape::ALL.iter().position(|&s| s == row.shape));
+    let aim = at(TriAim::ALL.iter().position(|&a| a == row.aim));
+    let place = at(TriPlace::ALL.iter().position(|&p| p == row.place));
+    (shape * TriAim::ALL.len() as u64 + aim) * TriPlace::ALL.len() as u64 + place
+}
+
+impl Family for Triangle {
+    const NAME: &'static str = "triangle";
+    const FUZZ_TARGET: &'static str = "triangle_hit";
+    const STRESS_CASES: usize = 2_000;
+    const BYTES_PER_CASE: u128 = 2048;
+
+    type Method = TriangleMethod;
+    type Case = HitCase;
+    type Truth = HitTruth;
+    type Answer = Hits;
+    type Rows = TriRows;
+    type Row = TriRow;
+    type RowFacts = TriFacts;
+    type Tally = HitTally;
+
+    fn methods() -> &'static [TriangleMethod] {
+        TRIANGLE_METHODS
+    }
+
+    fn owns(obj: &Map<String, Value>) -> bool {
+        obj.contains_key("tri") || obj.contains_key("tris")
+    }
+
+    fn take_case(obj: &mut Map<String, Value>) -> Result<HitCase, CaseError> {
+        let single = obj.remove("tri");
+        let mesh = obj.remove("tris");
+        let mut field = |k: &'static str| obj.remove(k).ok_or(CaseError::Missing(k));
+        let org = vec3(&field("org")?).map_err(|e| field_error("org", e))?;
+        let dir = vec3(&field("dir")?).map_err(|e| field_error("dir", e))?;
+        let ray = Ray { org, dir };
+        let case = match (single, mesh) {
+            (Some(_), Some(_)) => return Err(field_error("tris", "give tri or tris, not both")),
+            (Some(t), None) => HitCase::single(tri(&t, "tri")?, ray),
+            (None, Some(m)) => {
+                let m = m
+                    .as_array()
+                    .ok_or_else(|| field_error("tris", "must be a list of triangles"))?;
+                if m.len() > MAX_TRIS {
+                    return Err(field_error(
+                        "tris",
+                        format!("holds {} triangles, more than {MAX_TRIS}", m.len()),
+                    ));
+                }
+                let m = m
+                    .iter()
+                    .enumerate()
+                    .map(|(i, t)| tri(t, &format!("tris[{i}]")))
+                    .collect::<Result<Vec<Tri>, _>>()?;
+                HitCase::closed(&m, ray)?
+            }
+            (None, None) => return Err(CaseError::Missing("tri")),
+        };
+        if dir == Vec3::ZERO {
+            return Err(crate::exact::ExactError::ZeroDirection.into());
+        }
+        for t in case.tris() {
+            crate::exact::hit::ray_triangle(*t, &ray)?;
+        }
+        Ok(case)
+    }
+
+    fn case_json(h: &HitCase) -> Map<String, Value> {
+        let tris: Vec<_> = h.tris().iter().map(|t| t.map(|p| p.to_array())).collect();
+        let (key, tris) = match h.closed {
+            true => ("tris", json!(tris)),
+            false => ("tri", json!(tris[0])),
+        };
+        match json!({key: tris, "org": h.org.to_array(), "dir": h.dir.to_array()}) {
+            Value::Object(m) => m,
+            _ => Map::new(),
+        }
+    }
+
+    fn ray(h: &HitCase) -> Ray {
+        h.ray()
+    }
+
+    fn with_ray(h: &HitCase, ray: Ray) -> HitCase {
+        h.with_ray(ray)
+    }
+
+    fn truth(h: &HitCase) -> Result<HitTruth, CaseError> {
+        Ok(judge_hit(h.tris(), h.closed, &h.ray())?)
+    }
+
+    /// Right when the nearest hit is ([`HitTruth::right`]); its `t` is judged by `hit` and `judge`.
+    fn verdict(_: &HitCase, truth: &HitTruth, hits: &Hits) -> Verdict {
+        match truth.right(hits.nearest().map(|(i, _)| i)) {
+            true => Verdict::Right,
+            false => Verdict::Wrong(Self::kind(hits)),
+        }
+    }
+
+    /// The watertight claim: refuted by a leak ([`HitTruth::leaks`]).
+    fn refutes_claim(_: &HitCase, truth: &HitTruth, hits: &Hits) -> bool {
+        truth.leaks(&hits.ids())
+    }
+
+    fn right_answers(_: &HitCase, truth: &HitTruth) -> String {
+        match truth.first() {
+            Some(p) => format!(
+                "a hit on triangle {:?} at exact t = {} (or, where the ray only touches there, the next crossing)",
+                p.holding, p.t
+            ),
+            None => "no hit".into(),
+        }
+    }
+
+    fn answers(
+        backend: &Backend,
+        m: &TriangleMethod,
+        cases: &[HitCase],
+    ) -> Result<Vec<Hits>, BackendError> {
+        Ok(backend
+            .triangle_hits(m, cases)?
+            .iter()
+            .map(|h| Hits::of(h))
+            .collect())
+    }
+
+    fn kind(hits: &Hits) -> OutcomeKind {
+        match hits.nearest() {
+            Some(_) => OutcomeKind::Hit,
+            None => OutcomeKind::LeftMesh,
+        }
+    }
+
+    fn answer_json(hits: &Hits) -> Value {
+        hits.nearest()
+            .map_or(Value::Null, |(tri, t)| json!({"tri": tri, "t": t}))
+    }
+
+    /// `{"tri": i, "t": t}` (a triangle of the case) or null: the nearest hit.
+    fn parse_answer(v: &Value, h: &HitCase) -> Result<Hits, String> {
+        if v.is_null() {
+            return Ok(Hits::of(&[]));
+        }
+        let tris = h.tris().len();
+        let tri = v
+            .get("tri")
+            .and_then(Value::as_u64)
+            .filter(|&i| (i as usize) < tris)
+            .ok_or_else(|| format!("{v}: tri must be a triangle of the case (0..{tris})"))?;
+        // The decimal text rounded once to f32, as every number of the case format is.
+        let t = v
+            .get("t")
+            .ok_or_else(|| format!("{v}: t must be a number"))
+            .and_then(|t| number(t).map_err(|e| format!("{v}: t: {e}")))?;
+        if v.as_object().is_some_and(|o| o.len() != 2) {
+            return Err(format!("{v}: holds more than tri and t"));
+        }
+        Ok(Hits::of(&[(tri as u32, t)]))
+    }
+
+    /// `{"tri": i|null, "t"}` for a closed mesh (the nearest hit), `{"hit": true|false, "t"}` for one
+    /// triangle.
+    fn given(obj: &Map<String, Value>, h: &HitCase) -> Result<Hits, String> {
+        let g = if h.closed {
+            let o = given_fields(obj, "a closed-mesh case (tris)", &["tri", "t"], &["tri"])?;
+            match &o["tri"] {
+                Value::Null => hit_t(o, false).map(|_| None)?,
+                i => {
+                    let len = h.tris().len();
+                    let i = i.as_u64().filter(|&i| (i as usize) < len).ok_or_else(|| {
+                        format!("the answer's tri {i} is not a triangle of the case (0..{len})")
+                    })?;
+                    hit_t(o, true)?.map(|t| (i as u32, t))
+                }
+            }
+        } else {
+            let o = given_fields(obj, "a one-triangle case (tri)", &["hit", "t"], &["hit"])?;
+            let hit = o["hit"]
+                .as_bool()
+                .ok_or("the answer's \"hit\" is true or false")?;
+            hit_t(o, hit)?.map(|t| (0, t))
+        };
+        Ok(Hits::of(g.as_slice()))
+    }
+
+    fn describe(hits: &Hits) -> String {
+        match hits.nearest() {
+            Some((tri, t)) => format!("triangle {tri} at t = {t:e}"),
+            None => "no hit".into(),
+        }
+    }
+
+    fn rows(r: &TriRows) -> Vec<TriRow> {
+        let mut out = Vec::new();
+        for &shape in &r.shapes {
+            for &aim in &r.aims {
+                for &place in &r.places {
+                    out.push(TriRow { shape, aim, place });
+                }
+            }
+        }
+        out
+    }
+
+    fn row_name(r: &TriRow) -> String {
+        format!("{}-{}-{}", r.shape.name(), r.aim.name(), r.place.name())
+    }
+
+    fn case(r: &TriRows, row: TriRow, seed: u64, i: usize) -> Option<(HitCase, HitTruth)> {
+        let mut rng = crate::scenes::row_rng(seed, row_key(&row), i);
+        let (mesh, ray) = case(row.shape, row.aim, row.place, r.flatness, r.ulps, &mut rng);
+        let c = HitCase::closed(&mesh, ray).ok()?;
+        let truth = Self::truth(&c).ok()?;
+        Some((c, truth))
+    }
+
+    fn row_facts(cases: &[(HitCase, HitTruth)]) -> TriFacts {
+        TriFacts {
+            rays: cases.len() as u64,
+            crossing: cases
+                .iter()
+                .filter(|(_, t)| t.first_crossing().is_some())
+                .count() as u64,
+        }
+    }
+
+    fn tally(t: &mut HitTally, _: &HitCase, truth: &HitTruth, hits: &Hits) {
+        let crossing = truth.first_crossing();
+        let holding: &[u32] = crossing.map_or(&[], |p| &p.holding);
+        match truth.missed(&hits.ids()) {
+            Some(Missed::Leak) => t.leaks += 1,
+            Some(Missed::Beside) => t.misses_beside += 1,
+            None => {}
+        }
+        let all = hits.all();
+        let false_hit = all.iter().any(|&(i, _)| !truth.each[i as usize].hit);
+        t.double_hits += (false_hit && all.iter().any(|&(i, _)| holding.contains(&i))) as u64;
+        t.wrong_first_hits += !truth.right(hits.nearest().map(|(i, _)| i)) as u64;
+    }
+
+    fn judged(facts: &TriFacts, _: &HitTally) -> u64 {
+        facts.rays
+    }
+
+    fn wrong(t: &HitTally) -> u64 {
+        t.wrong_first_hits
+    }
+
+    fn refuted(t: &HitTally) -> u64 {
+        t.leaks
+    }
+
+    fn arbitrary(u: &mut arbitrary::Unstructured) -> Option<HitCase> {
+        let (mesh, ray) = crate::scenes::from_bytes::hit_case(u).ok()?;
+        HitCase::closed(&mesh, ray).ok()
+    }
+
+    /// Seventy-five rows: a tenth of the cases each.
+    fn kit_row_cases(cases: usize) -> usize {
+        (cases / 10).max(1)
+    }
+}
+
+/// One ray–triangle method's counts over a count's views.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct TriangleCount {
+    /// Rays whose nearest hit is not on a triangle holding the exact first hit point.
+    pub wrong_triangle: u64,
+    /// Rays the reference sees hit the surface that the method sees miss every triangle.
+    pub false_miss: u64,
+    /// Wrong rays per image, averaged over the views counted.
+    pub wrong_per_image: f64,
+}
+
+impl Counts for TriangleCount {
+    fn kinds(&self) -> [u64; 5] {
+        let mut k = [0; 5];
+        k[OutcomeKind::Hit.code() as usize] = self.wrong_triangle;
+        k[OutcomeKind::LeftMesh.code() as usize] = self.false_miss;
+        k
+    }
+
+    fn add_wrong(&mut self, kind: OutcomeKind, _: Option<Class>) {
+        match kind {
+            OutcomeKind::LeftMesh => self.false_miss += 1,
+            _ => self.wrong_triangle += 1,
+        }
+    }
+
+    fn add(&mut self, o: &Self) {
+        self.wrong_triangle += o.wrong_triangle;
+        self.false_miss += o.false_miss;
+    }
+
+    fn finish(&mut self, views: usize) {
+        self.wrong_per_image = self.wrong_total() as f64 / views.max(1) as f64;
+    }
+
+    fn check(&self, at: &str, views: usize) -> Result<(), (String, String)> {
+        per_image(at, self.wrong_per_image, self.wrong_total(), views)
+    }
+}
+
+/// What a ray–triangle count sets: the packets of primary rays.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TriCountSettings {
+    /// Primary rays per packet side: packets of `packet × packet` pixels sharing the camera's origin.
+    pub packet: u32,
+}
+
+/// What a ray–triangle count's report says of its scene.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TriangleFacts {
+    /// The scene's triangles: its constrained faces, once each.
+    pub triangles: usize,
+}
+
+/// The scene's triangles facing a camera's region, with the region.
+pub struct Facing {
+    region: Vec<bool>,
+    triangles: SceneTriangles,
+}
+
+/// A nearest hit as a walk's ending: on the constrained face its triangle came from, or the mesh left.
+fn ending(hit: Option<u32>, from: &[(u32, u8)]) -> Walk {
+    let outcome = match hit {
+        Some(i) => {
+            let (tet, face) = from[i as usize];
+            Outcome::Hit { tet, face }
+        }
+        None => Outcome::LeftMesh { tet: 0, face: 0 },
+    };
+    Walk { outcome, steps: 0 }
+}
+
+impl Counted for Triangle {
+    type CountSettings = TriCountSettings;
+    type Ready = Facing;
+    type SceneFacts = TriangleFacts;
+    type Counts = TriangleCount;
+    const EXACT: &'static str = "the exact first hit among the triangles";
+    const DEFAULT_VIEWS: (usize, &'static str) = (16, "128x128");
+
+    fn check(s: &TriCountSettings) -> Result<(), String> {
+        match s.packet {
+            1 | 2 | 4 | 8 => Ok(()),
+            p => Err(format!("packet {p} is not 1, 2, 4 or 8")),
+        }
+    }
+
+    fn prepare(
+        scene: &Scene,
+        _: &TriCountSettings,
+        _: &Backend,
+        located: u32,
+    ) -> Result<Facing, CountError> {
+        let region = region_of(scene.mesh, located);
+        let triangles = scene_triangles(scene.mesh, &region);
+        Ok(Facing { region, triangles })
+    }
+
+    fn serves(ready: &Facing, located: u32) -> bool {
+        ready.region[located as usize]
+    }
+
+    fn facts(_: &Scene, ready: Option<&Facing>) -> TriangleFacts {
+        TriangleFacts {
+            triangles: ready.map_or(0, |r| r.triangles.0.len()),
+        }
+    }
+
+    /// Every triangle tested per ray, the rays taken in packets of `packet × packet` pixels.
+    fn answer_rays(
+        backend: &Backend,
+        m: &TriangleMethod,
+        scene: &Scene,
+        ready: &Facing,
+        s: &TriCountSettings,
+        rays: &[Ray],
+        _: u32,
+    ) -> Result<Vec<Walk>, CountError> {
+        let order = packet_order(scene.views.width, scene.views.height, s.packet);
+        let packed: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
+        let (tris, from) = &ready.triangles;
+        let hits = backend.trace_triangles(m, tris, &packed, (s.packet * s.packet) as usize)?;
+        let mut out = vec![ending(None, from); rays.len()];
+        for (&i, hit) in order.iter().zip(&hits) {
+            out[i] = ending(hit.map(|(t, _)| t), from);
+        }
+        Ok(out)
+    }
+
+    fn audit(
+        _: &Backend,
+        _: &Scene,
+        ready: &Facing,
+        _: &TriCountSettings,
+        rays: &[Ray],
+        _: u32,
+    ) -> Result<Vec<Walk>, CountError> {
+        let (tris, from) = &ready.triangles;
+        Ok(rays
+            .iter()
+            .map(|r| {
+                let first = first_crossing((0..tris.len() as u32).zip(tris.iter().copied()), r);
+                ending(first.map(|(_, at)| at[0]), from)
+            })
+            .collect())
+    }
+}

@@ -1,0 +1,169 @@
+//! Verdict lines: one JSON line per case and method, the method's answer beside the exact one, as
+//! `exit`, `hit`, `box-exit` and `judge` write them.
+
+use crate::exact::Classification;
+use crate::exact::boxes::BoxExit;
+use crate::exact::hit::HitTruth;
+use crate::family::exit_face::Face;
+use crate::family::octree::CellExit;
+use crate::family::triangle::Hits;
+use crate::family::walk::WalkTruth;
+use crate::family::{ExitFace, Family, OctreeCells, Triangle, Verdict, Walks};
+use crate::octree::cell::FACE_NAMES;
+use crate::walk::Walk;
+use serde_json::{Map, Value, json};
+
+/// What a verdict line says of an answer: right, wrong, or not judged (`None`), and whether it leaks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Said {
+    pub correct: Option<bool>,
+    pub leak: bool,
+}
+
+/// How a family's verdict lines read.
+pub trait Lines: Family {
+    /// The fields after `line`, `method` and `backend`: the answer beside the exact one, and
+    /// `correct`. A hit's `t` is right within `t_ulps` ulps of the exact `t`.
+    fn verdict_line(
+        case: &Self::Case,
+        truth: &Self::Truth,
+        answer: &Self::Answer,
+        t_ulps: f64,
+    ) -> (Map<String, Value>, Said);
+}
+
+/// The object of `v`.
+fn fields(v: Value) -> Map<String, Value> {
+    match v {
+        Value::Object(m) => m,
+        _ => Map::new(),
+    }
+}
+
+/// The verdict's `correct`: `null` where the case is not judged.
+fn correct(v: Verdict) -> Option<bool> {
+    match v {
+        Verdict::Right => Some(true),
+        Verdict::Wrong(_) => Some(false),
+        Verdict::NotJudged => None,
+    }
+}
+
+impl Lines for ExitFace {
+    fn verdict_line(
+        c: &crate::tet::Case,
+        x: &Classification,
+        face: &Face,
+        _: f64,
+    ) -> (Map<String, Value>, Said) {
+        let ok = correct(Self::verdict(c, x, face));
+        let line = json!({
+            "face": face, "exact_exit": x.exit.to_vec(), "exact_entry": x.entry.to_vec(),
+            "correct": ok,
+        });
+        (
+            fields(line),
+            Said {
+                correct: ok,
+                leak: false,
+            },
+        )
+    }
+}
+
+impl Lines for Walks {
+    fn verdict_line(
+        c: &crate::cases::WalkCase,
+        t: &WalkTruth,
+        got: &Walk,
+        _: f64,
+    ) -> (Map<String, Value>, Said) {
+        let ok = correct(Self::verdict(c, t, got));
+        let line = json!({
+            "walk": got.outcome, "steps": got.steps, "exact_walk": t.exact.outcome, "correct": ok,
+        });
+        (
+            fields(line),
+            Said {
+                correct: ok,
+                leak: false,
+            },
+        )
+    }
+}
+
+/// A rational as `p/q`.
+fn ratio(q: &rug::Rational) -> String {
+    format!("{}/{}", q.numer(), q.denom())
+}
+
+impl Lines for Triangle {
+    /// Right when the triangle is ([`HitTruth::right`]) and, for a hit, its `t` is
+    /// ([`HitTruth::judge_t`]); on a closed mesh, every triangle the method reports says whether the
+    /// ray leaks.
+    fn verdict_line(
+        case: &crate::cases::HitCase,
+        truth: &HitTruth,
+        hits: &Hits,
+        t_ulps: f64,
+    ) -> (Map<String, Value>, Said) {
+        let g = hits.nearest();
+        let t = g.map(|(i, t)| truth.judge_t(i, t, t_ulps));
+        let ok = truth.right(g.map(|(i, _)| i)) && t.is_none_or(|t| t.right);
+        let first = truth.first();
+        let mut o = fields(json!({
+            "hit": g.is_some(), "t": g.map(|(_, t)| t), "t_ulps": t.and_then(|t| t.ulps),
+            "exact_hit": first.is_some(), "exact_t": first.map(|p| ratio(&p.t)),
+        }));
+        let mut leak = false;
+        if case.closed {
+            leak = truth.leaks(&hits.ids());
+            o.insert("tri".into(), json!(g.map(|(i, _)| i)));
+            let holding = first.map_or(vec![], |p| p.holding.clone());
+            let boundary = holding.iter().any(|&i| truth.each[i as usize].on_boundary);
+            o.insert("exact_tris".into(), json!(holding));
+            o.insert("on_boundary".into(), Value::Bool(boundary));
+            o.insert("crosses".into(), json!(first.map(|p| p.crosses)));
+            o.insert("leak".into(), Value::Bool(leak));
+        } else {
+            o.insert("on_boundary".into(), Value::Bool(truth.each[0].on_boundary));
+        }
+        o.insert("correct".into(), Value::Bool(ok));
+        (
+            o,
+            Said {
+                correct: Some(ok),
+                leak,
+            },
+        )
+    }
+}
+
+impl Lines for OctreeCells {
+    fn verdict_line(
+        c: &crate::cases::BoxCase,
+        x: &BoxExit,
+        a: &CellExit,
+        _: f64,
+    ) -> (Map<String, Value>, Said) {
+        let ok = correct(Self::verdict(c, x, a));
+        let mut quarters = Map::new();
+        for (f, q) in x.faces.iter().zip(&x.quarters) {
+            quarters.insert(FACE_NAMES[*f].into(), json!(q));
+        }
+        let line = json!({
+            "face": a.map(|(f, _)| FACE_NAMES[f as usize]),
+            "quarter": a.map(|(_, q)| q),
+            "exact_faces": x.faces.iter().map(|&f| FACE_NAMES[f]).collect::<Vec<_>>(),
+            "exact_quarters": quarters,
+            "correct": ok,
+        });
+        (
+            fields(line),
+            Said {
+                correct: ok,
+                leak: false,
+            },
+        )
+    }
+}
