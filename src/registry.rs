@@ -80,7 +80,7 @@ pub struct Info {
 
 impl Info {
     /// A published method, claiming nothing, run on the CPU and (with its WGSL) the GPU.
-    const fn published(name: &'static str, source: &'static str, gpu: Gpu) -> Info {
+    pub const fn published(name: &'static str, source: &'static str, gpu: Gpu) -> Info {
         Info {
             name,
             source,
@@ -117,7 +117,7 @@ impl Info {
     }
 
     /// The same with `claim`.
-    const fn claiming(self, claim: Claim) -> Info {
+    pub const fn claiming(self, claim: Claim) -> Info {
         Info {
             claim: Some(claim),
             ..self
