@@ -1,6 +1,7 @@
 //! The WGSL module is generated from the Rust definitions (registry, outcome kinds, face tables, shared
 //! buffer structs); the committed `src/gpu/tetwalk.wgsl` must be what the generator writes now
-//! (`TETWALK_BLESS=1` rewrites it), and every registered method must have a GPU version or say why not.
+//! (`cargo run --bin codegen` rewrites it), and every registered method must have a GPU version or say
+//! why not.
 
 use tetwalk::gpu::shader::{self, COMMITTED, generate};
 use tetwalk::registry::{Gpu, METHODS, Named, TRIANGLE_METHODS};
@@ -8,15 +9,9 @@ use tetwalk::walk::OutcomeKind;
 
 #[test]
 fn committed_wgsl_is_what_the_generator_writes() {
-    let now = generate();
-    if std::env::var("TETWALK_BLESS").is_ok_and(|v| v == "1") {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/gpu/tetwalk.wgsl");
-        std::fs::write(path, &now).unwrap();
-        return;
-    }
     assert!(
-        COMMITTED == now,
-        "src/gpu/tetwalk.wgsl is stale: run `TETWALK_BLESS=1 cargo test --release --test gpu_shader`"
+        COMMITTED == generate(),
+        "src/gpu/tetwalk.wgsl is stale: run `cargo run --bin codegen`"
     );
 }
 

@@ -151,7 +151,10 @@ impl Family for Segments {
 
     fn truth(s: &Segment) -> Result<Option<u8>, CaseError> {
         if s.lo >= s.hi {
-            return Err(field_error("segment", "the low end is not below the high one"));
+            return Err(field_error(
+                "segment",
+                "the low end is not below the high one",
+            ));
         }
         Ok(by_sign(s))
     }
@@ -289,15 +292,23 @@ fn a_toy_family_gets_stress_tables_and_campaigns() {
         wrong += 1;
     })
     .unwrap();
-    let flushed = |r: &stress::StressReport<Segments>, row: usize| r.rows[row].tallies[1].counts.wrong;
+    let flushed =
+        |r: &stress::StressReport<Segments>, row: usize| r.rows[row].tallies[1].counts.wrong;
     assert_eq!(report.rows[0].tallies[0].counts.judged, 500);
     assert_eq!(flushed(&report, 0), 0, "ordinary directions are right");
-    assert!(flushed(&report, 1) > 400, "subnormal directions are flushed");
+    assert!(
+        flushed(&report, 1) > 400,
+        "subnormal directions are flushed"
+    );
     assert_eq!(wrong, flushed(&report, 1));
     let standings = report.standings();
-    assert_eq!(standings[0].line(), "by-sign: 0 wrong of 1000 judged; claims robust: holds here");
+    assert_eq!(
+        standings[0].line(),
+        "by-sign: 0 wrong of 1000 judged; claims robust: holds here"
+    );
     assert!(!standings[1].refuted() && standings[1].wrong > 0);
-    let campaign = stress::campaign(&settings(), &methods, &CPU, 0.0, &|_| {}, &mut |_| {}).unwrap();
+    let campaign =
+        stress::campaign(&settings(), &methods, &CPU, 0.0, &|_| {}, &mut |_| {}).unwrap();
     assert_eq!(campaign.rounds, 1);
     let json = serde_json::to_value(&campaign).unwrap();
     assert_eq!(json["rows"][1]["directions"], "subnormal");
@@ -308,9 +319,12 @@ fn a_toy_family_gets_stress_tables_and_campaigns() {
 /// changed one; the claim-holding method is filed beside it only where it fails too.
 #[test]
 fn a_toy_family_gets_found_cases_and_replay() {
-    let (cases, _) = stress::row_cases(&settings(), ToyRow {
-        directions: "subnormal",
-    });
+    let (cases, _) = stress::row_cases(
+        &settings(),
+        ToyRow {
+            directions: "subnormal",
+        },
+    );
     let batch: Vec<Segment> = cases.iter().map(|(c, _)| *c).collect();
     let held = [(&METHODS[1], tetwalk::engine::found::Hold::Every)];
     let (i, failure) = check::<Segments>(&batch, &held, &[&CPU]).unwrap().unwrap();
@@ -319,11 +333,18 @@ fn a_toy_family_gets_found_cases_and_replay() {
         failure: Some(failure),
     };
     let line = found.to_json();
-    assert!(line.contains("\"segment\"") && line.contains("\"kind\":\"no_exit_face\""), "{line}");
+    assert!(
+        line.contains("\"segment\"") && line.contains("\"kind\":\"no_exit_face\""),
+        "{line}"
+    );
     let read = Found::<Segments>::parse(&line).unwrap();
     assert_eq!(read, found);
     assert_eq!(replay(&read).unwrap(), Replay::Holds);
-    assert_eq!(read.with_claim_failures().unwrap().len(), 1, "by-sign is right here");
+    assert_eq!(
+        read.with_claim_failures().unwrap().len(),
+        1,
+        "by-sign is right here"
+    );
     let mut changed = read.clone();
     changed.failure.as_mut().unwrap().answer = Some(0);
     let changed = Found::<Segments>::parse(&changed.to_json()).unwrap();

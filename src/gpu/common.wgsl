@@ -35,3 +35,40 @@ fn edge_of(i: u32, j: u32) -> vec2i {
 fn accepts(t: f32) -> bool {
     return t > 0.0 && t <= MAX_F32;
 }
+
+// The item a thread answers, numbered across the 2-D grid of workgroups.
+fn item(gid: vec3u, groups: vec3u) -> u32 {
+    return gid.x + gid.y * groups.x * GROUP;
+}
+
+// The neighbour across face f.
+fn neighbor(c: Cell, f: u32) -> u32 {
+    return select(select(c.n0, c.n1, f == 1u), select(c.n2, c.n3, f == 3u), f >= 2u);
+}
+
+// Brent's cycle detection over a walk's states (tetrahedron and entry face; tetrahedron and the vertex
+// across its exit face; an octree cell's address): the one loop of it in WGSL, as tetwalk::walk's
+// Brent is in Rust.
+struct Brent {
+    saved: vec2u,
+    power: u32,
+    lam: u32,
+}
+
+fn brent_new(s: vec2u) -> Brent {
+    return Brent(s, 1u, 0u);
+}
+
+// Feed the next state: the cycle's period once a state repeats, else 0.
+fn brent_step(b: ptr<function, Brent>, s: vec2u) -> u32 {
+    (*b).lam += 1u;
+    if all(s == (*b).saved) {
+        return (*b).lam;
+    }
+    if (*b).lam == (*b).power {
+        (*b).saved = s;
+        (*b).power *= 2u;
+        (*b).lam = 0u;
+    }
+    return 0u;
+}

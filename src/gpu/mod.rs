@@ -11,6 +11,10 @@ use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{Kind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};
 use rayon::prelude::*;
+use shader::binding::{
+    CASES, CELLS, ENDINGS, FACEINFO, FACES, LAYOUT_RAYS, LAYOUT_WORDS, OCTREE, OCTREE_BOXES,
+    OCTREE_TRIS, PARAMS, POINTS, RAYS,
+};
 use shader::{Ending, GROUP, Params};
 use std::collections::HashMap;
 use std::sync::Mutex;
@@ -142,6 +146,8 @@ pub struct Gpu {
     queue: wgpu::Queue,
     module: wgpu::ShaderModule,
     pipelines: Mutex<HashMap<String, wgpu::ComputePipeline>>,
+    /// What the module's names are prefixed with: [`shader::USER_PREFIX`] around a user's WGSL.
+    prefix: &'static str,
     info: wgpu::AdapterInfo,
     max_groups: u32,
     /// The largest buffer one binding may see.
@@ -149,6 +155,57 @@ pub struct Gpu {
     /// Timestamp queries, where the adapter has them: kernel time apart from transfers.
     timestamps: Option<wgpu::QuerySet>,
     scratch: Mutex<HashMap<&'static str, wgpu::Buffer>>,
+}
+
+/// An entry point of the module and the override constants its pipeline is compiled with.
+#[derive(Clone, Copy, Debug)]
+struct Entry<'a> {
+    name: &'a str,
+    constants: &'a [(&'static str, f64)],
+}
+
+impl<'a> Entry<'a> {
+    /// An entry point with no override constants.
+    fn plain(name: &'a str) -> Entry<'a> {
+        Entry {
+            name,
+            constants: &[],
+        }
+    }
+}
+
+/// The override constant choosing `m` ([`shader::place`]), or why `m` has no GPU version.
+fn chooser<T: Named>(
+    constant: &'static str,
+    m: &T,
+    all: &[T],
+) -> Result<(&'static str, f64), GpuError> {
+    if let GpuSupport::CpuOnly(why) = m.info().gpu {
+        return Err(GpuError::NoGpuMethod {
+            method: m.name(),
+            why,
+        });
+    }
+    shader::place(m, all)
+        .map(|at| (constant, at))
+        .ok_or(GpuError::NoGpuMethod {
+            method: m.name(),
+            why: "it is not in tetwalk's registry, which the shader is generated from",
+        })
+}
+
+/// [`chooser`] for an octree method.
+fn octree_constant(m: &OctreeMethod) -> Result<(&'static str, f64), GpuError> {
+    chooser(shader::OCTREE_METHOD, m, crate::registry::OCTREE_METHODS)
+}
+
+/// [`chooser`] for the ray–triangle test of the octree walk.
+fn triangle_constant(m: &TriangleMethod) -> Result<(&'static str, f64), GpuError> {
+    chooser(
+        shader::TRIANGLE_METHOD,
+        m,
+        crate::registry::TRIANGLE_METHODS,
+    )
 }
 
 /// Items of one dispatch at most (a test sends batches larger than this).
@@ -170,17 +227,17 @@ pub struct Dispatched<T> {
 impl Gpu {
     /// Open the adapter named by `WGPU_ADAPTER_NAME` (substring, any case), or the default one.
     pub fn new() -> Result<Gpu, GpuError> {
-        Self::with_module(shader::COMMITTED.into())
+        Self::with_module(shader::COMMITTED.into(), "")
     }
 
     /// The same with a user's exit-face functions spliced in as method `user`
     /// ([`shader::with_user`]), checked first by the WGSL compiler: its message names `path` and the
     /// user's own line numbers.
     pub fn with_user(path: &str, source: &str) -> Result<Gpu, GpuError> {
-        Self::with_module(user_module(path, source)?)
+        Self::with_module(user_module(path, source)?, shader::USER_PREFIX)
     }
 
-    fn with_module(source: String) -> Result<Gpu, GpuError> {
+    fn with_module(source: String, prefix: &'static str) -> Result<Gpu, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let adapter = match std::env::var("WGPU_ADAPTER_NAME") {
@@ -240,33 +297,48 @@ impl Gpu {
             queue,
             module,
             pipelines: Mutex::new(HashMap::new()),
+            prefix,
             info,
             timestamps,
             scratch: Mutex::new(HashMap::new()),
         })
     }
 
-    /// The pipeline of entry point `entry`, compiled once.
-    fn pipeline(&self, entry: &str) -> Result<wgpu::ComputePipeline, GpuError> {
+    /// The pipeline of `entry`, compiled once for each set of its constants.
+    fn pipeline(&self, entry: Entry) -> Result<wgpu::ComputePipeline, GpuError> {
+        let key = format!("{}{:?}", entry.name, entry.constants);
         let mut cache = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(p) = cache.get(entry) {
+        if let Some(p) = cache.get(&key) {
             return Ok(p.clone());
         }
+        let names: Vec<String> = entry
+            .constants
+            .iter()
+            .map(|(k, _)| format!("{}{k}", self.prefix))
+            .collect();
+        let constants: Vec<(&str, f64)> = names
+            .iter()
+            .zip(entry.constants)
+            .map(|(k, (_, v))| (k.as_str(), *v))
+            .collect();
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let p = self
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
+                label: Some(entry.name),
                 layout: None,
                 module: &self.module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
+                entry_point: Some(entry.name),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    ..Default::default()
+                },
                 cache: None,
             });
         if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(GpuError::Shader(format!("{entry}: {e}")));
+            return Err(GpuError::Shader(format!("{key}: {e}")));
         }
-        cache.insert(entry.to_string(), p.clone());
+        cache.insert(key, p.clone());
         Ok(p)
     }
 
@@ -342,7 +414,7 @@ impl Gpu {
     /// from the mapped buffer, with the kernel time where the adapter measures it.
     fn dispatch_once<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
-        entry: &str,
+        entry: Entry,
         count: usize,
         max_steps: u32,
         (input_at, input): (u32, &(dyn Fn(usize) -> I + Sync)),
@@ -413,7 +485,7 @@ impl Gpu {
         upload.unmap();
         let mut entries = vec![
             wgpu::BindGroupEntry {
-                binding: 0,
+                binding: PARAMS,
                 resource: uniform.as_entire_binding(),
             },
             wgpu::BindGroupEntry {
@@ -441,7 +513,7 @@ impl Gpu {
         enc.copy_buffer_to_buffer(&upload, 0, &input_buf, 0, in_span.end);
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(entry),
+                label: Some(entry.name),
                 timestamp_writes: self.timestamps.as_ref().map(|query_set| {
                     wgpu::ComputePassTimestampWrites {
                         query_set,
@@ -515,7 +587,7 @@ impl Gpu {
     /// the adapter's largest binding holds), their outputs in order, their kernel times summed.
     fn dispatch<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
-        entry: &str,
+        entry: Entry,
         count: usize,
         max_steps: u32,
         (input_at, input): (u32, &(dyn Fn(usize) -> I + Sync)),
@@ -553,7 +625,14 @@ impl Gpu {
         cases: &[shader::Case],
     ) -> Result<Dispatched<i32>, GpuError> {
         let [exit, _] = Self::entry_points(method)?;
-        self.dispatch::<_, i32>(&exit, cases.len(), 0, (1, &|i| cases[i]), &[], 2)
+        self.dispatch::<_, i32>(
+            Entry::plain(&exit),
+            cases.len(),
+            0,
+            (CASES, &|i| cases[i]),
+            &[],
+            FACES,
+        )
     }
 
     /// The exit face and quarter of each octree cell case (`v0`, `v1` the corners) with `method`:
@@ -563,15 +642,13 @@ impl Gpu {
         method: &OctreeMethod,
         cases: &[shader::Case],
     ) -> Result<Vec<i32>, GpuError> {
-        if let GpuSupport::CpuOnly(why) = method.info().gpu {
-            return Err(GpuError::NoGpuMethod {
-                method: method.name(),
-                why,
-            });
-        }
-        let entry = shader::cell_entry_point(method);
+        let constants = [octree_constant(method)?];
+        let entry = Entry {
+            name: shader::CELL_EXIT,
+            constants: &constants,
+        };
         Ok(self
-            .dispatch::<_, i32>(&entry, cases.len(), 0, (1, &|i| cases[i]), &[], 2)?
+            .dispatch::<_, i32>(entry, cases.len(), 0, (CASES, &|i| cases[i]), &[], FACES)?
             .items)
     }
 
@@ -600,24 +677,20 @@ impl Gpu {
         rays: &[(Ray, u32)],
         max_steps: u32,
     ) -> Result<Vec<Ending>, GpuError> {
-        for (name, gpu) in [
-            (method.name(), method.info().gpu),
-            (tri.name(), tri.info().gpu),
-        ] {
-            if let GpuSupport::CpuOnly(why) = gpu {
-                return Err(GpuError::NoGpuMethod { method: name, why });
-            }
-        }
-        let entry = shader::octree_entry_point(method, tri);
+        let constants = [octree_constant(method)?, triangle_constant(tri)?];
+        let entry = Entry {
+            name: shader::OCTREE_WALK,
+            constants: &constants,
+        };
         let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
         let bound = [
-            (10, &o.words),
-            (11, &o.boxes),
-            (12, &o.triangles),
-            (8, &o.points),
+            (OCTREE, &o.words),
+            (OCTREE_BOXES, &o.boxes),
+            (OCTREE_TRIS, &o.triangles),
+            (POINTS, &o.points),
         ];
         let out: Dispatched<Ending> =
-            self.dispatch(&entry, rays.len(), max_steps, (3, &ray), &bound, 6)?;
+            self.dispatch(entry, rays.len(), max_steps, (RAYS, &ray), &bound, ENDINGS)?;
         if let Some(bad) = out
             .items
             .iter()
@@ -675,9 +748,15 @@ impl Gpu {
     ) -> Result<Dispatched<Ending>, GpuError> {
         let [_, walk] = Self::entry_points(method)?;
         let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
-        let mesh = [(4, &mesh.cells), (5, &mesh.info)];
-        let out: Dispatched<Ending> =
-            self.dispatch(&walk, rays.len(), max_steps, (3, &ray), &mesh, 6)?;
+        let mesh = [(CELLS, &mesh.cells), (FACEINFO, &mesh.info)];
+        let out: Dispatched<Ending> = self.dispatch(
+            Entry::plain(&walk),
+            rays.len(),
+            max_steps,
+            (RAYS, &ray),
+            &mesh,
+            ENDINGS,
+        )?;
         if let Some(bad) = out
             .items
             .par_iter()
@@ -722,8 +801,14 @@ impl Gpu {
         let [hit, _] = Self::triangle_entry_points(method)?;
         let points = self.triangle_points(tris);
         let ray = |i: usize| shader::WalkRay::new(&pairs[i].0, pairs[i].1);
-        let out: Dispatched<Ending> =
-            self.dispatch(&hit, pairs.len(), 0, (3, &ray), &[(8, &points)], 6)?;
+        let out: Dispatched<Ending> = self.dispatch(
+            Entry::plain(&hit),
+            pairs.len(),
+            0,
+            (RAYS, &ray),
+            &[(POINTS, &points)],
+            ENDINGS,
+        )?;
         out.items
             .iter()
             .map(|e| Ok(e.triangle_hit()?.map(|(_, t)| t)))
@@ -741,12 +826,12 @@ impl Gpu {
         let points = self.triangle_points(tris);
         let ray = |i: usize| shader::WalkRay::new(&rays[i], 0);
         let out: Dispatched<Ending> = self.dispatch(
-            &nearest,
+            Entry::plain(&nearest),
             rays.len(),
             tris.len() as u32,
-            (3, &ray),
-            &[(8, &points)],
-            6,
+            (RAYS, &ray),
+            &[(POINTS, &points)],
+            ENDINGS,
         )?;
         Ok(Dispatched {
             items: out
@@ -811,8 +896,15 @@ impl Gpu {
                 neighbors: s.neighbors,
             }
         };
-        let mesh = [(7, words), (8, &layout.points)];
-        self.dispatch(&entry, rays.len(), max_steps, (9, &ray), &mesh, 6)
+        let mesh = [(LAYOUT_WORDS, words), (POINTS, &layout.points)];
+        self.dispatch(
+            Entry::plain(&entry),
+            rays.len(),
+            max_steps,
+            (LAYOUT_RAYS, &ray),
+            &mesh,
+            ENDINGS,
+        )
     }
 }
 

@@ -1,14 +1,18 @@
-//! The WGSL module, generated from the Rust definitions: the buffer structs shared with the host, the
-//! outcome codes, the face tables, and one exit entry point and one walk entry point per registered
-//! method, around each method's hand-written WGSL (`src/methods/NAME.wgsl`). The result is committed as
-//! `src/gpu/tetwalk.wgsl` for reading; a test fails when it is stale (`TETWALK_BLESS=1` rewrites it).
+//! The WGSL module, generated from the Rust definitions and template files: the buffer structs shared
+//! with the host and the bindings (each from one table, the Rust side too), the outcome codes, the face
+//! tables, each method's hand-written WGSL (`src/methods/NAME.wgsl`), and the entry points filled in
+//! from `src/gpu/templates/` — an exit and a walk entry point per exit-face method (and its layout
+//! walks), a pair and a nearest-hit entry point per ray–triangle method, and the octree's cell exit and
+//! walk once, its methods chosen by override constants. The result is committed as
+//! `src/gpu/tetwalk.wgsl` for reading; `cargo run --bin codegen` rewrites it, and `--check` and a test
+//! (`tests/gpu_shader.rs`) fail when it is stale.
 
 use crate::choice::Choice;
 use crate::mesh::HULL;
 use crate::mesh::layout::{BOUNDARY, STOP, Tet16, Tet20, Tet32};
 use crate::methods::Model;
 use crate::registry::{
-    Gpu, METHODS, Method, Named, OCTREE_METHODS, OctreeMethod, TRIANGLE_METHODS, TriangleMethod,
+    Gpu, METHODS, Method, Named, OCTREE_METHODS, TRIANGLE_METHODS, TriangleMethod,
 };
 use crate::tet::{EDGES, FACE_VERTICES, edge_index};
 use crate::walk::OutcomeKind;
@@ -122,10 +126,116 @@ shared_struct! {
     }
 }
 
-/// The entry points of a method: `exit_IDENT` over cases, `walk_IDENT` over rays through a mesh.
+/// The module's bindings: each binding's index, its WGSL declaration and what it holds. The WGSL
+/// lines ([`BINDINGS`]) and the indices the host binds ([`binding`]) come from this one table.
+macro_rules! bindings {
+    ($($(#[doc = $doc:literal])* $name:ident = $at:literal: $decl:literal;)*) => {
+        /// Binding indices, from the table of [`BINDINGS`].
+        pub mod binding {
+            $($(#[doc = $doc])* pub const $name: u32 = $at;)*
+        }
+
+        /// The WGSL declarations of every binding.
+        pub const BINDINGS: &str = concat!(
+            $($("//", $doc, "\n",)* "@group(0) @binding(", stringify!($at), ") ", $decl, ";\n",)*
+        );
+    };
+}
+
+bindings! {
+    /// The dispatch's parameters.
+    PARAMS = 0: "var<uniform> params: Params";
+    /// One-tetrahedron and octree cell cases, and their answers.
+    CASES = 1: "var<storage, read> cases: array<Case>";
+    FACES = 2: "var<storage, read_write> faces: array<i32>";
+    /// The walk: rays with their starting tetrahedra, the mesh's cells, mirror faces and constrained
+    /// bits (bits 0-7: the mirror face of each face, 2 bits each; bits 8-11: constrained faces), and
+    /// each walk's ending.
+    RAYS = 3: "var<storage, read> rays: array<WalkRay>";
+    CELLS = 4: "var<storage, read> cells: array<Cell>";
+    FACEINFO = 5: "var<storage, read> faceinfo: array<u32>";
+    ENDINGS = 6: "var<storage, read_write> endings: array<Ending>";
+    /// The layout walks: one layout's words, the mesh points (three a triangle, for ray–triangle
+    /// tests), the rays with their source tetrahedra.
+    LAYOUT_WORDS = 7: "var<storage, read> layout_words: array<u32>";
+    POINTS = 8: "var<storage, read> points: array<vec4f>";
+    LAYOUT_RAYS = 9: "var<storage, read> layout_rays: array<LayoutRay>";
+    /// Seed 001's octree: eq. 3's words, each leaf's box (two points), the triangle array (ids into
+    /// `points`, three points a triangle).
+    OCTREE = 10: "var<storage, read> octree: array<u32>";
+    OCTREE_BOXES = 11: "var<storage, read> octree_boxes: array<vec4f>";
+    OCTREE_TRIS = 12: "var<storage, read> octree_tris: array<u32>";
+}
+
+/// A template (`src/gpu/templates/`) with each `{{key}}` replaced by its value.
+fn fill(template: &str, values: &[(&str, &str)]) -> String {
+    values.iter().fold(template.to_string(), |s, (k, v)| {
+        s.replace(&format!("{{{{{k}}}}}"), v)
+    })
+}
+
+const EXIT_WALK: &str = include_str!("templates/exit_walk.wgsl");
+const LAYOUT: &str = include_str!("templates/layout.wgsl");
+const TRIANGLE: &str = include_str!("templates/triangle.wgsl");
+const OCTREE: &str = include_str!("templates/octree.wgsl");
+
+/// The entry points of an exit-face method: `exit_IDENT` over cases, `walk_IDENT` over rays through a
+/// mesh.
 pub fn entry_points(m: &Method) -> [String; 2] {
     let id = m.ident();
     [format!("exit_{id}"), format!("walk_{id}")]
+}
+
+/// The layout entry point of `m` over `kind`: `layout_IDENT_KIND`.
+pub fn layout_entry_point(m: &Method, kind: Kind) -> String {
+    format!("layout_{}_{}", m.ident(), kind.name())
+}
+
+/// The entry points of a ray–triangle method: `hit_IDENT` over (ray, triangle) pairs, `nearest_IDENT`
+/// over rays and a list of triangles.
+pub fn triangle_entry_points(m: &TriangleMethod) -> [String; 2] {
+    let id = m.ident();
+    [format!("hit_{id}"), format!("nearest_{id}")]
+}
+
+/// The octree's entry points: the exit of each cell case, and the walk.
+pub const CELL_EXIT: &str = "cell_exit";
+pub const OCTREE_WALK: &str = "octree_walk";
+
+/// The override constant choosing the octree method of [`CELL_EXIT`] and [`OCTREE_WALK`].
+pub const OCTREE_METHOD: &str = "OCTREE_METHOD";
+
+/// The override constant choosing the ray–triangle test of [`OCTREE_WALK`].
+pub const TRIANGLE_METHOD: &str = "TRIANGLE_METHOD";
+
+/// The value of the override constant that chooses `m` among `all`: its place in the registry, or
+/// `None` for a method the registry does not hold.
+pub fn place<T: Named>(m: &T, all: &[T]) -> Option<f64> {
+    all.iter()
+        .position(|x| x.name() == m.name())
+        .map(|i| i as f64)
+}
+
+/// Override constant `constant` and a `switch` on it choosing among the methods with WGSL, by their
+/// place in the registry ([`place`]): `fn NAME(ARGS) -> TY` returning `call(IDENT)` for each,
+/// `fallback` otherwise.
+fn dispatch<T: Named>(
+    (name, args, ty): (&str, &str, &str),
+    constant: &str,
+    methods: &[T],
+    call: impl Fn(&str) -> String,
+    fallback: &str,
+) -> String {
+    let mut s = format!(
+        "override {constant}: u32 = 0u;\n\nfn {name}({args}) -> {ty} {{\n    switch {constant} {{\n"
+    );
+    for (i, m) in methods.iter().enumerate() {
+        if let Gpu::Wgsl(_) = m.info().gpu {
+            let _ = writeln!(s, "        case {i}u: {{ return {}; }}", call(&m.ident()));
+        }
+    }
+    let _ = writeln!(s, "        default: {{ return {fallback}; }}");
+    s + "    }\n}\n"
 }
 
 /// A `switch` function returning `ty` values from a table.
@@ -141,234 +251,6 @@ fn table<const N: usize>(name: &str, ty: &str, rows: &[[usize; N]]) -> String {
         let _ = writeln!(s, "        {case}: {{ return {ty}({}); }}", vals.join(", "));
     }
     s + "    }\n}\n"
-}
-
-const BINDINGS: &str = "\
-@group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> cases: array<Case>;
-@group(0) @binding(2) var<storage, read_write> faces: array<i32>;
-// The walk: rays with their starting tetrahedra, the mesh's cells, mirror faces and constrained bits.
-@group(0) @binding(3) var<storage, read> rays: array<WalkRay>;
-@group(0) @binding(4) var<storage, read> cells: array<Cell>;
-// Bits 0-7: mirror face of each face (2 bits each); bits 8-11: constrained faces.
-@group(0) @binding(5) var<storage, read> faceinfo: array<u32>;
-@group(0) @binding(6) var<storage, read_write> endings: array<Ending>;
-// The layout walks: one layout's words, the mesh points, the rays with their source tetrahedra.
-@group(0) @binding(7) var<storage, read> layout_words: array<u32>;
-@group(0) @binding(8) var<storage, read> points: array<vec4f>;
-@group(0) @binding(9) var<storage, read> layout_rays: array<LayoutRay>;
-// Seed 001's octree: eq. 3's words, each leaf's box (two points), the triangle array (ids into
-// `points`, three points a triangle).
-@group(0) @binding(10) var<storage, read> octree: array<u32>;
-@group(0) @binding(11) var<storage, read> octree_boxes: array<vec4f>;
-@group(0) @binding(12) var<storage, read> octree_tris: array<u32>;
-
-// The item a thread answers, numbered across the 2-D grid of workgroups.
-fn item(gid: vec3u, groups: vec3u) -> u32 {
-    return gid.x + gid.y * groups.x * GROUP;
-}
-
-// The neighbour across face f.
-fn neighbor(c: Cell, f: u32) -> u32 {
-    return select(select(c.n0, c.n1, f == 1u), select(c.n2, c.n3, f == 3u), f >= 2u);
-}
-";
-
-/// The entry points of one method (`IDENT` replaced by its identifier): the exit face of each case,
-/// and the bounded walk of each ray with Brent's cycle detection on (tetrahedron, entry face), as
-/// `crate::walk::walk` does, the ray prepared once.
-const ENTRY_POINTS: &str = "\
-@compute @workgroup_size(GROUP)
-fn exit_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let i = item(gid, groups);
-    if i >= params.count {
-        return;
-    }
-    let c = cases[i];
-    var t = array<vec3f, 4>(c.v0.xyz, c.v1.xyz, c.v2.xyz, c.v3.xyz);
-    faces[i] = IDENT_exit(&t, IDENT_prepare(c.org.xyz, c.dir.xyz), c.entry);
-}
-
-@compute @workgroup_size(GROUP)
-fn walk_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let i = item(gid, groups);
-    if i >= params.count {
-        return;
-    }
-    let ray = rays[i];
-    let r = IDENT_prepare(ray.org, ray.dir);
-    var tet = ray.start;
-    var entry = NONE;
-    var saved_tet = tet;
-    var saved_entry = entry;
-    var power = 1u;
-    var lam = 0u;
-    for (var steps = 1u; steps <= params.limit; steps++) {
-        let c = cells[tet];
-        var t = array<vec3f, 4>(c.v0, c.v1, c.v2, c.v3);
-        let f = IDENT_exit(&t, r, entry);
-        if f == UNSETTLED {
-            endings[i] = Ending(FLAGGED, tet, 0u, steps);
-            return;
-        }
-        if f < 0 {
-            endings[i] = Ending(NO_EXIT_FACE, tet, 0u, steps);
-            return;
-        }
-        let fu = u32(f);
-        let info = faceinfo[tet];
-        if ((info >> (8u + fu)) & 1u) == 1u {
-            endings[i] = Ending(HIT, tet, fu, steps);
-            return;
-        }
-        let next = neighbor(c, fu);
-        if next == HULL {
-            endings[i] = Ending(LEFT_MESH, tet, fu, steps);
-            return;
-        }
-        entry = i32((info >> (2u * fu)) & 3u);
-        tet = next;
-        lam += 1u;
-        if tet == saved_tet && entry == saved_entry {
-            endings[i] = Ending(CYCLE, tet, lam, steps);
-            return;
-        }
-        if lam == power {
-            saved_tet = tet;
-            saved_entry = entry;
-            power = power * 2u;
-            lam = 0u;
-        }
-    }
-    endings[i] = Ending(STEP_LIMIT, tet, 0u, params.limit);
-}
-";
-
-/// The layout walk of one method over one layout (`IDENT`, `KIND` replaced), as
-/// `crate::walk::layouts::walk_layout` does: the source's four vertices projected, §4's start, then per
-/// tetrahedron one vertex fetched (decoded from the xor-sum), projected, Algorithm 1, and the next
-/// tetrahedron decoded; Brent's detection on (tetrahedron, vertex across the exit face).
-const LAYOUT_ENTRY_POINT: &str = "\
-@compute @workgroup_size(GROUP)
-fn layout_IDENT_KIND(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let i = item(gid, groups);
-    if i >= params.count {
-        return;
-    }
-    let ray = layout_rays[i];
-    let r = IDENT_prepare(ray.org, ray.dir);
-    var p4: array<vec2f, 4>;
-    for (var k = 0u; k < 4u; k++) {
-        p4[k] = IDENT_project(r, points[ray.vertices[k]].xyz);
-    }
-    let f0 = start_exit_face(&p4);
-    if f0 < 0 {
-        endings[i] = Ending(NO_EXIT_FACE, ray.start, 0u, 1u);
-        return;
-    }
-    let f = u32(f0);
-    let fv = face_vertices(f);
-    var idx = vec3u(ray.vertices[fv.x], ray.vertices[fv.y], ray.vertices[fv.z]);
-    var p = array<vec2f, 3>(p4[fv.x], p4[fv.y], p4[fv.z]);
-    var tet = ray.start;
-    var next = ray.neighbors[f];
-    var across = ray.vertices[f];
-    var saved_tet = tet;
-    var saved_across = 0xffffffffu;
-    var power = 1u;
-    var lam = 0u;
-    var steps = 1u;
-    loop {
-        if (next & STOP) != 0u {
-            endings[i] = Ending(select(HIT, LEFT_MESH, next == (STOP | BOUNDARY)), tet, across, steps);
-            return;
-        }
-        lam += 1u;
-        if tet == saved_tet && across == saved_across {
-            endings[i] = Ending(CYCLE, next, lam, steps);
-            return;
-        }
-        if lam == power {
-            saved_tet = tet;
-            saved_across = across;
-            power = power * 2u;
-            lam = 0u;
-        }
-        if steps >= params.limit {
-            endings[i] = Ending(STEP_LIMIT, next, 0u, steps);
-            return;
-        }
-        let prev = tet;
-        tet = next;
-        steps += 1u;
-        let fourth = idx.x ^ idx.y ^ idx.z ^ KIND_vx(tet);
-        let p3 = IDENT_project(r, points[fourth].xyz);
-        var q = array<vec2f, 4>(p[0], p[1], p[2], p3);
-        let k = get_exit_face(&q);
-        across = idx[k];
-        next = KIND_next(tet, prev, vec4u(idx, fourth), across);
-        idx[k] = fourth;
-        p[k] = p3;
-    }
-}
-";
-
-/// The entry points of one ray–triangle method (`IDENT` replaced): `hit_IDENT` answers one (ray,
-/// triangle) pair per item (the ray's `start` names the triangle, three `points` each), `nearest_IDENT`
-/// one ray's nearest hit among the first `params.limit` triangles, every one tried, as
-/// `crate::methods::triangle::nearest` keeps it (the first with the smallest accepted `t`). The answer
-/// is an [`Ending`]: `HIT` with the triangle and the bits of `t`, or `LEFT_MESH` for none.
-const TRIANGLE_ENTRY_POINTS: &str = "\
-@compute @workgroup_size(GROUP)
-fn hit_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let i = item(gid, groups);
-    if i >= params.count {
-        return;
-    }
-    let ray = rays[i];
-    let k = 3u * ray.start;
-    let t = IDENT_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
-    if accepts(t) {
-        endings[i] = Ending(HIT, ray.start, bitcast<u32>(t), 1u);
-    } else {
-        endings[i] = Ending(LEFT_MESH, ray.start, 0u, 1u);
-    }
-}
-
-@compute @workgroup_size(GROUP)
-fn nearest_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let i = item(gid, groups);
-    if i >= params.count {
-        return;
-    }
-    let ray = rays[i];
-    var best = HULL;
-    var best_t = 0.0;
-    for (var k = 0u; k < params.limit; k++) {
-        let t = IDENT_hit(points[3u * k].xyz, points[3u * k + 1u].xyz, points[3u * k + 2u].xyz, ray.org, ray.dir);
-        if accepts(t) && (best == HULL || t < best_t) {
-            best = k;
-            best_t = t;
-        }
-    }
-    if best == HULL {
-        endings[i] = Ending(LEFT_MESH, 0u, 0u, params.limit);
-    } else {
-        endings[i] = Ending(HIT, best, bitcast<u32>(best_t), params.limit);
-    }
-}
-";
-
-/// The entry points of a ray–triangle method: `hit_IDENT` over (ray, triangle) pairs, `nearest_IDENT`
-/// over rays and a list of triangles.
-pub fn triangle_entry_points(m: &TriangleMethod) -> [String; 2] {
-    let id = m.ident();
-    [format!("hit_{id}"), format!("nearest_{id}")]
-}
-
-/// The layout entry point of `m` over `kind`: `layout_IDENT_KIND`.
-pub fn layout_entry_point(m: &Method, kind: Kind) -> String {
-    format!("layout_{}_{}", m.ident(), kind.name())
 }
 
 /// A power of two as an exact WGSL hexadecimal float literal.
@@ -494,9 +376,9 @@ fn prelude() -> String {
 /// The whole WGSL module.
 pub fn generate() -> String {
     let mut s = String::from(
-        "// GENERATED by tetwalk::gpu::shader::generate() from the Rust definitions (src/gpu/shader.rs,\n\
-         // src/registry.rs, src/gpu/common.wgsl, src/methods/*.wgsl). Do not edit: run\n\
-         // `TETWALK_BLESS=1 cargo test --release --test gpu_shader` to rewrite it.\n\n",
+        "// GENERATED by tetwalk::gpu::shader::generate() from the Rust definitions and template files\n\
+         // (src/gpu/shader.rs, src/registry.rs, src/gpu/common.wgsl, src/gpu/templates/*.wgsl,\n\
+         // src/methods/*.wgsl). Do not edit: `cargo run --bin codegen` rewrites it.\n\n",
     );
     s += &prelude();
     let mut included: Vec<&str> = Vec::new();
@@ -539,13 +421,11 @@ pub fn generate() -> String {
     for m in METHODS {
         if let Gpu::Wgsl(_) = m.info().gpu {
             let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
-            s += &ENTRY_POINTS.replace("IDENT", &m.ident());
+            s += &fill(EXIT_WALK, &[("ident", &m.ident())]);
             if m.layout_walk(Model::Plain).is_some() {
                 for kind in Kind::ALL {
                     s += "\n";
-                    s += &LAYOUT_ENTRY_POINT
-                        .replace("IDENT", &m.ident())
-                        .replace("KIND", kind.name());
+                    s += &fill(LAYOUT, &[("ident", &m.ident()), ("kind", kind.name())]);
                 }
             }
         }
@@ -553,120 +433,34 @@ pub fn generate() -> String {
     for m in TRIANGLE_METHODS {
         if let Gpu::Wgsl(_) = m.info().gpu {
             let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
-            s += &TRIANGLE_ENTRY_POINTS.replace("IDENT", &m.ident());
+            s += &fill(TRIANGLE, &[("ident", &m.ident())]);
         }
     }
-    for m in OCTREE_METHODS {
-        if let Gpu::Wgsl(_) = m.info().gpu {
-            let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
-            s += &CELL_ENTRY_POINT.replace("IDENT", &m.ident());
-            for t in TRIANGLE_METHODS {
-                if let Gpu::Wgsl(_) = t.info().gpu {
-                    s += "\n";
-                    s += &OCTREE_ENTRY_POINT
-                        .replace("IDENT", &m.ident())
-                        .replace("TRI", &t.ident());
-                }
-            }
-        }
-    }
+    s += "\n// ---- the octree ----\n\n";
+    let mut choosers = String::from(
+        "// The octree method OCTREE_METHOD's eq. 1 (by its place in tetwalk::registry::OCTREE_METHODS).\n",
+    );
+    choosers += &dispatch(
+        ("octree_pi", "o: vec3f, d: vec3f", "array<f32, 6>"),
+        OCTREE_METHOD,
+        OCTREE_METHODS,
+        |id| format!("{id}_pi(o, d)"),
+        "array<f32, 6>()",
+    );
+    choosers += "\n// The ray-triangle test TRIANGLE_METHOD (by its place in tetwalk::registry::TRIANGLE_METHODS).\n";
+    choosers += &dispatch(
+        (
+            "triangle_hit",
+            "p0: vec3f, p1: vec3f, p2: vec3f, o: vec3f, d: vec3f",
+            "f32",
+        ),
+        TRIANGLE_METHOD,
+        TRIANGLE_METHODS,
+        |id| format!("{id}_hit(p0, p1, p2, o, d)"),
+        "NO_HIT",
+    );
+    s += &fill(OCTREE, &[("choosers", &choosers)]);
     s
-}
-
-/// The octree walk of an octree method with a ray–triangle method (`IDENT`, `TRI`): seed 001 §4.2.3
-/// from each ray's entry cell (`start`, an address in eq. 3's words; `HULL` for a ray that misses the
-/// root), as `crate::walk::octree::walk` walks, with Brent's cycle detection on the cell. Endings: a hit
-/// (triangle, `t` as bits), a miss, no exit face, a cycle (period) or the step limit, each with the
-/// cells visited.
-const OCTREE_ENTRY_POINT: &str = "\
-@compute @workgroup_size(GROUP)
-fn octree_IDENT_TRI(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let i = item(gid, groups);
-    if i >= params.count {
-        return;
-    }
-    let ray = rays[i];
-    if ray.start == HULL {
-        endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
-        return;
-    }
-    let pi = IDENT_pi(ray.org, ray.dir);
-    var a = ray.start;
-    var saved = a;
-    var power = 1u;
-    var lam = 0u;
-    for (var cells = 1u; cells <= params.limit; cells++) {
-        let count = octree[a];
-        let offset = octree[a + 1u];
-        let cell = octree[a + 2u];
-        var best = HULL;
-        var best_t = 0.0;
-        for (var k = 0u; k < count; k++) {
-            let tri = octree_tris[offset + k];
-            let t = TRI_hit(points[3u * tri].xyz, points[3u * tri + 1u].xyz, points[3u * tri + 2u].xyz, ray.org, ray.dir);
-            if accepts(t) && (best == HULL || t < best_t) {
-                best = tri;
-                best_t = t;
-            }
-        }
-        if best != HULL {
-            endings[i] = Ending(HIT, best, bitcast<u32>(best_t), cells);
-            return;
-        }
-        let fq = portalez16_cell(pi, octree_boxes[2u * cell].xyz, octree_boxes[2u * cell + 1u].xyz, ray.dir);
-        if fq < 0 {
-            endings[i] = Ending(NO_EXIT_FACE, cell, 0u, cells);
-            return;
-        }
-        let f = u32(fq) / 4u;
-        let counts = octree[a + 3u];
-        var before = 0u;
-        for (var g = 0u; g < f; g++) {
-            before += (counts >> (4u * g)) & 15u;
-        }
-        let n = (counts >> (4u * f)) & 15u;
-        if n == 0u {
-            endings[i] = Ending(LEFT_MESH, cell, 0u, cells);
-            return;
-        }
-        a = octree[a + 4u + before + (n / 4u) * (u32(fq) % 4u)];
-        lam += 1u;
-        if a == saved {
-            endings[i] = Ending(CYCLE, octree[a + 2u], lam, cells);
-            return;
-        }
-        if lam == power {
-            saved = a;
-            power *= 2u;
-            lam = 0u;
-        }
-    }
-    endings[i] = Ending(STEP_LIMIT, octree[a + 2u], 0u, params.limit);
-}
-";
-
-/// The octree walk entry point of an octree method with a ray–triangle method.
-pub fn octree_entry_point(m: &OctreeMethod, t: &TriangleMethod) -> String {
-    format!("octree_{}_{}", m.ident(), t.ident())
-}
-
-/// The entry point of an octree method (`IDENT` replaced by its identifier): the exit face and quarter
-/// of each cell case (`v0` the lower corner, `v1` the upper), as `4 f + q`, or `NONE`.
-const CELL_ENTRY_POINT: &str = "\
-@compute @workgroup_size(GROUP)
-fn cell_IDENT(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let i = item(gid, groups);
-    if i >= params.count {
-        return;
-    }
-    let c = cases[i];
-    faces[i] = portalez16_cell(IDENT_pi(c.org.xyz, c.dir.xyz), c.v0.xyz, c.v1.xyz, c.dir.xyz);
-}
-";
-
-/// The entry point of an octree method: `cell_IDENT`.
-pub fn cell_entry_point(m: &OctreeMethod) -> String {
-    format!("cell_{}", m.ident())
 }
 
 /// What a user's WGSL file (`--wgsl FILE`) must define, with `R` any type it chooses: the ray prepared
@@ -685,53 +479,40 @@ pub const USER_PREFIX: &str = "tw_";
 /// The module with a user's exit-face functions spliced in as method `user`: their source first, so
 /// that the compiler's line numbers are theirs, then tetwalk's module and the entry points of
 /// [`crate::registry::USER_WGSL`], with every module-scope name of tetwalk's but the entry points
-/// prefixed with [`USER_PREFIX`].
+/// prefixed with [`USER_PREFIX`] (the names naga finds in tetwalk's module).
 pub fn with_user(source: &str) -> String {
     let ours = format!(
         "{COMMITTED}\n// ---- user ----\n\n{}",
-        ENTRY_POINTS.replace("IDENT", "user")
+        fill(EXIT_WALK, &[("ident", "user")])
     );
-    let lines: Vec<&str> = ours.lines().collect();
-    let mut names: Vec<String> = Vec::new();
-    for (i, line) in lines.iter().enumerate() {
-        let entry_point = i > 0 && lines[i - 1].starts_with("@compute");
-        if let Some(name) = declared(line).filter(|_| !entry_point)
-            && !names.iter().any(|n| n == name)
-        {
-            names.push(name.to_string());
-        }
-    }
-    let renamed = rename_words(&ours, &names);
-    format!("{source}\n// ---- tetwalk ----\n{renamed}")
+    format!(
+        "{source}\n// ---- tetwalk ----\n{}",
+        rename_words(&ours, &module_names())
+    )
 }
 
-/// The name a module-scope declaration line declares (`fn`, `struct`, `const`, `alias`, `override`
-/// or `var`, after any attributes), if it is one; lines inside a body are indented.
-fn declared(line: &str) -> Option<&str> {
-    let mut rest = line;
-    while let Some(r) = rest.strip_prefix('@') {
-        // An attribute: its name and any parenthesised arguments.
-        let end = r.find([' ', '(']).unwrap_or(r.len());
-        rest = r[end..].trim_start();
-        if let Some(r) = rest.strip_prefix('(') {
-            rest = r.split_once(')')?.1.trim_start();
-        }
-    }
-    let rest = ["fn ", "struct ", "const ", "alias ", "override "]
+/// Every module-scope name of tetwalk's module but the entry points: its functions, named types,
+/// constants, override constants and bindings, as naga parses them.
+fn module_names() -> Vec<String> {
+    let Ok(m) = wgpu::naga::front::wgsl::parse_str(COMMITTED) else {
+        return Vec::new();
+    };
+    let mut names: Vec<String> = m
+        .functions
         .iter()
-        .find_map(|k| rest.strip_prefix(k))
-        .or_else(|| {
-            let r = rest.strip_prefix("var")?;
-            Some(
-                r.strip_prefix('<')
-                    .map_or(r, |r| r.split_once('>').map_or(r, |x| x.1)),
-            )
-        })?;
-    let rest = rest.trim_start();
-    let end = rest
-        .find(|c: char| !(c.is_alphanumeric() || c == '_'))
-        .unwrap_or(rest.len());
-    (end > 0).then(|| &rest[..end])
+        .filter_map(|(_, f)| f.name.clone())
+        .collect();
+    names.extend(m.types.iter().filter_map(|(_, t)| t.name.clone()));
+    names.extend(m.constants.iter().filter_map(|(_, c)| c.name.clone()));
+    names.extend(m.overrides.iter().filter_map(|(_, o)| o.name.clone()));
+    names.extend(
+        m.global_variables
+            .iter()
+            .filter_map(|(_, g)| g.name.clone()),
+    );
+    names.sort();
+    names.dedup();
+    names
 }
 
 /// `text` with each whole word in `names` prefixed with [`USER_PREFIX`].

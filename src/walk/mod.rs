@@ -485,15 +485,17 @@ pub fn judge(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> Option<Outco
     (!same_result(mesh, ray, w, reference)).then(|| w.outcome.kind())
 }
 
-/// Brent's cycle detection over a walk's states (tetrahedron and entry face).
-struct Brent<S> {
+/// Brent's cycle detection over a walk's states (tetrahedron and entry face; the vertex across the
+/// exit face for a layout walk; an octree cell's address): the one loop of it in Rust, as
+/// `brent_step` is in WGSL (`src/gpu/common.wgsl`).
+pub(crate) struct Brent<S> {
     saved: S,
     power: u32,
     lam: u32,
 }
 
 impl<S: PartialEq> Brent<S> {
-    fn new(s: S) -> Self {
+    pub(crate) fn new(s: S) -> Self {
         Brent {
             saved: s,
             power: 1,
@@ -503,7 +505,7 @@ impl<S: PartialEq> Brent<S> {
 
     /// Feed the next state; the cycle length once a state repeats.
     #[inline(always)]
-    fn step(&mut self, s: S) -> Option<u32> {
+    pub(crate) fn step(&mut self, s: S) -> Option<u32> {
         self.lam += 1;
         if s == self.saved {
             return Some(self.lam);

@@ -4,7 +4,7 @@
 //! a miss. Bounded, with Brent's cycle detection on the cell, and ending in the outcome vocabulary.
 //! [`walk_exact`] is the same walk decided exactly: the reference.
 
-use super::{Outcome, OutcomeKind};
+use super::{Brent, Outcome, OutcomeKind};
 use crate::exact::boxes::box_exit;
 use crate::exact::hit::perturbed_crossing;
 use crate::methods::Arith;
@@ -163,7 +163,7 @@ fn walk_observed<M: CellMethod, A: Arith>(
         };
     };
     let r = M::prepare::<A>(ray);
-    let mut brent = (address, 1u32, 0u32);
+    let mut brent = Brent::new(address);
     for cells in 1..=max_steps {
         let at = address as usize;
         let (count, offset, cell) = (o.words[at], o.words[at + 1], o.words[at + 2]);
@@ -194,18 +194,14 @@ fn walk_observed<M: CellMethod, A: Arith>(
             };
         };
         address = n;
-        brent.2 += 1;
-        if address == brent.0 {
+        if let Some(period) = brent.step(address) {
             return OctreeWalk {
                 end: End::Cycle {
                     cell: o.words[address as usize + 2],
-                    period: brent.2,
+                    period,
                 },
                 cells,
             };
-        }
-        if brent.2 == brent.1 {
-            brent = (address, brent.1.saturating_mul(2), 0);
         }
     }
     OctreeWalk {
