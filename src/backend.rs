@@ -6,6 +6,7 @@
 
 use crate::cases::{BoxCase, Case, HitCase, normalized};
 pub use crate::choice::{BackendKind, Ran};
+#[cfg(feature = "gpu")]
 use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
@@ -21,8 +22,12 @@ use rayon::prelude::*;
 /// Why a backend cannot give an answer.
 #[derive(Debug, thiserror::Error)]
 pub enum BackendError {
+    #[cfg(feature = "gpu")]
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    #[cfg(not(feature = "gpu"))]
+    #[error("this tetwalk was built without its GPU backend (the `gpu` feature)")]
+    NoGpu,
     #[error("the GPU holds another mesh than the one walked")]
     OtherMesh,
     #[error(
@@ -72,7 +77,10 @@ pub static CPU_FTZ: Backend = Backend::Cpu {
 
 /// A backend, opened.
 pub enum Backend {
-    Cpu { model: Model },
+    Cpu {
+        model: Model,
+    },
+    #[cfg(feature = "gpu")]
     Gpu(Box<gpu::Gpu>),
 }
 
@@ -80,6 +88,7 @@ pub enum Backend {
 pub struct LayoutOn<'a> {
     pub layout: &'a Layout,
     pub points: &'a [glam::Vec3],
+    #[cfg(feature = "gpu")]
     gpu: Option<gpu::GpuLayout>,
 }
 
@@ -91,12 +100,14 @@ pub struct LayoutWalked {
 
 /// An octree and its triangles as a backend walks them: uploaded once to a GPU, nothing on the CPU.
 pub struct OctreeOn {
+    #[cfg(feature = "gpu")]
     gpu: Option<crate::gpu::GpuOctree>,
 }
 
 /// A mesh where a backend walks it (uploaded once to a GPU).
 pub struct MeshOn<'a> {
     pub mesh: &'a Mesh,
+    #[cfg(feature = "gpu")]
     gpu: Option<GpuMesh>,
 }
 
@@ -107,7 +118,10 @@ impl Backend {
             BackendKind::CpuFtz if !crate::fpenv::FLUSH_AVAILABLE => {
                 return Err(BackendError::NoFlush);
             }
+            #[cfg(feature = "gpu")]
             BackendKind::Gpu => Backend::Gpu(Box::new(gpu::Gpu::new()?)),
+            #[cfg(not(feature = "gpu"))]
+            BackendKind::Gpu => return Err(BackendError::NoGpu),
             cpu => Backend::Cpu {
                 model: cpu.model().expect("a CPU backend has a model"),
             },
@@ -116,8 +130,12 @@ impl Backend {
 
     /// The GPU with a user's WGSL exit-face functions spliced in as method
     /// [`crate::registry::USER_WGSL`] (`--wgsl`; `path` names the file in compiler messages).
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
     pub fn gpu_with_user(path: &str, source: &str) -> Result<Backend, BackendError> {
-        Ok(Backend::Gpu(Box::new(gpu::Gpu::with_user(path, source)?)))
+        #[cfg(feature = "gpu")]
+        return Ok(Backend::Gpu(Box::new(gpu::Gpu::with_user(path, source)?)));
+        #[cfg(not(feature = "gpu"))]
+        Err(BackendError::NoGpu)
     }
 
     pub fn kind(&self) -> BackendKind {
@@ -131,6 +149,7 @@ impl Backend {
             Backend::Cpu {
                 model: Model::Flushed,
             } => BackendKind::CpuFtz,
+            #[cfg(feature = "gpu")]
             Backend::Gpu(_) => BackendKind::Gpu,
         }
     }
@@ -140,6 +159,7 @@ impl Backend {
         Ran {
             kind: self.kind(),
             adapter: match self {
+                #[cfg(feature = "gpu")]
                 Backend::Gpu(g) => Some(g.describe()),
                 Backend::Cpu { .. } => None,
             },
@@ -153,7 +173,11 @@ impl Backend {
 
     /// Whether walks here report a kernel time (a GPU with timestamp queries).
     pub fn measures_kernels(&self) -> bool {
-        matches!(self, Backend::Gpu(g) if g.measures_kernels())
+        match self {
+            #[cfg(feature = "gpu")]
+            Backend::Gpu(g) => g.measures_kernels(),
+            Backend::Cpu { .. } => false,
+        }
     }
 
     /// Where `method` runs on this backend: here, or on the plain CPU for its family's reference.
@@ -173,6 +197,7 @@ impl Backend {
                 let hits = method.hits(*model);
                 Ok(map_all(cases, |c| hits(c.tris(), &c.ray())))
             }
+            #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 // Every case's triangles in one list, one (ray, triangle) pair each.
                 let tris: Vec<crate::tet::Tri> = cases
@@ -223,6 +248,7 @@ impl Backend {
                     .collect())
             }
             // A GPU thread answers one ray (each packet's terms computed in every thread).
+            #[cfg(feature = "gpu")]
             Backend::Gpu(g) => Ok(g.nearest_triangles(method, tris, rays)?.items),
         }
     }
@@ -254,6 +280,7 @@ impl Backend {
                 });
                 Ok((faces, None))
             }
+            #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let prepared: Vec<_> = cases.iter().map(normalized).collect();
                 let input: Vec<_> = cases
@@ -295,6 +322,7 @@ impl Backend {
         };
         match self.for_method(method) {
             Backend::Cpu { model } => Ok(cpu(*model)),
+            #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let input: Vec<gpu::shader::Case> = cases
                     .iter()
@@ -309,9 +337,12 @@ impl Backend {
     }
 
     /// Make an octree and its triangles ready to walk here (a GPU gets them uploaded, once).
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
     pub fn octree(&self, octree: &Octree, tris: &[crate::tet::Tri]) -> OctreeOn {
         OctreeOn {
+            #[cfg(feature = "gpu")]
             gpu: match self {
+                #[cfg(feature = "gpu")]
                 Backend::Gpu(g) => Some(g.upload_octree(octree, tris)),
                 Backend::Cpu { .. } => None,
             },
@@ -322,6 +353,7 @@ impl Backend {
     /// here as `on` ([`Backend::octree`]), each leaf's triangles tested with `tri`; the reference runs
     /// on the CPU whatever the backend. On a GPU the entry cell comes from the cube map on the CPU, the
     /// loop runs in WGSL.
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
     #[allow(clippy::too_many_arguments)]
     pub fn octree_walks(
         &self,
@@ -339,6 +371,7 @@ impl Backend {
         };
         match self.for_method(method) {
             Backend::Cpu { model } => Ok(cpu(*model)),
+            #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let asked: Vec<(Ray, u32)> = rays
@@ -365,7 +398,9 @@ impl Backend {
     pub fn mesh<'a>(&self, mesh: &'a Mesh) -> MeshOn<'a> {
         MeshOn {
             mesh,
+            #[cfg(feature = "gpu")]
             gpu: match self {
+                #[cfg(feature = "gpu")]
                 Backend::Gpu(g) => Some(g.upload(mesh)),
                 Backend::Cpu { .. } => None,
             },
@@ -377,7 +412,9 @@ impl Backend {
         LayoutOn {
             layout,
             points,
+            #[cfg(feature = "gpu")]
             gpu: match self {
+                #[cfg(feature = "gpu")]
                 Backend::Gpu(g) => Some(g.upload_layout(layout, points)),
                 Backend::Cpu { .. } => None,
             },
@@ -406,6 +443,7 @@ impl Backend {
                     kernel_seconds: None,
                 })
             }
+            #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let uploaded = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 if uploaded.tetrahedra != on.layout.tet32.len() {
@@ -464,6 +502,7 @@ impl Backend {
                     flagged: 0,
                 })
             }
+            #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 if uploaded.tetrahedra != mesh.mesh.tets.len() {

@@ -73,7 +73,7 @@ pub fn runs_on<'a>(methods: &[&'a Method], backend: &Backend) -> Vec<&'a Method>
     methods
         .iter()
         .copied()
-        .filter(|m| !matches!(backend, Backend::Gpu(_)) || matches!(m.info.gpu, Gpu::Wgsl(_)))
+        .filter(|m| backend.kind() != BackendKind::Gpu || matches!(m.info.gpu, Gpu::Wgsl(_)))
         .collect()
 }
 

@@ -202,8 +202,10 @@ pub fn octree_walk_find(tris: &[Tri], ray: &Ray) -> Result<Option<Found<OctreeCe
     let cap = crate::walk::octree::default_max_steps(&o);
     for (m, _) in held::<OctreeCells>()? {
         for b in CPU_BACKENDS {
-            let Backend::Cpu { model } = b else { continue };
-            let (w, steps) = m.walk_traced(*model)(&o, tris, hit, ray, cap);
+            let Some(model) = b.kind().model() else {
+                continue;
+            };
+            let (w, steps) = m.walk_traced(model)(&o, tris, hit, ray, cap);
             for (cell, exit) in steps {
                 let [lo, hi] = o.boxes[cell as usize];
                 let case = BoxCase {

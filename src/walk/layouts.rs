@@ -54,7 +54,7 @@ pub struct LayoutOutcome {
 
 impl LayoutOutcome {
     /// The outcome with faces named by index in the plain mesh's tetrahedra, as [`super::walk`] gives it.
-    pub fn to_outcome(&self, mesh: &Mesh) -> super::Outcome {
+    pub fn to_outcome(self, mesh: &Mesh) -> super::Outcome {
         let x = match self.kind {
             OutcomeKind::Hit | OutcomeKind::LeftMesh => mesh.tets[self.tet as usize]
                 .iter()
