@@ -231,7 +231,7 @@ fn scene_build_refuses_what_cannot_be_represented_and_leaves_nothing() {
 fn generators_refuse_what_would_underflow_or_leave_f32() {
     for family in ["well", "needle", "wedge"] {
         refused(
-            &["gen-cases", "--family", family, "--flatness", "1e-45"],
+            &["gen-cases", "--tet-shape", family, "--flatness", "1e-45"],
             &["--flatness 1e-45", "2^-126"],
         );
     }
@@ -273,7 +273,7 @@ fn generators_refuse_what_would_underflow_or_leave_f32() {
     let (code, out, err) = tetwalk(
         &[
             "gen-cases",
-            "--family",
+            "--tet-shape",
             "wedge",
             "--flatness",
             "1.2e-38",

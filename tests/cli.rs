@@ -156,7 +156,7 @@ fn generated_cases_run_through_exit_and_methods_are_listed() {
     let (code, cases, _) = tetwalk(
         &[
             "gen-cases",
-            "--family",
+            "--tet-shape",
             "sliver",
             "--rays",
             "edge",
@@ -667,6 +667,7 @@ fn judge_gives_answers_from_anywhere_the_verdicts_of_exit_and_hit() {
     for line in tetwalk(
         &[
             "gen-cases",
+            // The older name of --tet-shape, still read.
             "--family",
             "sliver",
             "--rays",

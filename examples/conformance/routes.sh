@@ -9,7 +9,7 @@ out=$(mktemp -d)
 cargo test --release -p tetwalk-conformance-example
 
 # Route 2: a WGSL function (user_prepare, user_exit), spliced into the GPU shader as method `user`.
-cargo run --release -- gen-cases --family needle --rays near-edge --flatness 0.001 --count 1000 > "$out/cases.jsonl"
+cargo run --release -- gen-cases --tet-shape needle --rays near-edge --flatness 0.001 --count 1000 > "$out/cases.jsonl"
 cargo run --release -- exit --wgsl examples/conformance/wgsl/my_plucker.wgsl --backend gpu --method plucker "$out/cases.jsonl" > "$out/verdicts.jsonl"
 cargo run --release -- stress --wgsl examples/conformance/wgsl/my_plucker.wgsl --backend gpu --methods plucker --cases 2000
 cargo run --release -- walk --mesh kuhn --wgsl examples/conformance/wgsl/my_plucker.wgsl --backend gpu --methods plucker

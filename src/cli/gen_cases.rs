@@ -31,9 +31,9 @@ pub enum Rays {
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The tetrahedron family.
-    #[arg(long, value_parser = choice::<TetShape>(), default_value = "well")]
-    family: TetShape,
+    /// The tetrahedron's shape (`--family` is an older name for it).
+    #[arg(long, alias = "family", value_parser = choice::<TetShape>(), default_value = "well")]
+    tet_shape: TetShape,
     /// How the ray meets the tetrahedron.
     #[arg(long, value_enum, default_value = "stab")]
     rays: Rays,
@@ -57,7 +57,7 @@ pub struct Args {
     with_entry: bool,
     /// Write ray–triangle cases for `tetwalk hit` instead: closed meshes of this shape (`tris` lines;
     /// the stress rows' generator), with `--aim`, `--place`, `--flatness` and `--ulps`.
-    #[arg(long, value_parser = choice::<MeshShape>(), conflicts_with_all = ["family", "rays", "offset", "with_entry"])]
+    #[arg(long, value_parser = choice::<MeshShape>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry"])]
     shape: Option<MeshShape>,
     /// With `--shape`: where the rays are aimed.
     #[arg(long, value_parser = choice::<TriAim>(), default_value = "edge", requires = "shape")]
@@ -72,7 +72,7 @@ pub struct Args {
 
 #[derive(serde::Serialize)]
 struct Generated {
-    family: TetShape,
+    tet_shape: TetShape,
     rays: Rays,
     flatness: f32,
     ulps: i32,
@@ -117,13 +117,13 @@ pub fn run(a: Args) -> Status {
         }
         let generated = match a.rays {
             Rays::Stab => {
-                let t = tets::tet(a.family, a.flatness, &mut r);
+                let t = tets::tet(a.tet_shape, a.flatness, &mut r);
                 Some((t, tets::stabbing_ray(&t, &mut r)))
             }
-            Rays::Edge => tets::through(a.family, a.flatness, Target::Edge, &mut r),
-            Rays::Vertex => tets::through(a.family, a.flatness, Target::Vertex, &mut r),
-            Rays::NearEdge => tets::near(a.family, a.flatness, Target::Edge, a.ulps, &mut r),
-            Rays::NearVertex => tets::near(a.family, a.flatness, Target::Vertex, a.ulps, &mut r),
+            Rays::Edge => tets::through(a.tet_shape, a.flatness, Target::Edge, &mut r),
+            Rays::Vertex => tets::through(a.tet_shape, a.flatness, Target::Vertex, &mut r),
+            Rays::NearEdge => tets::near(a.tet_shape, a.flatness, Target::Edge, a.ulps, &mut r),
+            Rays::NearVertex => tets::near(a.tet_shape, a.flatness, Target::Vertex, a.ulps, &mut r),
         };
         let Some((t, ray)) =
             generated.and_then(|(t, ray)| tets::translated(&t, &ray, Vec3::splat(a.offset)))
@@ -165,7 +165,7 @@ pub fn run(a: Args) -> Status {
         .into());
     }
     out.finish(&Generated {
-        family: a.family,
+        tet_shape: a.tet_shape,
         rays: a.rays,
         flatness: a.flatness,
         ulps: a.ulps,

@@ -60,9 +60,9 @@ pub struct Args {
     /// gpu side by side).
     #[command(flatten)]
     backend: BackendArg,
-    /// Predicate maps: the tetrahedron family.
-    #[arg(long, value_parser = choice::<TetShape>(), default_value = "well")]
-    family: TetShape,
+    /// Predicate maps: the tetrahedron's shape (`--family` is an older name for it).
+    #[arg(long, alias = "family", value_parser = choice::<TetShape>(), default_value = "well")]
+    tet_shape: TetShape,
     /// Predicate maps: what the ray goes exactly through.
     #[arg(long, value_parser = ["edge", "vertex"], default_value = "edge")]
     through: String,
@@ -144,8 +144,9 @@ pub fn run(a: Args) -> Status {
             } else {
                 Target::Vertex
             };
-            let (tet, ray) = tets::through(a.family, 1.0, target, &mut crate::scenes::rng(a.seed))
-                .ok_or("no case could be generated")?;
+            let (tet, ray) =
+                tets::through(a.tet_shape, 1.0, target, &mut crate::scenes::rng(a.seed))
+                    .ok_or("no case could be generated")?;
             let case = Case {
                 tet,
                 org: ray.org,

@@ -2,7 +2,6 @@
 
 use super::{BackendArg, JsonOut, Status, WgslArg, choice};
 use crate::backend::Backend;
-use crate::choice::Choice;
 use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
 use crate::methods::Model;
@@ -96,7 +95,7 @@ struct WalkReport {
     rays: usize,
     outside: usize,
     seed: u64,
-    backend: String,
+    backend: crate::backend::BackendKind,
     methods: Vec<Row>,
     /// With `--relabel all`.
     relabellings: Option<Vec<Relabelled>>,
@@ -183,7 +182,7 @@ pub fn run(a: Args) -> Status {
         rays: rays.len() - outside,
         outside,
         seed: a.seed,
-        backend: a.backend.backend.name().into(),
+        backend: a.backend.backend,
         methods: Vec::new(),
         relabellings: None,
     };
