@@ -1,6 +1,7 @@
 //! The backend seam: where a method's exit faces and walks are computed — the CPU in plain f32, the CPU
 //! as a GPU compiles it (fused multiply-adds, see [`crate::methods`]), the CPU as a GPU may compute
-//! (subnormals flushed to zero, [`crate::fpenv`]), or a GPU through wgpu. Every
+//! (subnormals flushed to zero, [`crate::fpenv`]), or a GPU through wgpu (with the `gpu` feature;
+//! without it, asking for the GPU is an error). Every
 //! command, the fuzz targets and the tests ask for answers here. The reference method runs on the CPU
 //! whatever the backend (it has no GPU version), and reports say so.
 
