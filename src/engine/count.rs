@@ -7,10 +7,10 @@
 
 use crate::backend::{Backend, Ran};
 use crate::family::Family;
-use crate::family::count::through_value;
 use crate::family::count::{
     CountError, CountRow, Counted, Counts, Scene, first_difference, inconsistent,
 };
+use crate::family::count::{Prepared, through_value};
 use crate::family::wrong::{Seen, WrongRay};
 use crate::mesh::Mesh;
 use crate::registry::Named;
@@ -169,7 +169,13 @@ pub fn run<F: Counted>(
         if ready.as_ref().is_none_or(|r| !F::serves(r, located)) {
             ready = Some(F::prepare(&scene, &s.family, backend, located)?);
         }
-        let r = ready.as_ref().expect("made ready above");
+        let at = Prepared::<F> {
+            backend,
+            scene: &scene,
+            ready: ready.as_ref().expect("made ready above"),
+            settings: &s.family,
+            located,
+        };
         let rays = s.views.rays(&cam);
         rays_counted += rays.len() as u64;
         let t0 = Instant::now();
@@ -184,7 +190,7 @@ pub fn run<F: Counted>(
             .collect();
         if !picked.is_empty() {
             let picked_rays: Vec<Ray> = picked.iter().map(|&i| rays[i]).collect();
-            let exact = F::audit(backend, &scene, r, &s.family, &picked_rays, located)?;
+            let exact = F::audit(&at, &picked_rays)?;
             audits += picked.len() as u64;
             for (&i, e) in picked.iter().zip(&exact) {
                 if !F::agrees(mesh, &rays[i], e, &walked[i]) {
@@ -204,7 +210,7 @@ pub fn run<F: Counted>(
             // Given walks were timed elsewhere, if at all: their speed is not measured here.
             let (walks, seconds) = match a {
                 Answerer::Method(m) => {
-                    let w = F::answer_rays(backend, m, &scene, r, &s.family, &rays, located)?;
+                    let w = F::answer_rays(&at, m, &rays)?;
                     (w, t0.elapsed().as_secs_f64())
                 }
                 Answerer::Given(_, given) => (given(v, &rays)?, 0.0),

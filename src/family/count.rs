@@ -80,6 +80,16 @@ pub struct Scene<'a> {
     pub views: Views,
 }
 
+/// What a count's methods answer one view's rays with: the backend, the scene made ready for the
+/// view's camera region, the family's settings, and the camera's tetrahedron.
+pub struct Prepared<'a, C: Counted> {
+    pub backend: &'a Backend,
+    pub scene: &'a Scene<'a>,
+    pub ready: &'a C::Ready,
+    pub settings: &'a C::CountSettings,
+    pub located: u32,
+}
+
 /// A family whose methods answer a scene's primary rays.
 pub trait Counted: Family {
     /// What the family's count sets beyond the scene, views, reference, audit and shard.
@@ -130,28 +140,17 @@ pub trait Counted: Family {
     /// What the report says of the scene, as the last view made it ready.
     fn facts(scene: &Scene, ready: Option<&Self::Ready>) -> Self::SceneFacts;
 
-    /// `m`'s answer to each ray of a view (its camera in tetrahedron `located`), in pixel order: each
-    /// a walk's ending and the steps it took (tetrahedra or cells visited, or none).
+    /// `m`'s answer to each ray of a view, in pixel order: each a walk's ending and the steps it took
+    /// (tetrahedra or cells visited, or none).
     fn answer_rays(
-        backend: &Backend,
+        at: &Prepared<Self>,
         m: &Self::Method,
-        scene: &Scene,
-        ready: &Self::Ready,
-        s: &Self::CountSettings,
         rays: &[Ray],
-        located: u32,
     ) -> Result<Vec<Walk>, CountError>;
 
-    /// The family's exact answer ([`Counted::EXACT`]) to each audited ray, which must agree with the
-    /// reference walk ([`Counted::agrees`]).
-    fn audit(
-        backend: &Backend,
-        scene: &Scene,
-        ready: &Self::Ready,
-        s: &Self::CountSettings,
-        rays: &[Ray],
-        located: u32,
-    ) -> Result<Vec<Walk>, CountError>;
+    /// The family's exact answer ([`Counted::EXACT`]) to each audited ray of a view, which must agree
+    /// with the reference walk ([`Counted::agrees`]).
+    fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError>;
 
     /// Whether the exact answer `exact` to `ray` agrees with the reference walk's: by default it ends
     /// on the same exact point ([`same_result`]).

@@ -1,7 +1,7 @@
 //! An octree cell's exit (seed 001): a closed axis-aligned box and a ray; the answer the face the ray
 //! leaves through and the quarter of it (the neighbour among four), judged against every exact one.
 
-use super::count::{CountError, Counted, Counts, Scene, per_image};
+use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Summed, Verdict, given_fields};
 use crate::backend::{Backend, BackendError, OctreeOn};
@@ -434,29 +434,22 @@ impl Counted for OctreeCells {
     }
 
     fn answer_rays(
-        backend: &Backend,
+        at: &Prepared<Self>,
         m: &OctreeMethod,
-        _: &Scene,
-        ready: &Built,
-        s: &OctreeCountSettings,
         rays: &[Ray],
-        _: u32,
     ) -> Result<Vec<Walk>, CountError> {
-        let tri = crate::family::by_name::<crate::family::Triangle>(&s.triangle_method)?;
+        let tri = crate::family::by_name::<crate::family::Triangle>(&at.settings.triangle_method)?;
+        let ready = at.ready;
         let (tris, from) = &ready.triangles;
         let cap = crate::walk::octree::default_max_steps(&ready.octree);
-        let ends = backend.octree_walks(m, tri, &ready.octree, tris, &ready.on, rays, cap)?;
+        let ends = at
+            .backend
+            .octree_walks(m, tri, &ready.octree, tris, &ready.on, rays, cap)?;
         Ok(ends.iter().map(|w| walked(w, from)).collect())
     }
 
-    fn audit(
-        _: &Backend,
-        _: &Scene,
-        ready: &Built,
-        _: &OctreeCountSettings,
-        rays: &[Ray],
-        _: u32,
-    ) -> Result<Vec<Walk>, CountError> {
+    fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {
+        let ready = at.ready;
         let (tris, from) = &ready.triangles;
         let cap = crate::walk::octree::default_max_steps(&ready.octree);
         Ok(rays

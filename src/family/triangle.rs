@@ -1,7 +1,7 @@
 //! A ray and triangles (seed 004's question): one triangle, or a closed mesh whose first hit is asked;
 //! the answer every hit the method reports (its nearest judged, its misses judged for leaks).
 
-use super::count::{CountError, Counted, Counts, Scene, per_image};
+use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Summed, Verdict, given_fields};
 use crate::backend::{Backend, BackendError};
@@ -524,18 +524,17 @@ impl Counted for Triangle {
 
     /// Every triangle tested per ray, the rays taken in packets of `packet × packet` pixels.
     fn answer_rays(
-        backend: &Backend,
+        at: &Prepared<Self>,
         m: &TriangleMethod,
-        scene: &Scene,
-        ready: &Facing,
-        s: &TriCountSettings,
         rays: &[Ray],
-        _: u32,
     ) -> Result<Vec<Walk>, CountError> {
-        let order = packet_order(scene.views.width, scene.views.height, s.packet);
+        let (views, packet) = (at.scene.views, at.settings.packet);
+        let order = packet_order(views.width, views.height, packet);
         let packed: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
-        let (tris, from) = &ready.triangles;
-        let hits = backend.trace_triangles(m, tris, &packed, (s.packet * s.packet) as usize)?;
+        let (tris, from) = &at.ready.triangles;
+        let hits = at
+            .backend
+            .trace_triangles(m, tris, &packed, (packet * packet) as usize)?;
         let mut out = vec![ending(None, from); rays.len()];
         for (&i, hit) in order.iter().zip(&hits) {
             out[i] = ending(hit.map(|(t, _)| t), from);
@@ -543,15 +542,8 @@ impl Counted for Triangle {
         Ok(out)
     }
 
-    fn audit(
-        _: &Backend,
-        _: &Scene,
-        ready: &Facing,
-        _: &TriCountSettings,
-        rays: &[Ray],
-        _: u32,
-    ) -> Result<Vec<Walk>, CountError> {
-        let (tris, from) = &ready.triangles;
+    fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {
+        let (tris, from) = &at.ready.triangles;
         Ok(rays
             .iter()
             .map(|r| {

@@ -2,7 +2,7 @@
 //! from it): an exit-face method steps from tetrahedron to tetrahedron; the answer is how the walk
 //! ended, judged against the exact walk, which is itself checked against the brute-force first hit.
 
-use super::count::{CountError, Counted, Counts, Scene, first_difference, inconsistent};
+use super::count::{CountError, Counted, Counts, Prepared, Scene, first_difference, inconsistent};
 use super::wrong::Class;
 use super::{Family, Summed, Verdict};
 use crate::backend::{Backend, BackendError, CPU};
@@ -513,28 +513,16 @@ impl Counted for Walks {
         }
     }
 
-    fn answer_rays(
-        backend: &Backend,
-        m: &Method,
-        scene: &Scene,
-        _: &(),
-        _: &(),
-        rays: &[Ray],
-        located: u32,
-    ) -> Result<Vec<Walk>, CountError> {
-        Ok(backend.walks(m, &scene.on, rays, located, scene.max_steps)?)
+    fn answer_rays(at: &Prepared<Self>, m: &Method, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {
+        let scene = at.scene;
+        Ok(at
+            .backend
+            .walks(m, &scene.on, rays, at.located, scene.max_steps)?)
     }
 
     /// The full `exact` walk, which the reference (`certified`) follows step for step.
-    fn audit(
-        backend: &Backend,
-        scene: &Scene,
-        _: &(),
-        _: &(),
-        rays: &[Ray],
-        located: u32,
-    ) -> Result<Vec<Walk>, CountError> {
-        Self::answer_rays(backend, reference(), scene, &(), &(), rays, located)
+    fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {
+        Self::answer_rays(at, reference(), rays)
     }
 
     /// The same walk, step for step.

@@ -174,6 +174,26 @@ impl<'a> Entry<'a> {
     }
 }
 
+/// One dispatch's work: the entry point; its items, item `i` made by `input.1(i)` and uploaded to
+/// binding `input.0`; `limit` ([`Params::limit`]); the (binding, buffer) pairs made beforehand; and
+/// the binding read back.
+struct Job<'a, I> {
+    entry: Entry<'a>,
+    count: usize,
+    limit: u32,
+    input: (u32, &'a (dyn Fn(usize) -> I + Sync)),
+    bound: &'a [(u32, &'a wgpu::Buffer)],
+    out_at: u32,
+}
+
+impl<I> Clone for Job<'_, I> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<I> Copy for Job<'_, I> {}
+
 /// The override constant choosing `m` ([`shader::place`]), or why `m` has no GPU version.
 fn chooser<T: Named>(
     constant: &'static str,
@@ -408,19 +428,21 @@ impl Gpu {
         b
     }
 
-    /// Run `entry` over `count` (at least one) items in one dispatch: item `i` of the input,
-    /// `input(i)`, is made in parallel and uploaded to binding `input_at`, `mesh` lists (binding,
-    /// buffer) made beforehand, and the items of binding `out_at` are read back in parallel straight
-    /// from the mapped buffer, with the kernel time where the adapter measures it.
+    /// Run `job` (at least one item) in one dispatch: its items are made in parallel and uploaded,
+    /// and the items of its output binding are read back in parallel straight from the mapped
+    /// buffer, with the kernel time where the adapter measures it.
     fn dispatch_once<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
-        entry: Entry,
-        count: usize,
-        max_steps: u32,
-        (input_at, input): (u32, &(dyn Fn(usize) -> I + Sync)),
-        mesh: &[(u32, &wgpu::Buffer)],
-        out_at: u32,
+        job: Job<I>,
     ) -> Result<Dispatched<T>, GpuError> {
+        let Job {
+            entry,
+            count,
+            limit,
+            input: (input_at, input),
+            bound,
+            out_at,
+        } = job;
         let pipeline = self.pipeline(entry)?;
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let (in_size, out_size) = (std::mem::size_of::<I>(), std::mem::size_of::<T>());
@@ -452,7 +474,7 @@ impl Gpu {
         );
         let params = Params {
             count: count as u32,
-            limit: max_steps,
+            limit,
             pad0: 0,
             pad1: 0,
         };
@@ -497,7 +519,7 @@ impl Gpu {
                 resource: out.as_entire_binding(),
             },
         ];
-        entries.extend(mesh.iter().map(|(b, buf)| wgpu::BindGroupEntry {
+        entries.extend(bound.iter().map(|(b, buf)| wgpu::BindGroupEntry {
             binding: *b,
             resource: buf.as_entire_binding(),
         }));
@@ -587,14 +609,9 @@ impl Gpu {
     /// the adapter's largest binding holds), their outputs in order, their kernel times summed.
     fn dispatch<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
-        entry: Entry,
-        count: usize,
-        max_steps: u32,
-        (input_at, input): (u32, &(dyn Fn(usize) -> I + Sync)),
-        mesh: &[(u32, &wgpu::Buffer)],
-        out_at: u32,
+        job: Job<I>,
     ) -> Result<Dispatched<T>, GpuError> {
-        self.pipeline(entry)?;
+        self.pipeline(job.entry)?;
         let per = self
             .max_items(std::mem::size_of::<I>())
             .min(self.max_items(std::mem::size_of::<T>()))
@@ -603,10 +620,14 @@ impl Gpu {
             items: Vec::new(),
             kernel_seconds: self.measures_kernels().then_some(0.0),
         };
-        for first in (0..count).step_by(per) {
-            let n = per.min(count - first);
+        let (input_at, input) = job.input;
+        for first in (0..job.count).step_by(per) {
             let shifted = |i: usize| input(first + i);
-            let d = self.dispatch_once(entry, n, max_steps, (input_at, &shifted), mesh, out_at)?;
+            let d = self.dispatch_once(Job {
+                count: per.min(job.count - first),
+                input: (input_at, &shifted),
+                ..job
+            })?;
             out.kernel_seconds = out.kernel_seconds.zip(d.kernel_seconds).map(|(a, b)| a + b);
             if out.items.is_empty() {
                 out.items = d.items;
@@ -625,14 +646,14 @@ impl Gpu {
         cases: &[shader::Case],
     ) -> Result<Dispatched<i32>, GpuError> {
         let [exit, _] = Self::entry_points(method)?;
-        self.dispatch::<_, i32>(
-            Entry::plain(&exit),
-            cases.len(),
-            0,
-            (CASES, &|i| cases[i]),
-            &[],
-            FACES,
-        )
+        self.dispatch(Job {
+            entry: Entry::plain(&exit),
+            count: cases.len(),
+            limit: 0,
+            input: (CASES, &|i| cases[i]),
+            bound: &[],
+            out_at: FACES,
+        })
     }
 
     /// The exit face and quarter of each octree cell case (`v0`, `v1` the corners) with `method`:
@@ -647,9 +668,15 @@ impl Gpu {
             name: shader::CELL_EXIT,
             constants: &constants,
         };
-        Ok(self
-            .dispatch::<_, i32>(entry, cases.len(), 0, (CASES, &|i| cases[i]), &[], FACES)?
-            .items)
+        let job = Job {
+            entry,
+            count: cases.len(),
+            limit: 0,
+            input: (CASES, &|i| cases[i]),
+            bound: &[],
+            out_at: FACES,
+        };
+        Ok(self.dispatch(job)?.items)
     }
 
     /// Upload an octree and its triangles for [`Gpu::octree_walks`].
@@ -689,8 +716,14 @@ impl Gpu {
             (OCTREE_TRIS, &o.triangles),
             (POINTS, &o.points),
         ];
-        let out: Dispatched<Ending> =
-            self.dispatch(entry, rays.len(), max_steps, (RAYS, &ray), &bound, ENDINGS)?;
+        let out: Dispatched<Ending> = self.dispatch(Job {
+            entry,
+            count: rays.len(),
+            limit: max_steps,
+            input: (RAYS, &ray),
+            bound: &bound,
+            out_at: ENDINGS,
+        })?;
         if let Some(bad) = out
             .items
             .iter()
@@ -749,14 +782,14 @@ impl Gpu {
         let [_, walk] = Self::entry_points(method)?;
         let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
         let mesh = [(CELLS, &mesh.cells), (FACEINFO, &mesh.info)];
-        let out: Dispatched<Ending> = self.dispatch(
-            Entry::plain(&walk),
-            rays.len(),
-            max_steps,
-            (RAYS, &ray),
-            &mesh,
-            ENDINGS,
-        )?;
+        let out: Dispatched<Ending> = self.dispatch(Job {
+            entry: Entry::plain(&walk),
+            count: rays.len(),
+            limit: max_steps,
+            input: (RAYS, &ray),
+            bound: &mesh,
+            out_at: ENDINGS,
+        })?;
         if let Some(bad) = out
             .items
             .par_iter()
@@ -801,14 +834,14 @@ impl Gpu {
         let [hit, _] = Self::triangle_entry_points(method)?;
         let points = self.triangle_points(tris);
         let ray = |i: usize| shader::WalkRay::new(&pairs[i].0, pairs[i].1);
-        let out: Dispatched<Ending> = self.dispatch(
-            Entry::plain(&hit),
-            pairs.len(),
-            0,
-            (RAYS, &ray),
-            &[(POINTS, &points)],
-            ENDINGS,
-        )?;
+        let out: Dispatched<Ending> = self.dispatch(Job {
+            entry: Entry::plain(&hit),
+            count: pairs.len(),
+            limit: 0,
+            input: (RAYS, &ray),
+            bound: &[(POINTS, &points)],
+            out_at: ENDINGS,
+        })?;
         out.items
             .iter()
             .map(|e| Ok(e.triangle_hit()?.map(|(_, t)| t)))
@@ -825,14 +858,14 @@ impl Gpu {
         let [_, nearest] = Self::triangle_entry_points(method)?;
         let points = self.triangle_points(tris);
         let ray = |i: usize| shader::WalkRay::new(&rays[i], 0);
-        let out: Dispatched<Ending> = self.dispatch(
-            Entry::plain(&nearest),
-            rays.len(),
-            tris.len() as u32,
-            (RAYS, &ray),
-            &[(POINTS, &points)],
-            ENDINGS,
-        )?;
+        let out: Dispatched<Ending> = self.dispatch(Job {
+            entry: Entry::plain(&nearest),
+            count: rays.len(),
+            limit: tris.len() as u32,
+            input: (RAYS, &ray),
+            bound: &[(POINTS, &points)],
+            out_at: ENDINGS,
+        })?;
         Ok(Dispatched {
             items: out
                 .items
@@ -897,14 +930,14 @@ impl Gpu {
             }
         };
         let mesh = [(LAYOUT_WORDS, words), (POINTS, &layout.points)];
-        self.dispatch(
-            Entry::plain(&entry),
-            rays.len(),
-            max_steps,
-            (LAYOUT_RAYS, &ray),
-            &mesh,
-            ENDINGS,
-        )
+        self.dispatch(Job {
+            entry: Entry::plain(&entry),
+            count: rays.len(),
+            limit: max_steps,
+            input: (LAYOUT_RAYS, &ray),
+            bound: &mesh,
+            out_at: ENDINGS,
+        })
     }
 }
 
