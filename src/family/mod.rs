@@ -4,8 +4,9 @@
 //! an answer and the exact truth are, how a verdict is reached, how a backend answers a batch, its
 //! stress rows and their seeding, and its claims; stress, campaigns, found cases and replay, the fuzz
 //! targets' policy, the conformance kit, counts and the command line are written once, generic over
-//! [`Family`] (`crate::engine`, `crate::kit`). A new family is a file here, a line in [`Kind`] and [`with_family!`],
-//! its registry rows and its report's formatting.
+//! [`Family`] (`crate::engine`, `crate::kit`). A new family is a file here, a line in [`Kind`] and
+//! [`with_family!`], its registry rows, its report's formatting and the `stress` flags that choose its
+//! rows (`src/cli/stress.rs`).
 
 pub mod count;
 pub mod exit_face;
