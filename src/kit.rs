@@ -32,13 +32,15 @@
 //! The method's family is run group by group — every stress row of `tetwalk stress`, then a property
 //! campaign of random inputs through the fuzz targets' generators (an exit-face method also walks the
 //! lattice-tie scenes, the stress rows of walks) — and the first group whose failures exceed what
-//! [`Accept`] allows stops the run with a [`Failed`] report: the group, the first failing case
-//! written out exactly (the case format `tetwalk exit`, `hit` and `judge` read, and the found-case
-//! line of `corpora/found/`), the method's answer and the right ones. `examples/conformance/` is a
+//! [`Accept`] allows stops the run with a [`Failed`] report: the group, its first failing case shrunk
+//! to the simplest one the method still fails the same way and written out exactly (the case format
+//! `tetwalk exit`, `hit` and `judge` read, and the found-case line of `corpora/found/`), the case as
+//! found, the method's answer and the right ones. `examples/conformance/` is a
 //! complete user crate; it builds with `default-features = false`.
 
 use crate::backend::{Backend, CPU, CPU_FMA};
 use crate::engine::found::Found;
+use crate::engine::shrink;
 use crate::engine::stress::{StressSettings, judge, row_cases};
 use crate::family::{self, ExitFace, Family, OctreeCells, Triangle, Verdict, Walks};
 use crate::methods::triangle::HitMethod;
@@ -135,8 +137,11 @@ pub struct Failed {
     pub group: String,
     pub judged: u64,
     pub failures: u64,
-    /// The failing case alone, one line of the case format (`tetwalk exit`, `hit` and `judge` read it).
+    /// The failing case alone, shrunk (`tetwalk shrink`: the simplest case the method still fails the
+    /// same way), one line of the case format (`tetwalk exit`, `hit` and `judge` read it).
     pub case: String,
+    /// The case as the group first found it failing, before it was shrunk.
+    pub original: String,
     /// The failure as a found case (`corpora/found/`'s format; `tetwalk replay --found` reads it).
     pub found: String,
     /// What the method answered, in words, and where it ran.
@@ -169,6 +174,7 @@ impl fmt::Display for Failed {
             per_million(self.failures, self.judged)
         )?;
         writeln!(f, "  case:     {}", self.case)?;
+        writeln!(f, "  original: {}", self.original)?;
         writeln!(f, "  answered: {}", self.answered)?;
         writeln!(f, "  right:    {}", self.right)?;
         write!(f, "  found:    {}", self.found)
@@ -269,10 +275,7 @@ impl<F: Family> Tally<F> {
         self.failures += 1;
         if self.first.is_none() {
             let failure = crate::engine::found::Failure::of(m, on, *answer);
-            self.first = Some(Found {
-                case: *case,
-                failure: Some(failure),
-            });
+            self.first = Some(Found::of(*case, failure));
         }
     }
 
@@ -310,6 +313,9 @@ fn failed<F: Family>(
     failures: u64,
     found: Found<F>,
 ) -> Failed {
+    let original = found.case_line();
+    let found = shrink::shrink(m, backend(s), &found.case, &[], shrink::CHECKS)
+        .map_or(found.clone(), |x| shrink::shrunk(&found, &x));
     let f = found
         .failure
         .as_ref()
@@ -330,6 +336,7 @@ fn failed<F: Family>(
         judged,
         failures,
         case: found.case_line(),
+        original,
         found: found.to_json(),
         answered: format!(
             "{} (backend {})",

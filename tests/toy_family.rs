@@ -315,8 +315,8 @@ fn a_toy_family_gets_stress_tables_and_campaigns() {
     assert_eq!(json["rows"][1]["tallies"][1]["method"], "flushed");
 }
 
-/// A failure filed as a found case reads back, replays with its recorded answer, and notices a
-/// changed one; the claim-holding method is filed beside it only where it fails too.
+/// A failure filed as a found case reads back, replays with its recorded answer, notices a changed
+/// one, and shrinks; the claim-holding method is filed beside it only where it fails too.
 #[test]
 fn a_toy_family_gets_found_cases_and_replay() {
     let (cases, _) = stress::row_cases(
@@ -328,10 +328,7 @@ fn a_toy_family_gets_found_cases_and_replay() {
     let batch: Vec<Segment> = cases.iter().map(|(c, _)| *c).collect();
     let held = [(&METHODS[1], tetwalk::engine::found::Hold::Every)];
     let (i, failure) = check::<Segments>(&batch, &held, &[&CPU]).unwrap().unwrap();
-    let found = Found {
-        case: batch[i],
-        failure: Some(failure),
-    };
+    let found = Found::of(batch[i], failure);
     let line = found.to_json();
     assert!(
         line.contains("\"segment\"") && line.contains("\"kind\":\"no_exit_face\""),
@@ -349,6 +346,13 @@ fn a_toy_family_gets_found_cases_and_replay() {
     changed.failure.as_mut().unwrap().answer = Some(0);
     let changed = Found::<Segments>::parse(&changed.to_json()).unwrap();
     assert_ne!(replay(&changed).unwrap(), Replay::Holds);
+    // Shrunk through the default numbers (the ray's): still failing, the original kept.
+    let (shrunk, _) = tetwalk::engine::shrink::shrink_found(&read, 1000)
+        .unwrap()
+        .unwrap();
+    assert_eq!(shrunk.original, Some(read.case));
+    let shrunk = Found::<Segments>::parse(&shrunk.to_json()).unwrap();
+    assert_eq!(replay(&shrunk).unwrap(), Replay::Holds);
 }
 
 /// The conformance kit judges a method of the toy family: every stress row, then its property

@@ -1,8 +1,10 @@
-//! `tetwalk fuzz-import`: turn fuzzer artifacts into readable found cases under `corpora/found/`.
+//! `tetwalk fuzz-import`: turn fuzzer artifacts into readable found cases under `corpora/found/`,
+//! each shrunk (`crate::engine::shrink`) with the case as found kept beside it.
 
 use super::{JsonOut, Status};
 use crate::engine::found::Found;
 use crate::engine::fuzz::{find, held, octree_walk_find};
+use crate::engine::shrink::{CHECKS, shrink_found};
 use crate::family::{Family, Kind, OctreeCells};
 use crate::registry::Named;
 use std::path::{Path, PathBuf};
@@ -92,6 +94,11 @@ fn import<F: Family>(
         let name = path.file_stem().and_then(|n| n.to_str()).unwrap_or("case");
         let stem = name.rsplit('-').next().unwrap_or(name);
         for record in found.with_claim_failures()? {
+            // Filed shrunk, the case as found beside it (as found where its backend is not here).
+            let record = match shrink_found(&record, CHECKS)? {
+                Ok((shrunk, _)) => shrunk,
+                Err(_) => record,
+            };
             let f = record
                 .failure
                 .as_ref()

@@ -15,6 +15,7 @@ mod paper;
 mod render;
 mod replay;
 mod scene;
+mod shrink;
 mod stress;
 mod walk;
 
@@ -78,6 +79,9 @@ enum Command {
     Render(render::Args),
     /// Walk the wrong rays of a `count --dump` again: does each still fail the same way?
     Replay(replay::Args),
+    /// Shrink found cases (and a count's dumped wrong rays) to the simplest case the same method
+    /// still fails the same way, each with a line that reproduces it.
+    Shrink(shrink::Args),
     /// The GPU adapters wgpu finds.
     GpuInfo {
         /// Also write the list as JSON here.
@@ -115,6 +119,7 @@ pub fn main() -> ExitCode {
         Command::CheckFilters(a) => check_filters::run(a),
         Command::Render(a) => render::run(a),
         Command::Replay(a) => replay::run(a),
+        Command::Shrink(a) => shrink::run(a),
         Command::GpuInfo { json } => gpu_info(json),
     };
     result.unwrap_or_else(|e| {

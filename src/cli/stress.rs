@@ -5,6 +5,7 @@ use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg, choice};
 use crate::backend::BackendKind;
 use crate::choice::Choice;
 use crate::engine::found::Found;
+use crate::engine::shrink;
 use crate::engine::standing::Standings;
 use crate::engine::stress::{self, StressSettings, Wrong};
 use crate::family::exit_face::{ExitRows, TetRow};
@@ -312,10 +313,10 @@ impl Filing {
     fn file<F: Family>(&mut self, w: Wrong<F>) {
         self.seen += 1;
         let row = F::row_name(w.row);
-        let found = Found::<F> {
-            case: *w.case,
-            failure: Some(crate::engine::found::Failure::of(w.method, w.on, *w.answer)),
-        };
+        let found = Found::<F>::of(
+            *w.case,
+            crate::engine::found::Failure::of(w.method, w.on, *w.answer),
+        );
         let kind = F::kind(w.answer).wrong_key();
         let key = (
             crate::registry::Named::name(w.method).to_string(),
@@ -336,11 +337,25 @@ impl Filing {
                 return;
             }
         };
-        for r in records {
+        for (i, r) in records.into_iter().enumerate() {
+            // Named by the case as found, so that it is filed once; written shrunk, the original
+            // beside it.
             let file = self.path(&row, &r);
             if file.exists() {
                 continue;
             }
+            let shrunk = if i == 0 {
+                shrink::shrink_on(&r, w.method, w.on, shrink::CHECKS).map(|(s, _)| s)
+            } else {
+                shrink::shrink_found(&r, shrink::CHECKS).map(|s| s.map_or(r.clone(), |(s, _)| s))
+            };
+            let r = match shrunk {
+                Ok(s) => s,
+                Err(e) => {
+                    self.error = Some(e.to_string());
+                    return;
+                }
+            };
             let written = file
                 .parent()
                 .map_or(Ok(()), std::fs::create_dir_all)

@@ -63,6 +63,24 @@ impl<F: Family> Failure<F> {
     pub fn kind(&self) -> OutcomeKind {
         F::kind(&self.answer)
     }
+
+    /// Whether it can be run again on `b`: a GPU finding only on the adapter and driver it was found
+    /// on (another compiles the methods differently), or why not.
+    pub fn runs_on(&self, b: &Backend) -> Result<(), String> {
+        match (&self.adapter, b.ran().adapter) {
+            (Some(want), Some(here)) if *want != here => {
+                Err(format!("found on {want}; this GPU is {here}"))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// The backend it was found on, opened here, or why it cannot be.
+    pub fn backend_here(&self) -> Result<Backend, String> {
+        let b = Backend::open(self.backend).map_err(|e| e.to_string())?;
+        self.runs_on(&b)?;
+        Ok(b)
+    }
 }
 
 /// One line of the case format, with what failed on it when it is a found case.
@@ -70,12 +88,23 @@ impl<F: Family> Failure<F> {
 pub struct Found<F: Family> {
     pub case: F::Case,
     pub failure: Option<Failure<F>>,
+    /// The case as it was found, where this one is it shrunk (`crate::engine::shrink`).
+    pub original: Option<F::Case>,
 }
 
 /// The fields a found case adds to its case.
-const FAILURE_FIELDS: [&str; 5] = ["method", "backend", "adapter", "kind", "answer"];
+const FAILURE_FIELDS: [&str; 6] = ["method", "backend", "adapter", "kind", "answer", "original"];
 
 impl<F: Family> Found<F> {
+    /// A found case: `case` and what failed on it.
+    pub fn of(case: F::Case, failure: Failure<F>) -> Found<F> {
+        Found {
+            case,
+            failure: Some(failure),
+            original: None,
+        }
+    }
+
     /// Read a line: a case of this family, or a found case.
     pub fn parse(line: &str) -> Result<Found<F>, FoundError> {
         Self::from_object(object(line)?)
@@ -87,10 +116,33 @@ impl<F: Family> Found<F> {
         if let Some(k) = obj.keys().find(|k| !FAILURE_FIELDS.contains(&k.as_str())) {
             return Err(CaseError::UnknownField(k.clone()).into());
         }
+        let original = match obj.remove("original") {
+            None => None,
+            Some(Value::Object(mut o)) => {
+                let c = F::take_case(&mut o).map_err(|e| FoundError::Field {
+                    field: "original",
+                    why: e.to_string(),
+                })?;
+                if let Some(k) = o.keys().next() {
+                    return Err(FoundError::Field {
+                        field: "original",
+                        why: format!("holds '{k}', which is not a field of its case"),
+                    });
+                }
+                Some(c)
+            }
+            Some(v) => {
+                return Err(FoundError::Field {
+                    field: "original",
+                    why: format!("{v} is not the case as it was found"),
+                });
+            }
+        };
         if obj.is_empty() {
             return Ok(Found {
                 case,
                 failure: None,
+                original,
             });
         }
         let adapter = obj.remove("adapter");
@@ -149,6 +201,7 @@ impl<F: Family> Found<F> {
                 adapter,
                 answer,
             }),
+            original,
         })
     }
 
@@ -164,7 +217,18 @@ impl<F: Family> Found<F> {
             m.insert("kind".into(), f.kind().wrong_key().into());
             m.insert("answer".into(), F::answer_json(&f.answer));
         }
+        if let Some(o) = &self.original {
+            m.insert("original".into(), Value::Object(F::case_json(o)));
+        }
         Value::Object(m).to_string()
+    }
+
+    /// What failed on it, or an error saying that the line records no failure to `doing`.
+    pub fn failed(&self, doing: &str) -> Result<&Failure<F>, FoundError> {
+        self.failure.as_ref().ok_or_else(|| FoundError::Field {
+            field: "method",
+            why: format!("not a found case (it records no failure to {doing})"),
+        })
     }
 
     /// The case alone, one line of the case format.
@@ -175,8 +239,8 @@ impl<F: Family> Found<F> {
     /// The same case filed for another failure.
     pub fn with_failure(&self, f: Failure<F>) -> Found<F> {
         Found {
-            case: self.case,
             failure: Some(f),
+            ..self.clone()
         }
     }
 
@@ -271,24 +335,11 @@ pub enum Replay {
 /// Replay a found case: its method on its backend, its answer compared with the recorded one as found
 /// cases record it.
 pub fn replay<F: Family>(found: &Found<F>) -> Result<Replay, FoundError> {
-    let Some(f) = &found.failure else {
-        return Err(FoundError::Field {
-            field: "method",
-            why: "not a found case (it records no failure)".into(),
-        });
-    };
-    let backend = match Backend::open(f.backend) {
+    let f = found.failed("replay")?;
+    let backend = match f.backend_here() {
         Ok(b) => b,
-        Err(e) => return Ok(Replay::Skipped(e.to_string())),
+        Err(why) => return Ok(Replay::Skipped(why)),
     };
-    // A GPU finding replays on the adapter and driver it was found on; another compiles differently.
-    if let (Some(want), Some(here)) = (&f.adapter, backend.ran().adapter)
-        && *want != here
-    {
-        return Ok(Replay::Skipped(format!(
-            "found on {want}; this GPU is {here}"
-        )));
-    }
     let m = family::by_name::<F>(&f.method)?;
     let now = check::<F>(
         std::slice::from_ref(&found.case),

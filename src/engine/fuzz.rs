@@ -112,10 +112,7 @@ pub fn find<F: Family>(case: &F::Case) -> Result<Option<Found<F>>, FoundError> {
             break;
         }
     }
-    Ok(found.map(|(i, f)| Found {
-        case: cases[i],
-        failure: Some(f),
-    }))
+    Ok(found.map(|(i, f)| Found::of(cases[i], f)))
 }
 
 /// A fuzz target's check of one decoded case ([`find`]); a bad environment stops the run.
@@ -218,10 +215,7 @@ pub fn octree_walk_find(tris: &[Tri], ray: &Ray) -> Result<Option<Found<OctreeCe
                 let answer = exit.map(|(f, q)| (f as u8, quarter_signs(q)));
                 if let crate::family::Verdict::Wrong(_) = OctreeCells::verdict(&case, &x, &answer) {
                     let f = super::found::Failure::of(m, b, answer);
-                    return Ok(Some(Found {
-                        case,
-                        failure: Some(f),
-                    }));
+                    return Ok(Some(Found::of(case, f)));
                 }
             }
             if matches!(w.end, End::Cycle { .. } | End::StepLimit { .. }) {

@@ -10,5 +10,6 @@ pub mod found;
 pub mod fuzz;
 pub mod info;
 pub mod paper;
+pub mod shrink;
 pub mod standing;
 pub mod stress;

@@ -234,6 +234,23 @@ impl Family for ExitFace {
         }
     }
 
+    const COMMAND: Option<&'static str> = Some("exit");
+
+    /// The four vertices, then the origin and direction.
+    fn numbers(c: &Case) -> Vec<f32> {
+        super::points_numbers(c.tet.iter().chain([&c.org, &c.dir]))
+    }
+
+    fn with_numbers(c: &Case, n: &[f32]) -> Option<Case> {
+        let p = super::numbers_points(n);
+        Some(Case {
+            tet: [p[0], p[1], p[2], p[3]],
+            org: p[4],
+            dir: p[5],
+            entry: c.entry,
+        })
+    }
+
     fn truth(c: &Case) -> Result<Classification, CaseError> {
         classify(c)
     }

@@ -176,6 +176,35 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
         answer
     }
 
+    // ---- Shrinking (`crate::engine::shrink`) ----
+
+    /// The command that answers a line of this family's cases (`exit`, `hit`, `box-exit`), for the
+    /// one-line command that reproduces a shrunk case; `None` where no command reads them.
+    const COMMAND: Option<&'static str> = None;
+
+    /// The case's f32 numbers in a fixed order, for the shrinker to simplify: by default the ray's
+    /// origin and direction.
+    fn numbers(case: &Self::Case) -> Vec<f32> {
+        let r = Self::ray(case);
+        [r.org.to_array(), r.dir.to_array()].concat()
+    }
+    /// The case with its numbers replaced, in [`Family::numbers`]' order; `None` where they make no
+    /// case of this shape (the oracle refuses the others).
+    fn with_numbers(case: &Self::Case, n: &[f32]) -> Option<Self::Case> {
+        let v = |i: usize| glam::Vec3::new(n[i], n[i + 1], n[i + 2]);
+        Some(Self::with_ray(
+            case,
+            Ray {
+                org: v(0),
+                dir: v(3),
+            },
+        ))
+    }
+    /// Smaller cases of the same kind, tried before the numbers (fewer triangles, a smaller mesh).
+    fn smaller(_case: &Self::Case) -> Vec<Self::Case> {
+        Vec::new()
+    }
+
     // ---- Fuzzing and the kit ----
 
     /// A case decoded from fuzzer bytes (favouring near-degenerate geometry); `None` for bytes that
@@ -189,6 +218,16 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     fn kit_properties(properties: usize) -> usize {
         properties
     }
+}
+
+/// Points' coordinates, one after another ([`Family::numbers`]).
+pub(crate) fn points_numbers<'a>(points: impl IntoIterator<Item = &'a glam::Vec3>) -> Vec<f32> {
+    points.into_iter().flat_map(|p| p.to_array()).collect()
+}
+
+/// Numbers read back as points, three coordinates each ([`Family::with_numbers`]).
+pub(crate) fn numbers_points(n: &[f32]) -> Vec<glam::Vec3> {
+    n.chunks_exact(3).map(glam::Vec3::from_slice).collect()
 }
 
 /// The method of family `F` called `name`.

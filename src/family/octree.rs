@@ -171,6 +171,23 @@ impl Family for OctreeCells {
         }
     }
 
+    const COMMAND: Option<&'static str> = Some("box-exit");
+
+    /// The box's corners, then the origin and direction.
+    fn numbers(b: &BoxCase) -> Vec<f32> {
+        super::points_numbers([&b.lo, &b.hi, &b.org, &b.dir])
+    }
+
+    fn with_numbers(_: &BoxCase, n: &[f32]) -> Option<BoxCase> {
+        let p = super::numbers_points(n);
+        Some(BoxCase {
+            lo: p[0],
+            hi: p[1],
+            org: p[2],
+            dir: p[3],
+        })
+    }
+
     fn truth(b: &BoxCase) -> Result<BoxExit, CaseError> {
         Ok(box_exit(b.lo, b.hi, &b.ray())?)
     }

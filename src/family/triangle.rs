@@ -157,6 +157,17 @@ fn row_key(row: &TriRow) -> u64 {
     (shape * TriAim::ALL.len() as u64 + aim) * TriPlace::ALL.len() as u64 + place
 }
 
+/// A case's triangle corners, each distinct point once, in order of first use.
+fn distinct_corners(h: &HitCase) -> Vec<Vec3> {
+    let mut out: Vec<Vec3> = Vec::new();
+    for &p in h.tris().iter().flatten() {
+        if !out.contains(&p) {
+            out.push(p);
+        }
+    }
+    out
+}
+
 impl Family for Triangle {
     const NAME: &'static str = "triangle";
     const FUZZ_TARGET: &'static str = "triangle_hit";
@@ -236,6 +247,57 @@ impl Family for Triangle {
 
     fn with_ray(h: &HitCase, ray: Ray) -> HitCase {
         h.with_ray(ray)
+    }
+
+    const COMMAND: Option<&'static str> = Some("hit");
+
+    /// Each distinct vertex once (a closed mesh's triangles share them), then the origin and
+    /// direction.
+    fn numbers(h: &HitCase) -> Vec<f32> {
+        let corners = distinct_corners(h);
+        super::points_numbers(corners.iter().chain([&h.org, &h.dir]))
+    }
+
+    fn with_numbers(h: &HitCase, n: &[f32]) -> Option<HitCase> {
+        let corners = distinct_corners(h);
+        let p = super::numbers_points(n);
+        let moved = |v: Vec3| p[corners.iter().position(|&c| c == v).unwrap_or(0)];
+        let tris: Vec<Tri> = h.tris().iter().map(|t| t.map(moved)).collect();
+        let ray = Ray {
+            org: p[corners.len()],
+            dir: p[corners.len() + 1],
+        };
+        if h.closed {
+            HitCase::closed(&tris, ray).ok()
+        } else {
+            Some(HitCase::single(tris[0], ray))
+        }
+    }
+
+    /// For a closed mesh of more than four triangles, each tetrahedron closing two of its triangles
+    /// that share an edge (`abc` and `bad`, closed by `cbd` and `acd`).
+    fn smaller(h: &HitCase) -> Vec<HitCase> {
+        let tris = h.tris();
+        if !h.closed || tris.len() <= 4 {
+            return Vec::new();
+        }
+        let mut out = Vec::new();
+        for (i, t) in tris.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+                let Some(d) = tris[i + 1..].iter().find_map(|u| {
+                    (0..3).find_map(|j| (u[j] == b && u[(j + 1) % 3] == a).then(|| u[(j + 2) % 3]))
+                }) else {
+                    continue;
+                };
+                if let Ok(tet) =
+                    HitCase::closed(&[[a, b, c], [b, a, d], [c, b, d], [a, c, d]], h.ray())
+                {
+                    out.push(tet);
+                }
+            }
+        }
+        out
     }
 
     fn truth(h: &HitCase) -> Result<HitTruth, CaseError> {

@@ -225,6 +225,27 @@ impl Family for Walks {
         }
     }
 
+    const COMMAND: Option<&'static str> = Some("exit");
+
+    /// The mesh's offset, then the origin and direction.
+    fn numbers(w: &WalkCase) -> Vec<f32> {
+        [&[w.offset][..], &w.org, &w.dir].concat()
+    }
+
+    fn with_numbers(w: &WalkCase, n: &[f32]) -> Option<WalkCase> {
+        Some(WalkCase {
+            offset: n[0],
+            org: [n[1], n[2], n[3]],
+            dir: [n[4], n[5], n[6]],
+            ..*w
+        })
+    }
+
+    /// The same mesh, smaller (the generators' smallest is 3 for grids, 1 for the fan).
+    fn smaller(w: &WalkCase) -> Vec<WalkCase> {
+        (1..w.size).map(|size| WalkCase { size, ..*w }).collect()
+    }
+
     fn truth(w: &WalkCase) -> Result<WalkTruth, CaseError> {
         let (mesh, start) = placed(w)?;
         let exact = CPU

@@ -5,8 +5,10 @@
 
 use crate::backend::BackendKind;
 use crate::exact::hit::line_triangle;
+use crate::family::{ExitFace, Family};
 use crate::mesh::Mesh;
 use crate::registry::Method;
+use crate::tet::Case;
 use crate::tet::Ray;
 use crate::walk::{Divergence, Outcome, OutcomeKind, Walk};
 use glam::{DVec3, Vec3};
@@ -136,6 +138,11 @@ pub struct WrongRay {
     pub divergence: Option<Divergence>,
     /// Distance of the exact hit point from the nearest edge of the method's triangle, in f32 ulps.
     pub ulps_from_edge: Option<f64>,
+    /// The one-tetrahedron case of the step where the walk diverged (the case format `exit` reads:
+    /// that tetrahedron, the ray, the face it was entered through), which the method fails as it
+    /// failed there; `tetwalk shrink` shrinks it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub case: Option<serde_json::Map<String, serde_json::Value>>,
 }
 
 /// Where in a count a ray was, and who walked it: a method on a backend, or walks given from outside
@@ -192,6 +199,14 @@ impl WrongRay {
             stopped: Stop::of(mesh, w),
             steps: w.steps,
             exact: Stop::of(mesh, reference),
+            case: divergence.as_ref().map(|d| {
+                ExitFace::case_json(&Case {
+                    tet: mesh.tet(d.tet),
+                    org: ray.org,
+                    dir: ray.dir,
+                    entry: d.entry,
+                })
+            }),
             divergence,
             ulps_from_edge,
         }

@@ -24,6 +24,8 @@ fn f32_plucker_is_caught_with_a_case_that_fails_again() {
     // The report's case line, read back, makes the method answer as recorded, and wrongly.
     assert!(failed.reproduced, "{report}");
     assert!(report.contains(&failed.case) && report.contains(&failed.found));
+    // The case is shrunk; the case as the group found it is written beside it.
+    assert!(report.contains(&failed.original));
 }
 
 #[test]

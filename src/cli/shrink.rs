@@ -1,0 +1,246 @@
+//! `tetwalk shrink`: found cases, and the wrong rays of a `count --dump` (the one-tetrahedron case of
+//! each walk's diverging step), shrunk to the simplest case the same method still fails the same way
+//! on the same backend (`crate::engine::shrink`); each printed with the line that reproduces it, and
+//! with `--in-place` written back over its file, the original kept in the line.
+
+use super::{JsonOut, Status};
+use crate::backend::{Backend, BackendKind};
+use crate::cases::object;
+use crate::choice::Choice;
+use crate::engine::found::{Failure, Found, FoundError};
+use crate::engine::shrink::{CHECKS, bits, reproduce, shrink_on};
+use crate::family::wrong::WrongRay;
+use crate::family::{self, ExitFace, Family, owner};
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Files of found cases (`corpora/found/`, one JSON line each or more), or a `count --dump`.
+    #[arg(required = true)]
+    files: Vec<PathBuf>,
+    /// Write each file of found cases back with its cases shrunk, the case as found kept in each
+    /// line's `original` (a dump is never rewritten: its shrunk cases are printed).
+    #[arg(long)]
+    in_place: bool,
+    /// Checks (exact judgements of a candidate case) one shrink may make at most.
+    #[arg(long, default_value_t = CHECKS)]
+    checks: usize,
+    /// Also write what was done to each case (significant bits before and after, checks, the shrunk
+    /// line, the line that reproduces it) and the totals as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+}
+
+/// One case shrunk.
+#[derive(serde::Serialize)]
+struct Done {
+    file: String,
+    line: usize,
+    method: String,
+    backend: BackendKind,
+    /// How many numbers the case has, and their significant bits summed, before and after.
+    numbers: usize,
+    bits_before: u32,
+    bits_after: u32,
+    /// The most significant bits of any one number, before and after.
+    largest_before: u32,
+    largest_after: u32,
+    checks: usize,
+    /// Whether the check budget ran out first (a simpler case may exist).
+    exhausted: bool,
+    /// The shrunk found case, its original in `original`.
+    shrunk: serde_json::Value,
+    /// One shell line that reproduces it.
+    reproduce: Option<String>,
+}
+
+/// Where a case is: its file and 1-based line.
+#[derive(Clone, serde::Serialize)]
+struct Place {
+    file: String,
+    line: usize,
+}
+
+#[derive(Default, serde::Serialize)]
+struct Report {
+    cases: Vec<Done>,
+    /// Cases left as they were, and why (found on a GPU not here, a dump line without a diverging
+    /// step).
+    left: Vec<(Place, String)>,
+}
+
+/// Backends opened once each.
+struct Backends(HashMap<BackendKind, Result<Backend, String>>);
+
+impl Backends {
+    /// Where `f` was found, opened here (a GPU finding only on its own adapter), or why not.
+    fn get<F: Family>(&mut self, f: &Failure<F>) -> Result<&Backend, String> {
+        let b = self
+            .0
+            .entry(f.backend)
+            .or_insert_with(|| Backend::open(f.backend).map_err(|e| e.to_string()))
+            .as_ref()
+            .map_err(Clone::clone)?;
+        f.runs_on(b)?;
+        Ok(b)
+    }
+}
+
+/// Shrink one found case of family `F`, or say why it is left as it is.
+fn shrink_one<F: Family>(
+    found: &Found<F>,
+    at: &Place,
+    backends: &mut Backends,
+    checks: usize,
+) -> Result<Result<Done, String>, FoundError> {
+    let f = found.failed("shrink")?;
+    let backend = match backends.get(f) {
+        Ok(b) => b,
+        Err(why) => return Ok(Err(why)),
+    };
+    let m = family::by_name::<F>(&f.method)?;
+    let (shrunk, s) = shrink_on(found, m, backend, checks)?;
+    let (bits_before, largest_before) = bits::<F>(&found.case);
+    let (bits_after, largest_after) = bits::<F>(&shrunk.case);
+    Ok(Ok(Done {
+        file: at.file.clone(),
+        line: at.line,
+        method: f.method.clone(),
+        backend: f.backend,
+        numbers: F::numbers(&found.case).len(),
+        bits_before,
+        bits_after,
+        largest_before,
+        largest_after,
+        checks: s.checks,
+        exhausted: s.exhausted,
+        shrunk: serde_json::from_str(&shrunk.to_json()).expect("a found case's line is JSON"),
+        reproduce: reproduce(&shrunk),
+    }))
+}
+
+/// A dump line's diverging step as a found exit-face case, or why it has none.
+fn from_dump(obj: serde_json::Map<String, serde_json::Value>) -> Result<Found<ExitFace>, String> {
+    let w: WrongRay =
+        serde_json::from_value(serde_json::Value::Object(obj)).map_err(|e| e.to_string())?;
+    let (Some(case), Some(d), Some(backend)) = (w.case, w.divergence, w.backend) else {
+        return Err(
+            "no diverging step was observed (a GPU walk, or walks given from outside)".into(),
+        );
+    };
+    let case = Found::<ExitFace>::from_object(case).map_err(|e| e.to_string())?;
+    let method = family::by_name::<ExitFace>(&w.method).map_err(|e| e.to_string())?;
+    Ok(Found::of(
+        case.case,
+        Failure {
+            method: crate::registry::Named::name(method).to_string(),
+            backend,
+            adapter: None,
+            answer: d.face,
+        },
+    ))
+}
+
+pub fn run(a: Args) -> Status {
+    let out = JsonOut::new(a.json.as_deref())?;
+    if a.checks == 0 {
+        return Err("--checks 0 would shrink nothing".into());
+    }
+    let mut backends = Backends(HashMap::new());
+    let mut report = Report::default();
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    // Files to rewrite, each whole and only once every file's every line is shrunk.
+    let mut rewrites: Vec<(PathBuf, String)> = Vec::new();
+    for path in &a.files {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut rewritten = String::new();
+        for (n, line) in text.lines().enumerate() {
+            let at = Place {
+                file: path.display().to_string(),
+                line: n + 1,
+            };
+            let place = |e: &dyn std::fmt::Display| format!("{} line {}: {e}", at.file, at.line);
+            if line.trim().is_empty() {
+                rewritten += line;
+                rewritten += "\n";
+                continue;
+            }
+            let obj = object(line).map_err(|e| place(&e))?;
+            let dump = obj.contains_key("pixel") && obj.contains_key("scene");
+            if dump && a.in_place {
+                return Err(place(
+                    &"a count's dump is not rewritten: leave out --in-place (its shrunk cases are printed)",
+                )
+                .into());
+            }
+            let result = if dump {
+                match from_dump(obj) {
+                    Ok(found) => shrink_one::<ExitFace>(&found, &at, &mut backends, a.checks),
+                    Err(why) => Ok(Err(why)),
+                }
+            } else {
+                crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
+                    .and_then(|found| shrink_one::<F>(&found, &at, &mut backends, a.checks)))
+            }
+            .map_err(|e| place(&e))?;
+            match result {
+                Ok(done) => {
+                    writeln!(
+                        w,
+                        "{}: {} on {}: {} -> {} significant bits in {} numbers (at most {} -> {} in one), {} checks{}",
+                        place(&"case"),
+                        done.method,
+                        done.backend.name(),
+                        done.bits_before,
+                        done.bits_after,
+                        done.numbers,
+                        done.largest_before,
+                        done.largest_after,
+                        done.checks,
+                        if done.exhausted { ", budget spent" } else { "" }
+                    )?;
+                    writeln!(w, "  {}", done.shrunk)?;
+                    if let Some(r) = &done.reproduce {
+                        writeln!(w, "  reproduce: {r}")?;
+                    }
+                    rewritten += &done.shrunk.to_string();
+                    report.cases.push(done);
+                }
+                Err(why) => {
+                    eprintln!("tetwalk shrink: {} left as it is: {why}", place(&"case"));
+                    rewritten += line;
+                    report.left.push((at.clone(), why));
+                }
+            }
+            rewritten += "\n";
+        }
+        if a.in_place {
+            rewrites.push((path.clone(), rewritten));
+        }
+    }
+    w.flush()?;
+    if report.cases.is_empty() && report.left.is_empty() {
+        return Err("no case to shrink in the files given".into());
+    }
+    for (path, text) in &rewrites {
+        crate::staged::write(path, text.as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let numbers: usize = report.cases.iter().map(|d| d.numbers).sum();
+    let mean = |f: fn(&Done) -> u32| {
+        report.cases.iter().map(|d| f(d) as f64).sum::<f64>() / numbers.max(1) as f64
+    };
+    eprintln!(
+        "tetwalk shrink: {} case(s) shrunk{}, {} left as they were; significant bits per number, mean {:.1} -> {:.1}",
+        report.cases.len(),
+        if a.in_place { " and written back" } else { "" },
+        report.left.len(),
+        mean(|d| d.bits_before),
+        mean(|d| d.bits_after),
+    );
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,313 @@
+//! Shrinking, as proptest shrinks a failing input: a failure's case made as simple as it can be while
+//! the same method on the same backend still fails it the same way (the same kind of wrong ending,
+//! a refuted claim still refuted, and a line that crosses the cell not turned into one that only
+//! touches it). Smaller cases first ([`Family::smaller`]: fewer triangles, a
+//! smaller mesh), then each number of the case ([`Family::numbers`]) replaced by the simplest value
+//! that keeps the failure: zero, an integer, or the number rounded to fewer significant bits, fewest
+//! first and then smallest in magnitude, pass after pass until none changes.
+
+use crate::backend::Backend;
+use crate::engine::found::{CPU_BACKENDS, Failure, Found, FoundError, Hold, check};
+use crate::family::{self, Family, Verdict};
+use crate::registry::Named;
+use crate::walk::OutcomeKind;
+
+/// Checks one shrink may make at most (each judges one candidate exactly and answers it once).
+pub const CHECKS: usize = 20_000;
+
+/// Passes over the numbers at most (each after the first only where the one before changed some).
+const PASSES: usize = 8;
+
+/// Significant bits of an f32: from the leading to the last set bit of its significand, 0 for zero
+/// (a subnormal counts its own bits; infinities and NaN the full 24).
+pub fn significant_bits(x: f32) -> u32 {
+    if x == 0.0 {
+        return 0;
+    }
+    if !x.is_finite() {
+        return 24;
+    }
+    let bits = x.to_bits() & 0x7f_ffff;
+    let significand = if x.is_normal() {
+        bits | 0x80_0000
+    } else {
+        bits
+    };
+    32 - significand.leading_zeros() - significand.trailing_zeros()
+}
+
+/// `x` rounded to `k` significant bits (to nearest, ties away from zero), exactly representable.
+fn round_to_bits(x: f32, k: u32) -> f32 {
+    let x = x as f64;
+    let quantum = 2f64.powi(x.abs().log2().floor() as i32 + 1 - k as i32);
+    ((x / quantum).round() * quantum) as f32
+}
+
+/// The values simpler than `x` to try in its place, simplest first: fewer significant bits, then a
+/// smaller magnitude (zero, integers, `x` rounded to 1, 2, … bits).
+fn simpler(x: f32) -> Vec<f32> {
+    let key = |v: f32| (significant_bits(v), v.abs().to_bits());
+    let mut out: Vec<f32> = [0.0, x.trunc(), x.round()]
+        .into_iter()
+        .chain((1..significant_bits(x)).map(|k| round_to_bits(x, k)))
+        .filter(|v| v.is_finite() && key(*v) < key(x))
+        .collect();
+    out.sort_by_key(|&v| key(v));
+    out.dedup();
+    out
+}
+
+/// Whether two numbers agree but for their last 12 of 24 bits (and are not zero).
+fn nearly_equal(a: f32, b: f32) -> bool {
+    a != 0.0 && (a - b).abs() <= a.abs().max(b.abs()) * 2f32.powi(-12)
+}
+
+/// What a shrink gives: the simplest case found and how much work it took.
+#[derive(Clone, Debug)]
+pub struct Shrunk<F: Family> {
+    pub case: F::Case,
+    /// What the method answers on it (wrong the same way as on the original).
+    pub answer: F::Answer,
+    pub checks: usize,
+    /// Whether the check budget ran out before no simpler case was left.
+    pub exhausted: bool,
+}
+
+/// Shrink `case`, on which `m` (running on `backend`) answers wrongly: the simplest case on which it
+/// still does, the same way, and on which each of `keep` still holds its claim (on the CPU plain,
+/// fused and flushed). An error when `m` does not fail `case` to begin with.
+pub fn shrink<F: Family>(
+    m: &F::Method,
+    backend: &Backend,
+    case: &F::Case,
+    keep: &[&F::Method],
+    budget: usize,
+) -> Result<Shrunk<F>, FoundError> {
+    let kept: Vec<(&F::Method, Hold)> = keep.iter().map(|&k| (k, Hold::Claim)).collect();
+    let mut checks = 0;
+    let Some((kind, claim, answer)) = failure::<F>(m, backend, case)? else {
+        return Err(FoundError::Field {
+            field: "case",
+            why: format!(
+                "{} answers it rightly: there is no failure to shrink",
+                m.name()
+            ),
+        });
+    };
+    // A line that crosses the cell stays one that crosses it: it does not shrink into a graze.
+    let touching = F::touch_only(case);
+    let mut best = Shrunk {
+        case: *case,
+        answer,
+        checks: 0,
+        exhausted: false,
+    };
+    // Whether `c` fails as the original does; counts the check, and refuses once the budget is spent.
+    let same = |c: &F::Case, checks: &mut usize| -> Result<Option<F::Answer>, FoundError> {
+        if *checks >= budget {
+            return Ok(None);
+        }
+        *checks += 1;
+        let Some(a) = failure::<F>(m, backend, c)?
+            .filter(|&(k, refuted, _)| k == kind && (refuted || !claim))
+            .filter(|_| touching || !F::touch_only(c))
+            .map(|(_, _, a)| a)
+        else {
+            return Ok(None);
+        };
+        let held =
+            kept.is_empty() || check::<F>(std::slice::from_ref(c), &kept, &CPU_BACKENDS)?.is_none();
+        Ok(held.then_some(a))
+    };
+    'smaller: loop {
+        for c in F::smaller(&best.case) {
+            if let Some(a) = same(&c, &mut checks)? {
+                best.case = c;
+                best.answer = a;
+                continue 'smaller;
+            }
+        }
+        break;
+    }
+    let mut numbers = F::numbers(&best.case);
+    for _ in 0..PASSES {
+        let mut changed = false;
+        for i in 0..numbers.len() {
+            'value: for v in simpler(numbers[i]) {
+                // The numbers nearly equal to this one (a vertex and the point a ray is aimed at
+                // near it) moved with it first, then it alone.
+                let mut together = numbers.clone();
+                for (j, x) in together.iter_mut().enumerate() {
+                    if j == i || nearly_equal(*x, numbers[i]) {
+                        *x = v;
+                    }
+                }
+                let mut alone = numbers.clone();
+                alone[i] = v;
+                let mut tried: Vec<F::Case> = Vec::new();
+                if let Some(c) = F::with_numbers(&best.case, &together) {
+                    // The point the ray is aimed at (origin plus direction) moved with them too.
+                    let r = F::ray(&best.case);
+                    let aim = (r.org + r.dir).to_array();
+                    if aim.iter().any(|&t| nearly_equal(t, numbers[i])) {
+                        let mut moved = F::ray(&c);
+                        for (k, &t) in aim.iter().enumerate() {
+                            if nearly_equal(t, numbers[i]) {
+                                moved.dir[k] = v - moved.org[k];
+                            }
+                        }
+                        tried.push(F::with_ray(&c, moved));
+                    }
+                    tried.push(c);
+                }
+                tried.extend(F::with_numbers(&best.case, &alone));
+                for c in tried {
+                    if let Some(a) = same(&c, &mut checks)? {
+                        numbers = F::numbers(&c);
+                        best.case = c;
+                        best.answer = a;
+                        changed = true;
+                        break 'value;
+                    }
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    best.checks = checks;
+    best.exhausted = checks >= budget;
+    Ok(best)
+}
+
+/// How `m` fails `case` on `backend`, if it does: the kind of wrong ending, whether the answer
+/// refutes the family's claim, and the answer. A case the oracle refuses (a flat tetrahedron, an
+/// origin outside the mesh) fails nothing.
+fn failure<F: Family>(
+    m: &F::Method,
+    backend: &Backend,
+    case: &F::Case,
+) -> Result<Option<(OutcomeKind, bool, F::Answer)>, FoundError> {
+    // A case its own line does not read back as (a zero direction, a number the reader refuses) is
+    // not a case.
+    let line = serde_json::Value::Object(F::case_json(case)).to_string();
+    if Found::<F>::parse(&line).ok().map(|f| f.case) != Some(*case) {
+        return Ok(None);
+    }
+    let Ok(truth) = F::truth(case) else {
+        return Ok(None);
+    };
+    let answer = F::answers(backend, m, std::slice::from_ref(case))?[0];
+    Ok(match F::verdict(case, &truth, &answer) {
+        Verdict::Wrong(kind) => Some((kind, F::refutes_claim(case, &truth, &answer), answer)),
+        _ => None,
+    })
+}
+
+/// A found case shrunk (with what the shrink took), or why it was left as it is.
+pub type ShrunkOrLeft<F> = Result<(Found<F>, Shrunk<F>), String>;
+
+/// A found case shrunk on the backend it was found on, the original kept ([`Found::original`]); a
+/// GPU finding made on another adapter, or on a backend that cannot be opened here, is left as it is
+/// (with why).
+pub fn shrink_found<F: Family>(
+    found: &Found<F>,
+    budget: usize,
+) -> Result<ShrunkOrLeft<F>, FoundError> {
+    let f = found.failed("shrink")?;
+    let backend = match f.backend_here() {
+        Ok(b) => b,
+        Err(why) => return Ok(Err(why)),
+    };
+    let m = family::by_name::<F>(&f.method)?;
+    Ok(Ok(shrink_on(found, m, &backend, budget)?))
+}
+
+/// `found` shrunk with its method `m` on `backend` (where it was found), the original kept; every
+/// other method of the registry that claims and holds its claim on the case as found still holds it
+/// on the shrunk one (so that a finding stays one method's).
+pub fn shrink_on<F: Family>(
+    found: &Found<F>,
+    m: &F::Method,
+    backend: &Backend,
+    budget: usize,
+) -> Result<(Found<F>, Shrunk<F>), FoundError> {
+    let mut keep = Vec::new();
+    for k in F::methods()
+        .iter()
+        .filter(|k| k.info().claim.is_some() && k.name() != m.name())
+    {
+        let held = [(k, Hold::Claim)];
+        if check::<F>(std::slice::from_ref(&found.case), &held, &CPU_BACKENDS)?.is_none() {
+            keep.push(k);
+        }
+    }
+    let s = shrink::<F>(m, backend, &found.case, &keep, budget)?;
+    Ok((shrunk(found, &s), s))
+}
+
+/// `found` with its case replaced by the shrunk one `s` and its answer there, the case as found kept.
+pub fn shrunk<F: Family>(found: &Found<F>, s: &Shrunk<F>) -> Found<F> {
+    Found {
+        case: s.case,
+        failure: found.failure.clone().map(|f| Failure {
+            answer: s.answer,
+            ..f
+        }),
+        original: Some(found.original.unwrap_or(found.case)),
+    }
+}
+
+/// The significant bits of a case's numbers, summed and at most ([`significant_bits`]).
+pub fn bits<F: Family>(case: &F::Case) -> (u32, u32) {
+    let n = F::numbers(case);
+    (
+        n.iter().map(|&x| significant_bits(x)).sum(),
+        n.iter().map(|&x| significant_bits(x)).max().unwrap_or(0),
+    )
+}
+
+/// One shell line that reproduces a found case: its case piped into the command that answers its
+/// family's cases, with its method and backend (`tetwalk replay --found FILE` where no command reads
+/// them).
+pub fn reproduce<F: Family>(found: &Found<F>) -> Option<String> {
+    let f = found.failure.as_ref()?;
+    let cmd = F::COMMAND?;
+    Some(format!(
+        "echo '{}' | tetwalk {cmd} --method {} --backend {}",
+        found.case_line(),
+        f.method,
+        crate::choice::Choice::name(f.backend)
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn significant_bits_count_from_the_leading_to_the_last_set_bit() {
+        assert_eq!(significant_bits(0.0), 0);
+        assert_eq!(significant_bits(1.0), 1);
+        assert_eq!(significant_bits(-3.0), 2);
+        assert_eq!(significant_bits(0.75), 2);
+        assert_eq!(significant_bits(10000.0), 10);
+        assert_eq!(significant_bits(f32::from_bits(1)), 1);
+        assert_eq!(significant_bits(1.0f32.next_up()), 24);
+    }
+
+    #[test]
+    fn simpler_values_have_fewer_bits_or_a_smaller_magnitude_and_come_simplest_first() {
+        let x = 10000.584f32;
+        let s = simpler(x);
+        assert_eq!(s[0], 0.0);
+        assert!(s.contains(&10001.0) && s.contains(&8192.0));
+        for w in s.windows(2) {
+            assert!(significant_bits(w[0]) <= significant_bits(w[1]));
+        }
+        assert!(s.iter().all(|&v| significant_bits(v) < significant_bits(x)));
+        assert!(simpler(0.0).is_empty());
+        assert_eq!(simpler(1.0), vec![0.0]);
+    }
+}

@@ -1,0 +1,210 @@
+//! Shrinking: a failure's case made as simple as it can be while its method still fails it the same
+//! way — by the engine for every family, by `tetwalk shrink` on found cases and a count's dump, and in
+//! the kit's report.
+
+mod common;
+
+use tetwalk::backend::CPU;
+use tetwalk::engine::found::{Found, Replay, replay};
+use tetwalk::engine::shrink::{bits, shrink, shrink_found};
+use tetwalk::family::{ExitFace, Family, OctreeCells, Triangle, Verdict};
+
+/// The register's counterexample as it was found (README, "What the papers claim"), maria17's.
+const MARIA17: &str = r#"{"tet":[[6.5,-5.583333,1.0],[15.5,15.0,15.5],[-5.5,-16.0,-16.0],[-16.0,-16.0,-16.0]],"org":[-64.0,-64.0,-64.0],"dir":[70.5,58.416668,65.0],"entry":1,"method":"maria17","backend":"cpu","kind":"wrong_face","answer":2}"#;
+
+/// A found case of each family from the corpus (shrunk already; shrinking its original again).
+fn corpus_case<F: Family>(method: &str, holds: &str) -> Found<F> {
+    let dir = format!("{}/corpora/found/{method}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| std::fs::read_to_string(e.path()).unwrap())
+        .find(|t| t.contains(holds) && !t.contains("\"adapter\""))
+        .map(|t| Found::<F>::parse(t.trim()).unwrap())
+        .unwrap_or_else(|| panic!("a found case of {method} holding {holds}"))
+}
+
+/// Shrinking a found case of family `F` (its case as found): fewer significant bits, the original
+/// kept, still wrong the same way (it replays with its new answer), and right for the family's
+/// reference.
+fn shrinks<F: Family>(found: &Found<F>) {
+    let as_found = Found {
+        case: found.original.unwrap_or(found.case),
+        original: None,
+        failure: found.failure.clone(),
+    };
+    let as_found = Found::<F>::parse(&as_found.to_json()).unwrap();
+    // The recorded answer of the case as found is the method's answer there.
+    let (shrunk, s) = shrink_found(&as_found, 20_000).unwrap().unwrap();
+    assert_eq!(shrunk.original, Some(as_found.case));
+    let (before, _) = bits::<F>(&as_found.case);
+    let (after, _) = bits::<F>(&shrunk.case);
+    assert!(after < before, "{}: {before} -> {after} bits", F::NAME);
+    assert!(s.checks > 0 && !s.exhausted);
+    let back = Found::<F>::parse(&shrunk.to_json()).unwrap();
+    assert_eq!(
+        back.to_json(),
+        shrunk.to_json(),
+        "the shrunk line reads back, its original too"
+    );
+    assert_eq!(replay(&back).unwrap(), Replay::Holds, "{}", F::NAME);
+    let kind = |f: &Found<F>| f.failure.as_ref().unwrap().kind();
+    assert_eq!(
+        kind(&shrunk),
+        kind(&as_found),
+        "the same kind of wrong ending"
+    );
+    if let Some(r) = tetwalk::family::reference::<F>() {
+        let truth = F::truth(&shrunk.case).unwrap();
+        let a = F::answers(&CPU, r, &[shrunk.case]).unwrap()[0];
+        assert_eq!(F::verdict(&shrunk.case, &truth, &a), Verdict::Right);
+    }
+}
+
+#[test]
+fn a_found_case_of_every_family_shrinks_and_still_fails_the_same_way() {
+    shrinks::<ExitFace>(&Found::parse(MARIA17).unwrap());
+    shrinks::<tetwalk::family::Walks>(&corpus_case("maria17", "\"mesh\""));
+    shrinks::<Triangle>(&corpus_case("mt", "\"tris\""));
+    shrinks::<OctreeCells>(&corpus_case("portalez16", "\"box\""));
+}
+
+/// The register's counterexample shrinks to integers but where the near-tie is (a vertex within
+/// rounding of the line): 93 significant bits in 18 numbers before.
+#[test]
+fn the_registers_counterexample_shrinks_to_small_integers_around_its_tie() {
+    let found = Found::<ExitFace>::parse(MARIA17).unwrap();
+    let (shrunk, _) = shrink_found(&found, 20_000).unwrap().unwrap();
+    let (before, _) = bits::<ExitFace>(&found.case);
+    let (after, _) = bits::<ExitFace>(&shrunk.case);
+    assert_eq!(before, 93);
+    assert!(after <= 60, "{after}");
+    let integers = ExitFace::numbers(&shrunk.case)
+        .iter()
+        .filter(|x| x.fract() == 0.0)
+        .count();
+    assert!(integers >= 14, "{}", shrunk.to_json());
+}
+
+/// A case its method answers rightly has nothing to shrink: an error saying so.
+#[test]
+fn a_case_answered_rightly_is_refused() {
+    let right = Found::<ExitFace>::parse(
+        r#"{"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[0.2,0.2,-1],"dir":[0.01,0.02,1]}"#,
+    )
+    .unwrap()
+    .case;
+    let m = tetwalk::registry::by_name("maria17").unwrap();
+    let e = shrink::<ExitFace>(m, &CPU, &right, &[], 1000).unwrap_err();
+    assert!(e.to_string().contains("answers it rightly"), "{e}");
+}
+
+/// `woop-watertight`'s leak, found fused, stays a leak when shrunk: the claim it refutes is refuted on
+/// the shrunk case too.
+#[test]
+fn a_refuted_claim_stays_refuted() {
+    let found = corpus_case::<Triangle>("woop-watertight", "cpu-fma");
+    let as_found = Found {
+        case: found.original.unwrap(),
+        original: None,
+        failure: found.failure.clone(),
+    };
+    let as_found = Found::<Triangle>::parse(&as_found.to_json()).unwrap();
+    let (shrunk, _) = shrink_found(&as_found, 20_000).unwrap().unwrap();
+    let woop = tetwalk::family::by_name::<Triangle>("woop-watertight").unwrap();
+    let fused = &tetwalk::backend::CPU_FMA;
+    let truth = Triangle::truth(&shrunk.case).unwrap();
+    let a = Triangle::answers(fused, woop, &[shrunk.case]).unwrap()[0];
+    assert!(Triangle::refutes_claim(&shrunk.case, &truth, &a));
+}
+
+fn tetwalk(args: &[&str]) -> (i32, String, String) {
+    common::run_tetwalk(args, b"")
+}
+
+/// `tetwalk shrink FILE`: prints the shrunk case and a command that reproduces it, and leaves the file
+/// as it was; `--in-place` writes it back with the original kept, and shrinking again keeps that
+/// original.
+#[test]
+fn shrink_prints_a_reproducing_command_and_writes_only_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("maria17.json");
+    std::fs::write(&file, format!("{MARIA17}\n")).unwrap();
+    let path = file.to_str().unwrap();
+    let (code, out, err) = tetwalk(&["shrink", path]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&file).unwrap(),
+        format!("{MARIA17}\n")
+    );
+    assert!(err.contains("1 case(s) shrunk"), "{err}");
+    let reproduce = out
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("reproduce: "))
+        .expect("a reproducing command");
+    // The command: `echo 'CASE' | tetwalk exit --method maria17 --backend cpu`.
+    let case = reproduce.split('\'').nth(1).unwrap();
+    assert!(reproduce.ends_with("| tetwalk exit --method maria17 --backend cpu"));
+    let (_, verdict, _) = common::run_tetwalk(
+        &["exit", "--method", "maria17", "--backend", "cpu"],
+        case.as_bytes(),
+    );
+    let v: serde_json::Value = serde_json::from_str(verdict.trim()).unwrap();
+    assert_eq!(v["correct"], false, "{verdict}");
+
+    let (code, _, err) = tetwalk(&["shrink", "--in-place", path]);
+    assert_eq!(code, 0, "{err}");
+    let written = Found::<ExitFace>::parse(std::fs::read_to_string(&file).unwrap().trim()).unwrap();
+    let found = Found::<ExitFace>::parse(MARIA17).unwrap();
+    assert_eq!(written.original, Some(found.case));
+    assert_eq!(written.case_line(), case);
+    let (code, _, err) = tetwalk(&["shrink", "--in-place", path]);
+    assert_eq!(code, 0, "{err}");
+    let again = Found::<ExitFace>::parse(std::fs::read_to_string(&file).unwrap().trim()).unwrap();
+    assert_eq!(
+        again.original,
+        Some(found.case),
+        "the original stays the case as found"
+    );
+}
+
+/// A count's dump: each wrong ray's diverging step is a one-tetrahedron case its method fails, which
+/// `shrink` shrinks; a dump is never rewritten in place.
+#[test]
+fn shrink_takes_a_counts_dump_but_never_rewrites_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let dump = dir.path().join("dump.jsonl");
+    let dump = dump.to_str().unwrap();
+    let (code, _, err) = tetwalk(&[
+        "count",
+        "--scene",
+        "kuhn-far",
+        "--views",
+        "1",
+        "--size",
+        "4x4",
+        "--methods",
+        "plucker",
+        "--dump",
+        dump,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let lines = std::fs::read_to_string(dump).unwrap();
+    assert!(!lines.is_empty() && lines.lines().all(|l| l.contains("\"case\":{\"tet\"")));
+    let json = dir.path().join("shrunk.json");
+    let (code, _, err) = tetwalk(&["shrink", dump, "--json", json.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let cases = report["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), lines.lines().count());
+    for c in cases {
+        let f = Found::<ExitFace>::parse(&c["shrunk"].to_string()).unwrap();
+        assert_eq!(replay(&f).unwrap(), Replay::Holds);
+        assert!(c["bits_after"].as_u64() < c["bits_before"].as_u64());
+    }
+    let (code, _, err) = tetwalk(&["shrink", "--in-place", dump]);
+    assert_eq!(code, 2);
+    assert!(err.contains("not rewritten"), "{err}");
+    assert_eq!(std::fs::read_to_string(dump).unwrap(), lines);
+}
