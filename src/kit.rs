@@ -363,6 +363,7 @@ pub fn check<F: Family>(m: &F::Method, s: &Settings) -> Result<Passed, Box<Faile
         rows: F::Rows::default(),
         seed: s.seed,
         backend: on.ran(),
+        scale: Default::default(),
     };
     let mut passed = Passed::default();
     for row in F::rows(&st.rows) {

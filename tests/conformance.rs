@@ -34,6 +34,7 @@ fn kit_counts_as_stress_does<F: Family>(passed: &Passed, name: &str, s: &Setting
         rows: Default::default(),
         seed: s.seed,
         backend: CPU.ran(),
+        scale: Default::default(),
     };
     let m = tetwalk::family::by_name::<F>(name).unwrap();
     let report = stress::run(&st, &[m], &CPU, &|_| {}, &mut |_| {}).unwrap();

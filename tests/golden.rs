@@ -281,6 +281,7 @@ fn a_small_stress_table_is_unchanged() {
         rows: Default::default(),
         seed: 5,
         backend: cpu.ran(),
+        scale: Default::default(),
     };
     let methods: Vec<_> = METHODS.iter().collect();
     let report = stress::run(&s, &methods, &cpu, &|_| {}, &mut |_| {}).unwrap();

@@ -408,6 +408,7 @@ fn gpu_agrees_with_the_cpu<F: Family>(g: &Backend, per_row: usize) {
         rows: F::Rows::default(),
         seed: 7,
         backend: g.ran(),
+        scale: Default::default(),
     };
     let methods: Vec<&F::Method> = F::methods()
         .iter()

@@ -279,6 +279,7 @@ fn settings() -> StressSettings<Segments> {
         rows: ToyRows,
         seed: 3,
         backend: CPU.ran(),
+        scale: Default::default(),
     }
 }
 

@@ -241,6 +241,7 @@ fn stress_settings(cases: usize) -> StressSettings<Triangle> {
         rows: TriRows::default(),
         seed: 1,
         backend: CPU.ran(),
+        scale: Default::default(),
     }
 }
 

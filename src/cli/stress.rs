@@ -12,7 +12,7 @@ use crate::family::exit_face::{ExitRows, TetRow};
 use crate::family::octree::CellRows;
 use crate::family::triangle::TriRows;
 use crate::family::walk::{WalkRows, WalkScene};
-use crate::family::{self, ExitFace, Family, Kind, OctreeCells, Triangle, Walks};
+use crate::family::{self, ExitFace, Family, Kind, OctreeCells, Scale, Triangle, Walks};
 use crate::report::Formats;
 use crate::report::stress::disagreements;
 use crate::scenes::cells::{CellAim, CellPlace};
@@ -90,6 +90,11 @@ pub struct Args {
     /// A campaign files at most this many new failures per method, row and kind of wrong answer.
     #[arg(long, default_value_t = 3)]
     keep: usize,
+    /// Every case at a power-of-two scale: `E` multiplies its points, origin and direction by 2^E,
+    /// `E/D` its points and origin by 2^E and its direction by 2^D (exact where nothing underflows or
+    /// overflows; each scaled case judged as it is). Not for walks, whose meshes are generated.
+    #[arg(long, allow_negative_numbers = true, value_parser = Scale::parse, default_value = "0")]
+    scale: Scale,
     /// Also write the report as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -200,6 +205,9 @@ fn stress<F: Rows>(a: Args) -> Status {
     if a.wgsl.wgsl.is_some() && (F::user_wgsl().is_none() || a.seconds.is_some()) {
         return Err("--wgsl judges an exit-face function in a stress table of exit faces or walks (a campaign files found cases for tetwalk's own methods: fuzz a --wgsl function with TETWALK_FUZZ_WGSL)".into());
     }
+    if !a.scale.is_one() && !F::SCALES {
+        return Err("--scale: walks go through generated meshes at their own scale; scale exit-face, triangle or octree rows".into());
+    }
     if a.relabel.is_some() && F::LABELLINGS == 1 {
         return Err(format!(
             "--relabel all: a {} case has one labelling (the exit-face family's tetrahedra have 12)",
@@ -239,6 +247,7 @@ fn stress<F: Rows>(a: Args) -> Status {
         rows: F::chosen(&a),
         seed: a.seed,
         backend: backend.ran(),
+        scale: a.scale,
     };
     if a.compare {
         let d = stress::compare(&settings, &methods, &backend)?;

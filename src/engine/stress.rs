@@ -4,7 +4,7 @@
 
 use crate::backend::{Backend, BackendError, CPU, CPU_FMA, Ran};
 use crate::exact::Counts;
-use crate::family::{Family, Summed, Verdict};
+use crate::family::{Family, Scale, Summed, Verdict};
 use crate::registry::Named;
 use rayon::prelude::*;
 
@@ -17,6 +17,9 @@ pub struct StressSettings<F: Family> {
     pub rows: F::Rows,
     pub seed: u64,
     pub backend: Ran,
+    /// Every case at this power-of-two scale (`--scale`); 1 unless asked.
+    #[serde(skip_serializing_if = "Scale::is_one")]
+    pub scale: Scale,
 }
 
 /// One method's counts on one row.
@@ -102,7 +105,18 @@ pub type Judged<F> = Vec<(<F as Family>::Case, <F as Family>::Truth)>;
 pub fn row_cases<F: Family>(s: &StressSettings<F>, row: F::Row) -> (Judged<F>, Counts) {
     let made: Vec<_> = (0..s.cases)
         .into_par_iter()
-        .map(|i| counted(|| F::case(&s.rows, row, s.seed, i)))
+        .map(|i| {
+            counted(|| {
+                let made = F::case(&s.rows, row, s.seed, i)?;
+                if s.scale.is_one() {
+                    return Some(made);
+                }
+                // At another scale: the case scaled, judged again as it now is, left out where it
+                // no longer reads back (a number overflowed) or the oracle refuses it.
+                let c = F::scaled(&made.0, s.scale).filter(crate::family::readable::<F>)?;
+                Some((c, F::truth(&c).ok()?))
+            })
+        })
         .collect();
     let mut counts = Counts::default();
     let mut cases = Vec::with_capacity(made.len());

@@ -38,6 +38,64 @@ pub enum Verdict {
     NotJudged,
 }
 
+/// A power-of-two scale of a case: its points and origin multiplied by 2^`points`, its direction by
+/// 2^`direction` (the same line; products of it underflow or overflow sooner or later). Exact where
+/// nothing underflows or overflows; the oracle judges the scaled case as it is.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+pub struct Scale {
+    pub points: i32,
+    pub direction: i32,
+}
+
+impl Scale {
+    /// Points and direction at 2^`e`.
+    pub const fn uniform(e: i32) -> Scale {
+        Scale {
+            points: e,
+            direction: e,
+        }
+    }
+
+    pub fn is_one(&self) -> bool {
+        *self == Scale::default()
+    }
+
+    /// Read `E` (points and direction at 2^E) or `E/D` (points at 2^E, direction at 2^D).
+    pub fn parse(s: &str) -> Result<Scale, String> {
+        let e = |t: &str| {
+            t.trim()
+                .parse::<i32>()
+                .ok()
+                .filter(|e| (-300..=300).contains(e))
+                .ok_or_else(|| format!("'{t}' is not a power-of-two exponent in -300..=300"))
+        };
+        match s.split_once('/') {
+            None => Ok(Scale::uniform(e(s)?)),
+            Some((p, d)) => Ok(Scale {
+                points: e(p)?,
+                direction: e(d)?,
+            }),
+        }
+    }
+
+    /// `x` times 2^`e`, rounded once (to a subnormal, zero or infinity where it leaves f32's range).
+    pub fn times(x: f32, e: i32) -> f32 {
+        (x as f64 * 2f64.powi(e)) as f32
+    }
+}
+
+impl std::fmt::Display for Scale {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        if self.points == self.direction {
+            write!(f, "2^{}", self.points)
+        } else {
+            write!(f, "2^{}, direction 2^{}", self.points, self.direction)
+        }
+    }
+}
+
 /// Counts that add up: a stress row's tallies over a campaign's rounds, a count's over shards.
 pub trait Summed: Default + Clone + Debug + serde::Serialize + Send + Sync {
     fn add(&mut self, other: &Self);
@@ -205,6 +263,22 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
         Vec::new()
     }
 
+    /// Whether its cases scale by powers of two (`stress --scale`, [`Family::scaled`]).
+    const SCALES: bool = true;
+
+    /// The case at power-of-two scale `s` ([`Scale`]): every number times 2^`s.points`, then the
+    /// direction set to the case's own times 2^`s.direction`; `None` where they make no case.
+    fn scaled(case: &Self::Case, s: Scale) -> Option<Self::Case> {
+        let n: Vec<f32> = Self::numbers(case)
+            .iter()
+            .map(|&x| Scale::times(x, s.points))
+            .collect();
+        let c = Self::with_numbers(case, &n)?;
+        let mut r = Self::ray(&c);
+        r.dir = Self::ray(case).dir.map(|x| Scale::times(x, s.direction));
+        Some(Self::with_ray(&c, r))
+    }
+
     // ---- Fuzzing and the kit ----
 
     /// A case decoded from fuzzer bytes (favouring near-degenerate geometry); `None` for bytes that
@@ -218,6 +292,13 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     fn kit_properties(properties: usize) -> usize {
         properties
     }
+}
+
+/// Whether a case's own line reads back as the case (no zero direction, no number out of f32's range,
+/// nothing else the case format refuses).
+pub fn readable<F: Family>(case: &F::Case) -> bool {
+    let mut obj = F::case_json(case);
+    F::take_case(&mut obj).is_ok_and(|c| c == *case && obj.is_empty())
 }
 
 /// Points' coordinates, one after another ([`Family::numbers`]).

@@ -226,6 +226,8 @@ impl Family for Walks {
     }
 
     const COMMAND: Option<&'static str> = Some("exit");
+    /// Generated meshes come at their own scale.
+    const SCALES: bool = false;
 
     /// The mesh's offset, then the origin and direction.
     fn numbers(w: &WalkCase) -> Vec<f32> {

@@ -23,12 +23,17 @@ fn rounds<F: Family>(r: &StressReport<F>) -> String {
     }
 }
 
-/// `seed S`, or over a campaign's rounds `seeds S to T`.
+/// `seed S`, or over a campaign's rounds `seeds S to T`; and the scale the cases were taken at,
+/// unless 1.
 fn seeds<F: Family>(r: &StressReport<F>) -> String {
     let seed = r.settings.seed;
-    match r.rounds {
+    let seeds = match r.rounds {
         1 => format!("seed {seed}"),
         n => format!("seeds {seed} to {}", seed.wrapping_add(n - 1)),
+    };
+    match r.settings.scale {
+        s if s.is_one() => seeds,
+        s => format!("{seeds}, every case scaled by {s}"),
     }
 }
 
