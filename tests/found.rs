@@ -118,8 +118,8 @@ fn changing_one_recorded_answer_fails_the_replay() {
     for &k in Kind::ALL {
         let (name, text) = files()
             .into_iter()
-            .find(|(_, t)| kind(t) == k)
-            .expect("found cases of every family");
+            .find(|(_, t)| kind(t) == k && !t.contains("\"answer\":null"))
+            .expect("found cases of every family with an answer");
         let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
         v["answer"] = changed_answer(k, &v["answer"]);
         // Through the file format, as a hand edit would be.

@@ -17,6 +17,7 @@ mod replay;
 mod scene;
 mod shrink;
 mod stress;
+mod verify;
 mod walk;
 
 use crate::backend::{Backend, BackendKind};
@@ -82,6 +83,9 @@ enum Command {
     /// Shrink found cases (and a count's dumped wrong rays) to the simplest case the same method
     /// still fails the same way, each with a line that reproduces it.
     Shrink(shrink::Args),
+    /// Check the register of claims, as Embree's verify checks its kernels: one PASS / FAIL line per
+    /// claim and backend; exit status 1 when one does not go as the register says.
+    Verify(verify::Args),
     /// The GPU adapters wgpu finds.
     GpuInfo {
         /// Also write the list as JSON here.
@@ -120,6 +124,7 @@ pub fn main() -> ExitCode {
         Command::Render(a) => render::run(a),
         Command::Replay(a) => replay::run(a),
         Command::Shrink(a) => shrink::run(a),
+        Command::Verify(a) => verify::run(a),
         Command::GpuInfo { json } => gpu_info(json),
     };
     result.unwrap_or_else(|e| {

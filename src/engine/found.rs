@@ -265,6 +265,44 @@ impl<F: Family> Found<F> {
     }
 }
 
+/// Every case of family `F` in the found corpus `dir` (`corpora/found/`: a folder per method, files of
+/// found-case lines), in file order; a line that does not read is an error naming it.
+pub fn corpus<F: Family>(dir: &std::path::Path) -> Result<Vec<F::Case>, FoundError> {
+    let read = |p: &std::path::Path| {
+        std::fs::read_to_string(p).map_err(|e| FoundError::Field {
+            field: "file",
+            why: format!("{}: {e}", p.display()),
+        })
+    };
+    let list = |p: &std::path::Path| -> Result<Vec<std::path::PathBuf>, FoundError> {
+        let mut v: Vec<_> = std::fs::read_dir(p)
+            .map_err(|e| FoundError::Field {
+                field: "file",
+                why: format!("{}: {e}", p.display()),
+            })?
+            .flatten()
+            .map(|e| e.path())
+            .collect();
+        v.sort();
+        Ok(v)
+    };
+    let mut out = Vec::new();
+    for method in list(dir)?.iter().filter(|p| p.is_dir()) {
+        for file in list(method)? {
+            for (n, line) in read(&file)?.lines().enumerate() {
+                let obj = object(line).map_err(|e| FoundError::Field {
+                    field: "file",
+                    why: format!("{} line {}: {e}", file.display(), n + 1),
+                })?;
+                if F::owns(&obj) {
+                    out.push(Found::<F>::from_object(obj)?.case);
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// What a check holds a method to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Hold {

@@ -13,3 +13,4 @@ pub mod paper;
 pub mod shrink;
 pub mod standing;
 pub mod stress;
+pub mod verify;

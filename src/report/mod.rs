@@ -7,6 +7,7 @@ pub mod lines;
 pub mod paper;
 pub mod scene_info;
 pub mod stress;
+pub mod verify;
 
 use crate::engine::stress::StressReport;
 use crate::family::Family;

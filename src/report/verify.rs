@@ -1,0 +1,50 @@
+//! The register of claims as the README shows it, and `tetwalk verify`'s lines.
+
+use crate::engine::verify::{Checked, Expect, REGISTER};
+
+/// The register as a markdown table, generated from [`REGISTER`] (the README holds it verbatim).
+pub fn register_table() -> String {
+    let mut out = String::from(
+        "| method | the claim, quoted | verdict | smallest counterexample we know | `tetwalk verify` checks |\n|---|---|---|---|---|\n",
+    );
+    for e in REGISTER {
+        let checks = if e.checks.is_empty() {
+            "-".to_string()
+        } else {
+            e.checks
+                .iter()
+                .map(|c| format!("`{}`", c.name))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        out += &format!(
+            "| {} | {} | {} | {} | {checks} |\n",
+            e.methods, e.claim, e.verdict, e.counterexample
+        );
+    }
+    out
+}
+
+/// One check's line: PASS when the claim held, FAIL when it was refuted; and whether that is what the
+/// register says.
+pub fn line(c: &Checked) -> String {
+    let word = |holds: bool| if holds { "stands" } else { "refuted" };
+    let register = match (c.as_registered, c.expect) {
+        (Some(true), _) => "as registered".to_string(),
+        (Some(false), e) => format!(
+            "AGAINST THE REGISTER, which says {}",
+            word(e == Expect::Stands)
+        ),
+        (None, _) => format!(
+            "registered for lavapipe; {} compiles differently",
+            c.backend
+        ),
+    };
+    format!(
+        "{}  {:<26} {}, {register}: {}",
+        if c.holds { "PASS" } else { "FAIL" },
+        c.name,
+        word(c.holds),
+        c.seen
+    )
+}

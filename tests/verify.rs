@@ -1,0 +1,131 @@
+//! The register of claims: the README's table is the one `tetwalk verify --register` generates, every
+//! check names a registered method and an existing counterexample, and `verify` says PASS or FAIL per
+//! claim with an exit status that holds the register to what it finds.
+
+mod common;
+
+use tetwalk::backend::CPU;
+use tetwalk::engine::verify::{Check, Evidence, Expect, checks, pick, verify};
+use tetwalk::family::{Kind, Scale};
+use tetwalk::report::verify::register_table;
+
+fn found() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("corpora/found")
+}
+
+#[test]
+fn the_readme_holds_the_generated_register() {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    assert!(
+        readme.contains(&register_table()),
+        "README's register is stale: paste `cargo run --release -- verify --register`"
+    );
+}
+
+#[test]
+fn every_check_names_a_method_and_a_counterexample_that_exist() {
+    let mut names = Vec::new();
+    for c in checks() {
+        assert!(c.known(), "{}: no method {}", c.name, c.method);
+        assert!(!names.contains(&c.name), "{} twice", c.name);
+        names.push(c.name);
+        if let Evidence::Counterexample(f) = c.evidence {
+            assert!(found().join(f).is_file(), "{}: {f}", c.name);
+            assert_eq!(c.expect, Expect::Refuted, "{}", c.name);
+        }
+    }
+    assert!(names.len() >= 15);
+    assert_eq!(pick(&["woop-watertight".into()], &[]).unwrap().len(), 4);
+    assert!(pick(&["nonsense".into()], &[]).is_err());
+}
+
+const ONE: &[Scale] = &[Scale::uniform(0)];
+const SIXTY: &[Scale] = &[Scale::uniform(60)];
+
+/// A check whose expectation is wrong is reported against the register; right ones as registered.
+#[test]
+fn verify_holds_the_register_to_what_it_finds() {
+    let refuted = pick(&["maria17@cpu".into()], &[]).unwrap()[0];
+    let r = verify(refuted, &CPU, 200, &found()).unwrap();
+    assert!(!r.holds && r.as_registered == Some(true), "{r:?}");
+    let wrong = Check {
+        expect: Expect::Stands,
+        ..*refuted
+    };
+    let r = verify(&wrong, &CPU, 200, &found()).unwrap();
+    assert_eq!(r.as_registered, Some(false));
+    // A domain whose stop does not stop is wider than the register says.
+    let certified = Check {
+        name: "certified-with-a-stop",
+        family: Kind::ExitFace,
+        method: "certified",
+        backend: tetwalk::backend::BackendKind::Cpu,
+        expect: Expect::Stands,
+        evidence: Evidence::Domain {
+            holds: ONE,
+            stops: SIXTY,
+        },
+    };
+    let r = verify(&certified, &CPU, 200, &found()).unwrap();
+    assert!(!r.holds && r.seen.contains("wider"), "{r:?}");
+}
+
+/// The command: PASS / FAIL lines, status 0 when all goes as registered; status 1 when a counterexample
+/// no longer fails (a corpus where it was replaced by a case the method gets right); status 2 for an
+/// unknown name.
+#[test]
+fn the_command_says_pass_or_fail_and_its_status_holds_the_register() {
+    let (code, out, err) = common::run_tetwalk(
+        &[
+            "verify",
+            "--run",
+            "maria17@cpu,woop-watertight@cpu,exact-cells",
+            "--cases",
+            "200",
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("FAIL  maria17@cpu") && out.contains("as registered"),
+        "{out}"
+    );
+    assert!(
+        out.contains("PASS  woop-watertight@cpu") && out.contains("at 2^47"),
+        "{out}"
+    );
+    assert!(out.contains("PASS  exact-cells@cpu"), "{out}");
+    assert!(err.contains("every one as the register says"), "{err}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let maria = dir.path().join("maria17");
+    std::fs::create_dir(&maria).unwrap();
+    std::fs::write(
+        maria.join("exit_face-wrong_face-50e741ec2f3d.json"),
+        r#"{"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[0.2,0.2,-1],"dir":[0.01,0.02,1],"method":"maria17","backend":"cpu","kind":"wrong_face","answer":0}"#,
+    )
+    .unwrap();
+    let (code, out, err) = common::run_tetwalk(
+        &[
+            "verify",
+            "--run",
+            "maria17@cpu",
+            "--found",
+            dir.path().to_str().unwrap(),
+        ],
+        b"",
+    );
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        out.contains("PASS  maria17@cpu") && out.contains("AGAINST THE REGISTER"),
+        "{out}"
+    );
+
+    let (code, _, err) = common::run_tetwalk(&["verify", "--run", "nonsense"], b"");
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("no claim 'nonsense'") && err.contains("certified@cpu"),
+        "{err}"
+    );
+}
