@@ -761,3 +761,38 @@ fn judge_gives_answers_from_anywhere_the_verdicts_of_exit_and_hit() {
     assert_eq!(code, 2);
     assert!(err.contains("[999]"), "{err}");
 }
+
+/// Every kind of picture writes the file `--out` names: predicate and leak maps a sheet of every
+/// method's sheet (each titled, its panels titled, its legend drawn in), and each method's beside it.
+#[test]
+fn render_writes_the_out_file_for_every_kind() {
+    let dir = tempfile::tempdir().unwrap();
+    for (what, methods) in [
+        ("predicate", "maria17,plucker"),
+        ("leak", "mt,woop-watertight"),
+    ] {
+        let out = dir.path().join(format!("{what}.png"));
+        let (code, _, err) = tetwalk(
+            &[
+                "render",
+                what,
+                "--size",
+                "32",
+                "--methods",
+                methods,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            "",
+        );
+        assert_eq!(code, 0, "{err}");
+        let sheet = std::fs::read(&out).unwrap();
+        for m in methods.split(',') {
+            let one = std::fs::read(dir.path().join(format!("{what}-{m}.png"))).unwrap();
+            assert!(
+                sheet.len() > one.len(),
+                "{what}: the sheet holds every method's"
+            );
+        }
+    }
+}

@@ -359,3 +359,24 @@ fn octree_heat_is_unchanged() {
         insta::assert_binary_snapshot!("bunny_view3_octree_heat.png", im.png().unwrap());
     });
 }
+
+/// A leak map judges a leak against every triangle of the mesh: on `render leak`'s default case
+/// `woop-watertight` as written leaks nowhere, though at the outer boundary of the edge's two
+/// triangles a neighbour catches the ray (which a judgement of the pair alone called a leak).
+#[test]
+fn a_leak_map_calls_a_leak_only_where_no_triangle_catches_the_ray() {
+    use tetwalk::render::{EdgeHit, LeakGrid, leak_case};
+    use tetwalk::scenes::closed::{MeshShape, TriPlace};
+    let (case, pair) = leak_case(MeshShape::Octahedron, TriPlace::Embree, 1).unwrap();
+    let grid = LeakGrid::new(&case, pair, 512);
+    let woop = tetwalk::family::by_name::<tetwalk::family::Triangle>("woop-watertight").unwrap();
+    let count = |model, kind| {
+        grid.of(woop, &Backend::Cpu { model })
+            .unwrap()
+            .iter()
+            .filter(|c| **c == kind)
+            .count()
+    };
+    assert_eq!(count(Model::Plain, EdgeHit::Neither), 0);
+    assert!(count(Model::Plain, EdgeHit::Other) > 0);
+}

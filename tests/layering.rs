@@ -72,8 +72,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "render",
         &[
-            "backend", "cases", "exact", "mesh", "methods", "octree", "registry", "scenes", "tet",
-            "walk",
+            "backend", "cases", "choice", "exact", "mesh", "methods", "octree", "registry",
+            "scenes", "tet", "walk",
         ],
     ),
     (

@@ -5,7 +5,7 @@ use crate::backend::{Backend, BackendKind};
 use crate::cases::Case;
 use crate::family::{self, OctreeCells, Triangle, Walks};
 use crate::methods::Model;
-use crate::registry::{Named, reference};
+use crate::registry::{Method, Named, TriangleMethod, reference};
 use crate::render::{self, Image};
 use crate::scenes::camera::Views;
 use crate::scenes::closed::{MeshShape, TriPlace};
@@ -158,27 +158,27 @@ pub fn run(a: Args) -> Status {
             };
             let exact =
                 render::face_image(&render::predicate_grid(&case, w, reference(), &cpu)?, w);
-            let mut backends = vec![
-                cpu,
-                Backend::Cpu {
-                    model: Model::Fused,
-                },
-            ];
-            let gpu = Backend::open(BackendKind::Gpu).ok();
-            let gpu_name = gpu.as_ref().map(|g| g.describe());
-            backends.extend(gpu);
-            for m in &methods {
-                let mut row = vec![exact.clone()];
-                for b in &backends {
-                    let faces = render::predicate_grid(&case, w, m, b)?;
-                    row.push(render::face_image(&faces, w));
-                }
-                write(
-                    &beside(&a.out, m.name()),
-                    &Image::sheet(&row, 4),
-                    &mut drawn,
-                )?;
-            }
+            let (backends, gpu_name) = map_backends();
+            let heading = |m: &Method| {
+                format!(
+                    "{}: exit face, origin moved {} ulps in x and y",
+                    m.name(),
+                    w / 2
+                )
+            };
+            let panel = |m: &Method, b: &Backend| {
+                Ok(render::face_image(
+                    &render::predicate_grid(&case, w, m, b)?,
+                    w,
+                ))
+            };
+            let key = render::predicate_key();
+            let maps = Maps {
+                exact: &exact,
+                backends: &backends,
+                key: &key,
+            };
+            maps.write(&a.out, &methods, heading, panel, &mut drawn)?;
             drawn.legend = render::predicate_legend();
             println!(
                 "each sheet: exact | cpu | cpu-fma{}; origin moved ±{} ulps in x (right) and y (up)",
@@ -228,6 +228,55 @@ pub fn run(a: Args) -> Status {
     print!("{}", drawn.legend);
     json.finish(&drawn)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The backends a predicate or leak map is drawn on: the CPU plain and fused, and the GPU where there
+/// is one (with its name).
+fn map_backends() -> (Vec<Backend>, Option<String>) {
+    let mut backends = vec![
+        Backend::Cpu {
+            model: Model::Plain,
+        },
+        Backend::Cpu {
+            model: Model::Fused,
+        },
+    ];
+    let gpu = Backend::open(BackendKind::Gpu).ok();
+    let name = gpu.as_ref().map(|g| g.describe());
+    backends.extend(gpu);
+    (backends, name)
+}
+
+/// Predicate or leak maps: the exact panel, the backends each method is drawn on, the key.
+struct Maps<'a> {
+    exact: &'a Image,
+    backends: &'a [Backend],
+    key: &'a [(&'a str, [u8; 3])],
+}
+
+impl Maps<'_> {
+    /// Each method's sheet (its heading, the exact panel and one per backend, each titled, and the
+    /// key) written beside `out`, and all of them into `out`.
+    fn write<M: Named>(
+        &self,
+        out: &Path,
+        methods: &[&M],
+        heading: impl Fn(&M) -> String,
+        panel: impl Fn(&M, &Backend) -> Result<Image, render::RenderError>,
+        drawn: &mut Drawn,
+    ) -> Result<(), super::Error> {
+        let mut sheets = Vec::new();
+        for m in methods {
+            let mut row = vec![("exact".to_string(), self.exact.clone())];
+            for b in self.backends {
+                row.push((render::backend_title(b), panel(m, b)?));
+            }
+            let sheet = render::sheet(&heading(m), &row, self.key);
+            write(&beside(out, m.name()), &sheet, drawn)?;
+            sheets.push(sheet);
+        }
+        write(out, &render::stacked(&sheets, 8), drawn)
+    }
 }
 
 /// The views `--views` and `--seed` place, of `w × h` pixels, as `count` places them.
@@ -292,29 +341,23 @@ fn leak(a: Args) -> Status {
         .ok_or("no edge between two triangles facing the ray's origin could be found")?;
     let grid = render::LeakGrid::new(&case, pair, w);
     let exact = render::leak_image(grid.exact(), w);
-    let mut backends = vec![
-        Backend::Cpu {
-            model: Model::Plain,
-        },
-        Backend::Cpu {
-            model: Model::Fused,
-        },
-    ];
-    let gpu = Backend::open(BackendKind::Gpu).ok();
-    let gpu_name = gpu.as_ref().map(|g| g.describe());
-    backends.extend(gpu);
+    let (backends, gpu_name) = map_backends();
     let mut drawn = Drawn::default();
-    for m in &methods {
-        let mut row = vec![exact.clone()];
-        for b in &backends {
-            row.push(render::leak_image(&grid.of(m, b)?, w));
-        }
-        write(
-            &beside(&a.out, m.name()),
-            &Image::sheet(&row, 4),
-            &mut drawn,
-        )?;
-    }
+    let heading = |m: &TriangleMethod| {
+        format!(
+            "{}: hits on the edge's two triangles, direction moved {} steps",
+            m.name(),
+            w / 2
+        )
+    };
+    let panel = |m: &TriangleMethod, b: &Backend| Ok(render::leak_image(&grid.of(m, b)?, w));
+    let key = render::leak_key();
+    let maps = Maps {
+        exact: &exact,
+        backends: &backends,
+        key: &key,
+    };
+    maps.write(&a.out, &methods, heading, panel, &mut drawn)?;
     drawn.legend = render::leak_legend();
     println!(
         "each sheet: exact | cpu | cpu-fma{}; direction moved ±{} steps (an ulp of the larger) in its two components other than the largest",

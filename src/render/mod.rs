@@ -62,6 +62,16 @@ impl Image {
         }
     }
 
+    /// `im` copied in with its top-left corner at `(x0, y0)` (what falls outside is left out).
+    pub fn paste(&mut self, im: &Image, x0: u32, y0: u32) {
+        for y in 0..im.height {
+            for x in 0..im.width {
+                let i = ((y * im.width + x) * 3) as usize;
+                self.set_clipped(x0 + x, y0 + y, [im.rgb[i], im.rgb[i + 1], im.rgb[i + 2]]);
+            }
+        }
+    }
+
     /// A scale for markers and labels: 1 up to 256 pixels on the short side, then one more per 256.
     pub fn scale(&self) -> u32 {
         (self.width.min(self.height) / 256).max(1)
@@ -69,26 +79,31 @@ impl Image {
 
     /// Images side by side, `gap` pixels of white between them.
     pub fn sheet(images: &[Image], gap: u32) -> Image {
-        let w = images
+        Image::arranged(images, gap, true)
+    }
+
+    /// Images side by side (`across`) or one above another, top-left aligned, `gap` pixels of white
+    /// between them.
+    fn arranged(images: &[Image], gap: u32, across: bool) -> Image {
+        let along = |i: &Image| if across { i.width } else { i.height };
+        let beside = |i: &Image| if across { i.height } else { i.width };
+        let long = images
             .iter()
-            .map(|i| i.width + gap)
+            .map(|i| along(i) + gap)
             .sum::<u32>()
             .saturating_sub(gap);
-        let h = images.iter().map(|i| i.height).max().unwrap_or(0);
+        let wide = images.iter().map(beside).max().unwrap_or(0);
+        let (w, h) = if across { (long, wide) } else { (wide, long) };
         let mut out = Image {
             width: w,
             height: h,
             rgb: vec![255; (w * h * 3) as usize],
         };
-        let mut x0 = 0;
+        let mut at = 0;
         for im in images {
-            for y in 0..im.height {
-                for x in 0..im.width {
-                    let i = ((y * im.width + x) * 3) as usize;
-                    out.set(x0 + x, y, [im.rgb[i], im.rgb[i + 1], im.rgb[i + 2]]);
-                }
-            }
-            x0 += im.width + gap;
+            let (x, y) = if across { (at, 0) } else { (0, at) };
+            out.paste(im, x, y);
+            at += along(im) + gap;
         }
         out
     }
@@ -111,6 +126,87 @@ impl Image {
         w.write_image_data(&self.rgb).map_err(fail)?;
         w.finish().map_err(fail)?;
         Ok(out)
+    }
+}
+
+/// Dark, as behind labels.
+const DARK: [u8; 3] = [16, 16, 16];
+
+/// `im` under a dark bar holding `title` in white.
+pub fn titled(im: &Image, title: &str) -> Image {
+    let scale = im.scale();
+    let bar = text::line_height(scale);
+    let width = im.width.max(text::width(title, scale) + 2 * scale);
+    let mut out = Image::new(width, im.height + bar);
+    for v in out.rgb.iter_mut() {
+        *v = DARK[0];
+    }
+    text::label(&mut out, 0, 0, title, scale, [255, 255, 255]);
+    out.paste(im, 0, bar);
+    out
+}
+
+/// Images one above another, left-aligned, `gap` pixels of white between them.
+pub fn stacked(images: &[Image], gap: u32) -> Image {
+    Image::arranged(images, gap, false)
+}
+
+/// A legend `width` pixels wide (at least its widest entry): for each entry a swatch of its colour
+/// (outlined, so that black shows) and its words, as many to a line as fit.
+pub fn legend(entries: &[(&str, [u8; 3])], width: u32, scale: u32) -> Image {
+    let line = text::line_height(scale);
+    let entry_w = |words: &str| line + text::width(words, scale) + 4 * scale;
+    let width = entries
+        .iter()
+        .map(|(w, _)| entry_w(w))
+        .max()
+        .unwrap_or(0)
+        .max(width);
+    let mut places = Vec::new();
+    let (mut x, mut y) = (0, 0);
+    for (words, _) in entries {
+        if x > 0 && x + entry_w(words) > width {
+            (x, y) = (0, y + line);
+        }
+        places.push((x, y));
+        x += entry_w(words);
+    }
+    let mut im = Image::new(width, y + line);
+    for v in im.rgb.iter_mut() {
+        *v = DARK[0];
+    }
+    for ((words, colour), (x, y)) in entries.iter().zip(places) {
+        let (s0, s1) = (x + scale, x + line - scale);
+        for yy in y + scale..y + line - scale {
+            for xx in s0..s1 {
+                let edge =
+                    yy == y + scale || yy == y + line - scale - 1 || xx == s0 || xx == s1 - 1;
+                im.set(xx, yy, if edge { [160, 160, 160] } else { *colour });
+            }
+        }
+        text::label(&mut im, x + line, y, words, scale, [255, 255, 255]);
+    }
+    im
+}
+
+/// A method's sheet: its name, its panels side by side each under its title, and the legend.
+pub fn sheet(heading: &str, panels: &[(String, Image)], key: &[(&str, [u8; 3])]) -> Image {
+    let row: Vec<Image> = panels.iter().map(|(t, im)| titled(im, t)).collect();
+    let row = Image::sheet(&row, 4);
+    let scale = row.scale();
+    stacked(&[titled(&row, heading), legend(key, row.width, scale)], 0)
+}
+
+/// A panel's title for a backend: its kind, and a GPU's adapter up to its first parenthesis.
+pub fn backend_title(b: &Backend) -> String {
+    let ran = b.ran();
+    match ran.adapter {
+        Some(a) => format!(
+            "{}: {}",
+            crate::choice::Choice::name(ran.kind),
+            a.split(" (").next().unwrap_or(&a)
+        ),
+        None => crate::choice::Choice::name(ran.kind).to_string(),
     }
 }
 
@@ -269,13 +365,18 @@ impl Frame {
     /// Tetrahedra traversed per pixel by the exact walk ([`heat_map`]).
     pub fn heat(&self) -> Image {
         let steps: Vec<u32> = self.exact.iter().map(|w| w.steps).collect();
-        heat_map(self.width, self.height, &steps)
+        heat_map(
+            self.width,
+            self.height,
+            &steps,
+            "tetrahedra per pixel (exact walk)",
+        )
     }
 }
 
 /// A count per pixel (row-major), black (few) to yellow (most), with a colour scale on the right
-/// labelled with the fewest and the most.
-pub fn heat_map(width: u32, height: u32, counts: &[u32]) -> Image {
+/// labelled with the fewest and the most, under `title` (what is counted, and per what: its unit).
+pub fn heat_map(width: u32, height: u32, counts: &[u32], title: &str) -> Image {
     let (fewest, most) = (
         counts.iter().copied().min().unwrap_or(0),
         counts.iter().copied().max().unwrap_or(1).max(1),
@@ -316,7 +417,7 @@ pub fn heat_map(width: u32, height: u32, counts: &[u32]) -> Image {
     text::label(&mut im, lx, 0, &labels[0], scale, [255, 255, 255]);
     let bottom = height.saturating_sub(text::line_height(scale));
     text::label(&mut im, lx, bottom, &labels[1], scale, [255, 255, 255]);
-    im
+    titled(&im, title)
 }
 
 /// Seed 001's octree cells traversed per pixel of view `index` by octree method `method` (each leaf's
@@ -342,7 +443,12 @@ pub fn octree_heat(
         .par_iter()
         .map(|r| walk(&octree, &tris, hit, r, cap).cells)
         .collect();
-    Ok(heat_map(views.width, views.height, &cells))
+    Ok(heat_map(
+        views.width,
+        views.height,
+        &cells,
+        &format!("octree cells per pixel ({})", method.name()),
+    ))
 }
 
 /// A predicate map (after Kettner et al.'s classroom examples): the case's origin moved on a
@@ -374,10 +480,14 @@ pub enum EdgeHit {
     Second,
     /// Both: a double hit (right where the ray meets the edge itself).
     Both,
-    /// Neither, where the exact ray meets one of them: a leak.
+    /// A leak, judged against every triangle of the mesh: the ray crosses the surface and no triangle
+    /// around the crossing reports it.
     Neither,
     /// Neither, as the exact ray: it passes beside both.
     Beside,
+    /// Neither of the two, but another triangle around the crossing (the ray passes beside the pair
+    /// onto a neighbour): not a leak.
+    Other,
 }
 
 impl EdgeHit {
@@ -390,9 +500,18 @@ impl EdgeHit {
         }
     }
 
+    pub const ALL: [EdgeHit; 6] = [
+        EdgeHit::First,
+        EdgeHit::Second,
+        EdgeHit::Both,
+        EdgeHit::Neither,
+        EdgeHit::Beside,
+        EdgeHit::Other,
+    ];
+
     /// Its letter in the golden text and its colour in the PNG.
     pub fn letter(self) -> char {
-        ['a', 'b', '2', '0', '.'][self as usize]
+        ['a', 'b', '2', '0', '.', 'o'][self as usize]
     }
 
     pub fn colour(self) -> [u8; 3] {
@@ -402,6 +521,19 @@ impl EdgeHit {
             [250, 210, 0],
             [230, 30, 30],
             [0, 0, 0],
+            [150, 90, 200],
+        ][self as usize]
+    }
+
+    /// What it means, for the legend.
+    pub fn words(self) -> &'static str {
+        [
+            "the first triangle only",
+            "the second only",
+            "both (a double hit)",
+            "a leak (no triangle of the mesh catches the ray)",
+            "neither, as the exact ray",
+            "a neighbouring triangle (not a leak)",
         ][self as usize]
     }
 }
@@ -415,6 +547,8 @@ pub struct LeakGrid {
     cases: Vec<HitCase>,
     pair: [u32; 2],
     exact: Vec<EdgeHit>,
+    /// Each cell's exact first crossings, against which a leak is judged.
+    truths: Vec<Option<crate::exact::hit::HitTruth>>,
 }
 
 impl LeakGrid {
@@ -434,6 +568,10 @@ impl LeakGrid {
                 c
             })
             .collect();
+        let truths = cases
+            .par_iter()
+            .map(|c| crate::exact::hit::judge_hit(c.tris(), c.closed, &c.ray()).ok())
+            .collect();
         let exact = cases
             .par_iter()
             .map(|c| {
@@ -447,7 +585,12 @@ impl LeakGrid {
                 }
             })
             .collect();
-        LeakGrid { cases, pair, exact }
+        LeakGrid {
+            cases,
+            pair,
+            exact,
+            truths,
+        }
     }
 
     /// The exact cells (both on the edge itself).
@@ -455,7 +598,9 @@ impl LeakGrid {
         &self.exact
     }
 
-    /// `method`'s cells on `backend`: neither where the exact ray meets one is a leak.
+    /// `method`'s cells on `backend`: a leak where, judged against every triangle of the mesh, the
+    /// ray crosses the surface and no triangle around the crossing reports it; else which of the two
+    /// it hits, or another around the crossing.
     pub fn of(
         &self,
         method: &TriangleMethod,
@@ -465,11 +610,15 @@ impl LeakGrid {
         Ok(backend
             .triangle_hits(method, &self.cases)?
             .iter()
-            .zip(&self.exact)
-            .map(|(h, e)| {
-                let hit = |i: u32| h.iter().any(|&(k, _)| k == i);
-                match (EdgeHit::of(hit(p), hit(q)), e) {
+            .zip(self.exact.iter().zip(&self.truths))
+            .map(|(h, (e, truth))| {
+                let ids: Vec<u32> = h.iter().map(|&(k, _)| k).collect();
+                if truth.as_ref().is_some_and(|t| t.leaks(&ids)) {
+                    return EdgeHit::Neither;
+                }
+                match (EdgeHit::of(ids.contains(&p), ids.contains(&q)), e) {
                     (EdgeHit::Neither, EdgeHit::Beside) => EdgeHit::Beside,
+                    (EdgeHit::Neither, _) => EdgeHit::Other,
                     (c, _) => c,
                 }
             })
@@ -531,30 +680,36 @@ pub fn leak_image(cells: &[EdgeHit], size: u32) -> Image {
     im
 }
 
-/// The leak maps' legend.
-pub fn leak_legend() -> String {
-    let names = [
-        "the first triangle only",
-        "the second only",
-        "both (a double hit)",
-        "neither where the exact ray meets one (a leak)",
-        "neither, as the exact ray",
-    ];
-    let cells = [
-        EdgeHit::First,
-        EdgeHit::Second,
-        EdgeHit::Both,
-        EdgeHit::Neither,
-        EdgeHit::Beside,
-    ];
-    let parts: Vec<String> = cells
+/// The leak maps' key: each kind of cell, its words and colour.
+pub fn leak_key() -> Vec<(&'static str, [u8; 3])> {
+    EdgeHit::ALL
         .iter()
-        .zip(names)
-        .map(|(c, n)| format!("{n} rgb{:?}", c.colour()))
-        .collect();
-    format!(
-        "leak maps: hits on the two triangles sharing the edge: {}\n",
-        parts.join("; ")
+        .map(|c| (c.words(), c.colour()))
+        .collect()
+}
+
+/// The predicate maps' key: each face's colour, black for none.
+pub fn predicate_key() -> Vec<(&'static str, [u8; 3])> {
+    const FACES: [&str; 4] = ["face 0", "face 1", "face 2", "face 3"];
+    FACES
+        .iter()
+        .zip(FACE_COLOURS)
+        .map(|(f, c)| (*f, c))
+        .chain([("no exit face", [0, 0, 0])])
+        .collect()
+}
+
+/// A key in words, for standard output: `name: words rgb(…); …`.
+pub fn key_line(name: &str, key: &[(&str, [u8; 3])]) -> String {
+    let parts: Vec<String> = key.iter().map(|(w, c)| format!("{w} rgb{c:?}")).collect();
+    format!("{name}: {}\n", parts.join("; "))
+}
+
+/// The leak maps' legend, in words.
+pub fn leak_legend() -> String {
+    key_line(
+        "leak maps: hits on the two triangles sharing the edge",
+        &leak_key(),
     )
 }
 
@@ -585,14 +740,9 @@ pub fn failure_legend(drawn: &[OutcomeKind]) -> String {
     s + &kinds.join("; ") + "\n"
 }
 
-/// The predicate maps' legend.
+/// The predicate maps' legend, in words.
 pub fn predicate_legend() -> String {
-    let faces: Vec<String> = FACE_COLOURS
-        .iter()
-        .enumerate()
-        .map(|(f, c)| format!("face {f} rgb{c:?}"))
-        .collect();
-    format!("predicate maps: {}; no exit face black\n", faces.join("; "))
+    key_line("predicate maps", &predicate_key())
 }
 
 /// The heat maps' legend.
