@@ -796,3 +796,188 @@ fn render_writes_the_out_file_for_every_kind() {
         }
     }
 }
+
+/// Without a terminal (a CI log) a long run still shows it is alive: a progress line every
+/// `TETWALK_PROGRESS_SECONDS` (here every step).
+#[test]
+fn progress_lines_go_to_a_log_when_there_is_no_terminal() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args(["stress", "--cases", "50", "--rows", "well,sliver"])
+        .env("TETWALK_PROGRESS_SECONDS", "0")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("tetwalk stress: cases: 100 of 100 (100%)"),
+        "{err}"
+    );
+}
+
+/// `exit`, `hit` and `box-exit` end with a line per method on standard error: cases, right, wrong,
+/// not judged.
+#[test]
+fn answering_commands_end_with_a_summary_per_method() {
+    let (_, cases, _) = tetwalk(
+        &[
+            "gen-cases",
+            "--tet-shape",
+            "needle",
+            "--rays",
+            "near-edge",
+            "--count",
+            "40",
+        ],
+        "",
+    );
+    let (code, _, err) = tetwalk(&["exit", "--method", "maria17,exact"], &cases);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("tetwalk exit: exact: 40 case(s), 40 right, 0 wrong, 0 not judged"),
+        "{err}"
+    );
+    assert!(err.contains("tetwalk exit: maria17: 40 case(s), "), "{err}");
+}
+
+/// `gen-cases` with a stress row's arguments writes that row's cases: `hit` and `box-exit` count on
+/// them exactly what `stress` counts; `--single` writes the triangle each ray first crosses, alone.
+#[test]
+fn gen_cases_writes_a_stress_rows_cases() {
+    let (_, tris, _) = tetwalk(
+        &[
+            "gen-cases",
+            "--shape",
+            "tetrahedron",
+            "--aim",
+            "edge",
+            "--place",
+            "far",
+            "--count",
+            "300",
+        ],
+        "",
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let hit = dir.path().join("hit.json");
+    let (code, _, err) = tetwalk(
+        &["hit", "--method", "mt", "--json", hit.to_str().unwrap()],
+        &tris,
+    );
+    assert_eq!(code, 0, "{err}");
+    let hit: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&hit).unwrap()).unwrap();
+    let stress = json_run(
+        &[
+            "stress",
+            "--family",
+            "triangle",
+            "--shapes",
+            "tetrahedron",
+            "--aims",
+            "edge",
+            "--places",
+            "far",
+            "--cases",
+            "300",
+            "--methods",
+            "mt",
+        ],
+        "tetrahedron",
+    );
+    assert_eq!(
+        hit["methods"][0]["leaks"],
+        stress["rows"][0]["tallies"][0]["leaks"]
+    );
+    assert!(hit["methods"][0]["leaks"].as_u64().unwrap() > 0);
+
+    let (_, cells, _) = tetwalk(
+        &[
+            "gen-cases",
+            "--cell-aim",
+            "corner",
+            "--cell-place",
+            "far",
+            "--count",
+            "200",
+        ],
+        "",
+    );
+    let boxes = dir.path().join("box.json");
+    tetwalk(
+        &[
+            "box-exit",
+            "--method",
+            "portalez16",
+            "--json",
+            boxes.to_str().unwrap(),
+        ],
+        &cells,
+    );
+    let boxes: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&boxes).unwrap()).unwrap();
+    let stress = json_run(
+        &[
+            "stress",
+            "--family",
+            "octree",
+            "--cell-aims",
+            "corner",
+            "--cell-places",
+            "far",
+            "--cases",
+            "200",
+            "--methods",
+            "portalez16",
+        ],
+        "corner",
+    );
+    assert_eq!(
+        boxes["methods"][0]["wrong"],
+        stress["rows"][0]["tallies"][0]["wrong"]
+    );
+    assert!(boxes["methods"][0]["wrong"].as_u64().unwrap() > 0);
+
+    let (_, single, _) = tetwalk(
+        &[
+            "gen-cases",
+            "--shape",
+            "octahedron",
+            "--aim",
+            "vertex",
+            "--single",
+            "--count",
+            "20",
+        ],
+        "",
+    );
+    // Of the row's first 20 cases, those whose ray crosses the mesh.
+    assert!((15..=20).contains(&single.lines().count()), "{single}");
+    assert!(single.lines().all(|l| l.starts_with("{\"tri\":")));
+    let (code, _, err) = tetwalk(&["hit", "--method", "woop-watertight"], &single);
+    assert_eq!(code, 0, "{err}");
+}
+
+/// `paper` prints its tables and writes a file only where `--out` names one: the repository's
+/// record is never written unasked.
+#[test]
+fn paper_writes_only_where_asked() {
+    let record = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/results/paper.md");
+    let before = std::fs::read(record).unwrap();
+    let (code, out, err) = tetwalk(
+        &[
+            "paper",
+            "--scene",
+            "kuhn",
+            "--backend",
+            "cpu",
+            "--views",
+            "2",
+            "--side",
+            "16",
+        ],
+        "",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("## Seed 000 Table 4"), "{out}");
+    assert_eq!(std::fs::read(record).unwrap(), before);
+}

@@ -161,7 +161,8 @@ pub(super) struct Answering<'a> {
 impl Answering<'_> {
     /// Answer the lines with `answer` (given each batch and the summary); then `after` checks what
     /// only the whole input tells (an error there writes no summary); then the summary goes to
-    /// `--json`. Exit status 1 when a line could not be answered, or under `--fail-on`.
+    /// `--json`, and a line per method to standard error (cases answered, right, wrong, not judged).
+    /// Exit status 1 when a line could not be answered, or under `--fail-on`.
     pub(super) fn run(
         self,
         mut answer: impl FnMut(&[Line], &mut Summary) -> Result<String, super::Error>,
@@ -194,6 +195,22 @@ impl Answering<'_> {
             .into());
         }
         out.finish(&summary)?;
+        let answered = summary.lines - summary.errors;
+        for t in &summary.methods {
+            let not = answered.saturating_sub(t.right + t.wrong);
+            eprintln!(
+                "tetwalk {}: {}: {answered} case(s), {} right, {} wrong, {not} not judged{}",
+                self.command,
+                t.method,
+                t.right,
+                t.wrong,
+                if t.missed.is_some() {
+                    " (the line misses the cell)"
+                } else {
+                    ""
+                }
+            );
+        }
         let standings: Vec<Standing> = summary.methods.iter().map(self.standing).collect();
         let status = self.fail.status(self.command, &standings);
         if summary.errors > 0 {

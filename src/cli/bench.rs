@@ -77,7 +77,7 @@ pub fn run(a: Args) -> Status {
         mesh = crate::mesh::reorder::hilbert_sorted(&mesh);
     }
     let views = views(&a, width, height);
-    let bar = super::progress(a.views as u64, "views");
+    let bar = super::progress("bench", a.views as u64, "views");
     let report = bench::run(
         &a.scene,
         &mesh,

@@ -245,7 +245,11 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     } else {
         1
     };
-    let bar = super::progress((shard.held(views.views) * labellings) as u64, "views");
+    let bar = super::progress(
+        "count",
+        (shard.held(views.views) * labellings) as u64,
+        "views",
+    );
     let answerers: Vec<Answerer<F>> = methods.iter().map(|m| Answerer::Method(*m)).collect();
     let mut write = |w: &WrongRay| dump.write(w);
     // The mesh's own labelling gives the report and the dump.

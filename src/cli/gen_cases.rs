@@ -1,11 +1,17 @@
-//! `tetwalk gen-cases`: generated (tetrahedron, ray) cases as JSON Lines, for `tetwalk exit`, or, with
-//! `--shape`, closed triangle meshes and rays for `tetwalk hit`.
+//! `tetwalk gen-cases`: generated (tetrahedron, ray) cases as JSON Lines, for `tetwalk exit`; with
+//! `--shape`, a ray–triangle stress row's cases for `tetwalk hit` (closed meshes, or with `--single`
+//! the triangle each ray first crosses); with `--cell-aim`, an octree stress row's cells for
+//! `tetwalk box-exit`. A stress row's cases are exactly those `tetwalk stress` judges for the same
+//! arguments and seed.
 
 use super::{JsonOut, Status, choice};
 use crate::cases::{Case, HitCase};
 use crate::exact::classify;
-use crate::family::{ExitFace, Family, Triangle};
-use crate::scenes::closed::{self, MeshShape, TriAim, TriPlace};
+use crate::family::octree::{CellRow, CellRows};
+use crate::family::triangle::{TriRow, TriRows};
+use crate::family::{ExitFace, Family, OctreeCells, Scale, Triangle};
+use crate::scenes::cells::{CellAim, CellPlace};
+use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
 use crate::scenes::rng;
 use crate::scenes::tets::{self, Target, TetShape};
 use glam::Vec3;
@@ -37,9 +43,10 @@ pub struct Args {
     /// How the ray meets the tetrahedron.
     #[arg(long, value_enum, default_value = "stab")]
     rays: Rays,
-    /// In (0, 1]; smaller is flatter.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
-    flatness: f32,
+    /// In (0, 1]; smaller is flatter [default: 1 for tetrahedra, the stress rows' 0.001 with
+    /// --shape].
+    #[arg(long, allow_negative_numbers = true)]
+    flatness: Option<f32>,
     /// Largest ulp offset for the near-* rays.
     #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
@@ -55,10 +62,27 @@ pub struct Args {
     /// Give each case its exact entry face (the lowest one) when it has one.
     #[arg(long)]
     with_entry: bool,
-    /// Write ray–triangle cases for `tetwalk hit` instead: closed meshes of this shape (`tris` lines;
-    /// the stress rows' generator), with `--aim`, `--place`, `--flatness` and `--ulps`.
+    /// Write ray–triangle cases for `tetwalk hit` instead: the stress row of closed meshes of this
+    /// shape, `--aim` and `--place` (`tris` lines; with the same `--flatness`, `--ulps` and `--seed`,
+    /// the cases `stress --family triangle` judges).
     #[arg(long, value_parser = choice::<MeshShape>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry"])]
     shape: Option<MeshShape>,
+    /// With `--shape`: each case's triangle where the ray first crosses the mesh, alone (`tri`
+    /// lines, one-triangle cases).
+    #[arg(long, requires = "shape")]
+    single: bool,
+    /// Write octree cell cases for `tetwalk box-exit` instead: the stress row of cells where rays
+    /// leave as this says, at `--cell-place` (`box` lines; the cases `stress --family octree`
+    /// judges).
+    #[arg(long, value_parser = choice::<CellAim>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry", "shape"])]
+    cell_aim: Option<CellAim>,
+    /// With `--cell-aim`: where the cells are placed.
+    #[arg(long, value_parser = choice::<CellPlace>(), default_value = "origin", requires = "cell_aim")]
+    cell_place: CellPlace,
+    /// Every case at a power-of-two scale, as `stress --scale` takes it (`E`, or `E/D` for the
+    /// direction at its own).
+    #[arg(long, allow_negative_numbers = true, value_parser = Scale::parse, default_value = "0")]
+    scale: Scale,
     /// With `--shape`: where the rays are aimed.
     #[arg(long, value_parser = choice::<TriAim>(), default_value = "edge", requires = "shape")]
     aim: TriAim,
@@ -79,11 +103,50 @@ struct Generated {
     offset: f32,
     seed: u64,
     with_entry: bool,
+    #[serde(skip_serializing_if = "Scale::is_one")]
+    scale: Scale,
     written: usize,
 }
 
+/// The stress row `row` of family `F` under `rows`: its first `count` cases (those the oracle judges),
+/// each at `scale`, written as `line` makes them.
+fn row<F: Family>(
+    rows: &F::Rows,
+    row: F::Row,
+    a: &Args,
+    line: impl Fn(&F::Case, &F::Truth) -> Option<serde_json::Map<String, serde_json::Value>>,
+) -> Result<usize, super::Error> {
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    let mut written = 0;
+    for i in 0..a.count {
+        let Some((c, x)) = F::case(rows, row, a.seed, i) else {
+            continue;
+        };
+        let (c, x) = if a.scale.is_one() {
+            (c, x)
+        } else {
+            match F::scaled(&c, a.scale)
+                .filter(crate::family::readable::<F>)
+                .and_then(|c| Some((c, F::truth(&c).ok()?)))
+            {
+                Some(cx) => cx,
+                None => continue,
+            }
+        };
+        if let Some(obj) = line(&c, &x) {
+            writeln!(w, "{}", serde_json::Value::Object(obj))?;
+            written += 1;
+        }
+    }
+    w.flush()?;
+    Ok(written)
+}
+
 pub fn run(a: Args) -> Status {
-    super::generator(a.flatness, a.ulps)?;
+    let flatness = a
+        .flatness
+        .unwrap_or(if a.shape.is_some() { 1e-3 } else { 1.0 });
+    super::generator(flatness, a.ulps)?;
     if a.count > 100_000_000 {
         return Err(format!("--count {} is more than 100,000,000 cases", a.count).into());
     }
@@ -94,19 +157,49 @@ pub fn run(a: Args) -> Status {
     let mut r = rng(a.seed);
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     if let Some(shape) = a.shape {
-        for _ in 0..a.count {
-            let (mesh, ray) = closed::case(shape, a.aim, a.place, a.flatness, a.ulps, &mut r);
-            let case = HitCase::closed(&mesh, ray).map_err(|e| e.to_string())?;
-            writeln!(
-                w,
-                "{}",
-                serde_json::Value::Object(Triangle::case_json(&case))
-            )?;
-        }
-        w.flush()?;
+        let rows = TriRows {
+            shapes: vec![shape],
+            aims: vec![a.aim],
+            places: vec![a.place],
+            flatness,
+            ulps: a.ulps,
+        };
+        let at = TriRow {
+            shape,
+            aim: a.aim,
+            place: a.place,
+        };
+        let written = row::<Triangle>(&rows, at, &a, |c, x| {
+            if !a.single {
+                return Some(Triangle::case_json(c));
+            }
+            let first = x.first_crossing()?.holding[0] as usize;
+            Some(Triangle::case_json(&HitCase::single(
+                c.tris()[first],
+                c.ray(),
+            )))
+        })?;
         out.finish(&serde_json::json!({
-            "shape": shape, "aim": a.aim, "place": a.place, "flatness": a.flatness,
-            "ulps": a.ulps, "seed": a.seed, "written": a.count,
+            "shape": shape, "aim": a.aim, "place": a.place, "flatness": flatness,
+            "ulps": a.ulps, "seed": a.seed, "single": a.single, "scale": a.scale,
+            "written": written,
+        }))?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if let Some(aim) = a.cell_aim {
+        let rows = CellRows {
+            aims: vec![aim],
+            places: vec![a.cell_place],
+            ulps: a.ulps,
+        };
+        let at = CellRow {
+            aim,
+            place: a.cell_place,
+        };
+        let written = row::<OctreeCells>(&rows, at, &a, |c, _| Some(OctreeCells::case_json(c)))?;
+        out.finish(&serde_json::json!({
+            "cell_aim": aim, "cell_place": a.cell_place, "ulps": a.ulps, "seed": a.seed,
+            "scale": a.scale, "written": written,
         }))?;
         return Ok(ExitCode::SUCCESS);
     }
@@ -117,13 +210,13 @@ pub fn run(a: Args) -> Status {
         }
         let generated = match a.rays {
             Rays::Stab => {
-                let t = tets::tet(a.tet_shape, a.flatness, &mut r);
+                let t = tets::tet(a.tet_shape, flatness, &mut r);
                 Some((t, tets::stabbing_ray(&t, &mut r)))
             }
-            Rays::Edge => tets::through(a.tet_shape, a.flatness, Target::Edge, &mut r),
-            Rays::Vertex => tets::through(a.tet_shape, a.flatness, Target::Vertex, &mut r),
-            Rays::NearEdge => tets::near(a.tet_shape, a.flatness, Target::Edge, a.ulps, &mut r),
-            Rays::NearVertex => tets::near(a.tet_shape, a.flatness, Target::Vertex, a.ulps, &mut r),
+            Rays::Edge => tets::through(a.tet_shape, flatness, Target::Edge, &mut r),
+            Rays::Vertex => tets::through(a.tet_shape, flatness, Target::Vertex, &mut r),
+            Rays::NearEdge => tets::near(a.tet_shape, flatness, Target::Edge, a.ulps, &mut r),
+            Rays::NearVertex => tets::near(a.tet_shape, flatness, Target::Vertex, a.ulps, &mut r),
         };
         let Some((t, ray)) =
             generated.and_then(|(t, ray)| tets::translated(&t, &ray, Vec3::splat(a.offset)))
@@ -148,6 +241,18 @@ pub fn run(a: Args) -> Status {
             dir: ray.dir,
             entry,
         };
+        // At another scale: kept where it still reads back and the oracle still judges it.
+        let case = if a.scale.is_one() {
+            case
+        } else {
+            match ExitFace::scaled(&case, a.scale)
+                .filter(crate::family::readable::<ExitFace>)
+                .filter(|c| ExitFace::truth(c).is_ok())
+            {
+                Some(c) => c,
+                None => continue,
+            }
+        };
         writeln!(
             w,
             "{}",
@@ -167,11 +272,12 @@ pub fn run(a: Args) -> Status {
     out.finish(&Generated {
         tet_shape: a.tet_shape,
         rays: a.rays,
-        flatness: a.flatness,
+        flatness,
         ulps: a.ulps,
         offset: a.offset,
         seed: a.seed,
         with_entry: a.with_entry,
+        scale: a.scale,
         written,
     })?;
     Ok(ExitCode::SUCCESS)

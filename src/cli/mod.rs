@@ -71,7 +71,8 @@ enum Command {
     Stress(stress::Args),
     /// Wrong rays per image, per method, on a scene (seed 000 Table 4), judged exactly.
     Count(count::Args),
-    /// The seeds' tables that tetwalk reproduces, ours beside theirs (corpora/results/paper.md).
+    /// The seeds' tables that tetwalk reproduces, ours beside theirs (printed; `--out` writes them,
+    /// as in corpora/results/paper.md).
     Paper(paper::Args),
     /// Walk speed: rays and tetrahedra per second per method and backend, end to end and (on a GPU
     /// with timestamp queries) kernel alone.
@@ -549,8 +550,64 @@ impl JsonOut {
     }
 }
 
-/// A progress bar on standard error (drawn only when it is a terminal and the work lasts).
-fn progress(len: u64, unit: &str) -> indicatif::ProgressBar {
+/// Progress of a long run on standard error: a bar where standard error is a terminal; elsewhere (a CI
+/// log, a file) a line every [`PROGRESS_EVERY`] seconds (`TETWALK_PROGRESS_SECONDS` sets another),
+/// so that a run of hours shows it is alive and how far it is.
+struct Progress {
+    bar: indicatif::ProgressBar,
+    log: Option<ProgressLog>,
+}
+
+/// The lines of [`Progress`] where there is no terminal.
+struct ProgressLog {
+    what: String,
+    len: u64,
+    done: std::sync::atomic::AtomicU64,
+    start: std::time::Instant,
+    /// Seconds since `start` of the last line.
+    last: std::sync::atomic::AtomicU64,
+    every: u64,
+}
+
+/// Seconds between progress lines where standard error is not a terminal.
+const PROGRESS_EVERY: u64 = 30;
+
+impl Progress {
+    /// Count `n` more done (from any thread).
+    fn inc(&self, n: u64) {
+        self.bar.inc(n);
+        let Some(log) = &self.log else {
+            return;
+        };
+        use std::sync::atomic::Ordering::Relaxed;
+        let done = log.done.fetch_add(n, Relaxed) + n;
+        let now = log.start.elapsed().as_secs();
+        let last = log.last.load(Relaxed);
+        if now >= last + log.every
+            && log
+                .last
+                .compare_exchange(last, now, Relaxed, Relaxed)
+                .is_ok()
+        {
+            let left = (now as f64 * (log.len.saturating_sub(done)) as f64 / done.max(1) as f64)
+                .round() as u64;
+            eprintln!(
+                "{}: {done} of {} ({:.0}%) after {now} s, about {left} s left",
+                log.what,
+                log.len,
+                100.0 * done as f64 / log.len.max(1) as f64
+            );
+        }
+    }
+
+    fn finish_and_clear(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// Progress of `len` `unit` of `command`'s work ([`Progress`]).
+fn progress(command: &str, len: u64, unit: &str) -> Progress {
+    use std::io::IsTerminal;
     let bar = indicatif::ProgressBar::with_draw_target(
         Some(len),
         indicatif::ProgressDrawTarget::stderr(),
@@ -559,7 +616,19 @@ fn progress(len: u64, unit: &str) -> indicatif::ProgressBar {
     if let Ok(st) = indicatif::ProgressStyle::with_template(&style) {
         bar.set_style(st);
     }
-    bar
+    let every = std::env::var("TETWALK_PROGRESS_SECONDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(PROGRESS_EVERY);
+    let log = (!std::io::stderr().is_terminal()).then(|| ProgressLog {
+        what: format!("tetwalk {command}: {unit}"),
+        len,
+        done: 0.into(),
+        start: std::time::Instant::now(),
+        last: 0.into(),
+        every,
+    });
+    Progress { bar, log }
 }
 
 /// Most memory a command may plan to hold at once; larger runs are refused with the figure they need.

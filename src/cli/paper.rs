@@ -34,9 +34,10 @@ pub struct Args {
     /// goes to `--json` only, and `tetwalk paper merge` adds the N shards up into the tables.
     #[arg(long, default_value = "0/1")]
     shard: String,
-    /// Where the tables go (written whole, or not at all).
-    #[arg(long, default_value = "corpora/results/paper.md")]
-    out: PathBuf,
+    /// Also write the tables here (written whole, or not at all); they are always printed.
+    /// `corpora/results/paper.md` is the repository's record of a run: name it to update it.
+    #[arg(long)]
+    out: Option<PathBuf>,
     /// Also write the numbers as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -50,9 +51,9 @@ enum Merge {
         /// The shards' reports.
         #[arg(required = true)]
         reports: Vec<PathBuf>,
-        /// Where the tables go (written whole, or not at all).
-        #[arg(long, default_value = "corpora/results/paper.md")]
-        out: PathBuf,
+        /// Also write the tables here (written whole, or not at all); they are always printed.
+        #[arg(long)]
+        out: Option<PathBuf>,
         /// Also write the merged report as JSON here.
         #[arg(long)]
         json: Option<PathBuf>,
@@ -61,7 +62,7 @@ enum Merge {
 
 pub fn run(a: Args) -> Status {
     if let Some(Merge::Merge { reports, out, json }) = &a.merge {
-        return merge(reports, out, json.as_deref());
+        return merge(reports, out.as_deref(), json.as_deref());
     }
     let shard = super::count::shard(&a.shard)?;
     if shard != Shard::ALL && a.json.is_none() {
@@ -91,8 +92,12 @@ pub fn run(a: Args) -> Status {
     }
     let kinds = super::backend_list(&a.backend)?;
     let json = JsonOut::new(a.json.as_deref())?;
-    let out = (shard == Shard::ALL)
-        .then(|| Staged::new("--out", &a.out))
+    let whole = shard == Shard::ALL;
+    let out = a
+        .out
+        .as_deref()
+        .filter(|_| whole)
+        .map(|p| Staged::new("--out", p))
         .transpose()?;
     let backends = kinds
         .into_iter()
@@ -101,34 +106,41 @@ pub fn run(a: Args) -> Status {
     let mesh = crate::scenes::load(&a.scene, crate::mesh::Faces::Required)?;
     // The count and the octree count on each backend.
     let bar = super::progress(
+        "paper",
         (shard.held(size.views) * backends.len() * 2) as u64,
         "views",
     );
     let report = paper::run(&a.scene, &mesh, size, shard, &backends, &|| bar.inc(1))?;
     bar.finish_and_clear();
-    match out {
-        Some(out) => write(&report, out)?,
-        None => println!(
+    if whole {
+        write(&report, out)?;
+    } else {
+        println!(
             "shard {} of the run written to {}; `tetwalk paper merge` adds the shards up",
             a.shard,
             a.json.as_deref().unwrap_or(Path::new("-")).display()
-        ),
+        );
     }
     json.finish(&report)?;
     Ok(ExitCode::SUCCESS)
 }
 
-/// The tables, printed and written to `out`.
-fn write(report: &PaperReport, mut out: Staged) -> Result<(), super::Error> {
+/// The tables, printed and, with `--out`, written there.
+fn write(report: &PaperReport, out: Option<Staged>) -> Result<(), super::Error> {
     let text = report.markdown();
     print!("{text}");
-    out.write_all(text.as_bytes())?;
-    out.finish()
+    match out {
+        Some(mut out) => {
+            out.write_all(text.as_bytes())?;
+            out.finish()
+        }
+        None => Ok(()),
+    }
 }
 
-fn merge(reports: &[PathBuf], out: &Path, json: Option<&Path>) -> Status {
+fn merge(reports: &[PathBuf], out: Option<&Path>, json: Option<&Path>) -> Status {
     let json = JsonOut::new(json)?;
-    let out = Staged::new("--out", out)?;
+    let out = out.map(|p| Staged::new("--out", p)).transpose()?;
     let merged = crate::engine::count::merge::<PaperReport>(&super::read_reports(reports)?)?;
     write(&merged, out)?;
     json.finish(&merged)?;

@@ -257,7 +257,7 @@ fn stress<F: Rows>(a: Args) -> Status {
     }
     let Some(seconds) = a.seconds else {
         let rows = F::rows(&settings.rows).len();
-        let bar = super::progress((settings.cases * rows) as u64, "cases");
+        let bar = super::progress("stress", (settings.cases * rows) as u64, "cases");
         let mut report = stress::run(&settings, &methods, &backend, &|n| bar.inc(n), &mut |_| {})?;
         if a.relabel.is_some() {
             report.relabel_all(&methods, &backend)?;
