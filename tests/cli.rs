@@ -981,3 +981,58 @@ fn paper_writes_only_where_asked() {
     assert!(out.contains("## Seed 000 Table 4"), "{out}");
     assert_eq!(std::fs::read(record).unwrap(), before);
 }
+
+/// `bench` takes samples (each batch, `--repeat` times) and gives each row's median and range, and
+/// compares them with an earlier run's (`--baseline`), as criterion does.
+#[test]
+fn bench_gives_medians_of_samples_and_compares_with_a_baseline() {
+    let dir = tempfile::tempdir().unwrap();
+    let first = dir.path().join("first.json");
+    let args = |json: &str| {
+        vec![
+            "bench".to_string(),
+            "--scene".into(),
+            "kuhn".into(),
+            "--views".into(),
+            "2".into(),
+            "--size".into(),
+            "32x32".into(),
+            "--batch".into(),
+            "1024".into(),
+            "--methods".into(),
+            "maria17".into(),
+            "--repeat".into(),
+            "2".into(),
+            "--json".into(),
+            json.into(),
+        ]
+    };
+    let run = |a: Vec<String>| {
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        tetwalk(&a, "")
+    };
+    let (code, _, err) = run(args(first.to_str().unwrap()));
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&first).unwrap()).unwrap();
+    let row = &r["rows"][0];
+    assert_eq!(
+        row["samples"].as_array().unwrap().len(),
+        4,
+        "2 batches, each timed twice"
+    );
+    assert!(row["spread"]["low"].as_f64() <= row["spread"]["median"].as_f64());
+    let second = dir.path().join("second.json");
+    let mut a = args(second.to_str().unwrap());
+    a.extend(["--baseline".to_string(), first.display().to_string()]);
+    let (code, out, err) = run(a);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("vs baseline"), "{out}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&second).unwrap()).unwrap();
+    let verdict = r["rows"][0]["change"]["verdict"].as_str().unwrap();
+    assert!(
+        ["faster", "slower", "within noise"].contains(&verdict),
+        "{verdict}"
+    );
+}

@@ -219,7 +219,7 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
         &views,
         &[certified],
         &[&backends[0], &backends[1]],
-        (1 << 20, false),
+        (1 << 20, false, 1),
         &|| {},
     )
     .unwrap();

@@ -46,6 +46,13 @@ pub struct Args {
     /// Seed of the viewpoints' rotation.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
+    /// Time each batch this many times: each timing is a sample, and rows give the median and range.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
+    repeat: usize,
+    /// A report of an earlier run (its `--json`): each row's median is compared with the same row's
+    /// there, as criterion compares (faster or slower where it leaves that row's range).
+    #[arg(long)]
+    baseline: Option<PathBuf>,
     /// Also write the report as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -61,6 +68,17 @@ pub fn run(a: Args) -> Status {
     if a.batch == 0 {
         return Err("--batch 0: a batch holds at least one ray".into());
     }
+    if a.repeat == 0 {
+        return Err("--repeat 0: each batch is timed at least once".into());
+    }
+    let baseline = match &a.baseline {
+        Some(p) => Some(
+            super::read_reports::<bench::BenchReport>(std::slice::from_ref(p))?
+                .remove(0)
+                .1,
+        ),
+        None => None,
+    };
     let (width, height) = super::size(a.size.as_deref().unwrap_or("1024x1024"), false, 65536)?;
     let per_view = width as u128 * height as u128;
     super::fits(
@@ -85,10 +103,14 @@ pub fn run(a: Args) -> Status {
         &views,
         &methods,
         &backends.iter().collect::<Vec<_>>(),
-        (a.batch, a.layouts),
+        (a.batch, a.layouts, a.repeat),
         &|| bar.inc(1),
     )?;
     bar.finish_and_clear();
+    let mut report = report;
+    if let Some(b) = &baseline {
+        report.compare(b);
+    }
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
@@ -96,8 +118,8 @@ pub fn run(a: Args) -> Status {
 
 /// `bench --family triangle`.
 fn run_triangle(a: Args) -> Status {
-    if a.backend != "cpu" || a.layouts || a.hilbert {
-        return Err("--family triangle times the CPU, plain f32; leave out --backend, --layouts and --hilbert".into());
+    if a.backend != "cpu" || a.layouts || a.hilbert || a.baseline.is_some() || a.repeat != 1 {
+        return Err("--family triangle times the CPU, plain f32, best of 3; leave out --backend, --layouts, --hilbert, --repeat and --baseline".into());
     }
     super::view_count(a.views, "bench")?;
     let methods = family::parse_list::<Triangle>(&a.methods)?;

@@ -34,6 +34,11 @@ pub enum BenchError {
     NoMethod(String),
 }
 
+/// Whether pass `pass` of `passes` is timed: the first batch's first pass (of `repeat + 1`) warms up.
+fn warm_done(pass: usize, passes: usize, repeat: usize) -> bool {
+    passes == repeat || pass > 0
+}
+
 /// One method on one backend.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BenchRow {
@@ -50,6 +55,83 @@ pub struct BenchRow {
     pub kernel_seconds: Option<f64>,
     /// Rays the GPU flagged and the CPU walked.
     pub flagged: u64,
+    /// Each timed batch's end-to-end speed, Mrays/s (a batch timed `repeat` times gives as many).
+    #[serde(default)]
+    pub samples: Vec<f64>,
+    /// The samples' median and range.
+    #[serde(default)]
+    pub spread: Option<Spread>,
+    /// Against a baseline run's same row (`--baseline`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub change: Option<Change>,
+}
+
+/// Median and range of a row's samples, Mrays/s.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Spread {
+    pub median: f64,
+    pub low: f64,
+    pub high: f64,
+    pub samples: usize,
+}
+
+impl Spread {
+    pub fn of(samples: &[f64]) -> Option<Spread> {
+        let mut s: Vec<f64> = samples.iter().copied().filter(|x| x.is_finite()).collect();
+        s.sort_by(f64::total_cmp);
+        let n = s.len();
+        (n > 0).then(|| Spread {
+            median: if n % 2 == 1 {
+                s[n / 2]
+            } else {
+                (s[n / 2 - 1] + s[n / 2]) / 2.0
+            },
+            low: s[0],
+            high: s[n - 1],
+            samples: n,
+        })
+    }
+}
+
+/// Changes of medians smaller than this are noise whatever the ranges (criterion's default threshold).
+const NOISE: f64 = 0.02;
+
+/// A row against the same row of a baseline run, as criterion compares: the ratio of medians, and
+/// whether the new median lies outside the baseline's range and more than [`NOISE`] from its median
+/// (faster or slower), or not (noise).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Change {
+    pub baseline_median: f64,
+    pub ratio: f64,
+    pub verdict: String,
+}
+
+impl BenchReport {
+    /// Each row's change against the same method, layout and backend in `baseline` (rows it lacks
+    /// have none).
+    pub fn compare(&mut self, baseline: &BenchReport) {
+        for r in &mut self.rows {
+            let same = baseline
+                .rows
+                .iter()
+                .find(|b| b.method == r.method && b.layout == r.layout && b.backend == r.backend);
+            r.change = match (same.and_then(|b| b.spread), r.spread) {
+                (Some(b), Some(now)) => Some(Change {
+                    baseline_median: b.median,
+                    ratio: now.median / b.median,
+                    verdict: if now.median > b.high && now.median > b.median * (1.0 + NOISE) {
+                        "faster"
+                    } else if now.median < b.low && now.median < b.median * (1.0 - NOISE) {
+                        "slower"
+                    } else {
+                        "within noise"
+                    }
+                    .to_string(),
+                }),
+                _ => None,
+            };
+        }
+    }
 }
 
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -85,8 +167,9 @@ enum Walker<'a> {
 }
 
 /// Time every method on every backend over the views' primary rays, `batch` rays at most at once
-/// (whole views; one view when a view is larger); with `layouts`, also the methods that walk seed
-/// 003's layouts over Tet32, Tet20 and Tet16. `hilbert` records that the mesh was put in Hilbert order.
+/// (whole views; one view when a view is larger), each batch `repeat` times (every timing a sample);
+/// with `layouts`, also the methods that walk seed 003's layouts over Tet32, Tet20 and Tet16.
+/// `hilbert` records that the mesh was put in Hilbert order.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     scene: &str,
@@ -95,7 +178,7 @@ pub fn run(
     views: &Views,
     methods: &[&Method],
     backends: &[&Backend],
-    (batch, layouts): (usize, bool),
+    (batch, layouts, repeat): (usize, bool, usize),
     tick: &dyn Fn(),
 ) -> Result<BenchReport, BenchError> {
     let (lo, hi) = crate::mesh::bounds(&mesh.points);
@@ -130,6 +213,9 @@ pub fn run(
                 seconds: 0.0,
                 kernel_seconds: b.for_method(m).measures_kernels().then_some(0.0),
                 flagged: 0,
+                samples: Vec::new(),
+                spread: None,
+                change: None,
             });
         }
     }
@@ -164,7 +250,7 @@ pub fn run(
         });
         // One pass per walker; the first batch once more before, untimed, to compile every pipeline
         // and size every buffer.
-        let passes = if warm { 1 } else { 2 };
+        let passes = if warm { repeat } else { repeat + 1 };
         warm = true;
         for pass in 0..passes {
             for &(row, b, w) in &plan {
@@ -185,10 +271,11 @@ pub fn run(
                         (seconds, steps, done.kernel_seconds, 0)
                     }
                 };
-                if pass + 1 < passes {
+                if !warm_done(pass, passes, repeat) {
                     continue;
                 }
                 let r = &mut rows[row];
+                r.samples.push(rays.len() as f64 / seconds.max(1e-12) / 1e6);
                 r.seconds += seconds;
                 r.kernel_seconds = r.kernel_seconds.zip(kernel).map(|(a, k)| a + k);
                 r.rays += rays.len() as u64;
@@ -199,6 +286,9 @@ pub fn run(
     }
     if timed == 0 {
         return Err(BenchError::NoView(views.views));
+    }
+    for r in &mut rows {
+        r.spread = Spread::of(&r.samples);
     }
     Ok(BenchReport {
         scene: scene.to_string(),

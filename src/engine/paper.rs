@@ -185,7 +185,7 @@ pub fn run(
         },
         &timed,
         &timed_on,
-        (BENCH_BATCH, true),
+        (BENCH_BATCH, true, 1),
         &|| (),
     )?;
     let views = crate::scenes::camera::Views {

@@ -24,12 +24,22 @@ impl BenchReport {
             out += &format!("- {b}\n");
         }
         out += "\n";
-        out += "| method | layout | backend | rays | Φ (tetrahedra/ray) | end to end Mrays/s | end to end Mtets/s | kernel Mrays/s | kernel Mtets/s | flagged |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        let compared = self.rows.iter().any(|r| r.change.is_some());
+        out += "| method | layout | backend | rays | Φ (tetrahedra/ray) | end to end Mrays/s | median Mrays/s [min, max] of samples | end to end Mtets/s | kernel Mrays/s | kernel Mtets/s | flagged |";
+        out += if compared { " vs baseline |\n" } else { "\n" };
+        out += "|---|---|---|---|---|---|---|---|---|---|---|";
+        out += if compared { "---|\n" } else { "\n" };
         for r in &self.rows {
             let per = |n: u64, s: f64| format!("{:.1}", n as f64 / s.max(1e-12) / 1e6);
             let kernel = |n: u64| r.kernel_seconds.map_or("-".to_string(), |k| per(n, k));
+            let spread = r.spread.map_or("-".to_string(), |s| {
+                format!(
+                    "{:.1} [{:.1}, {:.1}] of {}",
+                    s.median, s.low, s.high, s.samples
+                )
+            });
             out += &format!(
-                "| {} | {} | {} | {} | {:.1} | {} | {} | {} | {} | {} |\n",
+                "| {} | {} | {} | {} | {:.1} | {} | {spread} | {} | {} | {} | {} |",
                 r.method,
                 r.layout,
                 r.backend.name(),
@@ -41,6 +51,16 @@ impl BenchReport {
                 kernel(r.tetrahedra),
                 r.flagged
             );
+            if compared {
+                out += &match &r.change {
+                    Some(c) => format!(
+                        " {:.2}× of {:.1}: {} |",
+                        c.ratio, c.baseline_median, c.verdict
+                    ),
+                    None => " - |".to_string(),
+                };
+            }
+            out += "\n";
         }
         out
     }
