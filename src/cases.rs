@@ -110,9 +110,11 @@ impl HitCase {
                     return Err(field_error(
                         format!("tris[{i}]"),
                         format!(
-                            "edge {:?} -> {:?} runs so {same} time(s) and back {back} time(s); a closed mesh runs each edge once each way",
+                            "edge {:?} -> {:?} is run {} this way and {} the other way; a closed mesh runs each edge once each way",
                             a.to_array(),
-                            b.to_array()
+                            b.to_array(),
+                            times(same),
+                            times(back)
                         ),
                     ));
                 }
@@ -147,6 +149,14 @@ impl HitCase {
             org: self.org,
             dir: self.dir,
         }
+    }
+}
+
+/// "once", or "N times".
+fn times(n: usize) -> String {
+    match n {
+        1 => "once".into(),
+        n => format!("{n} times"),
     }
 }
 

@@ -60,7 +60,7 @@ fn silent_defaults_and_empty_runs_are_errors() {
     refused(&["bench", "--backend", "cpu,tpu"], &["'tpu'", "cpu-fma"]);
     refused(
         &["render", "shaded", "--view", "200", "--size", "8x8"],
-        &["view 200", "160 views"],
+        &["view 200", "numbered 0 to 159"],
     );
     refused(
         &[
@@ -317,6 +317,7 @@ fn odd_sizes_views_depths_and_shards_are_refused_before_any_work() {
         &["--fail-on"],
     );
     refused(&["exit", "--t-ulps", "3"], &["--t-ulps"]);
+    refused(&["hit", "--wgsl", "user.wgsl"], &["--wgsl"]);
 }
 
 /// A folder given where a file goes is refused before the run, for every output flag.

@@ -137,7 +137,7 @@ fn shrink_prints_a_reproducing_command_and_writes_only_when_asked() {
         std::fs::read_to_string(&file).unwrap(),
         format!("{MARIA17}\n")
     );
-    assert!(err.contains("1 case(s) shrunk"), "{err}");
+    assert!(err.contains("1 case shrunk"), "{err}");
     let reproduce = out
         .lines()
         .find_map(|l| l.trim().strip_prefix("reproduce: "))

@@ -376,7 +376,51 @@ fn hit_judges_a_closed_mesh_by_its_first_crossing() {
     assert_eq!(v[2]["tri"], 3);
     assert_eq!(v[2]["exact_t"], "5/2");
     let why = v[3]["error"].as_str().unwrap();
-    assert!(why.contains("runs so 2 time(s)"), "{why}");
+    assert!(why.contains("is run 2 times this way"), "{why}");
+}
+
+/// A ray that meets a triangle's back: `mt` (front faces only, as published) misses it and is judged
+/// wrong, and the line and the summary say the ray met a back face; a closed mesh turned inside out is
+/// named on its lines.
+#[test]
+fn hit_names_back_faces_and_inside_out_meshes() {
+    let back = r#"{"tri": [[0,0,0],[0,1,0],[1,0,0]], "org": [0.25,0.25,1], "dir": [0,0,-1]}"#;
+    let front = format!("{{{TRI}, \"org\": [0.25,0.25,1], \"dir\": [0,0,-1]}}");
+    let (code, out, err) = common::run_tetwalk(
+        &["hit", "--method", "mt,mt-two-sided"],
+        format!("{back}\n{front}\n").as_bytes(),
+    );
+    assert_eq!(code, 0, "{err}");
+    let v = lines(&out);
+    assert_eq!(
+        (v[0]["method"].as_str(), v[0]["hit"].as_bool()),
+        (Some("mt"), Some(false))
+    );
+    assert_eq!(v[0]["back_face"], true);
+    assert_eq!(v[0]["correct"], false);
+    assert_eq!(v[1]["back_face"], true);
+    assert_eq!(v[1]["correct"], true);
+    assert!(v[2].get("back_face").is_none(), "{}", v[2]);
+    assert!(
+        err.contains("tetwalk hit: mt: 2 cases, 1 right, 1 wrong (1 of them where the ray first meets a back face"),
+        "{err}"
+    );
+    assert!(
+        err.contains("tetwalk hit: mt-two-sided: 2 cases, 2 right, 0 wrong, 0 not judged"),
+        "{err}"
+    );
+
+    let out_tet = r#"[[0,0,0],[0,1,0],[1,0,0]],[[0,0,0],[1,0,0],[0,0,1]],[[0,0,0],[0,0,1],[0,1,0]],[[1,0,0],[0,1,0],[0,0,1]]"#;
+    let in_tet = r#"[[0,0,0],[1,0,0],[0,1,0]],[[0,0,0],[0,0,1],[1,0,0]],[[0,0,0],[0,1,0],[0,0,1]],[[1,0,0],[0,0,1],[0,1,0]]"#;
+    let ray = r#""org": [0.25,0.25,3], "dir": [0,0,-1]"#;
+    let input = format!("{{\"tris\": [{out_tet}], {ray}}}\n{{\"tris\": [{in_tet}], {ray}}}\n");
+    let (_, out, _) = common::run_tetwalk(&["hit", "--method", "mt"], input.as_bytes());
+    let v = lines(&out);
+    assert!(v[0].get("inside_out").is_none(), "{}", v[0]);
+    assert_eq!(v[0]["correct"], true);
+    assert_eq!(v[1]["inside_out"], true);
+    assert_eq!(v[1]["back_face"], true);
+    assert_eq!(v[1]["correct"], false);
 }
 
 /// A triangle case in the case format reads back as the same f32 case, and a found case's recorded

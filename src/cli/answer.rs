@@ -3,7 +3,7 @@
 //! memory stays bounded; each line's family (by its keys) takes it, if the command answers that
 //! family, and answers it with the command's methods, or with answers given from outside.
 
-use super::{BackendArg, FailArg, JsonOut, Status, WgslArg};
+use super::{BackendArg, FailArg, JsonOut, Status};
 use crate::backend::Backend;
 use crate::cases::object;
 use crate::choice::Choice;
@@ -11,6 +11,7 @@ use crate::engine::found::Found;
 use crate::engine::standing::Standing;
 use crate::family::{Family, Kind, owner};
 use crate::registry::Named;
+use crate::report::counted;
 use crate::report::lines::{Lines, Said};
 use serde_json::{Map, Value, json};
 use std::collections::HashMap;
@@ -19,22 +20,16 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::mpsc;
 
-/// The arguments of `exit` and `hit`.
+/// The arguments `exit` and `hit` share.
 #[derive(clap::Args)]
-pub struct Args {
+pub struct Common {
     /// A method name, a comma-separated list, or `all`.
     #[arg(long, default_value = "all")]
     pub(super) method: String,
     #[command(flatten)]
     pub(super) backend: BackendArg,
     #[command(flatten)]
-    pub(super) wgsl: WgslArg,
-    #[command(flatten)]
     pub(super) fail: FailArg,
-    /// `hit`: a hit's `t` is right within this many ulps of the exact `t` (of the f32 nearest it),
-    /// and always needs `0 < t < ∞` [default: 4096].
-    #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
-    pub(super) t_ulps: Option<f64>,
     /// Also write a summary (lines, errors, per method right / wrong, and for `exit` lines missing the
     /// tetrahedron) as JSON here.
     #[arg(long)]
@@ -131,6 +126,11 @@ pub(super) struct Tally {
     /// Wrong answers on closed meshes where the ray passes through the surface.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub leaks: Option<u64>,
+    /// Wrong answers where the ray first meets a back face
+    /// ([`crate::exact::hit::HitTruth::back_face`]), which a method that culls back faces passes by
+    /// design.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub back_faces: Option<u64>,
 }
 
 /// What a command answering JSON Lines writes with `--json`.
@@ -180,6 +180,7 @@ impl Answering<'_> {
                     method,
                     missed: self.missed.then_some(0),
                     leaks: self.leaks.then_some(0),
+                    back_faces: self.leaks.then_some(0),
                     ..Tally::default()
                 })
                 .collect(),
@@ -198,13 +199,20 @@ impl Answering<'_> {
         let answered = summary.lines - summary.errors;
         for t in &summary.methods {
             let not = answered.saturating_sub(t.right + t.wrong);
+            let back = match t.back_faces {
+                Some(b @ 1..) => format!(
+                    " ({b} of them where the ray first meets a back face: a method that culls back faces, as `mt` does by design, passes it)"
+                ),
+                _ => String::new(),
+            };
             eprintln!(
-                "tetwalk {}: {}: {answered} case(s), {} right, {} wrong, {not} not judged{}",
+                "tetwalk {}: {}: {}, {} right, {} wrong{back}, {not} not judged{}",
                 self.command,
                 t.method,
+                counted(answered, "case", "cases"),
                 t.right,
                 t.wrong,
-                if t.missed.is_some() {
+                if t.missed.is_some() && not > 0 {
                     " (the line misses the cell)"
                 } else {
                     ""
@@ -215,8 +223,9 @@ impl Answering<'_> {
         let status = self.fail.status(self.command, &standings);
         if summary.errors > 0 {
             eprintln!(
-                "tetwalk {}: {} line(s) could not be answered",
-                self.command, summary.errors
+                "tetwalk {}: {} could not be answered",
+                self.command,
+                counted(summary.errors, "line", "lines")
             );
             return Ok(ExitCode::FAILURE);
         }
@@ -366,6 +375,9 @@ impl Tally {
         }
         if let Some(l) = self.leaks.as_mut() {
             *l += said.leak as u64;
+        }
+        if let Some(b) = self.back_faces.as_mut() {
+            *b += (said.correct == Some(false) && said.back_face) as u64;
         }
     }
 }

@@ -60,7 +60,8 @@ pub fn run(a: Args) -> Status {
     }
     let total = total.expect("one round ran");
     println!(
-        "{rounds} round(s) from seed {}, {} cases per regime and round, {:.0} s\n",
+        "{} from seed {}, {} cases per regime and round, {:.0} s\n",
+        crate::report::counted(rounds, "round", "rounds"),
         a.seed,
         a.cases,
         start.elapsed().as_secs_f64()
@@ -97,7 +98,10 @@ pub fn run(a: Args) -> Status {
     })?;
     let wrong = total.wrong();
     if wrong > 0 {
-        eprintln!("tetwalk check-filters: {wrong} decided sign(s) differ from the exact sign");
+        eprintln!(
+            "tetwalk check-filters: {} from the exact sign",
+            crate::report::counted(wrong, "decided sign differs", "decided signs differ")
+        );
         return Ok(ExitCode::FAILURE);
     }
     Ok(ExitCode::SUCCESS)

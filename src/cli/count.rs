@@ -348,24 +348,26 @@ fn rays_out(a: &Args, shard: Shard, path: &std::path::Path) -> Status {
     let mut w = std::io::BufWriter::new(&mut staged);
     serde_json::to_writer(&mut w, &header)?;
     w.write_all(b"\n")?;
-    let (mut rays, mut counted) = (0u64, 0usize);
+    let (mut rays, mut counted_views) = (0u64, 0usize);
     for (v, cam, start) in located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
-        counted += 1;
+        counted_views += 1;
         for line in ray_lines(&views, v, &cam, start) {
             serde_json::to_writer(&mut w, &line)?;
             w.write_all(b"\n")?;
             rays += 1;
         }
     }
-    if counted == 0 {
+    if counted_views == 0 {
         return Err(crate::family::count::CountError::NoView(views.views).into());
     }
     w.flush()?;
     drop(w);
     staged.finish()?;
     println!(
-        "{}: {rays} rays of {counted} views of scene {} (walk them through `tetwalk scene export {}` and judge your answers with `tetwalk judge {} ANSWERS`)",
+        "{}: {} of {} of scene {} (walk them through `tetwalk scene export {}` and judge your answers with `tetwalk judge {} ANSWERS`)",
         path.display(),
+        crate::report::counted(rays, "ray", "rays"),
+        crate::report::counted(counted_views as u64, "view", "views"),
         a.scene,
         a.scene,
         path.display()

@@ -1,17 +1,22 @@
 //! `tetwalk exit`: one JSON line per case and method — one tetrahedron's exit face, or a walk through
 //! a generated mesh — with the exact answer beside it. Read as the lines come.
 
-use super::Status;
-pub use super::answer::Args;
 use super::answer::{Answered, Answering, Part, Takes, answer, standing};
+use super::{Status, WgslArg};
 use crate::family::{ExitFace, Kind, Walks};
 use crate::registry::Named;
 
-pub fn run(a: Args) -> Status {
-    if a.t_ulps.is_some() {
-        return Err("--t-ulps judges a hit's t: it is for tetwalk hit (and judge)".into());
-    }
-    let (backend, methods) = a.wgsl.open::<ExitFace>(a.backend, &a.method)?;
+/// The arguments of `exit`.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    common: super::answer::Common,
+    #[command(flatten)]
+    wgsl: WgslArg,
+}
+
+pub fn run(Args { common: a, wgsl }: Args) -> Status {
+    let (backend, methods) = wgsl.open::<ExitFace>(a.backend, &a.method)?;
     Answering {
         command: "exit",
         names: methods.iter().map(|m| m.name().to_string()).collect(),

@@ -2,17 +2,24 @@
 //! method's answer beside the exact one. Read as `exit` reads its cases: line by line as they come.
 
 use super::Status;
-pub use super::answer::Args;
 use super::answer::{Answered, Answering, Part, Takes, answer, standing};
 use crate::family::{self, Kind, Triangle};
 use crate::registry::Named;
 
-pub fn run(a: Args) -> Status {
-    if a.wgsl.wgsl.is_some() {
-        return Err("--wgsl takes an exit-face function (exit, stress, walk, count); hit judges ray-triangle methods".into());
-    }
+/// The arguments of `hit`.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    common: super::answer::Common,
+    /// A hit's `t` is right within this many ulps of the exact `t` (of the f32 nearest it), and
+    /// always needs `0 < t < ∞` [default: 4096].
+    #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
+    t_ulps: Option<f64>,
+}
+
+pub fn run(Args { common: a, t_ulps }: Args) -> Status {
     let methods = family::parse_list::<Triangle>(&a.method)?;
-    let t_ulps = super::t_ulps(a.t_ulps)?;
+    let t_ulps = super::t_ulps(t_ulps)?;
     let backend = a.backend.open()?;
     Answering {
         command: "hit",

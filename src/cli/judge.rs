@@ -150,7 +150,7 @@ pub fn run(a: Args) -> Status {
                 return Ok(());
             }
             Err(format!(
-                "{}: answers for line(s) {extra:?}, which hold no case in {}",
+                "{}: answers for lines {extra:?}, which hold no case in {}",
                 a.answers.display(),
                 a.cases.display()
             )

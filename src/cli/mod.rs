@@ -148,7 +148,14 @@ pub fn main() -> ExitCode {
 fn clean_on_interrupt() {
     let set = ctrlc::set_handler(|| {
         let n = crate::staged::remove_all();
-        eprintln!("tetwalk: interrupted; {n} unfinished output file(s) removed, nothing written");
+        eprintln!(
+            "tetwalk: interrupted; {} removed, nothing written",
+            crate::report::counted(
+                n as u64,
+                "unfinished output file",
+                "unfinished output files"
+            )
+        );
         std::process::exit(130);
     });
     if let Err(e) = set {

@@ -234,8 +234,8 @@ pub fn run(a: Args) -> Status {
         report.cases.iter().map(|d| f(d) as f64).sum::<f64>() / numbers.max(1) as f64
     };
     eprintln!(
-        "tetwalk shrink: {} case(s) shrunk{}, {} left as they were; significant bits per number, mean {:.1} -> {:.1}",
-        report.cases.len(),
+        "tetwalk shrink: {} shrunk{}, {} left as they were; significant bits per number, mean {:.1} -> {:.1}",
+        crate::report::counted(report.cases.len() as u64, "case", "cases"),
         if a.in_place { " and written back" } else { "" },
         report.left.len(),
         mean(|d| d.bits_before),

@@ -14,6 +14,7 @@ use crate::family::triangle::TriRows;
 use crate::family::walk::{WalkRows, WalkScene};
 use crate::family::{self, ExitFace, Family, Kind, OctreeCells, Scale, Triangle, Walks};
 use crate::report::Formats;
+use crate::report::counted;
 use crate::report::stress::disagreements;
 use crate::scenes::cells::{CellAim, CellPlace};
 use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
@@ -307,9 +308,10 @@ impl Filing {
     /// What the campaign filed, after its table.
     fn print(&self, rounds: u64) {
         println!(
-            "\n{} wrong answers in {rounds} rounds; {} new found cases filed under {} (at most {} per method, row and kind):",
-            self.seen,
-            self.filed.len(),
+            "\n{} in {}; {} filed under {} (at most {} per method, row and kind):",
+            counted(self.seen, "wrong answer", "wrong answers"),
+            counted(rounds, "round", "rounds"),
+            counted(self.filed.len() as u64, "new found case", "new found cases"),
             self.dir.display(),
             self.keep
         );

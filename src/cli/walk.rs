@@ -165,7 +165,10 @@ pub fn run(a: Args) -> Status {
             Some(Model::Plain) => "plain f32".into(),
         },
         if outside > 0 {
-            format!(", {outside} rays starting outside skipped")
+            format!(
+                ", {} starting outside skipped",
+                crate::report::counted(outside as u64, "ray", "rays")
+            )
         } else {
             String::new()
         },

@@ -379,7 +379,7 @@ fn verify_in<F: Family>(
     })
 }
 
-/// The scales of a domain in words: `N scale(s) from 2^a to 2^b`, the directions' range beside where
+/// The scales of a domain in words: `N scales from 2^a to 2^b` (or `the scale 2^a`), the directions' range beside where
 /// any has its own.
 fn scales(s: &[Scale]) -> String {
     let range = |f: fn(&Scale) -> i32| {
@@ -387,7 +387,10 @@ fn scales(s: &[Scale]) -> String {
         let hi = s.iter().map(f).max().unwrap_or(0);
         format!("from 2^{lo} to 2^{hi}")
     };
-    let mut out = format!("{} scale(s) {}", s.len(), range(|x| x.points));
+    let mut out = match s.len() {
+        1 => format!("the scale 2^{}", s[0].points),
+        n => format!("{n} scales {}", range(|x| x.points)),
+    };
     if s.iter().any(|x| x.points != x.direction) {
         out += &format!(", directions {}", range(|x| x.direction));
     }

@@ -191,12 +191,22 @@ pub struct HitTruth {
     /// Where the ray meets the surface, nearest first.
     pub points: Vec<HitPoint>,
     pub closed: bool,
+    /// Per triangle, the sign of its normal `(b - a) × (c - a)` dotted with the ray's direction:
+    /// negative where the ray sees it counter-clockwise (its front, as `mt` tests it).
+    pub facing: Vec<i8>,
 }
 
 impl HitTruth {
     /// The first point the ray meets.
     pub fn first(&self) -> Option<&HitPoint> {
         self.points.first()
+    }
+
+    /// Whether the ray meets the back of every triangle at its first point (they face its way): a
+    /// method that culls back faces (`mt`, as published) misses it by design, not by rounding.
+    pub fn back_face(&self) -> bool {
+        self.first()
+            .is_some_and(|p| p.holding.iter().all(|&i| self.facing[i as usize] > 0))
     }
 
     /// The first point where the ray crosses the surface.
@@ -360,7 +370,17 @@ pub fn judge_hit(tris: &[Tri], closed: bool, ray: &Ray) -> Result<HitTruth, Exac
         each,
         points,
         closed,
+        facing,
     })
+}
+
+/// Whether a closed mesh is inside out: its triangles turn clockwise seen from outside, so the volume
+/// it encloses, `Σ a · (b × c) / 6` over its triangles (exact), is negative.
+pub fn inside_out(tris: &[Tri]) -> bool {
+    tris.iter()
+        .map(|[a, b, c]| det(&q3(*a), &q3(*b), &q3(*c)))
+        .fold(Rational::new(), |s, v| s + v)
+        < 0
 }
 
 /// Whether a triangle whose plane holds the ray shares the edge or vertex of the holding triangles the

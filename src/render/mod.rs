@@ -21,7 +21,7 @@ pub enum RenderError {
     Backend(#[from] BackendError),
     #[error("view {view}'s camera is not inside the mesh: {why}")]
     Outside { view: usize, why: LocateError },
-    #[error("view {view} does not exist: there are {views} views (0..{views})")]
+    #[error("view {view} does not exist: views are numbered 0 to {} ({views} in all)", views - 1)]
     NoSuchView { view: usize, views: usize },
     #[error("octree: {0}")]
     Octree(String),

@@ -6,7 +6,7 @@ use crate::engine::bench::{BenchReport, PACKETS, SpeedReport};
 impl BenchReport {
     pub fn markdown(&self) -> String {
         let mut out = format!(
-            "walk speed on {} ({} tetrahedra{}): {} of {} views of {}x{} inside the mesh, {} rays at most per batch\n\n",
+            "walk speed on {} ({} tetrahedra{}): {} of {} of {}x{} inside the mesh, {} rays at most per batch\n\n",
             self.scene,
             self.tetrahedra_in_mesh,
             if self.hilbert {
@@ -15,7 +15,7 @@ impl BenchReport {
                 ""
             },
             self.views_timed,
-            self.views.views,
+            super::counted(self.views.views as u64, "view", "views"),
             self.views.width,
             self.views.height,
             self.batch

@@ -54,10 +54,10 @@ impl CountFormats for Walks {
     fn count_table(r: &CountReport<Self>) -> String {
         let s = &r.settings.views;
         let mut out = format!(
-            "scene {} ({} tetrahedra), {} views of {}x{}, backend {}, seed {}, reference {}{}; per image, averaged over views\n\n",
+            "scene {} ({} tetrahedra), {} of {}x{}, backend {}, seed {}, reference {}{}; per image, averaged over views\n\n",
             r.settings.scene,
             r.scene.tetrahedra,
-            r.views_counted,
+            super::counted(r.views_counted as u64, "view", "views"),
             s.width,
             s.height,
             r.backend,
@@ -99,12 +99,12 @@ impl CountFormats for Triangle {
     fn count_table(r: &CountReport<Self>) -> String {
         let s = &r.settings;
         let mut out = format!(
-            "scene {} ({} triangles: its constrained faces, each facing the cameras' side), {} views of {}x{}, \
+            "scene {} ({} triangles: its constrained faces, each facing the cameras' side), {} of {}x{}, \
              packets of {}x{} primary rays, backend {}, seed {}, every triangle tested per ray (no \
              spatial structure, so no candidate is dropped), each nearest hit judged against the {} walk's exact first hit{}\n\n",
             s.scene,
             r.scene.triangles,
-            r.views_counted,
+            super::counted(r.views_counted as u64, "view", "views"),
             s.views.width,
             s.views.height,
             s.family.packet,
@@ -134,14 +134,14 @@ impl CountFormats for OctreeCells {
     fn count_table(r: &CountReport<Self>) -> String {
         let s = &r.settings;
         let mut out = format!(
-            "scene {} ({} triangles: its constrained faces, each facing the cameras' side), octree of depth {} and leaf capacity {} ({} leaves; {} without the regularity constraint), {} views of {}x{}, seed {}, backend {}, each leaf's triangles tested with {}; each walk judged against the {} walk's exact first hit (the exact octree walk audited against it on {} rays, all agreeing)\n\n",
+            "scene {} ({} triangles: its constrained faces, each facing the cameras' side), octree of depth {} and leaf capacity {} ({} leaves; {} without the regularity constraint), {} of {}x{}, seed {}, backend {}, each leaf's triangles tested with {}; each walk judged against the {} walk's exact first hit (the exact octree walk audited against it on {} rays, all agreeing)\n\n",
             s.scene,
             r.scene.triangles,
             s.family.octree.depth,
             s.family.octree.capacity,
             r.scene.leaves,
             r.scene.unconstrained_leaves,
-            r.views_counted,
+            super::counted(r.views_counted as u64, "view", "views"),
             s.views.width,
             s.views.height,
             s.views.seed,

@@ -13,11 +13,13 @@ use crate::octree::cell::FACE_NAMES;
 use crate::walk::Walk;
 use serde_json::{Map, Value, json};
 
-/// What a verdict line says of an answer: right, wrong, or not judged (`None`), and whether it leaks.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// What a verdict line says of an answer: right, wrong, or not judged (`None`), whether it leaks,
+/// and whether the ray first meets a back face there ([`HitTruth::back_face`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Said {
     pub correct: Option<bool>,
     pub leak: bool,
+    pub back_face: bool,
 }
 
 /// How a family's verdict lines read.
@@ -65,7 +67,7 @@ impl Lines for ExitFace {
             fields(line),
             Said {
                 correct: ok,
-                leak: false,
+                ..Said::default()
             },
         )
     }
@@ -86,7 +88,7 @@ impl Lines for Walks {
             fields(line),
             Said {
                 correct: ok,
-                leak: false,
+                ..Said::default()
             },
         )
     }
@@ -125,8 +127,14 @@ impl Lines for Triangle {
             o.insert("on_boundary".into(), Value::Bool(boundary));
             o.insert("crosses".into(), json!(first.map(|p| p.crosses)));
             o.insert("leak".into(), Value::Bool(leak));
+            if crate::exact::hit::inside_out(case.tris()) {
+                o.insert("inside_out".into(), Value::Bool(true));
+            }
         } else {
             o.insert("on_boundary".into(), Value::Bool(truth.each[0].on_boundary));
+        }
+        if truth.back_face() {
+            o.insert("back_face".into(), Value::Bool(true));
         }
         o.insert("correct".into(), Value::Bool(ok));
         (
@@ -134,6 +142,7 @@ impl Lines for Triangle {
             Said {
                 correct: Some(ok),
                 leak,
+                back_face: truth.back_face(),
             },
         )
     }
@@ -162,7 +171,7 @@ impl Lines for OctreeCells {
             fields(line),
             Said {
                 correct: ok,
-                leak: false,
+                ..Said::default()
             },
         )
     }

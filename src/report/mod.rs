@@ -37,3 +37,9 @@ pub fn relabel_spread(v: &[u64]) -> String {
         s.last().copied().unwrap_or(0)
     )
 }
+
+/// `n` and its noun, singular for one: `counted(1, "view", "views")` is "1 view".
+pub fn counted(n: impl Into<u64>, one: &str, many: &str) -> String {
+    let n = n.into();
+    format!("{n} {}", if n == 1 { one } else { many })
+}

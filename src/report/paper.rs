@@ -85,8 +85,13 @@ impl PaperReport {
             .find(|b| b.0 == "Tet80")
             .map_or(80, |b| b.1);
         let mut out = format!(
-            "# The seeds' tables, ours beside theirs\n\n`tetwalk paper`, {} (UTC). Scene `{}`; counts of {} views of {}², Table 5 over {} tetrahedra × {} rays.\n\n",
-            self.date, self.scene, self.size.views, self.size.side, self.size.tets, self.size.rays
+            "# The seeds' tables, ours beside theirs\n\n`tetwalk paper`, {} (UTC). Scene `{}`; counts of {} of {}², Table 5 over {} tetrahedra × {} rays.\n\n",
+            self.date,
+            self.scene,
+            super::counted(self.size.views as u64, "view", "views"),
+            self.size.side,
+            self.size.tets,
+            self.size.rays
         );
         out += &adapters(self.counts.iter().map(|c| &c.backend));
         out += "## Seed 000 Table 3: the scene\n\n| | seed 000, BUNNY (quality CDT) | ours |\n|---|---|---|\n";
@@ -227,9 +232,9 @@ impl PaperReport {
         let b = &self.speed;
         let (cpu, gpu) = SEED000_TABLE3_MRAYS;
         let mut out = format!(
-            "Ray casting, maria17 over the mesh's cells: ours on {} primary rays ({} views of {}x{} with the camera inside the mesh), on {} CPU threads.\n\n| backend | ours, end to end Mrays/s | ours, kernel Mrays/s | seed 000, BUNNY (Mrays/s) |\n|---|---|---|---|\n",
+            "Ray casting, maria17 over the mesh's cells: ours on {} primary rays ({} of {}x{} with the camera inside the mesh), on {} CPU threads.\n\n| backend | ours, end to end Mrays/s | ours, kernel Mrays/s | seed 000, BUNNY (Mrays/s) |\n|---|---|---|---|\n",
             b.rows.first().map_or(0, |r| r.rays),
-            b.views_timed,
+            super::counted(b.views_timed as u64, "view", "views"),
             b.views.width,
             b.views.height,
             rayon::current_num_threads()
@@ -272,8 +277,10 @@ impl PaperReport {
                 .map(|r| r.kernel_seconds.unwrap_or(r.seconds))
         };
         let mut out = format!(
-            "\n## Seed 003 Tables 1–3: walk time per structure, as ratios to Tet-mesh-80\n\nOurs: the walks of the rays above ({} views of {}x{}), the mesh as loaded; on a GPU the kernel time. Seed 003 sorts each mesh along a space-filling curve (Hilbert order changed these ratios by under 1% on an H100: `corpora/results/h100-layouts.md`); its Tables 1 and 2 time whole renderings of 1920x1440 on six CPU cores (15 scenes), its Table 3 the kernel on a GTX 1060 (6 scenes); the paper's columns give the range over its scenes.\n\n| structure (seed 003) | ours walks |",
-            b.views_timed, b.views.width, b.views.height
+            "\n## Seed 003 Tables 1–3: walk time per structure, as ratios to Tet-mesh-80\n\nOurs: the walks of the rays above ({} of {}x{}), the mesh as loaded; on a GPU the kernel time. Seed 003 sorts each mesh along a space-filling curve (Hilbert order changed these ratios by under 1% on an H100: `corpora/results/h100-layouts.md`); its Tables 1 and 2 time whole renderings of 1920x1440 on six CPU cores (15 scenes), its Table 3 the kernel on a GTX 1060 (6 scenes); the paper's columns give the range over its scenes.\n\n| structure (seed 003) | ours walks |",
+            super::counted(b.views_timed as u64, "view", "views"),
+            b.views.width,
+            b.views.height
         );
         for k in &kinds {
             out += &format!(" ours, {} |", k.name());

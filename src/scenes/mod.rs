@@ -41,7 +41,7 @@ pub enum SceneError {
     #[error("tetgen {args} ran past its time limit of {seconds} s and was stopped")]
     TetgenTimeout { args: String, seconds: f64 },
     #[error(
-        "{inexact} point(s) TetGen added are still not f32 values after {rounds} rounds of rounding them and running it again with them; nothing was written"
+        "points TetGen added ({inexact}) are still not f32 values after {rounds} rounds of rounding them and running it again with them; nothing was written"
     )]
     InexactPoints { inexact: usize, rounds: usize },
     #[error("tetgen {args} failed ({status}):\n{output}")]
