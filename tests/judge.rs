@@ -289,8 +289,14 @@ fn a_hit_needs_a_positive_t_near_the_exact_one() {
     let (_, v, _) = judge(&answers(&up.to_string()), &[]);
     assert_eq!(v[1]["correct"], true, "{}", v[1]);
     assert_eq!(v[1]["t_ulps"], 1.0, "{}", v[1]);
-    let (_, v, _) = judge(&answers(&up.to_string()), &["--t-ulps", "0"]);
+    let (_, v, err) = judge(&answers(&up.to_string()), &["--t-ulps", "0"]);
     assert_eq!(v[1]["correct"], false, "{}", v[1]);
+    // The summary counts it apart: its triangle is right.
+    assert!(
+        err.contains("2 wrong (of them 2 wrong for t alone: the triangle right"),
+        "{err}"
+    );
+    assert!(!err.contains("back face"), "{err}");
     let (code, _, err) = judge(&answers("1"), &["--t-ulps", "-3"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--t-ulps -3"), "{err}");

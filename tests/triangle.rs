@@ -402,7 +402,7 @@ fn hit_names_back_faces_and_inside_out_meshes() {
     assert_eq!(v[1]["correct"], true);
     assert!(v[2].get("back_face").is_none(), "{}", v[2]);
     assert!(
-        err.contains("tetwalk hit: mt: 2 cases, 1 right, 1 wrong (1 of them where the ray first meets a back face"),
+        err.contains("tetwalk hit: mt: 2 cases, 1 right, 1 wrong (of them 1 where the ray first meets a back face"),
         "{err}"
     );
     assert!(
@@ -627,5 +627,42 @@ fn gen_cases_writes_closed_meshes_that_hit_reads() {
     for x in &v {
         assert_eq!(x["on_boundary"], true, "{x}");
         assert_eq!(x["correct"], true, "{x}");
+    }
+}
+
+/// "Near" is measured at the case's scale: a near row's origin moves by 1 to 4 ulps of the case's
+/// largest coordinate, so a zero coordinate moves as far as the others, never by a subnormal (before,
+/// 741 of 2,000 octahedron near-vertex origins did), for closed meshes, tetrahedra and octree cells.
+#[test]
+fn near_rows_move_their_origin_at_the_cases_scale() {
+    let runs: [&[&str]; 3] = [
+        &["--shape", "octahedron", "--aim", "near-vertex"],
+        &[
+            "--tet-shape",
+            "cap",
+            "--rays",
+            "near-edge",
+            "--flatness",
+            "0.001",
+        ],
+        &["--cell-aim", "near-corner"],
+    ];
+    for args in runs {
+        let mut all = vec!["gen-cases", "--count", "300"];
+        all.extend(args);
+        let (code, out, err) = common::run_tetwalk(&all, b"");
+        assert_eq!(code, 0, "{args:?}: {err}");
+        for l in lines(&out) {
+            let org: Vec<f64> = l["org"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect();
+            assert!(
+                org.iter().all(|x| *x == 0.0 || x.abs() > 1e-30),
+                "{args:?}: an origin coordinate moved by a subnormal: {l}"
+            );
+        }
     }
 }

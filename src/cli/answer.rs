@@ -131,6 +131,9 @@ pub(super) struct Tally {
     /// design.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub back_faces: Option<u64>,
+    /// Hits wrong for their `t` alone: the triangle right, `t` beyond `--t-ulps`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t_alone: Option<u64>,
 }
 
 /// What a command answering JSON Lines writes with `--json`.
@@ -181,6 +184,7 @@ impl Answering<'_> {
                     missed: self.missed.then_some(0),
                     leaks: self.leaks.then_some(0),
                     back_faces: self.leaks.then_some(0),
+                    t_alone: self.leaks.then_some(0),
                     ..Tally::default()
                 })
                 .collect(),
@@ -199,11 +203,20 @@ impl Answering<'_> {
         let answered = summary.lines - summary.errors;
         for t in &summary.methods {
             let not = answered.saturating_sub(t.right + t.wrong);
-            let back = match t.back_faces {
-                Some(b @ 1..) => format!(
-                    " ({b} of them where the ray first meets a back face: a method that culls back faces, as `mt` does by design, passes it)"
-                ),
-                _ => String::new(),
+            let mut of_them = Vec::new();
+            if let Some(n @ 1..) = t.t_alone {
+                of_them.push(format!(
+                    "{n} wrong for t alone: the triangle right, t further than --t-ulps from the exact t"
+                ));
+            }
+            if let Some(b @ 1..) = t.back_faces {
+                of_them.push(format!(
+                    "{b} where the ray first meets a back face: a method that culls back faces, as `mt` does by design, passes it"
+                ));
+            }
+            let back = match of_them.is_empty() {
+                true => String::new(),
+                false => format!(" (of them {})", of_them.join("; ")),
             };
             eprintln!(
                 "tetwalk {}: {}: {}, {} right, {} wrong{back}, {not} not judged{}",
@@ -377,7 +390,10 @@ impl Tally {
             *l += said.leak as u64;
         }
         if let Some(b) = self.back_faces.as_mut() {
-            *b += (said.correct == Some(false) && said.back_face) as u64;
+            *b += (said.correct == Some(false) && said.back_face && !said.t_alone) as u64;
+        }
+        if let Some(n) = self.t_alone.as_mut() {
+            *n += said.t_alone as u64;
         }
     }
 }

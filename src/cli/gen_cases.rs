@@ -29,9 +29,9 @@ pub enum Rays {
     Edge,
     /// Exactly through a vertex.
     Vertex,
-    /// Within k ulps of an edge.
+    /// Within k ulps (of the case's largest coordinate) of an edge.
     NearEdge,
-    /// Within k ulps of a vertex.
+    /// Within k ulps (of the case's largest coordinate) of a vertex.
     NearVertex,
 }
 
@@ -47,7 +47,8 @@ pub struct Args {
     /// --shape].
     #[arg(long, allow_negative_numbers = true)]
     flatness: Option<f32>,
-    /// Largest ulp offset for the near-* rays.
+    /// Largest offset of the near-* rays, in ulps of the case's largest coordinate (so a zero
+    /// coordinate moves as far as the others).
     #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
     /// Move each case this far from the origin along (1, 1, 1) (rounded to f32).

@@ -72,7 +72,8 @@ pub struct Args {
     /// Exit-face and triangle rows: flatness of the degenerate shapes, in (0, 1].
     #[arg(long, allow_negative_numbers = true, default_value_t = 1e-3)]
     flatness: f32,
-    /// Largest ulp offset of the near-edge and near-vertex rows.
+    /// Largest offset of the near-edge and near-vertex rows, in ulps of each case's largest
+    /// coordinate.
     #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
     /// `all`: run again under each orientation-preserving relabelling of every case's tetrahedron

@@ -14,12 +14,14 @@ use crate::walk::Walk;
 use serde_json::{Map, Value, json};
 
 /// What a verdict line says of an answer: right, wrong, or not judged (`None`), whether it leaks,
-/// and whether the ray first meets a back face there ([`HitTruth::back_face`]).
+/// whether the ray first meets a back face there ([`HitTruth::back_face`]), and whether a hit is wrong
+/// for its `t` alone (its triangle right).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Said {
     pub correct: Option<bool>,
     pub leak: bool,
     pub back_face: bool,
+    pub t_alone: bool,
 }
 
 /// How a family's verdict lines read.
@@ -111,7 +113,8 @@ impl Lines for Triangle {
     ) -> (Map<String, Value>, Said) {
         let g = hits.nearest();
         let t = g.map(|(i, t)| truth.judge_t(i, t, t_ulps));
-        let ok = truth.right(g.map(|(i, _)| i)) && t.is_none_or(|t| t.right);
+        let triangle_right = truth.right(g.map(|(i, _)| i));
+        let ok = triangle_right && t.is_none_or(|t| t.right);
         let first = truth.first();
         let mut o = fields(json!({
             "hit": g.is_some(), "t": g.map(|(_, t)| t), "t_ulps": t.and_then(|t| t.ulps),
@@ -143,6 +146,7 @@ impl Lines for Triangle {
                 correct: Some(ok),
                 leak,
                 back_face: truth.back_face(),
+                t_alone: triangle_right && !ok,
             },
         )
     }

@@ -83,7 +83,7 @@ impl Formats for ExitFace {
     fn stress_table(r: &StressReport<Self>) -> String {
         let s = &r.settings;
         let mut out = format!(
-            "{} cases per row{}, {}, {}, flatness {}, near-* within {} ulps; cells: wrong face / no exit face per million judged cases\n\n",
+            "{} cases per row{}, {}, {}, flatness {}, near-* within {} ulps of each case's largest coordinate; cells: wrong face / no exit face per million judged cases\n\n",
             s.cases,
             rounds(r),
             seeds(r),
@@ -136,7 +136,7 @@ impl Formats for OctreeCells {
     fn stress_table(r: &StressReport<Self>) -> String {
         let s = &r.settings;
         let mut out = format!(
-            "{} cells and rays per row{}, {}, {}, near-* within {} ulps; cells: wrong (of which wrong quarter / no exit face) per million judged cases\n\n",
+            "{} cells and rays per row{}, {}, {}, near-* within {} ulps of each case's largest coordinate; cells: wrong (of which wrong quarter / no exit face) per million judged cases\n\n",
             s.cases,
             rounds(r),
             seeds(r),
@@ -161,7 +161,7 @@ impl Formats for Triangle {
     fn stress_table(r: &StressReport<Self>) -> String {
         let s = &r.settings;
         let mut out = format!(
-            "Ray-triangle stress: {} rays per row{}, {} rows, {}, backend {}, flatness {}, up to {} ulps.\n\
+            "Ray-triangle stress: {} rays per row{}, {} rows, {}, backend {}, flatness {}, near rows within {} ulps of each case's largest coordinate.\n\
              Where the ray crosses the closed surface (every triangle holding the point faces one way along \
              it) and no triangle around the first crossing (sharing a vertex with one holding it) that faces \
              that way reports a hit: a leak when the crossing is at a shared edge or vertex, or when the \

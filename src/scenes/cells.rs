@@ -4,7 +4,7 @@
 //! at 2^16 or at 2^24.
 
 use super::Rng;
-use super::tets::ulps;
+use super::tets::{nudge, scale_of};
 use crate::octree::cell::face_axes;
 use crate::tet::Ray;
 use glam::Vec3;
@@ -127,11 +127,7 @@ pub fn case(aim: CellAim, place: CellPlace, k: i32, r: &mut Rng) -> (Vec3, Vec3,
     };
     let (org, dir) = match aim {
         CellAim::NearEdge | CellAim::NearCorner | CellAim::NearCentreLine => {
-            let a = r.random_range(0..3usize);
-            let mut o = org;
-            let n = r.random_range(1..=k.max(1)) * if r.random_bool(0.5) { 1 } else { -1 };
-            o[a] = ulps(o[a], n);
-            (o, dir)
+            (nudge(org, scale_of([&lo, &hi, &org]), k, r), dir)
         }
         _ => (org, dir),
     };

@@ -3,7 +3,7 @@
 //! a shared edge or vertex, within ulps of one, or along an edge; moved far from the origin.
 
 use super::Rng;
-use super::tets::{TetShape, tet, ulps};
+use super::tets::{TetShape, nudge, scale_of, tet};
 use crate::tet::{FACE_VERTICES, Ray, Tri, orientation};
 use glam::Vec3;
 use rand::RngExt;
@@ -222,12 +222,11 @@ pub fn case(
     let dir = target - org;
     let off = place.offset();
     let mut org = org + off;
+    let mesh: Vec<Tri> = mesh.iter().map(|t| t.map(|p| p + off)).collect();
     if matches!(aim, TriAim::NearEdge | TriAim::NearVertex) {
-        let axis = rng.random_range(0..3);
-        let k = rng.random_range(1..=max_ulps.max(1)) * if rng.random_bool(0.5) { 1 } else { -1 };
-        org[axis] = ulps(org[axis], k);
+        let scale = scale_of(mesh.iter().flatten().chain([&org]));
+        org = nudge(org, scale, max_ulps, rng);
     }
-    let mesh = mesh.iter().map(|t| t.map(|p| p + off)).collect();
     (mesh, Ray { org, dir })
 }
 

@@ -199,8 +199,40 @@ pub fn ulps(x: f32, k: i32) -> f32 {
     y
 }
 
-/// [`through`], then the origin moved by 1 to `k` ulps along a random axis: a line that misses the edge
-/// or vertex by a hair.
+/// The ulp of the case's scale: of the largest magnitude `scale` among its coordinates (2^-149 below
+/// the normal range).
+fn ulp_of(scale: f32) -> f64 {
+    let e = (scale.abs() as f64).log2().floor().max(-126.0);
+    (e - 23.0).exp2()
+}
+
+/// `org` moved along a random axis by 1 to `k` ulps of the case's scale (the largest magnitude among
+/// the case's coordinates, `scale`), either way: "near" measured at the case's scale, so a zero
+/// coordinate moves as far as the others, not by a subnormal. The generators' coordinates are
+/// integers or dyadic, so the step is exact (a multiple of each coordinate's ulp); where moving away
+/// from zero would leave the binade and round, it moves towards zero instead.
+pub fn nudge(org: Vec3, scale: f32, k: i32, rng: &mut Rng) -> Vec3 {
+    let axis = rng.random_range(0..3);
+    let by = rng.random_range(1..=k.max(1)) * if rng.random_bool(0.5) { 1 } else { -1 };
+    let step = by as f64 * ulp_of(scale);
+    let x = org[axis] as f64;
+    let exact = |y: f64| (y as f32) as f64 == y;
+    let moved = if exact(x + step) { x + step } else { x - step };
+    let mut out = org;
+    out[axis] = moved as f32;
+    out
+}
+
+/// The largest magnitude among points' coordinates.
+pub fn scale_of<'a>(points: impl IntoIterator<Item = &'a Vec3>) -> f32 {
+    points
+        .into_iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f32::max)
+}
+
+/// [`through`], then the origin moved by 1 to `k` ulps of the case's scale along a random axis
+/// ([`nudge`]): a line that misses the edge or vertex by a hair.
 pub fn near(
     shape: TetShape,
     flatness: f32,
@@ -209,9 +241,8 @@ pub fn near(
     rng: &mut Rng,
 ) -> Option<(Tet, Ray)> {
     let (t, mut ray) = through(shape, flatness, target, rng)?;
-    let axis = rng.random_range(0..3);
-    let by = rng.random_range(1..=k.max(1)) * if rng.random_bool(0.5) { 1 } else { -1 };
-    ray.org[axis] = ulps(ray.org[axis], by);
+    let scale = scale_of(t.iter().chain([&ray.org]));
+    ray.org = nudge(ray.org, scale, k, rng);
     Some((t, ray))
 }
 
