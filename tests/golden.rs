@@ -297,9 +297,10 @@ fn a_small_stress_table_is_unchanged() {
 
 /// Leak maps (seed 004's question, pictured): around an edge shared by two triangles of a closed
 /// octahedron at Embree's offset, seen from the coordinate origin, which of the two each ray–triangle
-/// method reports as the ray's direction moves by ulp steps — one (a, b), both (2), neither where the
-/// exact ray meets one (0, a leak), neither as the exact ray (.) — on the CPU plain and fused, beside the
-/// exact map; as text and as a PNG sheet (exact | cpu | cpu-fma).
+/// method reports as the ray's direction moves by ulp steps — one (a, b), both (2), neither but another
+/// triangle around the crossing (o, not a leak), none where the ray crosses the surface (0, a leak,
+/// judged against every triangle of the mesh), neither as the exact ray (.) — on the CPU plain and
+/// fused, beside the exact map; as text and as a PNG sheet (exact | cpu | cpu-fma).
 #[test]
 fn leak_maps_are_unchanged() {
     use tetwalk::render::{LeakGrid, leak_case, leak_image};
