@@ -839,8 +839,8 @@ fn answering_commands_end_with_a_summary_per_method() {
     assert!(err.contains("tetwalk exit: maria17: 40 cases, "), "{err}");
 }
 
-/// `gen-cases` with a stress row's arguments writes that row's cases: `hit` and `box-exit` count on
-/// them exactly what `stress` counts; `--single` writes the triangle each ray first crosses, alone.
+/// `gen-cases` with a stress row's arguments writes that row's cases: `hit`, `box-exit` and `exit`
+/// count on them exactly what `stress` counts; `--single` writes the triangle each ray first crosses, alone.
 #[test]
 fn gen_cases_writes_a_stress_rows_cases() {
     let (_, tris, _) = tetwalk(
@@ -936,6 +936,39 @@ fn gen_cases_writes_a_stress_rows_cases() {
         stress["rows"][0]["tallies"][0]["wrong"]
     );
     assert!(boxes["methods"][0]["wrong"].as_u64().unwrap() > 0);
+
+    let (_, tets, _) = tetwalk(&["gen-cases", "--row", "near-vertex", "--count", "300"], "");
+    let exit = dir.path().join("exit.json");
+    tetwalk(
+        &[
+            "exit",
+            "--method",
+            "maria17",
+            "--json",
+            exit.to_str().unwrap(),
+        ],
+        &tets,
+    );
+    let exit: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&exit).unwrap()).unwrap();
+    let stress = json_run(
+        &[
+            "stress",
+            "--rows",
+            "near-vertex",
+            "--cases",
+            "300",
+            "--methods",
+            "maria17",
+        ],
+        "near-vertex",
+    );
+    let tally = &stress["rows"][0]["tallies"][0];
+    assert_eq!(
+        exit["methods"][0]["wrong"].as_u64(),
+        Some(tally["wrong_face"].as_u64().unwrap() + tally["no_exit_face"].as_u64().unwrap())
+    );
+    assert!(exit["methods"][0]["wrong"].as_u64().unwrap() > 0);
 
     let (_, single, _) = tetwalk(
         &[

@@ -7,6 +7,7 @@
 use super::{JsonOut, Status, choice};
 use crate::cases::{Case, HitCase};
 use crate::exact::classify;
+use crate::family::exit_face::{ExitRow, ExitRows, TetRow};
 use crate::family::octree::{CellRow, CellRows};
 use crate::family::triangle::{TriRow, TriRows};
 use crate::family::{ExitFace, Family, OctreeCells, Scale, Triangle};
@@ -63,10 +64,15 @@ pub struct Args {
     /// Give each case its exact entry face (the lowest one) when it has one.
     #[arg(long)]
     with_entry: bool,
+    /// Write an exit-face stress row's cases instead (`tet` lines for `tetwalk exit`): with the same
+    /// `--flatness` (0.001 by default, as there), `--ulps` and `--seed`, the cases `stress --rows ROW`
+    /// judges, in its order.
+    #[arg(long, value_parser = choice::<TetRow>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry"])]
+    row: Option<TetRow>,
     /// Write ray–triangle cases for `tetwalk hit` instead: the stress row of closed meshes of this
     /// shape, `--aim` and `--place` (`tris` lines; with the same `--flatness`, `--ulps` and `--seed`,
     /// the cases `stress --family triangle` judges).
-    #[arg(long, value_parser = choice::<MeshShape>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry"])]
+    #[arg(long, value_parser = choice::<MeshShape>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry", "row"])]
     shape: Option<MeshShape>,
     /// With `--shape`: each case's triangle where the ray first crosses the mesh, alone (`tri`
     /// lines, one-triangle cases).
@@ -75,7 +81,7 @@ pub struct Args {
     /// Write octree cell cases for `tetwalk box-exit` instead: the stress row of cells where rays
     /// leave as this says, at `--cell-place` (`box` lines; the cases `stress --family octree`
     /// judges).
-    #[arg(long, value_parser = choice::<CellAim>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry", "shape"])]
+    #[arg(long, value_parser = choice::<CellAim>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry", "shape", "row"])]
     cell_aim: Option<CellAim>,
     /// With `--cell-aim`: where the cells are placed.
     #[arg(long, value_parser = choice::<CellPlace>(), default_value = "origin", requires = "cell_aim")]
@@ -146,7 +152,11 @@ fn row<F: Family>(
 pub fn run(a: Args) -> Status {
     let flatness = a
         .flatness
-        .unwrap_or(if a.shape.is_some() { 1e-3 } else { 1.0 });
+        .unwrap_or(if a.shape.is_some() || a.row.is_some() {
+            1e-3
+        } else {
+            1.0
+        });
     super::generator(flatness, a.ulps)?;
     if a.count > 100_000_000 {
         return Err(format!("--count {} is more than 100,000,000 cases", a.count).into());
@@ -183,6 +193,22 @@ pub fn run(a: Args) -> Status {
         out.finish(&serde_json::json!({
             "shape": shape, "aim": a.aim, "place": a.place, "flatness": flatness,
             "ulps": a.ulps, "seed": a.seed, "single": a.single, "scale": a.scale,
+            "written": written,
+        }))?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if let Some(at) = a.row {
+        let rows = ExitRows {
+            rows: vec![at],
+            flatness,
+            ulps: a.ulps,
+            ..ExitRows::default()
+        };
+        let written = row::<ExitFace>(&rows, ExitRow { row: at }, &a, |c, _| {
+            Some(ExitFace::case_json(c))
+        })?;
+        out.finish(&serde_json::json!({
+            "row": at, "flatness": flatness, "ulps": a.ulps, "seed": a.seed, "scale": a.scale,
             "written": written,
         }))?;
         return Ok(ExitCode::SUCCESS);

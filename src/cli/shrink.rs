@@ -57,6 +57,13 @@ struct Done {
     reproduce: Option<String>,
 }
 
+impl Done {
+    /// Whether the search found a simpler case (fewer significant bits in all, or in the largest).
+    fn simpler(&self) -> bool {
+        self.bits_after < self.bits_before || self.largest_after < self.largest_before
+    }
+}
+
 /// Where a case is: its file and 1-based line.
 #[derive(Clone, serde::Serialize)]
 struct Place {
@@ -190,7 +197,7 @@ pub fn run(a: Args) -> Status {
                 Ok(done) => {
                     writeln!(
                         w,
-                        "{}: {} on {}: {} -> {} significant bits in {} numbers (at most {} -> {} in one), {} checks{}",
+                        "{}: {} on {}: {} -> {} significant bits in {} numbers (at most {} -> {} in one), {} checks{}{}",
                         place(&"case"),
                         done.method,
                         done.backend.name(),
@@ -200,7 +207,12 @@ pub fn run(a: Args) -> Status {
                         done.largest_before,
                         done.largest_after,
                         done.checks,
-                        if done.exhausted { ", budget spent" } else { "" }
+                        if done.exhausted { ", budget spent" } else { "" },
+                        if done.simpler() {
+                            ""
+                        } else {
+                            ": already as simple as the search finds"
+                        }
                     )?;
                     writeln!(w, "  {}", done.shrunk)?;
                     if let Some(r) = &done.reproduce {
@@ -233,10 +245,12 @@ pub fn run(a: Args) -> Status {
     let mean = |f: fn(&Done) -> u32| {
         report.cases.iter().map(|d| f(d) as f64).sum::<f64>() / numbers.max(1) as f64
     };
+    let simpler = report.cases.iter().filter(|d| d.simpler()).count();
     eprintln!(
-        "tetwalk shrink: {} shrunk{}, {} left as they were; significant bits per number, mean {:.1} -> {:.1}",
-        crate::report::counted(report.cases.len() as u64, "case", "cases"),
+        "tetwalk shrink: {} shrunk{}, {} already as simple as the search finds, {} left as they were (each with its reason above); significant bits per number, mean {:.1} -> {:.1}",
+        crate::report::counted(simpler as u64, "case", "cases"),
         if a.in_place { " and written back" } else { "" },
+        report.cases.len() - simpler,
         report.left.len(),
         mean(|d| d.bits_before),
         mean(|d| d.bits_after),
