@@ -7,7 +7,7 @@ mod common;
 
 use tetwalk::backend::CPU;
 use tetwalk::engine::stress::{StressReport, StressSettings, run};
-use tetwalk::family::{self, ExitFace, Family, OctreeCells, Scale, Triangle};
+use tetwalk::family::{self, ExitFace, Family, OctreeCells, Scale, Triangle, Walks};
 
 fn stress<F: Family>(cases: usize, scale: Scale, methods: &[&str]) -> StressReport<F> {
     let s = StressSettings::<F> {
@@ -33,7 +33,8 @@ fn wrong<F: Family>(r: &StressReport<F>) -> Vec<u64> {
 }
 
 /// Scaled by 2^20 or 2^-20 (the rows' coordinates stay far from underflow and overflow), every f32
-/// method of every scaling family answers exactly as at scale 1: the same wrong answers, row by row.
+/// method of every family answers exactly as at scale 1: the same wrong answers, row by row (walks
+/// through the generated meshes scaled too).
 #[test]
 fn a_scale_in_range_changes_no_answer() {
     let tets = [
@@ -55,6 +56,13 @@ fn a_scale_in_range_changes_no_answer() {
     let base = wrong(&stress::<Triangle>(20, Scale::default(), &tris));
     assert_eq!(
         wrong(&stress::<Triangle>(20, Scale::uniform(20), &tris)),
+        base
+    );
+    let walks = ["maria17", "ray-plane"];
+    let base = wrong(&stress::<Walks>(100, Scale::default(), &walks));
+    assert!(base.iter().sum::<u64>() > 0);
+    assert_eq!(
+        wrong(&stress::<Walks>(100, Scale::uniform(20), &walks)),
         base
     );
     let cells = ["portalez16", "portalez16-direction"];
@@ -98,23 +106,37 @@ fn certified_and_exact_are_right_at_every_scale() {
         },
     ] {
         let r = stress::<ExitFace>(200, s, &["certified", "exact"]);
-        let judged: u64 = r
-            .rows
-            .iter()
-            .map(|row| ExitFace::judged(&row.facts, &row.tallies[0].counts))
-            .sum();
-        assert!(judged > 1000, "{s}: {judged}");
+        assert!(judged(&r) > 1000, "{s}: {}", judged(&r));
         assert_eq!(wrong(&r).iter().sum::<u64>(), 0, "{s}");
+        let r = stress::<Walks>(40, s, &["certified", "exact"]);
+        assert!(judged(&r) >= 80, "walks at {s}: {}", judged(&r));
+        assert_eq!(wrong(&r).iter().sum::<u64>(), 0, "walks at {s}");
     }
+    // Where its products underflow, maria17 walks go wrong on nearly every ray.
+    let r = stress::<Walks>(40, Scale::uniform(-100), &["maria17"]);
+    assert!(wrong(&r).iter().sum::<u64>() * 10 > judged(&r) * 9, "{r:?}");
 }
 
-/// `--scale` is refused for walks (their meshes are generated) and for an exponent out of range; the
-/// report says the scale.
+/// Cases judged over the rows.
+fn judged<F: Family>(r: &StressReport<F>) -> u64 {
+    r.rows
+        .iter()
+        .map(|row| F::judged(&row.facts, &row.tallies[0].counts))
+        .sum()
+}
+
+/// `--scale` is refused for an exponent out of range; the report says the scale, for walks too (their
+/// generated meshes scaled with the rays).
 #[test]
 fn the_command_line_scales_what_scales() {
-    let (code, _, err) = common::run_tetwalk(&["stress", "--family", "walk", "--scale", "10"], b"");
-    assert_eq!(code, 2);
-    assert!(err.contains("--scale"), "{err}");
+    let (code, out, err) = common::run_tetwalk(
+        &[
+            "stress", "--family", "walk", "--scale", "-10", "--cases", "20", "--scenes", "fan",
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("every case scaled by 2^-10"), "{out}");
     let (code, _, err) = common::run_tetwalk(&["stress", "--scale", "400"], b"");
     assert_eq!(code, 2);
     assert!(err.contains("400"), "{err}");

@@ -88,7 +88,7 @@ pub struct Args {
     cell_place: CellPlace,
     /// Every case at a power-of-two scale, as `stress --scale` takes it (`E`, or `E/D` for the
     /// direction at its own).
-    #[arg(long, allow_negative_numbers = true, value_parser = Scale::parse, default_value = "0")]
+    #[arg(long, allow_hyphen_values = true, value_parser = Scale::parse, default_value = "0")]
     scale: Scale,
     /// With `--shape`: where the rays are aimed.
     #[arg(long, value_parser = choice::<TriAim>(), default_value = "edge", requires = "shape")]

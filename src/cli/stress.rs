@@ -95,7 +95,7 @@ pub struct Args {
     /// Every case at a power-of-two scale: `E` multiplies its points, origin and direction by 2^E,
     /// `E/D` its points and origin by 2^E and its direction by 2^D (exact where nothing underflows or
     /// overflows; each scaled case judged as it is). Not for walks, whose meshes are generated.
-    #[arg(long, allow_negative_numbers = true, value_parser = Scale::parse, default_value = "0")]
+    #[arg(long, allow_hyphen_values = true, value_parser = Scale::parse, default_value = "0")]
     scale: Scale,
     /// Also write the report as JSON here.
     #[arg(long)]
@@ -206,9 +206,6 @@ fn stress<F: Rows>(a: Args) -> Status {
     let cases = cases as usize;
     if a.wgsl.wgsl.is_some() && (F::user_wgsl().is_none() || a.seconds.is_some()) {
         return Err("--wgsl judges an exit-face function in a stress table of exit faces or walks (a campaign files found cases for tetwalk's own methods: fuzz a --wgsl function with TETWALK_FUZZ_WGSL)".into());
-    }
-    if !a.scale.is_one() && !F::SCALES {
-        return Err("--scale: walks go through generated meshes at their own scale; scale exit-face, triangle or octree rows".into());
     }
     if a.relabel.is_some() && F::LABELLINGS == 1 {
         return Err(format!(

@@ -94,9 +94,6 @@ const WOOP_HOLDS: &[Scale] = &[
 /// Where it stops: its edge functions' products underflow (2^-70) or overflow (2^47).
 const WOOP_STOPS: &[Scale] = &[Scale::uniform(-70), Scale::uniform(47)];
 
-/// The 2^0 scale alone (walks go through generated meshes at their own scale).
-const ONE: &[Scale] = &[Scale::uniform(0)];
-
 const MARIA17_A: &str = "maria17/exit_face-wrong_face-50e741ec2f3d.json";
 
 macro_rules! checks {
@@ -178,8 +175,8 @@ pub const REGISTER: &[Entry] = &[
             "certified@cpu-fma": ExitFace "certified" @ CpuFma Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified@cpu-ftz": ExitFace "certified" @ CpuFtz Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified@gpu": ExitFace "certified" @ Gpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
-            "certified-walks@cpu": Walk "certified" @ Cpu Stands Domain { holds: ONE, stops: &[] };
-            "certified-walks@gpu": Walk "certified" @ Gpu Stands Domain { holds: ONE, stops: &[] };
+            "certified-walks@cpu": Walk "certified" @ Cpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
+            "certified-walks@gpu": Walk "certified" @ Gpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
         },
     },
     Entry {
@@ -201,7 +198,7 @@ pub const REGISTER: &[Entry] = &[
         counterexample: "none: it agrees with an independent rational clipping of every case (`tests/oracle.rs`) and with brute-force first hits (`tests/walk.rs`)",
         checks: checks! {
             "exact@cpu": ExitFace "exact" @ Cpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
-            "exact-walks@cpu": Walk "exact" @ Cpu Stands Domain { holds: ONE, stops: &[] };
+            "exact-walks@cpu": Walk "exact" @ Cpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "exact-cells@cpu": Octree "exact" @ Cpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
         },
     },

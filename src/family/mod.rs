@@ -263,9 +263,6 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
         Vec::new()
     }
 
-    /// Whether its cases scale by powers of two (`stress --scale`, [`Family::scaled`]).
-    const SCALES: bool = true;
-
     /// The case at power-of-two scale `s` ([`Scale`]): every number times 2^`s.points`, then the
     /// direction set to the case's own times 2^`s.direction`; `None` where they make no case.
     fn scaled(case: &Self::Case, s: Scale) -> Option<Self::Case> {

@@ -4,7 +4,7 @@
 
 use super::count::{CountError, Counted, Counts, Prepared, Scene, first_difference, inconsistent};
 use super::wrong::Class;
-use super::{Family, Summed, Verdict};
+use super::{Family, Scale, Summed, Verdict};
 use crate::backend::{Backend, BackendError, CPU};
 use crate::cases::{CaseError, field_error, number, vec3};
 use crate::exact::hit::first_hit;
@@ -101,16 +101,22 @@ pub struct GeneratedMesh {
     pub bounds: (Vec3, Vec3),
 }
 
-type Cached = ((Generated, u32, u32), Arc<GeneratedMesh>);
+type Cached = ((Generated, u32, u32, i32), Arc<GeneratedMesh>);
 
 thread_local! {
     /// Generated meshes by (kind, size, offset): walk cases (fuzz inputs above all) use few of them.
     static MESHES: std::cell::RefCell<Vec<Cached>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// A walk case's mesh (kind, size, offset), built once per thread and kept (the last 64).
-pub fn generated(mesh: Generated, size: u32, offset: f32) -> Result<Arc<GeneratedMesh>, CaseError> {
-    let key = (mesh, size, offset.to_bits());
+/// A walk case's mesh (kind, size, offset, then scaled by 2^`scale`), built once per thread and
+/// kept (the last 64).
+pub fn generated(
+    mesh: Generated,
+    size: u32,
+    offset: f32,
+    scale: i32,
+) -> Result<Arc<GeneratedMesh>, CaseError> {
+    let key = (mesh, size, offset.to_bits(), scale);
     if let Some(m) = MESHES.with(|c| {
         c.borrow()
             .iter()
@@ -120,6 +126,7 @@ pub fn generated(mesh: Generated, size: u32, offset: f32) -> Result<Arc<Generate
         return Ok(m);
     }
     let built = crate::scenes::generated_mesh(mesh, size, Vec3::splat(offset), 1)
+        .and_then(|m| if scale == 0 { Ok(m) } else { m.scaled(scale) })
         .map_err(|e| CaseError::Mesh(e.to_string()))?;
     let bounds = crate::mesh::bounds(&built.points);
     let m = Arc::new(GeneratedMesh {
@@ -138,7 +145,7 @@ pub fn generated(mesh: Generated, size: u32, offset: f32) -> Result<Arc<Generate
 
 /// A walk case's mesh and the tetrahedron holding its origin.
 fn placed(w: &WalkCase) -> Result<(Arc<Mesh>, u32), CaseError> {
-    let m = generated(w.mesh, w.size, w.offset)?;
+    let m = generated(w.mesh, w.size, w.offset, w.scale)?;
     let start = locate(&m.mesh, w.ray().org, 0).map_err(|e| CaseError::Outside(e.to_string()))?;
     Ok((m.mesh.clone(), start))
 }
@@ -194,6 +201,18 @@ impl Family for Walks {
         let offset = number(&field("offset")?).map_err(|e| field_error("offset", e))?;
         let org = vec3(&field("org")?).map_err(|e| field_error("org", e))?;
         let dir = vec3(&field("dir")?).map_err(|e| field_error("dir", e))?;
+        let scale = match obj.remove("scale") {
+            None => 0,
+            Some(e) => e
+                .as_i64()
+                .filter(|e| (-300..=300).contains(e))
+                .ok_or_else(|| {
+                    field_error(
+                        "scale",
+                        format!("{e} is not a power-of-two exponent in -300..=300"),
+                    )
+                })? as i32,
+        };
         if dir == Vec3::ZERO {
             return Err(crate::exact::ExactError::ZeroDirection.into());
         }
@@ -201,6 +220,7 @@ impl Family for Walks {
             mesh,
             size,
             offset,
+            scale,
             org: org.to_array(),
             dir: dir.to_array(),
         })
@@ -226,8 +246,23 @@ impl Family for Walks {
     }
 
     const COMMAND: Option<&'static str> = Some("exit");
-    /// Generated meshes come at their own scale.
-    const SCALES: bool = false;
+
+    /// The mesh's points times 2^`s.points` (its `scale`), the origin too, the direction at
+    /// 2^`s.direction`; `None` where a point or the ray would round.
+    fn scaled(w: &WalkCase, s: Scale) -> Option<WalkCase> {
+        let exact = |x: f32, e: i32| {
+            let y = Scale::times(x, e);
+            (y.is_finite() && y as f64 == x as f64 * 2f64.powi(e)).then_some(y)
+        };
+        let org = w.org.map(|x| exact(x, s.points));
+        let dir = w.dir.map(|x| exact(x, s.direction));
+        Some(WalkCase {
+            scale: w.scale.checked_add(s.points)?,
+            org: [org[0]?, org[1]?, org[2]?],
+            dir: [dir[0]?, dir[1]?, dir[2]?],
+            ..*w
+        })
+    }
 
     /// The mesh's offset, then the origin and direction.
     fn numbers(w: &WalkCase) -> Vec<f32> {
@@ -294,13 +329,13 @@ impl Family for Walks {
         let mut out: Vec<Option<Walk>> = vec![None; cases.len()];
         let mut left: Vec<usize> = (0..cases.len()).collect();
         while let Some(&first) = left.first() {
-            let key = |w: &WalkCase| (w.mesh, w.size, w.offset.to_bits());
+            let key = |w: &WalkCase| (w.mesh, w.size, w.offset.to_bits(), w.scale);
             let (same, rest): (Vec<usize>, Vec<usize>) = left
                 .iter()
                 .partition(|&&i| key(&cases[i]) == key(&cases[first]));
             left = rest;
             let w = &cases[first];
-            let m3 = generated(w.mesh, w.size, w.offset)
+            let m3 = generated(w.mesh, w.size, w.offset, w.scale)
                 .map_err(|e| BackendError::Case(e.to_string()))?;
             let mesh = &m3.mesh;
             let rays = same
@@ -373,13 +408,14 @@ impl Family for Walks {
     /// and edges); `None` where its origin is outside the mesh.
     fn case(_: &WalkRows, row: WalkRow, seed: u64, i: usize) -> Option<(WalkCase, WalkTruth)> {
         let (mesh, size, offset) = row.scene.mesh();
-        let m = generated(mesh, size, offset).ok()?;
+        let m = generated(mesh, size, offset, 0).ok()?;
         let mut r = crate::scenes::row_rng(seed, row.scene as u64, i);
         let ray = crate::scenes::ray(mesh, m.bounds, Vec3::splat(offset), i % 2 == 1, &mut r);
         let w = WalkCase {
             mesh,
             size,
             offset,
+            scale: 0,
             org: ray.org.to_array(),
             dir: ray.dir.to_array(),
         };
@@ -409,6 +445,11 @@ impl Family for Walks {
     /// Walks cost more than single cases: an eighth of the property campaign's inputs.
     fn kit_properties(properties: usize) -> usize {
         properties / 8
+    }
+
+    /// A walk is many steps, each an exit face: a fifth of a row's cases.
+    fn kit_row_cases(cases: usize) -> usize {
+        (cases / 5).max(1)
     }
 }
 

@@ -267,6 +267,25 @@ impl Mesh {
         Mesh::build(raw)
     }
 
+    /// The mesh with every point times 2^`e`, exactly: an error names the first point that would
+    /// round (underflow to a subnormal or zero, or overflow).
+    pub fn scaled(&self, e: i32) -> Result<Mesh, MeshError> {
+        let mut raw = self.to_raw();
+        let by = 2f64.powi(e);
+        for (i, p) in raw.points.iter_mut().enumerate() {
+            let exact = p.to_array().map(|x| x as f64 * by);
+            let q = exact.map(|x| x as f32);
+            if (0..3).any(|k| q[k] as f64 != exact[k] || !q[k].is_finite()) {
+                return Err(MeshError {
+                    place: format!("point {i}"),
+                    what: format!("{p} times 2^{e} is not an f32 (it underflows or overflows)"),
+                });
+            }
+            *p = Vec3::from(q);
+        }
+        Mesh::build(raw)
+    }
+
     /// Back to unchecked form (neighbours kept).
     pub fn to_raw(&self) -> RawMesh {
         let neighbors = self

@@ -6,12 +6,12 @@ use crate::engine::stress::{Disagreements, RowReport, StressReport};
 use crate::family::{ExitFace, Family, OctreeCells, Triangle, Walks};
 use crate::walk::OutcomeKind;
 
-/// Failures per million of `of` judged.
-pub fn per_million(n: u64, of: u64) -> f64 {
-    if of == 0 {
-        0.0
-    } else {
-        n as f64 * 1e6 / of as f64
+/// Failures per million of `of` judged, rounded, or "—" where nothing was judged (a row whose every
+/// case left f32's range at its scale): not a rate of zero.
+pub fn per_million(n: u64, of: u64) -> String {
+    match of {
+        0 => "—".into(),
+        _ => format!("{:.0}", n as f64 * 1e6 / of as f64),
     }
 }
 
@@ -93,7 +93,7 @@ impl Formats for ExitFace {
         );
         out += &table(r, |t| {
             format!(
-                "{:.0} / {:.0}",
+                "{} / {}",
                 per_million(t.wrong_face, t.judged),
                 per_million(t.no_exit_face, t.judged)
             )
@@ -122,7 +122,7 @@ impl Formats for Walks {
                 .iter()
                 .sum();
             format!(
-                "{:.0} ({:.0})",
+                "{} ({})",
                 per_million(Self::wrong(t), t.judged),
                 per_million(endless, t.judged)
             )
@@ -145,7 +145,7 @@ impl Formats for OctreeCells {
         );
         out += &table(r, |t| {
             format!(
-                "{:.0} ({:.0} / {:.0})",
+                "{} ({} / {})",
                 per_million(t.wrong, t.judged),
                 per_million(t.wrong_quarter, t.judged),
                 per_million(t.no_exit_face, t.judged)
@@ -214,7 +214,7 @@ fn by(
             };
             let pm = |n: u64| per_million(n, rays);
             s += &format!(
-                "| {m} | {k} | {rays} | {crossing} | {:.0} | {:.0} | {:.0} | {:.0} |\n",
+                "| {m} | {k} | {rays} | {crossing} | {} | {} | {} | {} |\n",
                 pm(sum(|t| t.leaks)),
                 pm(sum(|t| t.misses_beside)),
                 pm(sum(|t| t.double_hits)),

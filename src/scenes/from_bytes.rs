@@ -86,8 +86,15 @@ pub struct WalkCase {
     pub mesh: super::Generated,
     pub size: u32,
     pub offset: f32,
+    /// The mesh's points (after the offset) times 2^`scale`, exactly; 0 (left out): as generated.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub scale: i32,
     pub org: [f32; 3],
     pub dir: [f32; 3],
+}
+
+fn is_zero(e: &i32) -> bool {
+    *e == 0
 }
 
 impl WalkCase {
@@ -141,6 +148,7 @@ pub fn walk_case(u: &mut Unstructured) -> Result<WalkCase> {
         mesh,
         size,
         offset: off,
+        scale: 0,
         org: org.to_array(),
         dir: dir.to_array(),
     })
