@@ -1,9 +1,10 @@
-//! Arbitrary bytes as TetGen files and as a JSON case line (a found case too): errors are fine, panics, hangs and
-//! unbounded allocations are not.
+//! Arbitrary bytes as TetGen files, as a Gmsh, VTK or MEDIT file, and as a JSON case line (a found
+//! case too): errors are fine, panics, hangs and unbounded allocations are not.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use tetwalk::mesh::{TetgenTexts, parse_tetgen};
+use tetwalk::mesh::formats::{Format, parse};
+use tetwalk::mesh::{Faces, TetgenTexts, parse_tetgen};
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
@@ -26,4 +27,7 @@ fuzz_target!(|data: &[u8]| {
             face,
         },
     );
+    for format in [Format::Gmsh, Format::Vtk, Format::Vtu, Format::Medit] {
+        let _ = parse(data, format, Faces::Optional, "fuzz");
+    }
 });

@@ -15,10 +15,10 @@ pub struct Args {
     /// mt-precomputed on single rays).
     #[arg(long, value_parser = ["exit-face", "triangle"], default_value = "exit-face")]
     family: String,
-    /// A built-in scene or a TetGen stem (as `count` takes).
+    /// A built-in scene, a TetGen stem, or a Gmsh, VTK or MEDIT file (as `count` takes).
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
-    /// Accept a TetGen scene without constrained faces.
+    /// Accept a scene without constrained faces (no TetGen `.face`, no triangles in another format).
     #[arg(long)]
     no_faces: bool,
     /// Viewpoints on a sphere around the model (`--family triangle` times the first inside the mesh).

@@ -42,11 +42,12 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8), default_value_t = 2)]
     packet: u32,
     /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, kuhn, jitter, fan and
-    /// their -far), or a TetGen stem.
+    /// their -far), a TetGen stem, or a Gmsh `.msh` (4.1 or 2.2), VTK `.vtk` / `.vtu` or MEDIT `.mesh`
+    /// file (its triangles the constrained faces).
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
-    /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one): every ray then
-    /// leaves the mesh.
+    /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
+    /// another format): every ray then leaves the mesh.
     #[arg(long)]
     no_faces: bool,
     /// Viewpoints on a sphere around the model [default: 160, 16 with --family triangle or octree, or

@@ -38,10 +38,11 @@ pub struct Args {
     /// What to draw.
     #[arg(value_enum)]
     what: What,
-    /// A built-in scene or a TetGen stem (not for predicate maps).
+    /// A built-in scene, a TetGen stem, or a Gmsh, VTK or MEDIT file (not for predicate maps).
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
-    /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one).
+    /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
+    /// another format).
     #[arg(long)]
     no_faces: bool,
     /// Which of `--views` viewpoints, 0-based (placed as `tetwalk count` places them).

@@ -34,9 +34,10 @@ pub enum Scene {
     /// Write a scene's mesh for another program's kernel (`count --rays-out` gives the rays, `judge`
     /// judges the walks): one JSON object in tetwalk's conventions (stated in its `convention` field).
     Export {
-        /// A built-in scene name or a TetGen stem.
+        /// A built-in scene name, a TetGen stem, or a Gmsh, VTK or MEDIT file.
         scene: String,
-        /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one).
+        /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
+        /// another format).
         #[arg(long)]
         no_faces: bool,
         /// Where to write it (written whole, or not at all).
@@ -45,7 +46,7 @@ pub enum Scene {
     /// Counts, memory per layout and flatness of a scene, and seed 001's octree over its constrained
     /// faces (leaves with and without the regularity constraint, bytes per cell, the four arrays).
     Info {
-        /// A built-in scene name or a TetGen stem.
+        /// A built-in scene name, a TetGen stem, or a Gmsh, VTK or MEDIT file.
         scene: String,
         /// The octree's deepest level.
         #[arg(long, default_value_t = 8)]
@@ -53,7 +54,8 @@ pub enum Scene {
         /// Split an octree node while it holds more triangles than this.
         #[arg(long, default_value_t = 6)]
         capacity: usize,
-        /// Accept a TetGen scene without constrained faces (no `.face`, or an empty one).
+        /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
+        /// another format).
         #[arg(long)]
         no_faces: bool,
         /// Also write the info as JSON here.

@@ -92,7 +92,8 @@ pub const BUILT_IN: [&str; 4] = [
 ];
 
 /// A scene by name: a built-in one (`corpora/scenes/NAME`), a generated one (`kuhn`, `jitter`, `fan`,
-/// each with a `-far` variant moved by 2^16), or the stem or any file of TetGen output.
+/// each with a `-far` variant moved by 2^16), a Gmsh, VTK or MEDIT file (`.msh`, `.vtk`, `.vtu`,
+/// `.mesh`), or the stem or any file of TetGen output.
 pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
     let kind = Generated::from_name;
     let generated = match name.strip_suffix("-far").and_then(kind) {
@@ -109,6 +110,10 @@ pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
     } else {
         std::path::PathBuf::from(name)
     };
+    #[cfg(feature = "formats")]
+    if let Some(format) = crate::mesh::formats::Format::of(&path) {
+        return crate::mesh::formats::load(&path, format, faces);
+    }
     crate::mesh::load_tetgen_with(&path, faces)
 }
 
