@@ -374,3 +374,54 @@ fn judge_refuses_a_rays_file_whose_body_is_not_its_headers() {
         assert!(err.contains(says), "{name}: {err}");
     }
 }
+
+/// Cases from a pipe (`judge /dev/stdin ANSWERS`) are judged as from a file, a scene's rays too; an
+/// answer in a common wrong spelling (`"tri": -1`, Python's `Infinity`) gets an error for its own
+/// line that names the expected form, and the other lines are judged.
+#[test]
+fn judge_reads_cases_from_a_pipe_and_names_the_miss_spelling() {
+    let (_d, at) = tmp();
+    let (_, cases, _) = run_tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "4"], b"");
+    let answers = at("answers.jsonl");
+    std::fs::write(
+        &answers,
+        "{\"line\":1,\"tri\":0,\"t\":1}\n{\"line\":2,\"tri\":-1}\n{\"line\":3,\"tri\":null,\"t\":Infinity}\n{\"line\":4,\"tri\":null}\n",
+    )
+    .unwrap();
+    let (code, piped, err) = run_tetwalk(&["judge", "/dev/stdin", &answers], cases.as_bytes());
+    assert_eq!(code, 1, "{err}");
+    let file = at("cases.jsonl");
+    std::fs::write(&file, &cases).unwrap();
+    let (_, from_file, _) = run_tetwalk(&["judge", &file, &answers], b"");
+    assert_eq!(piped, from_file);
+    let v: Vec<serde_json::Value> = piped
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(v.len(), 4, "{piped}");
+    assert_eq!(v[0]["correct"], true, "{}", v[0]);
+    let e = |i: usize| v[i]["error"].as_str().unwrap_or_default().to_string();
+    assert!(e(1).contains("a miss is written \"tri\": null"), "{}", e(1));
+    assert!(e(2).contains("Infinity are not JSON numbers"), "{}", e(2));
+    assert!(v[3].get("correct").is_some(), "{}", v[3]);
+
+    let rays = at("rays.jsonl");
+    let mut args = vec!["count", "--scene", "kuhn", "--rays-out", &rays];
+    args.extend(VIEWS);
+    run_tetwalk(&args, b"");
+    let text = std::fs::read_to_string(&rays).unwrap();
+    let walks = at("walks.jsonl");
+    std::fs::write(&walks, maria17_answers(&text)).unwrap();
+    let (code, piped, err) = run_tetwalk(&["judge", "/dev/stdin", &walks], text.as_bytes());
+    assert_eq!(code, 0, "{err}");
+    let (_, from_file, _) = run_tetwalk(&["judge", &rays, &walks], b"");
+    // The given walks' row and the totals (the reference's speed column aside).
+    let table = |t: &str| {
+        t.lines()
+            .filter(|l| l.starts_with("| yours") || l.starts_with("totals"))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(table(&piped).len(), 2, "{piped}");
+    assert_eq!(table(&piped), table(&from_file));
+}

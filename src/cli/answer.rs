@@ -38,6 +38,16 @@ pub struct Common {
     pub(super) file: Option<PathBuf>,
 }
 
+/// A file of JSON lines opened for reading (a pipe too: `/dev/stdin`); a folder is refused.
+pub(super) fn open_lines(p: &std::path::Path) -> Result<Box<dyn BufRead + Send>, super::Error> {
+    if p.is_dir() {
+        return Err(format!("{}: is a folder, not a file of JSON lines", p.display()).into());
+    }
+    Ok(Box::new(std::io::BufReader::new(
+        std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?,
+    )))
+}
+
 /// Longest line read, in bytes; a longer one is an error for that line.
 pub(super) const MAX_LINE: u64 = 1 << 20;
 /// Most lines answered as one batch.
@@ -86,16 +96,13 @@ pub(super) fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line>
 /// for one line, take whatever else has arrived, write `answer`'s text for them to standard output.
 pub(super) fn answer_lines(
     file: Option<&std::path::Path>,
+    open: Option<Box<dyn BufRead + Send>>,
     mut answer: impl FnMut(&[Line]) -> Result<String, super::Error>,
 ) -> Result<(), super::Error> {
-    if let Some(p) = file.filter(|p| p.is_dir()) {
-        return Err(format!("{}: is a folder, not a file of JSON lines", p.display()).into());
-    }
-    let input: Box<dyn BufRead + Send> = match file {
-        Some(p) => Box::new(std::io::BufReader::new(
-            std::fs::File::open(p).map_err(|e| format!("{}: {e}", p.display()))?,
-        )),
-        None => Box::new(std::io::BufReader::new(std::io::stdin())),
+    let input: Box<dyn BufRead + Send> = match (open, file) {
+        (Some(input), _) => input,
+        (None, Some(p)) => open_lines(p)?,
+        (None, None) => Box::new(std::io::BufReader::new(std::io::stdin())),
     };
     let rx = reader(input);
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
@@ -156,6 +163,8 @@ pub(super) struct Answering<'a> {
     pub leaks: bool,
     pub backend: String,
     pub file: Option<&'a std::path::Path>,
+    /// `file` already open (read once: a pipe cannot be read twice), or `None` to open it here.
+    pub input: Option<Box<dyn BufRead + Send>>,
     pub json: Option<&'a std::path::Path>,
     pub fail: FailArg,
     pub standing: fn(&Tally) -> Standing,
@@ -189,7 +198,7 @@ impl Answering<'_> {
                 })
                 .collect(),
         };
-        answer_lines(self.file, |batch| answer(batch, &mut summary))?;
+        answer_lines(self.file, self.input, |batch| answer(batch, &mut summary))?;
         after()?;
         if summary.lines == 0 {
             return Err(format!(
@@ -321,6 +330,9 @@ impl<F: Lines> Takes for Part<'_, F> {
             None => None,
             Some(a) => {
                 let o = a.as_object().ok_or("an answer is a JSON object")?;
+                if let Some(why) = o.get(super::judge::NOT_JSON).and_then(Value::as_str) {
+                    return Err(why.to_string());
+                }
                 Some(F::given(o, &case)?)
             }
         };

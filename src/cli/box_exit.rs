@@ -35,6 +35,7 @@ pub fn run(a: Args) -> Status {
         leaks: false,
         backend: backend.describe(),
         file: a.file.as_deref(),
+        input: None,
         json: a.json.as_deref(),
         fail: a.fail,
         standing: standing::<OctreeCells>,

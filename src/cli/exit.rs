@@ -24,6 +24,7 @@ pub fn run(Args { common: a, wgsl }: Args) -> Status {
         leaks: false,
         backend: backend.describe(),
         file: a.file.as_deref(),
+        input: None,
         json: a.json.as_deref(),
         fail: a.fail,
         standing: standing::<ExitFace>,

@@ -28,6 +28,7 @@ pub fn run(Args { common: a, t_ulps }: Args) -> Status {
         leaks: true,
         backend: backend.describe(),
         file: a.file.as_deref(),
+        input: None,
         json: a.json.as_deref(),
         fail: a.fail,
         standing: standing::<Triangle>,

@@ -81,10 +81,36 @@ fn each_answer(
         if l.trim().is_empty() {
             continue;
         }
-        let v: Value = serde_json::from_str(&l).map_err(|e| at(e.to_string()))?;
+        let v = match serde_json::from_str::<Value>(&l) {
+            Ok(v) => v,
+            // Not JSON, but naming its case line: an error for that line, the run goes on.
+            Err(e) => match line_number(&l) {
+                Some(n) => serde_json::json!({ "line": n, NOT_JSON: not_json(&e) }),
+                None => return Err(at(not_json(&e))),
+            },
+        };
         take(i, v).map_err(at)?;
     }
     Ok(())
+}
+
+/// The key under which an answer line that is not JSON keeps why, for its case line.
+pub(super) const NOT_JSON: &str = "not JSON";
+
+/// Why an answer line is not JSON, naming the forms that are (Python's `json.dumps` writes NaN and
+/// Infinity, which JSON has not).
+fn not_json(e: &serde_json::Error) -> String {
+    format!(
+        "not JSON ({e}); NaN and Infinity are not JSON numbers (Python's json.dumps writes them): a miss is \"tri\": null, \"hit\": false or \"face\": null, without \"t\""
+    )
+}
+
+/// The case line an answer line names in its `"line": N`, read from text that is not JSON.
+fn line_number(text: &str) -> Option<usize> {
+    let rest = &text[text.find("\"line\"")? + 6..];
+    let rest = rest.trim_start().strip_prefix(':')?.trim_start();
+    let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().ok().filter(|&n| n >= 1)
 }
 
 /// The answers by case line, read whole (each a JSON object with a `line`).
@@ -109,11 +135,12 @@ pub fn run(a: Args) -> Status {
         return Err("--fail-on claims: judge's answers are yours, and tetwalk knows no claim of theirs; --fail-on wrong fails on any wrong answer".into());
     }
     let t_ulps = super::t_ulps(a.t_ulps)?;
-    if let Some(header) = scene_header(&a.cases)? {
+    let (header, input) = open_cases(&a.cases)?;
+    if let Some(header) = header {
         if a.t_ulps.is_some() {
             return Err("--t-ulps judges a hit's t in triangle cases; a scene's walks end in a tetrahedron's face".into());
         }
-        return judge_scene(&a, header);
+        return judge_scene(&a, header, input);
     }
     if a.dump.is_some() {
         return Err(
@@ -129,6 +156,7 @@ pub fn run(a: Args) -> Status {
         leaks: true,
         backend: "given".to_string(),
         file: Some(&a.cases),
+        input: Some(input),
         json: a.json.as_deref(),
         fail: a.fail,
         standing: |t| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong),
@@ -164,33 +192,31 @@ fn refuse(_: Kind) -> String {
     "judge answers tetrahedron, triangle and octree cell cases, not walk cases".into()
 }
 
-/// The header of a `count --rays-out` file, when `path` is one (its first line holds a scene).
-fn scene_header(path: &Path) -> Result<Option<RaysHeader>, JudgeError> {
+/// The cases file opened once (a pipe, `/dev/stdin`, cannot be read twice): its first line read to
+/// see whether it is a `count --rays-out` header, then put back in front of the rest.
+fn open_cases(path: &Path) -> Result<(Option<RaysHeader>, Box<dyn BufRead + Send>), super::Error> {
     let file = path.display().to_string();
-    let f = std::fs::File::open(path).map_err(|e| JudgeError::File {
-        file: file.clone(),
-        why: e.to_string(),
-    })?;
+    let mut input = super::answer::open_lines(path)?;
     // The first line only, at most a line's length bound (a longer one is no header).
     let mut first = Vec::new();
-    std::io::BufReader::new(std::io::Read::take(f, MAX_LINE))
+    std::io::Read::take(&mut input, MAX_LINE)
         .read_until(b'\n', &mut first)
         .map_err(|e| JudgeError::File {
             file: file.clone(),
             why: e.to_string(),
         })?;
-    match serde_json::from_slice::<Value>(&first) {
+    let header = match serde_json::from_slice::<Value>(&first) {
         Ok(v) if v.get("scene").is_some() => {
-            serde_json::from_value(v)
-                .map(Some)
-                .map_err(|e| JudgeError::Answer {
-                    file,
-                    line: 1,
-                    why: format!("not a count --rays-out header: {e}"),
-                })
+            Some(serde_json::from_value(v).map_err(|e| JudgeError::Answer {
+                file,
+                line: 1,
+                why: format!("not a count --rays-out header: {e}"),
+            })?)
         }
-        _ => Ok(None),
-    }
+        _ => None,
+    };
+    let again = std::io::Read::chain(std::io::Cursor::new(first), input);
+    Ok((header, Box::new(std::io::BufReader::new(again))))
 }
 
 /// The body of a `count --rays-out` file checked against the rays its header names, line by line (a
@@ -198,14 +224,12 @@ fn scene_header(path: &Path) -> Result<Option<RaysHeader>, JudgeError> {
 /// for the rays the header rebuilds, so those must be the rays that were walked.
 fn check_rays(
     path: &Path,
+    input: Box<dyn BufRead + Send>,
     header: &RaysHeader,
     mesh: &crate::mesh::Mesh,
 ) -> Result<(), super::Error> {
     let file = path.display().to_string();
-    let f = std::fs::File::open(path).map_err(|e| format!("{file}: {e}"))?;
-    let mut lines = reader(Box::new(std::io::BufReader::new(f)))
-        .into_iter()
-        .skip(1);
+    let mut lines = reader(input).into_iter().skip(1);
     let views = &header.views;
     let shard = header.shard;
     let (mut rays, mut last) = (0u64, 1);
@@ -284,7 +308,7 @@ fn walk_answer(mut v: Value) -> Result<((usize, u32, u32), Walk), String> {
 }
 
 /// A scene's walks computed elsewhere, judged as `count` judges its methods.
-fn judge_scene(a: &Args, header: RaysHeader) -> Status {
+fn judge_scene(a: &Args, header: RaysHeader, input: Box<dyn BufRead + Send>) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;
     let mesh = crate::scenes::load(&header.scene, super::faces(header.no_faces))?;
@@ -298,7 +322,7 @@ fn judge_scene(a: &Args, header: RaysHeader) -> Status {
         )
         .into());
     }
-    check_rays(&a.cases, &header, &mesh)?;
+    check_rays(&a.cases, input, &header, &mesh)?;
     let file = a.answers.display().to_string();
     let mut given = GivenMap::new();
     each_answer(&a.answers, |_, v| {

@@ -308,8 +308,12 @@ impl Family for ExitFace {
             f => Ok(Some(
                 f.as_u64()
                     .filter(|&f| f < 4)
-                    .ok_or_else(|| format!("the answer's face {f} is not 0..3 or null"))?
-                    as u8,
+                    .ok_or_else(|| match f.as_i64() {
+                        Some(..0) => {
+                            format!("the answer's face {f}: no exit face is written \"face\": null")
+                        }
+                        _ => format!("the answer's face {f} is not 0..3 or null"),
+                    })? as u8,
             )),
         }
     }

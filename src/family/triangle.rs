@@ -383,7 +383,14 @@ impl Family for Triangle {
                 i => {
                     let len = h.tris().len();
                     let i = i.as_u64().filter(|&i| (i as usize) < len).ok_or_else(|| {
-                        format!("the answer's tri {i} is not a triangle of the case (0..{len})")
+                        match i.as_i64() {
+                            Some(..0) => format!(
+                                "the answer's tri {i}: a miss is written \"tri\": null, without \"t\""
+                            ),
+                            _ => format!(
+                                "the answer's tri {i} is not a triangle of the case (0..{len})"
+                            ),
+                        }
                     })?;
                     hit_t(o, true)?.map(|t| (i as u32, t))
                 }
