@@ -889,6 +889,16 @@ fn gen_cases_writes_a_stress_rows_cases() {
         stress["rows"][0]["tallies"][0]["leaks"]
     );
     assert!(hit["methods"][0]["leaks"].as_u64().unwrap() > 0);
+    // Each wrong triangle has one kind, by the stress rows' rules: they add up to the row's wrong
+    // first hits, the leaks among them to its leaks.
+    let kinds = hit["methods"][0]["kinds"].as_object().unwrap();
+    let tally = &stress["rows"][0]["tallies"][0];
+    assert_eq!(kinds.get("leak"), tally.get("leaks"), "{kinds:?}");
+    assert_eq!(
+        kinds.values().map(|n| n.as_u64().unwrap()).sum::<u64>(),
+        tally["wrong_first_hits"].as_u64().unwrap(),
+        "{kinds:?}"
+    );
 
     let (_, cells, _) = tetwalk(
         &[

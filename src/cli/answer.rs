@@ -138,6 +138,10 @@ pub(super) struct Tally {
     /// design.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub back_faces: Option<u64>,
+    /// Wrong answers on closed meshes by kind ([`crate::exact::hit::HitTruth::wrong_kind`]), the stress
+    /// rows' classification.
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub kinds: std::collections::BTreeMap<&'static str, u64>,
     /// Hits wrong for their `t` alone: the triangle right, `t` beyond `--t-ulps`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub t_alone: Option<u64>,
@@ -213,6 +217,22 @@ impl Answering<'_> {
         for t in &summary.methods {
             let not = answered.saturating_sub(t.right + t.wrong);
             let mut of_them = Vec::new();
+            if !t.kinds.is_empty() {
+                let each: Vec<String> = t
+                    .kinds
+                    .iter()
+                    .map(|(k, n)| {
+                        let what = match *k {
+                            "leak" => "leaks",
+                            "miss_beside" => "misses beside",
+                            "neighbour" => "hits on a neighbour of the crossing",
+                            _ => "other wrong first hits",
+                        };
+                        format!("{n} {what}")
+                    })
+                    .collect();
+                of_them.push(format!("on closed meshes {}", each.join(", ")));
+            }
             if let Some(n @ 1..) = t.t_alone {
                 of_them.push(format!(
                     "{n} wrong for t alone: the triangle right, t further than --t-ulps from the exact t"
@@ -406,6 +426,9 @@ impl Tally {
         }
         if let Some(n) = self.t_alone.as_mut() {
             *n += said.t_alone as u64;
+        }
+        if let Some(k) = said.kind {
+            *self.kinds.entry(k).or_default() += 1;
         }
     }
 }

@@ -239,6 +239,26 @@ impl HitTruth {
         })
     }
 
+    /// What a wrong nearest hit (`answer`, of hits `hits`) on a closed mesh is, by the stress rows'
+    /// rules: `"leak"` or `"miss_beside"` ([`HitTruth::missed`]), `"neighbour"` (a triangle around the
+    /// first crossing that does not hold it: the ray passed beside the pair onto a neighbour), or
+    /// `"wrong_first_hit"` (any other); `None` when the answer's triangle is right.
+    pub fn wrong_kind(&self, hits: &[u32], answer: Option<u32>) -> Option<&'static str> {
+        if self.right(answer) {
+            return None;
+        }
+        Some(match self.missed(hits) {
+            Some(Missed::Leak) => "leak",
+            Some(Missed::Beside) => "miss_beside",
+            None if answer
+                .is_some_and(|a| self.first_crossing().is_some_and(|p| p.around.contains(&a))) =>
+            {
+                "neighbour"
+            }
+            None => "wrong_first_hit",
+        })
+    }
+
     /// Whether the method leaks ([`HitTruth::missed`]).
     pub fn leaks(&self, hits: &[u32]) -> bool {
         self.missed(hits) == Some(Missed::Leak)

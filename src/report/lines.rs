@@ -22,6 +22,8 @@ pub struct Said {
     pub leak: bool,
     pub back_face: bool,
     pub t_alone: bool,
+    /// What a wrong closed-mesh answer is ([`HitTruth::wrong_kind`]).
+    pub kind: Option<&'static str>,
 }
 
 /// How a family's verdict lines read.
@@ -121,6 +123,7 @@ impl Lines for Triangle {
             "exact_hit": first.is_some(), "exact_t": first.map(|p| ratio(&p.t)),
         }));
         let mut leak = false;
+        let mut kind = None;
         if case.closed {
             leak = truth.leaks(&hits.ids());
             o.insert("tri".into(), json!(g.map(|(i, _)| i)));
@@ -130,6 +133,11 @@ impl Lines for Triangle {
             o.insert("on_boundary".into(), Value::Bool(boundary));
             o.insert("crosses".into(), json!(first.map(|p| p.crosses)));
             o.insert("leak".into(), Value::Bool(leak));
+            kind = truth.wrong_kind(&hits.ids(), g.map(|(i, _)| i));
+            o.insert(
+                "kind".into(),
+                json!(kind.unwrap_or(if ok { "right" } else { "t" })),
+            );
             if crate::exact::hit::inside_out(case.tris()) {
                 o.insert("inside_out".into(), Value::Bool(true));
             }
@@ -147,6 +155,7 @@ impl Lines for Triangle {
                 leak,
                 back_face: truth.back_face(),
                 t_alone: triangle_right && !ok,
+                kind,
             },
         )
     }
