@@ -208,3 +208,51 @@ fn shrink_takes_a_counts_dump_but_never_rewrites_it() {
     assert!(err.contains("not rewritten"), "{err}");
     assert_eq!(std::fs::read_to_string(dump).unwrap(), lines);
 }
+
+/// `shrink --answerer CMD` shrinks for a program outside tetwalk: here one that answers every case
+/// with a miss; the shrunk case is still one it answers wrongly the same way, and the printed line
+/// reproduces it through `tetwalk judge`.
+#[test]
+fn shrink_shrinks_for_a_program_outside_tetwalk() {
+    let (_, cases, _) = tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "1"]);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("case.jsonl");
+    std::fs::write(&file, &cases).unwrap();
+    let miss = r#"cat > /dev/null; echo '{"line": 1, "tri": null}'"#;
+    let (code, out, err) = tetwalk(&[
+        "shrink",
+        "--answerer",
+        miss,
+        "--checks",
+        "200",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("on outside"), "{out}");
+    let reproduce = out
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("reproduce: "))
+        .expect("a reproducing command");
+    assert!(
+        reproduce.contains("tetwalk judge /dev/stdin answer.jsonl"),
+        "{reproduce}"
+    );
+    // The shrunk case, answered by the same program, is judged wrong.
+    let shrunk = out.lines().nth(1).unwrap().trim();
+    let answers = dir.path().join("answer.jsonl");
+    std::fs::write(&answers, "{\"line\": 1, \"tri\": null}\n").unwrap();
+    let (_, verdict, _) = common::run_tetwalk(
+        &["judge", "/dev/stdin", answers.to_str().unwrap()],
+        format!("{shrunk}\n").as_bytes(),
+    );
+    assert!(verdict.contains("\"correct\":false"), "{verdict}");
+    let (code, _, err) = tetwalk(&[
+        "shrink",
+        "--answerer",
+        miss,
+        "--in-place",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--in-place"), "{err}");
+}

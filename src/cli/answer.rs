@@ -221,14 +221,15 @@ impl Answering<'_> {
                 let each: Vec<String> = t
                     .kinds
                     .iter()
-                    .map(|(k, n)| {
-                        let what = match *k {
-                            "leak" => "leaks",
-                            "miss_beside" => "misses beside",
-                            "neighbour" => "hits on a neighbour of the crossing",
-                            _ => "other wrong first hits",
-                        };
-                        format!("{n} {what}")
+                    .map(|(k, &n)| match *k {
+                        "leak" => counted(n, "leak", "leaks"),
+                        "miss_beside" => counted(n, "miss beside", "misses beside"),
+                        "neighbour" => counted(
+                            n,
+                            "hit on a neighbour of the crossing",
+                            "hits on a neighbour of the crossing",
+                        ),
+                        _ => counted(n, "other wrong first hit", "other wrong first hits"),
                     })
                     .collect();
                 of_them.push(format!("on closed meshes {}", each.join(", ")));

@@ -8,7 +8,7 @@ use crate::backend::{Backend, BackendKind};
 use crate::cases::object;
 use crate::choice::Choice;
 use crate::engine::found::{Failure, Found, FoundError};
-use crate::engine::shrink::{CHECKS, bits, reproduce, shrink_on};
+use crate::engine::shrink::{CHECKS, Shrunk, bits, reproduce, shrink_on};
 use crate::family::wrong::WrongRay;
 use crate::family::{self, ExitFace, Family, owner};
 use std::collections::HashMap;
@@ -25,6 +25,13 @@ pub struct Args {
     /// line's `original` (a dump is never rewritten: its shrunk cases are printed).
     #[arg(long)]
     in_place: bool,
+    /// Shrink for a program outside tetwalk instead (a shell command, e.g. `python3
+    /// examples/kernels/embree_answers.py`): each line of FILE is a case (a found case too), the
+    /// command is run on every case tried (its line on standard input) and answers as `judge` reads
+    /// answers (one JSON line); the simplest case it still answers wrongly the same way is printed
+    /// (a leak stays a leak), with the line that reproduces it.
+    #[arg(long, value_name = "CMD")]
+    answerer: Option<String>,
     /// Checks (exact judgements of a candidate case) one shrink may make at most.
     #[arg(long, default_value_t = CHECKS)]
     checks: usize,
@@ -40,7 +47,8 @@ struct Done {
     file: String,
     line: usize,
     method: String,
-    backend: BackendKind,
+    /// Where it ran: a backend, or `outside` (`--answerer`).
+    backend: String,
     /// How many numbers the case has, and their significant bits summed, before and after.
     numbers: usize,
     bits_before: u32,
@@ -58,6 +66,27 @@ struct Done {
 }
 
 impl Done {
+    /// What a shrink of `before` to `s` did at `at`, its answerer and lines left to fill in.
+    fn measured<F: Family>(at: &Place, before: &F::Case, s: &Shrunk<F>) -> Done {
+        let (bits_before, largest_before) = bits::<F>(before);
+        let (bits_after, largest_after) = bits::<F>(&s.case);
+        Done {
+            file: at.file.clone(),
+            line: at.line,
+            method: String::new(),
+            backend: String::new(),
+            numbers: F::numbers(before).len(),
+            bits_before,
+            bits_after,
+            largest_before,
+            largest_after,
+            checks: s.checks,
+            exhausted: s.exhausted,
+            shrunk: serde_json::Value::Null,
+            reproduce: None,
+        }
+    }
+
     /// Whether the search found a simpler case (fewer significant bits in all, or in the largest).
     fn simpler(&self) -> bool {
         self.bits_after < self.bits_before || self.largest_after < self.largest_before
@@ -110,22 +139,74 @@ fn shrink_one<F: Family>(
     };
     let m = family::by_name::<F>(&f.method)?;
     let (shrunk, s) = shrink_on(found, m, backend, checks)?;
-    let (bits_before, largest_before) = bits::<F>(&found.case);
-    let (bits_after, largest_after) = bits::<F>(&shrunk.case);
     Ok(Ok(Done {
-        file: at.file.clone(),
-        line: at.line,
         method: f.method.clone(),
-        backend: f.backend,
-        numbers: F::numbers(&found.case).len(),
-        bits_before,
-        bits_after,
-        largest_before,
-        largest_after,
-        checks: s.checks,
-        exhausted: s.exhausted,
+        backend: f.backend.name().to_string(),
         shrunk: serde_json::from_str(&shrunk.to_json()).expect("a found case's line is JSON"),
         reproduce: reproduce(&shrunk),
+        ..Done::measured(at, &found.case, &s)
+    }))
+}
+
+/// `cmd` run on `case` (its line on standard input): its answer, read as `judge` reads answers.
+fn outside<F: Family>(cmd: &str, case: &F::Case) -> Result<F::Answer, FoundError> {
+    let fail = |why: String| FoundError::Field {
+        field: "answerer",
+        why: format!("{cmd}: {why}"),
+    };
+    let mut child = std::process::Command::new("sh")
+        .args(["-c", cmd])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| fail(e.to_string()))?;
+    let line = serde_json::Value::Object(F::case_json(case)).to_string() + "\n";
+    child
+        .stdin
+        .take()
+        .expect("piped")
+        .write_all(line.as_bytes())
+        .map_err(|e| fail(e.to_string()))?;
+    let out = child.wait_with_output().map_err(|e| fail(e.to_string()))?;
+    if !out.status.success() {
+        return Err(fail(format!("exited with {}", out.status)));
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+    let answer: serde_json::Value = serde_json::from_str(first)
+        .map_err(|e| fail(format!("answered '{first}', not a JSON line ({e})")))?;
+    let obj = answer
+        .as_object()
+        .ok_or_else(|| fail(format!("answered '{first}', not a JSON object")))?;
+    F::given(obj, case).map_err(fail)
+}
+
+/// A case shrunk for a program outside tetwalk ([`outside`]).
+fn shrink_outside<F: Family>(
+    found: &Found<F>,
+    cmd: &str,
+    at: &Place,
+    checks: usize,
+) -> Result<Result<Done, String>, FoundError> {
+    let answerer = |c: &F::Case| outside::<F>(cmd, c);
+    let s = match crate::engine::shrink::shrink_with::<F>(&answerer, cmd, &found.case, &[], checks)
+    {
+        Ok(s) => s,
+        Err(FoundError::Field { field: "case", why }) => return Ok(Err(why)),
+        Err(e) => return Err(e),
+    };
+    let line = serde_json::Value::Object(F::case_json(&s.case)).to_string();
+    let quoted = |t: &str| format!("'{}'", t.replace('\'', "'\\''"));
+    Ok(Ok(Done {
+        method: cmd.to_string(),
+        backend: "outside".into(),
+        shrunk: serde_json::Value::Object(F::case_json(&s.case)),
+        reproduce: Some(format!(
+            "echo {0} | {1} > answer.jsonl && echo {0} | tetwalk judge /dev/stdin answer.jsonl",
+            quoted(&line),
+            cmd
+        )),
+        ..Done::measured(at, &found.case, &s)
     }))
 }
 
@@ -156,6 +237,9 @@ pub fn run(a: Args) -> Status {
     if a.checks == 0 {
         return Err("--checks 0 would shrink nothing".into());
     }
+    if a.answerer.is_some() && a.in_place {
+        return Err("--answerer prints the shrunk cases; a user's file is not rewritten (leave out --in-place)".into());
+    }
     let mut backends = Backends(HashMap::new());
     let mut report = Report::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
@@ -183,7 +267,16 @@ pub fn run(a: Args) -> Status {
                 )
                 .into());
             }
-            let result = if dump {
+            let result = if let Some(cmd) = &a.answerer {
+                if dump {
+                    return Err(place(
+                        &"--answerer shrinks cases (one per line), not a count's dump",
+                    )
+                    .into());
+                }
+                crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
+                    .and_then(|found| shrink_outside::<F>(&found, cmd, &at, a.checks)))
+            } else if dump {
                 match from_dump(obj) {
                     Ok(found) => shrink_one::<ExitFace>(&found, &at, &mut backends, a.checks),
                     Err(why) => Ok(Err(why)),
@@ -200,7 +293,7 @@ pub fn run(a: Args) -> Status {
                         "{}: {} on {}: {} -> {} significant bits in {} numbers (at most {} -> {} in one), {} checks{}{}",
                         place(&"case"),
                         done.method,
-                        done.backend.name(),
+                        done.backend,
                         done.bits_before,
                         done.bits_after,
                         done.numbers,

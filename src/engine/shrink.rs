@@ -73,6 +73,10 @@ pub struct Shrunk<F: Family> {
     pub exhausted: bool,
 }
 
+/// Whoever answers the cases a shrink tries: a method on a backend, or a program outside tetwalk.
+pub type Answerer<'a, F> =
+    dyn Fn(&<F as Family>::Case) -> Result<<F as Family>::Answer, FoundError> + 'a;
+
 /// Shrink `case`, on which `m` (running on `backend`) answers wrongly: the simplest case on which it
 /// still does, the same way, and on which each of `keep` still holds its claim (on the CPU plain,
 /// fused and flushed). An error when `m` does not fail `case` to begin with.
@@ -83,15 +87,24 @@ pub fn shrink<F: Family>(
     keep: &[&F::Method],
     budget: usize,
 ) -> Result<Shrunk<F>, FoundError> {
+    let answer = |c: &F::Case| Ok(F::answers(backend, m, std::slice::from_ref(c))?[0]);
+    shrink_with::<F>(&answer, m.name(), case, keep, budget)
+}
+
+/// [`shrink`] for any answerer, `name` naming it.
+pub fn shrink_with<F: Family>(
+    answerer: &Answerer<F>,
+    name: &str,
+    case: &F::Case,
+    keep: &[&F::Method],
+    budget: usize,
+) -> Result<Shrunk<F>, FoundError> {
     let kept: Vec<(&F::Method, Hold)> = keep.iter().map(|&k| (k, Hold::Claim)).collect();
     let mut checks = 0;
-    let Some((kind, claim, answer)) = failure::<F>(m, backend, case)? else {
+    let Some((kind, claim, answer)) = failure::<F>(answerer, case)? else {
         return Err(FoundError::Field {
             field: "case",
-            why: format!(
-                "{} answers it rightly: there is no failure to shrink",
-                m.name()
-            ),
+            why: format!("{name} answers it rightly: there is no failure to shrink"),
         });
     };
     // A line that crosses the cell stays one that crosses it: it does not shrink into a graze.
@@ -108,7 +121,7 @@ pub fn shrink<F: Family>(
             return Ok(None);
         }
         *checks += 1;
-        let Some(a) = failure::<F>(m, backend, c)?
+        let Some(a) = failure::<F>(answerer, c)?
             .filter(|&(k, refuted, _)| k == kind && (refuted || !claim))
             .filter(|_| touching || !F::touch_only(c))
             .map(|(_, _, a)| a)
@@ -181,12 +194,11 @@ pub fn shrink<F: Family>(
     Ok(best)
 }
 
-/// How `m` fails `case` on `backend`, if it does: the kind of wrong ending, whether the answer
-/// refutes the family's claim, and the answer. A case the oracle refuses (a flat tetrahedron, an
-/// origin outside the mesh) fails nothing.
+/// How `answerer` fails `case`, if it does: the kind of wrong ending, whether the answer refutes the
+/// family's claim (a leak, for triangles), and the answer. A case the oracle refuses (a flat
+/// tetrahedron, an origin outside the mesh) fails nothing.
 fn failure<F: Family>(
-    m: &F::Method,
-    backend: &Backend,
+    answerer: &Answerer<F>,
     case: &F::Case,
 ) -> Result<Option<(OutcomeKind, bool, F::Answer)>, FoundError> {
     // A case its own line does not read back as (a zero direction, a number the reader refuses) is
@@ -197,7 +209,7 @@ fn failure<F: Family>(
     let Ok(truth) = F::truth(case) else {
         return Ok(None);
     };
-    let answer = F::answers(backend, m, std::slice::from_ref(case))?[0];
+    let answer = answerer(case)?;
     Ok(match F::verdict(case, &truth, &answer) {
         Verdict::Wrong(kind) => Some((kind, F::refutes_claim(case, &truth, &answer), answer)),
         _ => None,
