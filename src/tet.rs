@@ -97,6 +97,14 @@ pub const EVEN_PERMUTATIONS: [[usize; 4]; 12] = [
     [3, 2, 1, 0],
 ];
 
+/// `x` times 2^`e` where that is an f32 exactly (not rounded into the subnormals, to zero or to
+/// infinity), else `None`: a case or mesh scaled by a power of two stays the same geometry.
+pub fn times_two_to(x: f32, e: i32) -> Option<f32> {
+    let exact = x as f64 * 2f64.powi(e);
+    let y = exact as f32;
+    (y.is_finite() && y as f64 == exact).then_some(y)
+}
+
 /// **The orientation convention**, stated once: a tetrahedron `[v0, v1, v2, v3]` is positively oriented
 /// (+1) when `robust::orient3d(v0, v1, v2, v3) > 0`, i.e. `v3` lies below the plane of `v0, v1, v2` seen
 /// counterclockwise from above; the labelling Maria et al. 2017 Table 2 assumes. Exact; 0 when flat.

@@ -250,10 +250,7 @@ impl Family for Walks {
     /// The mesh's points times 2^`s.points` (its `scale`), the origin too, the direction at
     /// 2^`s.direction`; `None` where a point or the ray would round.
     fn scaled(w: &WalkCase, s: Scale) -> Option<WalkCase> {
-        let exact = |x: f32, e: i32| {
-            let y = Scale::times(x, e);
-            (y.is_finite() && y as f64 == x as f64 * 2f64.powi(e)).then_some(y)
-        };
+        let exact = crate::tet::times_two_to;
         let org = w.org.map(|x| exact(x, s.points));
         let dir = w.dir.map(|x| exact(x, s.direction));
         Some(WalkCase {

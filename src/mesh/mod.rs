@@ -273,17 +273,15 @@ impl Mesh {
     /// round (underflow to a subnormal or zero, or overflow).
     pub fn scaled(&self, e: i32) -> Result<Mesh, MeshError> {
         let mut raw = self.to_raw();
-        let by = 2f64.powi(e);
         for (i, p) in raw.points.iter_mut().enumerate() {
-            let exact = p.to_array().map(|x| x as f64 * by);
-            let q = exact.map(|x| x as f32);
-            if (0..3).any(|k| q[k] as f64 != exact[k] || !q[k].is_finite()) {
+            let q = p.to_array().map(|x| crate::tet::times_two_to(x, e));
+            let [Some(x), Some(y), Some(z)] = q else {
                 return Err(MeshError {
                     place: format!("point {i}"),
                     what: format!("{p} times 2^{e} is not an f32 (it underflows or overflows)"),
                 });
-            }
-            *p = Vec3::from(q);
+            };
+            *p = Vec3::new(x, y, z);
         }
         Mesh::build(raw)
     }

@@ -9,10 +9,6 @@ use super::{MeshError, Read, Shape};
 fn skipped(keyword: &str) -> Option<usize> {
     Some(match keyword {
         "Edges" => 3,
-        "Quadrilaterals" => 5,
-        "Hexahedra" | "Hexaedra" => 9,
-        "Prisms" => 7,
-        "Pyramids" => 6,
         "Corners"
         | "RequiredVertices"
         | "Ridges"
@@ -77,12 +73,6 @@ pub(super) fn read(text: &str, file: &str) -> Result<Read, MeshError> {
             dimension = Some(3);
             continue;
         }
-        let per = match keyword {
-            "Vertices" => 4,
-            "Tetrahedra" => 5,
-            "Triangles" => 4,
-            k => skipped(k).ok_or_else(|| err(n, format!("unknown keyword '{k}'")))?,
-        };
         if matches!(
             keyword,
             "Hexahedra" | "Hexaedra" | "Prisms" | "Pyramids" | "Quadrilaterals"
@@ -94,6 +84,12 @@ pub(super) fn read(text: &str, file: &str) -> Result<Read, MeshError> {
                 ),
             ));
         }
+        let per = match keyword {
+            "Vertices" => 4,
+            "Tetrahedra" => 5,
+            "Triangles" => 4,
+            k => skipped(k).ok_or_else(|| err(n, format!("unknown keyword '{k}'")))?,
+        };
         if dimension.is_none() {
             return Err(err(n, format!("{keyword} before Dimension 3")));
         }

@@ -164,20 +164,27 @@ pub fn parse(bytes: &[u8], format: Format, faces: Faces, file: &str) -> Result<M
             "holds no triangles: a scene's constrained faces (its surfaces) come from its boundary triangles or the surfaces of its physical groups; to walk a mesh without surfaces, ask for it (--no-faces)".into(),
         ));
     }
-    let [point, tet, triangle] = read.names;
+    let Read {
+        points,
+        point_ids,
+        tets,
+        tet_ids,
+        triangles,
+        triangle_ids,
+        names: [point, tet, triangle],
+    } = read;
     let raw = RawMesh {
-        points: read
-            .points
+        points: points
             .iter()
             .map(|p| Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32))
             .collect(),
-        tets: read.tets.clone(),
+        tets,
         neighbors: None,
-        constrained: read.triangles.clone(),
+        constrained: triangles,
     };
     Mesh::build_at(raw, &|item| match item {
-        Item::Point(i) => format!("{file}, {point} {}", read.point_ids[i]),
-        Item::Tet(i) | Item::Neighbors(i) => format!("{file}, {tet} {}", read.tet_ids[i]),
-        Item::Constrained(i) => format!("{file}, {triangle} {}", read.triangle_ids[i]),
+        Item::Point(i) => format!("{file}, {point} {}", point_ids[i]),
+        Item::Tet(i) | Item::Neighbors(i) => format!("{file}, {tet} {}", tet_ids[i]),
+        Item::Constrained(i) => format!("{file}, {triangle} {}", triangle_ids[i]),
     })
 }
