@@ -12,6 +12,7 @@ use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::methods::Model;
+use crate::methods::triangle::Among;
 use crate::octree::Octree;
 use crate::registry::{Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::Ray;
@@ -237,18 +238,22 @@ impl Backend {
         tris: &[crate::tet::Tri],
         rays: &[Ray],
         packet: usize,
+        among: &Among,
     ) -> Result<Vec<Option<(u32, f32)>>, BackendError> {
         match self {
             Backend::Cpu { model } => {
                 let trace = method.trace(*model);
-                // Each task prepares the triangles once for 256 packets.
-                let chunk = packet.max(1) * 256;
-                Ok(rays
-                    .par_chunks(chunk)
-                    .flat_map_iter(|c| trace(tris, c, packet))
+                // Each task prepares its run's triangles once for all its packets.
+                Ok(among
+                    .groups
+                    .par_iter()
+                    .flat_map_iter(|(r, ids)| {
+                        trace(tris, &among.ids[ids.clone()], &rays[r.clone()], packet)
+                    })
                     .collect())
             }
-            // A GPU thread answers one ray (each packet's terms computed in every thread).
+            // A GPU thread answers one ray against every triangle (each packet's terms computed in
+            // every thread): `among` is not used.
             #[cfg(feature = "gpu")]
             Backend::Gpu(g) => Ok(g.nearest_triangles(method, tris, rays)?.items),
         }

@@ -426,8 +426,8 @@ pub fn reference() -> &'static Method {
 
 /// One method's answer for a ray and a triangle: the `t` of a hit that counts ([`triangle::hit`]).
 pub type HitFn = fn(&Tri, &Ray) -> Option<f32>;
-/// The nearest hit of each ray among triangles, rays taken in packets ([`triangle::trace`]).
-pub type TraceFn = fn(&[Tri], &[Ray], usize) -> Vec<Option<(u32, f32)>>;
+/// The nearest hit of each ray among the triangles named, rays taken in packets ([`triangle::trace`]).
+pub type TraceFn = fn(&[Tri], &[u32], &[Ray], usize) -> Vec<Option<(u32, f32)>>;
 /// Every hit of one ray among triangles, in triangle order ([`triangle::hits`]).
 pub type HitsFn = fn(&[Tri], &Ray) -> Vec<(u32, f32)>;
 
@@ -436,6 +436,9 @@ pub struct TriangleMethod {
     pub info: Info,
     /// Whether it shares work across a packet of rays with one origin.
     pub packet: bool,
+    /// Whether its hits obey the side-product lemma of [`crate::family::bins`] (every method of the
+    /// registry; not one written outside tetwalk), so a count may test only binned candidates.
+    pub bounded: bool,
     hit: [HitFn; MODELS],
     trace: [TraceFn; MODELS],
     hits: [HitsFn; MODELS],
@@ -446,6 +449,7 @@ impl TriangleMethod {
         TriangleMethod {
             info,
             packet,
+            bounded: true,
             hit: by_model!(triangle::hit, M),
             trace: by_model!(triangle::trace, M),
             hits: by_model!(triangle::hits, M),
@@ -454,7 +458,10 @@ impl TriangleMethod {
 
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
     pub fn outside<M: HitMethod>(name: &'static str) -> Self {
-        Self::of::<M>(Info::outside(name), false)
+        TriangleMethod {
+            bounded: false,
+            ..Self::of::<M>(Info::outside(name), false)
+        }
     }
 
     /// The test of one ray and one triangle, in an arithmetic model.

@@ -142,9 +142,10 @@ fn packets_answer_as_single_rays_do() {
             ) - Vec3::new(0.1, 0.2, 0.0),
         })
         .collect();
+    let every: Vec<u32> = (0..tris.len() as u32).collect();
     for m in TRIANGLE_METHODS {
         for model in Model::ALL {
-            let one = m.trace(model)(&tris, &rays, 1);
+            let one = m.trace(model)(&tris, &every, &rays, 1);
             assert!(
                 one.iter().filter(|h| h.is_some()).count() > 20,
                 "{}",
@@ -152,7 +153,7 @@ fn packets_answer_as_single_rays_do() {
             );
             for p in [4, 16, 64] {
                 assert_eq!(
-                    m.trace(model)(&tris, &rays, p),
+                    m.trace(model)(&tris, &every, &rays, p),
                     one,
                     "{} packets of {p}",
                     m.name()
@@ -549,13 +550,14 @@ fn the_gpu_answers_as_the_cpu_does() {
             dir: (t[0] + t[1] + t[2]) / 3.0 - org,
         })
         .collect();
+    let all = tetwalk::methods::triangle::Among::all(tris.len(), rays.len(), 64);
     for m in TRIANGLE_METHODS
         .iter()
         .filter(|m| !DIVIDE_BEFORE_TESTS.contains(&m.name()))
     {
         assert_eq!(
-            CPU.trace_triangles(m, &tris, &rays, 4).unwrap(),
-            gpu.trace_triangles(m, &tris, &rays, 4).unwrap(),
+            CPU.trace_triangles(m, &tris, &rays, 4, &all).unwrap(),
+            gpu.trace_triangles(m, &tris, &rays, 4, &all).unwrap(),
             "{}",
             m.name()
         );

@@ -41,8 +41,12 @@ pub struct Args {
     /// rays sharing the camera's origin).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8), default_value_t = 2)]
     packet: u32,
-    /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, kuhn, jitter, fan and
-    /// their -far), a TetGen stem, or a Gmsh `.msh` (4.1 or 2.2), VTK `.vtk` / `.vtu` or MEDIT `.mesh`
+    /// `--family triangle`: test every triangle per ray (brute force), not each tile's candidates (the
+    /// counts are the same; the candidates are derived in `src/family/bins.rs` and audited).
+    #[arg(long)]
+    brute_force: bool,
+    /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, bunny-paper once built
+    /// by corpora/scenes/bunny-paper.sh, kuhn, jitter, fan and their -far), a TetGen stem, or a Gmsh `.msh` (4.1 or 2.2), VTK `.vtk` / `.vtu` or MEDIT `.mesh`
     /// file (its triangles the constrained faces).
     #[arg(long, default_value = "bunny-quality")]
     scene: String,
@@ -190,7 +194,10 @@ impl Flags for Walks {
 
 impl Flags for Triangle {
     fn settings(a: &Args) -> TriCountSettings {
-        TriCountSettings { packet: a.packet }
+        TriCountSettings {
+            packet: a.packet,
+            brute_force: a.brute_force,
+        }
     }
 }
 

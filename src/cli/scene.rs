@@ -31,6 +31,18 @@ pub enum Scene {
         #[arg(long)]
         json: Option<PathBuf>,
     },
+    /// Loop-subdivide a closed model (each new point computed in f64 and rounded once to f32) and
+    /// write it as OFF: the same model gives the same file, byte for byte.
+    Subdivide {
+        /// The closed model (.off, .obj or ASCII .ply).
+        model: PathBuf,
+        /// How many levels (each quadruples the triangles).
+        #[arg(long, default_value_t = 1)]
+        levels: u32,
+        /// Where to write the OFF model (written whole, or not at all).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Write a scene's mesh for another program's kernel (`count --rays-out` gives the rays, `judge`
     /// judges the walks): one JSON object in tetwalk's conventions (stated in its `convention` field).
     Export {
@@ -99,6 +111,25 @@ pub fn run(s: Scene) -> Status {
             let info = SceneInfo::of(&mesh, crate::octree::Settings::PAPER);
             print!("{}", info.markdown());
             json.finish(&info)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Scene::Subdivide { model, levels, out } => {
+            if !(1..=4).contains(&levels) {
+                return Err(format!("--levels {levels} is not 1 to 4").into());
+            }
+            let mut m = Model::read(&model)?;
+            for _ in 0..levels {
+                m = m.loop_subdivided()?;
+            }
+            let mut staged = super::Staged::new("scene subdivide --out", &out)?;
+            std::io::Write::write_all(&mut staged, m.off_text().as_bytes())?;
+            staged.finish()?;
+            println!(
+                "{}: {} points, {} triangles",
+                out.display(),
+                m.points.len(),
+                m.triangles.len()
+            );
             Ok(ExitCode::SUCCESS)
         }
         Scene::Export {

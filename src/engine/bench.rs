@@ -347,15 +347,21 @@ pub fn speed(
     let mut times = Vec::new();
     for m in methods {
         for p in PACKETS {
-            let rays: Vec<Ray> = packet_order(views.width, views.height, p)
+            let rays: Vec<Ray> = packet_order(views.width, views.height, p, p)
                 .iter()
                 .map(|&i| all[i])
                 .collect();
             let trace = m.trace(Model::Plain);
+            let every: Vec<u32> = (0..tris.len() as u32).collect();
             let mut best = f64::INFINITY;
             for _ in 0..repeats.max(1) {
                 let t0 = Instant::now();
-                std::hint::black_box(trace(std::hint::black_box(&tris), &rays, (p * p) as usize));
+                std::hint::black_box(trace(
+                    std::hint::black_box(&tris),
+                    &every,
+                    &rays,
+                    (p * p) as usize,
+                ));
                 best = best.min(t0.elapsed().as_secs_f64());
             }
             times.push((m.name(), p, best));

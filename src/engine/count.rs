@@ -169,25 +169,28 @@ pub fn run<F: Counted>(
         if ready.as_ref().is_none_or(|r| !F::serves(r, located)) {
             ready = Some(F::prepare(&scene, &s.family, backend, located)?);
         }
+        let rays = s.views.rays(&cam);
+        rays_counted += rays.len() as u64;
+        let first = v as u64 * rays.len() as u64;
+        let picked: Vec<usize> = (0..rays.len())
+            .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))
+            .collect();
         let at = Prepared::<F> {
             backend,
             scene: &scene,
             ready: ready.as_ref().expect("made ready above"),
             settings: &s.family,
             located,
+            view: v,
+            camera: &cam,
+            audited: &picked,
         };
-        let rays = s.views.rays(&cam);
-        rays_counted += rays.len() as u64;
         let t0 = Instant::now();
         let walked = backend.walks(reference, &scene.on, &rays, located, max)?;
         if own == 1 {
             let steps = walked.iter().map(|w| w.steps as u64).sum();
             rows[0].add_work(steps, t0.elapsed().as_secs_f64());
         }
-        let first = v as u64 * rays.len() as u64;
-        let picked: Vec<usize> = (0..rays.len())
-            .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))
-            .collect();
         if !picked.is_empty() {
             let picked_rays: Vec<Ray> = picked.iter().map(|&i| rays[i]).collect();
             let exact = F::audit(&at, &picked_rays)?;

@@ -9,7 +9,7 @@ use super::wrong::Class;
 use crate::backend::{Backend, BackendError, MeshOn};
 use crate::mesh::Mesh;
 use crate::registry::Method;
-use crate::scenes::camera::Views;
+use crate::scenes::camera::{Camera, Views};
 use crate::tet::Ray;
 use crate::walk::{OutcomeKind, Walk, same_result};
 
@@ -63,6 +63,16 @@ pub enum CountError {
         /// What the exact answer was.
         answered: Walk,
     },
+    #[error(
+        "audit: {method}'s nearest hit among the binned candidates differs from its brute-force one on view {view} pixel {pixel:?}: {binned:?} against {brute:?} (triangle, t); the bins' derivation (family::bins) does not hold here"
+    )]
+    Bins {
+        method: String,
+        view: usize,
+        pixel: [u32; 2],
+        binned: Option<(u32, f32)>,
+        brute: Option<(u32, f32)>,
+    },
     #[error(transparent)]
     Relabel(#[from] crate::mesh::MeshError),
     #[error(
@@ -88,6 +98,10 @@ pub struct Prepared<'a, C: Counted> {
     pub ready: &'a C::Ready,
     pub settings: &'a C::CountSettings,
     pub located: u32,
+    /// The view counted, its camera, and its rays (row by row) the audit re-judges.
+    pub view: usize,
+    pub camera: &'a Camera,
+    pub audited: &'a [usize],
 }
 
 /// A family whose methods answer a scene's primary rays.

@@ -8,6 +8,7 @@
 //! [`with_family!`], its registry rows, its report's formatting and the `stress` flags that choose its
 //! rows (`src/cli/stress.rs`).
 
+pub mod bins;
 pub mod count;
 pub mod exit_face;
 pub mod octree;

@@ -1,6 +1,7 @@
 //! A ray and triangles (seed 004's question): one triangle, or a closed mesh whose first hit is asked;
 //! the answer every hit the method reports (its nearest judged, its misses judged for leaks).
 
+use super::bins;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Summed, Verdict, given_fields};
@@ -9,14 +10,16 @@ use crate::cases::{CaseError, HitCase, MAX_TRIS, field_error, number, vec3};
 use crate::choice::Choice;
 use crate::exact::hit::{HitTruth, Missed, first_crossing, judge_hit};
 use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
+use crate::methods::triangle::Among;
 use crate::methods::triangle::nearest_of;
-use crate::registry::{TRIANGLE_METHODS, TriangleMethod};
+use crate::registry::{Named, TRIANGLE_METHODS, TriangleMethod};
 use crate::scenes::camera::packet_order;
 use crate::scenes::closed::{MeshShape, TriAim, TriPlace, case};
 use crate::tet::{Ray, Tri};
 use crate::walk::{Outcome, OutcomeKind, Walk};
 use glam::Vec3;
 use serde_json::{Map, Value, json};
+use std::sync::Arc;
 
 /// Rays and triangles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -523,11 +526,14 @@ impl Counts for TriangleCount {
     }
 }
 
-/// What a ray–triangle count sets: the packets of primary rays.
+/// What a ray–triangle count sets: the packets of primary rays, and how candidates are found.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TriCountSettings {
     /// Primary rays per packet side: packets of `packet × packet` pixels sharing the camera's origin.
     pub packet: u32,
+    /// Every triangle tested per ray, instead of each tile's candidates ([`super::bins`]).
+    #[serde(default)]
+    pub brute_force: bool,
 }
 
 /// What a ray–triangle count's report says of its scene.
@@ -537,10 +543,12 @@ pub struct TriangleFacts {
     pub triangles: usize,
 }
 
-/// The scene's triangles facing a camera's region, with the region.
+/// The scene's triangles facing a camera's region, with the region, and the last view's candidates
+/// (its index, tile side and bins, shared by every method of the view).
 pub struct Facing {
     region: Vec<bool>,
     triangles: SceneTriangles,
+    binned: std::sync::Mutex<Option<(usize, u32, std::sync::Arc<Among>)>>,
 }
 
 /// A nearest hit as a walk's ending: on the constrained face its triangle came from, or the mesh left.
@@ -578,7 +586,11 @@ impl Counted for Triangle {
     ) -> Result<Facing, CountError> {
         let region = region_of(scene.mesh, located);
         let triangles = scene_triangles(scene.mesh, &region);
-        Ok(Facing { region, triangles })
+        Ok(Facing {
+            region,
+            triangles,
+            binned: Default::default(),
+        })
     }
 
     fn serves(ready: &Facing, located: u32) -> bool {
@@ -591,24 +603,70 @@ impl Counted for Triangle {
         }
     }
 
-    /// Every triangle tested per ray, the rays taken in packets of `packet × packet` pixels.
+    /// On the CPU, each tile's candidate triangles ([`super::bins`]) tested per ray in ascending order,
+    /// the nearest hit the brute-force one (the audited rays are answered both ways and must agree);
+    /// on the GPU, for a method written outside tetwalk, or with `--brute-force`, every triangle. Rays
+    /// in packets of `packet × packet` pixels.
     fn answer_rays(
         at: &Prepared<Self>,
         m: &TriangleMethod,
         rays: &[Ray],
     ) -> Result<Vec<Walk>, CountError> {
         let (views, packet) = (at.scene.views, at.settings.packet);
-        let order = packet_order(views.width, views.height, packet);
+        let tile = packet.max(bins::MIN_TILE);
+        let order = packet_order(views.width, views.height, packet, tile);
         let packed: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
         let (tris, from) = &at.ready.triangles;
-        let hits = at
-            .backend
-            .trace_triangles(m, tris, &packed, (packet * packet) as usize)?;
-        let mut out = vec![ending(None, from); rays.len()];
+        let binned =
+            !at.settings.brute_force && m.bounded && at.backend.ran().kind.model().is_some();
+        let among = if binned {
+            let mut last = at.ready.binned.lock().unwrap_or_else(|e| e.into_inner());
+            match &*last {
+                Some((v, t, among)) if (*v, *t) == (at.view, tile) => among.clone(),
+                _ => {
+                    let (w, h) = (views.width, views.height);
+                    let among = Arc::new(bins::bins(at.camera, w, h, tile, tris).among(w, h));
+                    *last = Some((at.view, tile, among.clone()));
+                    among
+                }
+            }
+        } else {
+            Arc::new(Among::all(
+                tris.len(),
+                packed.len(),
+                (packet * packet) as usize * 256,
+            ))
+        };
+        let hits =
+            at.backend
+                .trace_triangles(m, tris, &packed, (packet * packet) as usize, &among)?;
+        let mut nearest = vec![None; rays.len()];
         for (&i, hit) in order.iter().zip(&hits) {
-            out[i] = ending(hit.map(|(t, _)| t), from);
+            nearest[i] = *hit;
         }
-        Ok(out)
+        if binned && !at.audited.is_empty() {
+            let picked: Vec<Ray> = at.audited.iter().map(|&i| rays[i]).collect();
+            // A run per thread, each preparing the triangles once; packets of one ray each.
+            let run = picked.len().div_ceil(rayon::current_num_threads());
+            let all = Among::all(tris.len(), picked.len(), run);
+            let brute = at.backend.trace_triangles(m, tris, &picked, 1, &all)?;
+            for (&i, b) in at.audited.iter().zip(brute) {
+                let same = |x: Option<(u32, f32)>| x.map(|(t, h)| (t, h.to_bits()));
+                if same(nearest[i]) != same(b) {
+                    return Err(CountError::Bins {
+                        method: m.name().to_string(),
+                        view: at.view,
+                        pixel: [i as u32 % views.width, i as u32 / views.width],
+                        binned: nearest[i],
+                        brute: b,
+                    });
+                }
+            }
+        }
+        Ok(nearest
+            .into_iter()
+            .map(|h| ending(h.map(|(t, _)| t), from))
+            .collect())
     }
 
     fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {

@@ -100,8 +100,7 @@ impl CountFormats for Triangle {
         let s = &r.settings;
         let mut out = format!(
             "scene {} ({} triangles: its constrained faces, each facing the cameras' side), {} of {}x{}, \
-             packets of {}x{} primary rays, backend {}, seed {}, every triangle tested per ray (no \
-             spatial structure, so no candidate is dropped), each nearest hit judged against the {} walk's exact first hit{}\n\n",
+             packets of {}x{} primary rays, backend {}, seed {}, {}, each nearest hit judged against the {} walk's exact first hit{}\n\n",
             s.scene,
             r.scene.triangles,
             super::counted(r.views_counted as u64, "view", "views"),
@@ -111,6 +110,11 @@ impl CountFormats for Triangle {
             s.family.packet,
             r.backend,
             s.views.seed,
+            if s.family.brute_force || r.backend.kind.model().is_none() {
+                "every triangle tested per ray (brute force)"
+            } else {
+                "each tile's candidate triangles tested per ray (src/family/bins.rs: none a method could hit is left out; on the audited rays every method also tested against every triangle, agreeing)"
+            },
             s.reference,
             audited(r, "the exact first hit among the triangles"),
         );

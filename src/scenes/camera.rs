@@ -38,10 +38,23 @@ impl Camera {
         }
     }
 
-    /// The primary ray through the centre of pixel `(x, y)`, in f32.
-    pub fn ray(&self, x: u32, y: u32, w: u32, h: u32) -> Ray {
+    /// Where the centre of pixel `(x, y)` lies on the screen, `(sx, sy)` in (-1, 1)², in f32: `sx`
+    /// grows with `x` and `sy` falls with `y` (rounding is monotonic).
+    pub fn screen(x: u32, y: u32, w: u32, h: u32) -> (f32, f32) {
         let sx = 2.0 * (x as f32 + 0.5) / w as f32 - 1.0;
         let sy = 1.0 - 2.0 * (y as f32 + 0.5) / h as f32;
+        (sx, sy)
+    }
+
+    /// The axes a primary ray is made of: `forward`, `right` and `up`, as [`Camera::ray`] scales them.
+    pub fn axes(&self) -> [Vec3; 3] {
+        [self.forward, self.right, self.up]
+    }
+
+    /// The primary ray through the centre of pixel `(x, y)`, in f32: `forward + right·sx + up·sy`,
+    /// summed in that order.
+    pub fn ray(&self, x: u32, y: u32, w: u32, h: u32) -> Ray {
+        let (sx, sy) = Camera::screen(x, y, w, h);
         Ray {
             org: self.eye,
             dir: self.forward + self.right * sx + self.up * sy,
@@ -109,14 +122,23 @@ impl Views {
     }
 }
 
-/// Pixel indices (row-major) in packet order: `p × p` tiles, row by row, each tile row by row.
-pub fn packet_order(width: u32, height: u32, p: u32) -> Vec<usize> {
+/// Pixel indices (row-major) in packet order: `tile × tile` tiles row by row, in each tile its `p × p`
+/// packets row by row, each packet row by row (`p` divides `tile`; a tile of `p` is packets alone).
+pub fn packet_order(width: u32, height: u32, p: u32, tile: u32) -> Vec<usize> {
+    debug_assert!(
+        tile.is_multiple_of(p),
+        "a packet side divides the tile side"
+    );
     let mut out = Vec::with_capacity(width as usize * height as usize);
-    for by in (0..height).step_by(p as usize) {
-        for bx in (0..width).step_by(p as usize) {
-            for y in by..(by + p).min(height) {
-                for x in bx..(bx + p).min(width) {
-                    out.push((y * width + x) as usize);
+    for ty in (0..height).step_by(tile as usize) {
+        for tx in (0..width).step_by(tile as usize) {
+            for by in (ty..(ty + tile).min(height)).step_by(p as usize) {
+                for bx in (tx..(tx + tile).min(width)).step_by(p as usize) {
+                    for y in by..(by + p).min(height) {
+                        for x in bx..(bx + p).min(width) {
+                            out.push((y * width + x) as usize);
+                        }
+                    }
                 }
             }
         }

@@ -8,6 +8,7 @@ pub mod closed;
 pub mod from_bytes;
 pub mod meshes;
 pub mod model;
+pub mod subdivide;
 pub mod tets;
 
 /// The generators' random source: PCG, the same stream for a seed on every platform.
@@ -91,6 +92,10 @@ pub const BUILT_IN: [&str; 4] = [
     "bunny-quality-far",
 ];
 
+/// Scenes too large to ship, built on this machine by a script in `corpora/scenes/` (byte for byte the
+/// same wherever it runs): name and script.
+pub const BUILT_HERE: [(&str, &str); 1] = [("bunny-paper", "corpora/scenes/bunny-paper.sh")];
+
 /// A scene by name: a built-in one (`corpora/scenes/NAME`), a generated one (`kuhn`, `jitter`, `fan`,
 /// each with a `-far` variant moved by 2^16), a Gmsh, VTK or MEDIT file (`.msh`, `.vtk`, `.vtu`,
 /// `.mesh`), or the stem or any file of TetGen output.
@@ -103,10 +108,21 @@ pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
     if let Some((k, offset)) = generated {
         return generated_mesh(k, 8, offset, 1);
     }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let path = if BUILT_IN.contains(&name) {
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("corpora/scenes")
-            .join(name)
+        root.join("corpora/scenes").join(name)
+    } else if let Some((_, script)) = BUILT_HERE.iter().find(|(n, _)| *n == name) {
+        let stem = root.join("corpora/scenes").join(name);
+        if !stem.with_extension("ele").exists() {
+            return Err(MeshError {
+                place: format!("scene {name}"),
+                what: format!(
+                    "not built on this machine (too large to ship): run `bash {}` first (about 15 s)",
+                    root.join(script).display()
+                ),
+            });
+        }
+        stem
     } else {
         std::path::PathBuf::from(name)
     };

@@ -25,6 +25,28 @@ use glam::Vec3;
 
 pub use crate::tet::Tri;
 
+/// Which triangles each run of rays is tested against: runs of consecutive rays (`groups`' first
+/// ranges, in order, covering every ray), each with a range of `ids` (ascending triangle indices).
+#[derive(Clone, Debug, Default)]
+pub struct Among {
+    pub ids: Vec<u32>,
+    pub groups: Vec<(std::ops::Range<usize>, std::ops::Range<usize>)>,
+}
+
+impl Among {
+    /// Every one of `tris` triangles for each of `rays` rays (brute force), the rays in runs of `run`.
+    pub fn all(tris: usize, rays: usize, run: usize) -> Among {
+        let run = run.max(1);
+        Among {
+            ids: (0..tris as u32).collect(),
+            groups: (0..rays)
+                .step_by(run)
+                .map(|r| (r..(r + run).min(rays), 0..tris))
+                .collect(),
+        }
+    }
+}
+
 /// Most rays in one packet (8×8).
 pub const MAX_PACKET: usize = 64;
 
@@ -85,22 +107,24 @@ pub fn hit<M: HitMethod, A: Arith>(tri: &Tri, ray: &Ray) -> Option<f32> {
 }
 
 /// Calls `f(triangle, ray, t)` for every hit that counts of each ray of a packet (rays sharing `org`)
-/// with each of `tris` (prepared), triangle by triangle.
-pub fn each_hit<M: HitMethod, A: Arith>(
-    tris: &[M::TriData],
+/// with each of `tris` (prepared, with their indices), triangle by triangle.
+pub fn each_hit<'a, M: HitMethod, A: Arith>(
+    tris: impl Iterator<Item = (u32, &'a M::TriData)>,
     org: Vec3,
     rays: &[M::RayData],
     mut f: impl FnMut(u32, usize, f32),
-) {
+) where
+    M::TriData: 'a,
+{
     let n = rays.len().min(MAX_PACKET);
     let mut out = [None; MAX_PACKET];
-    for (i, tri) in tris.iter().enumerate() {
+    for (i, tri) in tris {
         M::packet::<A>(tri, org, &rays[..n], &mut out[..n]);
         for (r, o) in out[..n].iter().enumerate() {
             if let Some(t) = *o
                 && accepts(t)
             {
-                f(i as u32, r, t);
+                f(i, r, t);
             }
         }
     }
@@ -120,13 +144,16 @@ pub fn nearest_of(hits: &[(u32, f32)]) -> Option<(u32, f32)> {
     )
 }
 
-/// The nearest hit of each ray of a packet among `tris`: the first triangle with the smallest `t`.
-pub fn nearest<M: HitMethod, A: Arith>(
-    tris: &[M::TriData],
+/// The nearest hit of each ray of a packet among `tris` (prepared, with their indices in ascending
+/// order): the first triangle with the smallest `t`.
+pub fn nearest<'a, M: HitMethod, A: Arith>(
+    tris: impl Iterator<Item = (u32, &'a M::TriData)>,
     org: Vec3,
     rays: &[M::RayData],
     best: &mut [Option<(u32, f32)>],
-) {
+) where
+    M::TriData: 'a,
+{
     each_hit::<M, A>(tris, org, rays, |i, r, t| {
         if nearer(best[r], t) {
             best[r] = Some((i, t));
@@ -134,15 +161,21 @@ pub fn nearest<M: HitMethod, A: Arith>(
     });
 }
 
-/// The nearest hit of each ray among `tris` (prepared once), the rays taken `packet` at a time; a
-/// packet ends early where the origin changes, so each shares one origin.
+/// The nearest hit of each ray among the triangles `among` names (indices into `tris`, ascending;
+/// each prepared once here), the rays taken `packet` at a time; a packet ends early where the origin
+/// changes, so each shares one origin. With every triangle named this is the brute-force answer; with
+/// fewer it is the same wherever no triangle left out could be hit (`family::bins` derives when).
 pub fn trace<M: HitMethod, A: Arith>(
     tris: &[Tri],
+    among: &[u32],
     rays: &[Ray],
     packet: usize,
 ) -> Vec<Option<(u32, f32)>> {
-    A::run((tris, rays), |(tris, rays)| {
-        let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
+    A::run((tris, among, rays), |(tris, among, rays)| {
+        let prepared: Vec<M::TriData> = among
+            .iter()
+            .map(|&i| M::tri::<A>(&tris[i as usize]))
+            .collect();
         let mut best = vec![None; rays.len()];
         let size = packet.clamp(1, MAX_PACKET);
         let mut start = 0;
@@ -154,7 +187,8 @@ pub fn trace<M: HitMethod, A: Arith>(
                 .take_while(|r| r.org == org)
                 .count();
             let data: Vec<M::RayData> = rays[start..start + len].iter().map(M::ray::<A>).collect();
-            nearest::<M, A>(&prepared, org, &data, &mut best[start..start + len]);
+            let named = among.iter().copied().zip(&prepared);
+            nearest::<M, A>(named, org, &data, &mut best[start..start + len]);
             start += len;
         }
         best
@@ -166,7 +200,8 @@ pub fn hits<M: HitMethod, A: Arith>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> 
     A::run((tris, ray), |(tris, ray)| {
         let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
         let mut out = Vec::new();
-        each_hit::<M, A>(&prepared, ray.org, &[M::ray::<A>(ray)], |i, _, t| {
+        let named = (0..tris.len() as u32).zip(&prepared);
+        each_hit::<M, A>(named, ray.org, &[M::ray::<A>(ray)], |i, _, t| {
             out.push((i, t))
         });
         out

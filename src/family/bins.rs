@@ -1,0 +1,242 @@
+//! The triangle count's spatial structure: for one view, the candidate triangles of each tile of
+//! pixels (a packet's, at least [`MIN_TILE`]²) — every triangle that any registered ray–triangle method, in any arithmetic model
+//! (plain, fused, flushed to zero), could report hit by a primary ray of that tile. Testing only those,
+//! in ascending order, gives each ray exactly the brute-force nearest hit. Why none is dropped:
+//!
+//! **Lemma (every method's hit is near its triangle's cone).** Let `o` be the ray's origin, `d` its
+//! direction, `w_k = v_k - o` the triangle's vertices seen from `o`, `R = max |w_k|`, and the side
+//! products `s_0 = d·(w_0×w_1)`, `s_1 = d·(w_1×w_2)`, `s_2 = d·(w_2×w_0)` (exact, of the f32 inputs;
+//! they sum to `d·N`). Each method's hit that counts (`0 < t < ∞`) needs three computed quantities
+//! of one sign `σ` whose exact values are `s_0, s_1, s_2` times one positive factor:
+//! - `mt`, `mt-two-sided`: `u = T·(D×E2) = -s_2`, `v = D·(T×E1) = -s_0`, `det - u - v = -s_1`, tested
+//!   as `u ≥ 0`, `v ≥ 0`, `u + v ≤ det` (times `1/det` in the two-sided reading, where `det ≠ 0` and a
+//!   finite `t` are needed: `1/0 = ±∞` makes `t` infinite or NaN);
+//! - `mt-precomputed`, `komatsu-packet`: the same `u`, `v` from `D × S` or `S × E1`, `S × E2`, times
+//!   `r = -1/(N·D)`, tested `u ≥ 0`, `v ≥ 0`, `u + v ≤ 1`;
+//! - `plucker-packet`: `D·(a'×b')` for the three edges, all `≥ 0` or all `≤ 0`;
+//! - `woop-watertight`: `U, V, W`, which are `s_1, s_2, s_0` for the sheared direction `(S_x, S_y, 1)`
+//!   divided by `d_kz` (`|d_kz| ≥ |d|/√3`, `|S| ≤ 1`), all of one sign, recomputed in f64 when one is 0.
+//!
+//! Forward error, term by term (`u = 2^-24`, `γ_n = nu/(1-nu)`), for inputs and results in the normal
+//! range: a difference of inputs (1 rounding), a cross product (2), a dot product (3) give `γ_6` times
+//! the sum of the absolute terms, and a triple product's absolute terms sum to at most
+//! `‖a‖₁‖b‖₁‖c‖₁ ≤ 3√3 |a||b||c|`; with `|T| ≤ R`, `|E1|, |E2| ≤ 2R`: `u`, `v` err by at most
+//! `γ_6·10.4|d|R²`, `det = N·D` by `γ_6·20.8|d|R²`, so `det - u - v` (with `fl(u + v)`, or
+//! `u + v ≤ 1` after `1/det`, 5 more roundings of at most `|det|`) by at most `271u|d|R²`;
+//! plucker-packet's `D·(a'×b')` by `γ_6·5.2|d|R² ≤ 32u|d|R²`; woop's `U` (shear `A_x - S_x A_z` with
+//! `|S_x| ≤ 1`, `S_x` itself rounded) by `48u R²`, times `|d_kz| ≤ |d|` on the side products' scale.
+//! A fused multiply-add rounds once where two were counted, so the same bounds hold with `--fma`.
+//! Underflow: gradual underflow adds at most `2^-150` per product, flushing to zero `2^-126` per
+//! input or result (a zero keeps `u ≥ 0` true for a negative `u` only below `2^-126 |det|`, inside the
+//! relative bound); each is multiplied by at most two other factors `≤ 1 + 2R + |d|`, and there are
+//! fewer than 64, so all of them add at most `η = 2^-118 (1 + 2R + |d|)²`. Overflow: when
+//! `(1 + 2R + |d|)³ ≤ 2^120` no product of three factors, nor a sum of six, overflows, and no NaN
+//! arises before `t`; beyond that no bound is claimed. So, with `K = 2^-14 ≥ 271u`:
+//!
+//! > a counted hit implies `σ s_i ≥ -(K |d| R² + η)` for `i = 0, 1, 2` and one `σ ∈ {+1, -1}`.
+//!
+//! **Bins.** A primary ray is `d = fl(F + Rt·sx + Up·sy)` ([`Camera::ray`]); exactly,
+//! `ι = F + Rt·sx + Up·sy` with `|d - ι| ≤ γ_3 (|F| + |Rt| + |Up|)` (`|sx|, |sy| < 1`), so
+//! `s_i(d) = L_i(sx, sy) + e` with `L_i = m_i·F + sx m_i·Rt + sy m_i·Up` (`m_i` the edge moment above)
+//! and `|e| ≤ γ_3 D R²`, `D = (1 + γ_3)(|F| + |Rt| + |Up|) ≥ |d|`. Over a tile's rectangle of
+//! `(sx, sy)` a linear `σL_i` is at most its value at the centre plus `|m_i·Rt|·half width +
+//! |m_i·Up|·half height`, exactly; computed in f64 from f32 inputs, every term errs by under
+//! `2^-46 D R²`. A tile is left out for `σ` when some `i` has that maximum below
+//! `-B = -(2^-13 D R² + η)`, which exceeds `K D R² + γ_3 D R² + 2^-46 D R² + η`: no ray of the tile
+//! can satisfy the lemma, so no method reports the triangle there. A triangle is binned by halving
+//! the image's tiles from the whole down to one; one whose `1 + 2R + D` exceeds `2^40` goes in every
+//! tile. Methods written outside tetwalk have no such lemma: the count tests every triangle for them.
+
+use crate::methods::triangle::{Among, Tri};
+use crate::scenes::camera::Camera;
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+/// Fewest pixels per tile side: each tile's rays share one list of candidates.
+pub const MIN_TILE: u32 = 2;
+
+/// The lemma's `K` doubled, covering the pixel directions' and f64's rounding (module doc).
+const K_BINS: f64 = 1.0 / (1u64 << 13) as f64;
+/// The underflow term's factor, `2^-118`.
+const ETA: f64 = 1.0 / (1u128 << 118) as f64;
+/// Beyond this `1 + 2R + D` the lemma claims nothing (`2^40`).
+const LIMIT: f64 = (1u64 << 40) as f64;
+
+/// One view's candidate triangles per tile of `tile²` pixels, tiles row by row (`tiles_x × tiles_y`).
+pub struct Bins {
+    pub tile: u32,
+    pub tiles_x: u32,
+    pub tiles_y: u32,
+    /// `ids[start[k]..start[k + 1]]`: tile `k`'s triangles, ascending.
+    pub start: Vec<usize>,
+    pub ids: Vec<u32>,
+}
+
+impl Bins {
+    /// Tile `k`'s candidate triangles, ascending.
+    pub fn of_tile(&self, k: usize) -> &[u32] {
+        &self.ids[self.start[k]..self.start[k + 1]]
+    }
+
+    /// The rays of a `width × height` view in [`packet_order`](crate::scenes::camera::packet_order)
+    /// with these tiles, each tile's run of rays with its candidates.
+    pub fn among(self, width: u32, height: u32) -> Among {
+        let mut groups = Vec::with_capacity(self.start.len() - 1);
+        let mut first = 0;
+        for ty in 0..self.tiles_y {
+            for tx in 0..self.tiles_x {
+                let w = (width - tx * self.tile).min(self.tile) as usize;
+                let h = (height - ty * self.tile).min(self.tile) as usize;
+                let k = (ty * self.tiles_x + tx) as usize;
+                groups.push((first..first + w * h, self.start[k]..self.start[k + 1]));
+                first += w * h;
+            }
+        }
+        Among {
+            ids: self.ids,
+            groups,
+        }
+    }
+
+    /// Candidates per ray on average, over `width × height` pixels.
+    pub fn per_ray(&self, width: u32, height: u32) -> f64 {
+        let mut sum = 0u64;
+        for ty in 0..self.tiles_y {
+            for tx in 0..self.tiles_x {
+                let w = (width - tx * self.tile).min(self.tile) as u64;
+                let h = (height - ty * self.tile).min(self.tile) as u64;
+                sum += self.of_tile((ty * self.tiles_x + tx) as usize).len() as u64 * w * h;
+            }
+        }
+        sum as f64 / (width as u64 * height as u64).max(1) as f64
+    }
+}
+
+/// A triangle's three linear side-product functions on the screen, `c + a·sx + b·sy`, and the bound
+/// `B` below which a tile is left out; `None` where the lemma claims nothing (in every tile).
+struct Reach {
+    lines: [[f64; 3]; 3],
+    bound: f64,
+}
+
+fn d(v: Vec3) -> DVec3 {
+    v.as_dvec3()
+}
+
+impl Reach {
+    fn of(tri: &Tri, eye: Vec3, axes: &[DVec3; 3], big_d: f64) -> Option<Reach> {
+        let w = tri.map(|v| d(v) - d(eye));
+        let r = w.iter().map(|x| x.length()).fold(0.0, f64::max) * (1.0 + 1e-12);
+        let scale = 1.0 + 2.0 * r + big_d;
+        if scale.is_nan() || scale > LIMIT {
+            return None;
+        }
+        let m = [w[0].cross(w[1]), w[1].cross(w[2]), w[2].cross(w[0])];
+        let [f, rt, up] = axes;
+        Some(Reach {
+            lines: m.map(|m| [m.dot(*f), m.dot(*rt), m.dot(*up)]),
+            bound: K_BINS * big_d * r * r + ETA * scale * scale,
+        })
+    }
+
+    /// For the rays in `sx ∈ [x0, x1]`, `sy ∈ [y0, y1]`: whether some may meet the lemma for one
+    /// sign, and whether every one may (for one sign, then every tile inside is a candidate).
+    fn reach(&self, x0: f64, x1: f64, y0: f64, y1: f64) -> (bool, bool) {
+        let (cx, cy, hx, hy) = (
+            (x0 + x1) * 0.5,
+            (y0 + y1) * 0.5,
+            (x1 - x0) * 0.5,
+            (y1 - y0) * 0.5,
+        );
+        let (mut some, mut every) = (false, false);
+        for sigma in [1.0, -1.0] {
+            let (mut s, mut e) = (true, true);
+            for &[c, a, b] in &self.lines {
+                let (mid, spread) = (sigma * (c + a * cx + b * cy), a.abs() * hx + b.abs() * hy);
+                // A NaN keeps the tile and claims nothing of every ray.
+                s &= (mid + spread).is_nan() || mid + spread >= -self.bound;
+                e &= mid - spread >= self.bound;
+            }
+            some |= s;
+            every |= e;
+        }
+        (some, every)
+    }
+}
+
+/// The candidate triangles of each tile of a `width × height` view from `cam` (module doc).
+pub fn bins(cam: &Camera, width: u32, height: u32, tile: u32, tris: &[Tri]) -> Bins {
+    let (tiles_x, tiles_y) = (width.div_ceil(tile), height.div_ceil(tile));
+    let sx: Vec<f64> = (0..width)
+        .map(|x| Camera::screen(x, 0, width, height).0 as f64)
+        .collect();
+    let sy: Vec<f64> = (0..height)
+        .map(|y| Camera::screen(0, y, width, height).1 as f64)
+        .collect();
+    let axes = cam.axes().map(d);
+    let gamma3 = 3.0 * f64::from(f32::EPSILON) * 0.5 / (1.0 - 1.5 * f64::from(f32::EPSILON));
+    let big_d = (1.0 + gamma3) * axes.iter().map(|a| a.length()).sum::<f64>() * (1.0 + 1e-12);
+    // (tile, triangle) pairs, triangles ascending within each chunk and chunks in order.
+    let pairs: Vec<(u32, u32)> = tris
+        .par_chunks(256)
+        .enumerate()
+        .flat_map_iter(|(c, chunk)| {
+            let mut out = Vec::new();
+            for (k, tri) in chunk.iter().enumerate() {
+                let id = (c * 256 + k) as u32;
+                match Reach::of(tri, cam.eye, &axes, big_d) {
+                    None => out.extend((0..tiles_x * tiles_y).map(|t| (t, id))),
+                    Some(reach) => {
+                        let mut stack = vec![(0, tiles_x, 0, tiles_y)];
+                        while let Some((tx0, tx1, ty0, ty1)) = stack.pop() {
+                            // Pixel columns and rows the tiles cover; sy falls as rows go down.
+                            let (x0, x1) = (tx0 * tile, (tx1 * tile).min(width) - 1);
+                            let (y0, y1) = (ty0 * tile, (ty1 * tile).min(height) - 1);
+                            let (a, b) = (sx[x0 as usize], sx[x1 as usize]);
+                            let (lo, hi) = (sy[y1 as usize], sy[y0 as usize]);
+                            let (some, every) = reach.reach(a, b, lo, hi);
+                            if !some {
+                                continue;
+                            }
+                            if every || (tx1 - tx0 == 1 && ty1 - ty0 == 1) {
+                                for ty in ty0..ty1 {
+                                    out.extend((tx0..tx1).map(|tx| (ty * tiles_x + tx, id)));
+                                }
+                            } else if tx1 - tx0 >= ty1 - ty0 {
+                                let mid = (tx0 + tx1) / 2;
+                                stack.push((tx0, mid, ty0, ty1));
+                                stack.push((mid, tx1, ty0, ty1));
+                            } else {
+                                let mid = (ty0 + ty1) / 2;
+                                stack.push((tx0, tx1, ty0, mid));
+                                stack.push((tx0, tx1, mid, ty1));
+                            }
+                        }
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    // A counting sort by tile, stable: each tile's triangles stay ascending.
+    let mut start = vec![0; (tiles_x * tiles_y) as usize + 1];
+    for &(t, _) in &pairs {
+        start[t as usize + 1] += 1;
+    }
+    for k in 1..start.len() {
+        start[k] += start[k - 1];
+    }
+    let mut next = start.clone();
+    let mut ids = vec![0; pairs.len()];
+    for &(t, id) in &pairs {
+        ids[next[t as usize]] = id;
+        next[t as usize] += 1;
+    }
+    Bins {
+        tile,
+        tiles_x,
+        tiles_y,
+        start,
+        ids,
+    }
+}
