@@ -426,8 +426,9 @@ pub fn reference() -> &'static Method {
 
 /// One method's answer for a ray and a triangle: the `t` of a hit that counts ([`triangle::hit`]).
 pub type HitFn = fn(&Tri, &Ray) -> Option<f32>;
-/// The nearest hit of each ray among the triangles named, rays taken in packets ([`triangle::trace`]).
-pub type TraceFn = fn(&[Tri], &[u32], &[Ray], usize) -> Vec<Option<(u32, f32)>>;
+/// The nearest hit of each ray of runs of rays among the triangles each run names, rays taken in
+/// packets ([`triangle::trace`]).
+pub type TraceFn = fn(&[Tri], &[u32], &triangle::Groups, &[Ray], usize) -> Vec<Option<(u32, f32)>>;
 /// Every hit of one ray among triangles, in triangle order ([`triangle::hits`]).
 pub type HitsFn = fn(&[Tri], &Ray) -> Vec<(u32, f32)>;
 
@@ -439,6 +440,8 @@ pub struct TriangleMethod {
     /// Whether its hits obey the side-product lemma of [`crate::family::bins`] (every method of the
     /// registry; not one written outside tetwalk), so a count may test only binned candidates.
     pub bounded: bool,
+    /// Its 4-wide version (seed 004's SIMD packets, plain model, the same answers), where it has one.
+    pub wide: Option<TraceFn>,
     hit: [HitFn; MODELS],
     trace: [TraceFn; MODELS],
     hits: [HitsFn; MODELS],
@@ -450,9 +453,27 @@ impl TriangleMethod {
             info,
             packet,
             bounded: true,
+            wide: None,
             hit: by_model!(triangle::hit, M),
             trace: by_model!(triangle::trace, M),
             hits: by_model!(triangle::hits, M),
+        }
+    }
+
+    /// A method with a 4-wide version ([`triangle::Wide`]).
+    const fn wide<M: triangle::Wide>(info: Info, packet: bool) -> Self {
+        TriangleMethod {
+            wide: Some(triangle::trace_wide::<M>),
+            ..Self::of::<M>(info, packet)
+        }
+    }
+
+    /// The fastest trace in a model: the 4-wide one in the plain model where there is one (the same
+    /// answers, bit for bit), else the scalar one.
+    pub fn fastest(&self, model: Model) -> TraceFn {
+        match (model, self.wide) {
+            (Model::Plain, Some(wide)) => wide,
+            _ => self.trace(model),
         }
     }
 
@@ -504,7 +525,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         ),
         false,
     ),
-    TriangleMethod::of::<MtPrecomputed>(
+    TriangleMethod::wide::<MtPrecomputed>(
         Info::published(
             "mt-precomputed",
             "seed 004 eq. 2: N, E1, E2 precomputed per triangle (Barzel's jgt collection)",
@@ -512,7 +533,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         ),
         false,
     ),
-    TriangleMethod::of::<KomatsuPacket>(
+    TriangleMethod::wide::<KomatsuPacket>(
         Info::published(
             "komatsu-packet",
             "Komatsu et al., seed 004 eq. 3 and Figure 3: N·S, -S×E2, S×E1 once per packet, early termination",
@@ -520,7 +541,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         ),
         true,
     ),
-    TriangleMethod::of::<PluckerPacket>(
+    TriangleMethod::wide::<PluckerPacket>(
         Info::published(
             "plucker-packet",
             "Benthin 2006 as seed 004 §2 describes it: packet origin at the coordinate origin, three dot products per ray",

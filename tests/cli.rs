@@ -613,8 +613,15 @@ fn paper_writes_the_seeds_tables_beside_ours() {
         assert!(text.contains(title), "{title} missing from\n{text}");
     }
     assert_eq!(r["counts"].as_array().unwrap().len(), 2);
-    assert!(r["table5_gpu"].as_array().unwrap().is_empty(), "no GPU");
-    let timed: Vec<_> = r["speed"]["rows"].as_array().unwrap().iter().collect();
+    assert!(
+        r["timings"]["table5_gpu"].as_array().unwrap().is_empty(),
+        "no GPU"
+    );
+    let timed: Vec<_> = r["timings"]["speed"]["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .collect();
     assert!(!timed.is_empty());
     assert!(
         timed
@@ -627,19 +634,20 @@ fn paper_writes_the_seeds_tables_beside_ours() {
     assert_eq!(octrees[1]["backend"], "cpu-fma");
     assert_eq!(octrees[0]["methods"].as_array().unwrap().len(), 2);
     assert!(r["scene_info"]["octree"]["leaves"].as_u64().unwrap() > 0);
-    let maria17 = r["table5"]
+    let maria17 = r["timings"]["table5"]
         .as_array()
         .unwrap()
         .iter()
         .find(|q| q["method"] == "maria17")
         .unwrap();
     assert!(maria17["ns_per_query"].as_f64().unwrap() > 0.0);
-    let figure5 = r["figure5"]["rows"].as_array().unwrap();
+    let figure5 = r["timings"]["figure5"]["rows"].as_array().unwrap();
     assert_eq!(
         figure5.len(),
-        6 * 4,
-        "six methods, packets of 1, 4, 16 and 64 rays"
+        (6 + 3) * 4,
+        "six methods and three 4-wide versions, packets of 1, 4, 16 and 64 rays"
     );
+    assert_eq!(figure5.iter().filter(|x| x["wide"] == true).count(), 3 * 4);
     let elsewhere = dir.path().join("nothing.md");
     let (code, _, err) = tetwalk(
         &[

@@ -99,7 +99,20 @@ fn shards_merge_to_the_whole_run_and_strangers_are_refused() {
     let merged = merge(&named(&order)).unwrap();
     assert_eq!(merged.shard, Shard::ALL);
     assert_eq!(counted(&merged), counted(&whole));
-    assert_eq!(merged.table5.len(), shards[0].table5.len());
+    let table5 = |r: &PaperReport| r.timings.as_ref().map(|t| t.table5.len());
+    assert!(
+        table5(&shards[0]).is_some_and(|n| n > 0),
+        "shard 0 is timed"
+    );
+    assert!(
+        shards[1..].iter().all(|s| s.timings.is_none()),
+        "the other shards count only"
+    );
+    assert_eq!(
+        table5(&merged),
+        table5(&shards[0]),
+        "the merge keeps shard 0's timings"
+    );
 
     let missing = merge(&named(&shards[..2])).unwrap_err().to_string();
     assert!(missing.contains("[0, 1] of 3"), "{missing}");
@@ -174,4 +187,66 @@ fn a_shard_writes_json_only() {
         !out.exists() && !std::path::Path::new("x").exists(),
         "nothing written"
     );
+}
+
+/// The scripts the GitHub workflow, the GNU parallel line and the Slurm array run
+/// (`scripts/paper-shard.sh`, `scripts/paper-merge.sh`), on a small preset: two shards, then the
+/// merge, whose tables are the unsharded run's.
+#[test]
+fn the_shard_and_merge_scripts_add_up_on_a_small_preset() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = env!("CARGO_MANIFEST_DIR");
+    let script = |name: &str, args: &[&str]| {
+        let out = std::process::Command::new("bash")
+            .arg(format!("{root}/scripts/{name}"))
+            .args(args)
+            .current_dir(root)
+            .env("TETWALK", env!("CARGO_BIN_EXE_tetwalk"))
+            .env(
+                "PAPER_ARGS",
+                "--scene kuhn --views 6 --side 8 --backend cpu",
+            )
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).to_string();
+        assert!(
+            out.status.success(),
+            "{name}: {text}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        text
+    };
+    let shards = dir.path().join("shards");
+    let at = shards.to_str().unwrap();
+    for i in ["0", "1"] {
+        let said = script("paper-shard.sh", &[i, "2", at]);
+        assert!(said.contains(&format!("shard {i}/2: ")), "{said}");
+    }
+    assert!(script("paper-merge.sh", &[at]).contains("merged 2 shards"));
+    let merged: PaperReport =
+        serde_json::from_str(&std::fs::read_to_string(shards.join("paper.json")).unwrap()).unwrap();
+    assert_eq!(merged.shard, Shard::ALL);
+    assert!(merged.timings.is_some(), "shard 0's timings kept");
+    assert!(
+        std::fs::read_to_string(shards.join("paper.md"))
+            .unwrap()
+            .contains("## Seed 000 Table 4")
+    );
+    let whole = tetwalk::engine::paper::run(
+        "kuhn",
+        &tetwalk::scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap(),
+        Size {
+            views: 6,
+            side: 8,
+            bench_views: 6,
+            ..Size::REDUCED
+        },
+        Shard::ALL,
+        &[Backend::Cpu {
+            model: Model::Plain,
+        }],
+        &|| (),
+    )
+    .unwrap();
+    assert_eq!(counted(&merged), counted(&whole));
 }

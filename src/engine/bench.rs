@@ -303,16 +303,20 @@ pub fn run(
 }
 
 /// Seed 004 Figure 5's measure: each method's intersection time over a view's primary rays against
-/// every triangle of the scene (no spatial structure), one thread, rays in packets of `p × p`.
+/// each tile's candidate triangles ([`crate::family::bins`], as the triangle count tests them), one
+/// thread, rays in packets of `p × p`; the 4-wide (SIMD) versions beside the scalar ones.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SpeedRow {
     pub method: String,
+    /// Whether this is the method's 4-wide version (SSE; seed 004 timed SIMD code).
+    #[serde(default)]
+    pub wide: bool,
     /// Packet side `p` (packets of `p × p` rays).
     pub packet: u32,
     /// Nanoseconds per ray–triangle test, the best of the repeats.
     pub ns_per_test: f64,
-    /// `mt-precomputed`'s time in packets of the same side over this one's: seed 004's speedup, the
-    /// loops alike (triangles outer, the packet's rays inner).
+    /// `mt-precomputed`'s time in packets of the same side, scalar or 4-wide as this row is, over this
+    /// one's: seed 004's speedup, the loops alike (triangles outer, the packet's rays inner).
     pub speedup: f64,
 }
 
@@ -322,6 +326,9 @@ pub struct SpeedReport {
     pub views: Views,
     pub triangles: usize,
     pub rays: usize,
+    /// Ray–triangle tests per packet side (each ray against its tile's candidates).
+    #[serde(default)]
+    pub tests: Vec<(u32, u64)>,
     pub repeats: usize,
     pub rows: Vec<SpeedRow>,
 }
@@ -329,9 +336,10 @@ pub struct SpeedReport {
 /// The packet sides timed.
 pub const PACKETS: [u32; 4] = [1, 2, 4, 8];
 
-/// Time every method at every packet side of [`PACKETS`] on the primary rays of `views`' first view
-/// that lies inside the mesh, the best of `repeats` runs each, all in one run; speedups relative to
-/// `mt-precomputed` at the same packet side.
+/// Time every method (and its 4-wide version) at every packet side of [`PACKETS`] on the primary rays
+/// of `views`' first view that lies inside the mesh, each ray against its tile's candidates, the best
+/// of `repeats` runs each, all in one run; speedups relative to `mt-precomputed` at the same packet
+/// side and width.
 pub fn speed(
     mesh: &Mesh,
     scene: &str,
@@ -344,49 +352,63 @@ pub fn speed(
         .ok_or(CountError::NoView(views.views))?;
     let (tris, _) = scene_triangles(mesh, &region_of(mesh, located));
     let all = views.rays(&cam);
+    let (w, h) = (views.width, views.height);
     let mut times = Vec::new();
-    for m in methods {
-        for p in PACKETS {
-            let rays: Vec<Ray> = packet_order(views.width, views.height, p, p)
-                .iter()
-                .map(|&i| all[i])
-                .collect();
-            let trace = m.trace(Model::Plain);
-            let every: Vec<u32> = (0..tris.len() as u32).collect();
-            let mut best = f64::INFINITY;
-            for _ in 0..repeats.max(1) {
-                let t0 = Instant::now();
-                std::hint::black_box(trace(
-                    std::hint::black_box(&tris),
-                    &every,
-                    &rays,
-                    (p * p) as usize,
-                ));
-                best = best.min(t0.elapsed().as_secs_f64());
+    let mut tests = Vec::new();
+    for p in PACKETS {
+        let tile = p.max(crate::family::bins::MIN_TILE);
+        let rays: Vec<Ray> = packet_order(w, h, p, tile)
+            .iter()
+            .map(|&i| all[i])
+            .collect();
+        let among = crate::family::bins::bins(&cam, w, h, tile, &tris).among(w, h);
+        let n: u64 = among
+            .groups
+            .iter()
+            .map(|(r, ids)| (r.len() * ids.len()) as u64)
+            .sum();
+        tests.push((p, n));
+        for m in methods {
+            let versions = std::iter::once((false, m.trace(Model::Plain)))
+                .chain(m.wide.map(|wide| (true, wide)));
+            for (wide, trace) in versions {
+                let mut best = f64::INFINITY;
+                for _ in 0..repeats.max(1) {
+                    let t0 = Instant::now();
+                    std::hint::black_box(trace(
+                        std::hint::black_box(&tris),
+                        &among.ids,
+                        &among.groups,
+                        &rays,
+                        (p * p) as usize,
+                    ));
+                    best = best.min(t0.elapsed().as_secs_f64());
+                }
+                times.push((m.name(), wide, p, best, n));
             }
-            times.push((m.name(), p, best));
         }
     }
-    let base = |p: u32| {
+    let base = |p: u32, wide: bool| {
         times
             .iter()
-            .find(|(n, q, _)| *n == "mt-precomputed" && *q == p)
-            .map(|t| t.2)
+            .find(|(n, w, q, ..)| *n == "mt-precomputed" && *q == p && *w == wide)
+            .map(|t| t.3)
     };
-    let tests = (all.len() * tris.len()) as f64;
     Ok(SpeedReport {
         scene: scene.to_string(),
         views: *views,
         triangles: tris.len(),
         rays: all.len(),
+        tests,
         repeats,
         rows: times
             .iter()
-            .map(|&(method, packet, secs)| SpeedRow {
+            .map(|&(method, wide, packet, secs, n)| SpeedRow {
                 method: method.to_string(),
+                wide,
                 packet,
-                ns_per_test: secs * 1e9 / tests,
-                speedup: base(packet).map_or(f64::NAN, |b| b / secs),
+                ns_per_test: secs * 1e9 / n.max(1) as f64,
+                speedup: base(packet, wide).map_or(f64::NAN, |b| b / secs),
             })
             .collect(),
     })

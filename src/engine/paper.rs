@@ -87,6 +87,19 @@ pub struct GpuQueryTimes {
     pub times: Vec<QueryTime>,
 }
 
+/// The seeds' timed tables.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct Timings {
+    /// Seed 000 Table 5 (CPU, one thread).
+    pub table5: Vec<QueryTime>,
+    /// Seed 000 Table 5 on each GPU backend that measures kernel times.
+    pub table5_gpu: Vec<GpuQueryTimes>,
+    /// Walk speeds on every backend: seed 000 Table 3's ray casting, seed 003 Tables 1–3's structures.
+    pub speed: BenchReport,
+    /// Seed 004 Figure 5 (CPU, one thread).
+    pub figure5: SpeedReport,
+}
+
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PaperReport {
     /// The UTC date of the run.
@@ -98,21 +111,16 @@ pub struct PaperReport {
     pub scene_info: SceneInfo,
     /// Seed 000 Table 4, one count per backend.
     pub counts: Vec<CountReport<Walks>>,
-    /// Seed 000 Table 5 (CPU, one thread).
-    pub table5: Vec<QueryTime>,
-    /// Seed 000 Table 5 on each GPU backend that measures kernel times.
-    pub table5_gpu: Vec<GpuQueryTimes>,
-    /// Walk speeds on every backend: seed 000 Table 3's ray casting, seed 003 Tables 1–3's structures.
-    pub speed: BenchReport,
-    /// Seed 004 Figure 5 (CPU, one thread).
-    pub figure5: SpeedReport,
+    /// The timed tables: a whole run's, and shard 0's of a sharded one (the other shards count only).
+    pub timings: Option<Timings>,
     /// Seed 001's octree walk over the scene's constrained faces, judged as the counts are, one
     /// count per backend.
     pub octrees: Vec<CountReport<OctreeCells>>,
 }
 
 /// Run every reproducible table on `mesh` (scene `scene`) with the counts on `backends`; the counts
-/// over the views `shard` holds ([`count::merge`] adds the shards up), the timings whole.
+/// over the views `shard` holds ([`count::merge`] adds the shards up), the timings whole on shard 0
+/// only (a merge keeps shard 0's).
 pub fn run(
     scene: &str,
     mesh: &Mesh,
@@ -146,6 +154,51 @@ pub fn run(
         .iter()
         .map(|b| count::run(mesh, &settings, &methods, b, tick, None))
         .collect::<Result<Vec<_>, _>>()?;
+    let timings = if shard.index == 0 {
+        Some(timings(scene, mesh, size, &settings.views, backends)?)
+    } else {
+        None
+    };
+    let octree_methods: Vec<Answerer<OctreeCells>> = OCTREE_METHODS
+        .iter()
+        .filter(|m| !m.is_reference())
+        .map(Answerer::Method)
+        .collect();
+    let octree_settings = CountSettings::<OctreeCells> {
+        scene: scene.to_string(),
+        views: settings.views,
+        reference: reference.into(),
+        family: OctreeCountSettings {
+            octree: crate::octree::Settings::PAPER,
+            triangle_method: "mt".into(),
+        },
+        audit: 1000,
+        shard,
+    };
+    let octrees = backends
+        .iter()
+        .map(|b| count::run(mesh, &octree_settings, &octree_methods, b, tick, None))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(PaperReport {
+        date: today(),
+        scene: scene.to_string(),
+        size,
+        shard,
+        scene_info: SceneInfo::of(mesh, crate::octree::Settings::PAPER),
+        counts,
+        timings,
+        octrees,
+    })
+}
+
+/// The timed tables: Table 5 (CPU and each GPU's kernels), the walk speeds and Figure 5.
+fn timings(
+    scene: &str,
+    mesh: &Mesh,
+    size: Size,
+    views: &crate::scenes::camera::Views,
+    backends: &[Backend],
+) -> Result<Timings, PaperError> {
     let (tets, queries) = crate::engine::bench::table5_queries(size.tets, size.rays, 5);
     let table5 = METHODS
         .iter()
@@ -181,7 +234,7 @@ pub fn run(
         false,
         &crate::scenes::camera::Views {
             views: size.bench_views,
-            ..settings.views
+            ..*views
         },
         &timed,
         &timed_on,
@@ -191,42 +244,15 @@ pub fn run(
     let views = crate::scenes::camera::Views {
         width: size.triangle_side,
         height: size.triangle_side,
-        ..settings.views
+        ..*views
     };
     let triangle_methods: Vec<_> = TRIANGLE_METHODS.iter().collect();
     let figure5 = bench::speed(mesh, scene, &views, &triangle_methods, 3)?;
-    let octree_methods: Vec<Answerer<OctreeCells>> = OCTREE_METHODS
-        .iter()
-        .filter(|m| !m.is_reference())
-        .map(Answerer::Method)
-        .collect();
-    let octree_settings = CountSettings::<OctreeCells> {
-        scene: scene.to_string(),
-        views: settings.views,
-        reference: reference.into(),
-        family: OctreeCountSettings {
-            octree: crate::octree::Settings::PAPER,
-            triangle_method: "mt".into(),
-        },
-        audit: 1000,
-        shard,
-    };
-    let octrees = backends
-        .iter()
-        .map(|b| count::run(mesh, &octree_settings, &octree_methods, b, tick, None))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(PaperReport {
-        date: today(),
-        scene: scene.to_string(),
-        size,
-        shard,
-        scene_info: SceneInfo::of(mesh, crate::octree::Settings::PAPER),
-        counts,
+    Ok(Timings {
         table5,
         table5_gpu,
         speed,
         figure5,
-        octrees,
     })
 }
 

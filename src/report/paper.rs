@@ -3,7 +3,7 @@
 
 use crate::choice::Choice;
 use crate::choice::{BackendKind, Ran};
-use crate::engine::paper::{PaperReport, SEED003_STRUCTURES};
+use crate::engine::paper::{PaperReport, SEED003_STRUCTURES, Timings};
 use crate::family::OctreeCells;
 use crate::mesh::layout::Layout;
 use crate::report::count::CountFormats;
@@ -78,6 +78,12 @@ const SEED003_TABLE4: [(&str, f64, f64); 4] = [
 
 impl PaperReport {
     pub fn markdown(&self) -> String {
+        let Some(timed) = &self.timings else {
+            return format!(
+                "# The seeds' tables: shard {}/{} of scene `{}`, counts only\n\nThe timed tables are shard 0's; `tetwalk paper merge` adds the shards up into the tables.\n",
+                self.shard.index, self.shard.count, self.scene
+            );
+        };
         let i = &self.scene_info;
         let (t, occl, other, mb) = SEED000_TABLE3_BUNNY;
         let tet80 = Layout::BYTES
@@ -102,7 +108,7 @@ impl PaperReport {
             "| memory, Tet80 (MB) | {mb} | {:.1} |\n\nOurs tetrahedralizes the npm `bunny` model, a much coarser one than the paper's, so the counts differ by orders of magnitude.\n\n",
             (i.tetrahedra * tet80) as f64 / 1e6
         );
-        out += &self.ray_casting();
+        out += &self.ray_casting(timed);
         out += "## Seed 000 Table 4: wrong rays per 1024² image\n\nThe paper's are on its GPU (GTX 680), about 1,300 views. Ours are judged exactly, scaled from our image size to 1024² by the pixel count, one column per backend.\n\n| method | seed 000, BUNNY (GPU) |";
         for c in &self.counts {
             out += &format!(" ours, {} |", c.backend.kind.name());
@@ -133,18 +139,18 @@ impl PaperReport {
         }
         out += "\nThe paper's claim that maria17 (\"Ours\") is never wrong does not hold under exact judging; see the README's register of claims.\n\n";
         out += "## Seed 000 Table 5: exit-face search, ratio to maria17\n\nOurs on this CPU, one thread, each ray's data prepared once, and on each GPU backend the kernel time of one dispatch per million queries (each query uploaded with its tetrahedron); the paper's CPU and GPU times as ratios.\n\n| method | ours, cpu: ns/query | ratio |";
-        for g in &self.table5_gpu {
+        for g in &timed.table5_gpu {
             out += &format!(" ours, {}: ns/query | ratio |", g.backend.kind.name());
         }
         out += " seed 000 CPU ratio | seed 000 GPU ratio |\n|---|---|---|";
-        out += &"---|---|".repeat(self.table5_gpu.len());
+        out += &"---|---|".repeat(timed.table5_gpu.len());
         out += "---|---|\n";
-        let base = self
+        let base = timed
             .table5
             .iter()
             .find(|q| q.method == "maria17")
             .map_or(1.0, |q| q.ns_per_query);
-        for q in &self.table5 {
+        for q in &timed.table5 {
             let paper = SEED000_TABLE5.iter().find(|p| p.0 == q.method);
             let (cpu, gpu) = paper.map_or(("-".into(), "-".into()), |p| {
                 (
@@ -158,7 +164,7 @@ impl PaperReport {
                 q.ns_per_query,
                 q.ns_per_query / base
             );
-            for g in &self.table5_gpu {
+            for g in &timed.table5_gpu {
                 let base = g.times.iter().find(|t| t.method == "maria17");
                 out += &match (g.times.iter().find(|t| t.method == q.method), base) {
                     (Some(t), Some(b)) => format!(
@@ -185,10 +191,10 @@ impl PaperReport {
             );
         }
         out += "\nThe paper's sizes include the points and the constrained-face data; ours count the tetrahedra only.\n";
-        out += &self.structures();
+        out += &self.structures(timed);
         out += "\n## Seed 004 Figure 5: packet intersection speed, ratio to the improved Möller test\n\n";
         out += "The paper's figure gives bars, its text \"about 1.1x to 1.4x\" for its packet method over the improved Möller test (2x2 packets) and the Plücker packet test below it. Ours: ";
-        out += &self.figure5.markdown();
+        out += &timed.figure5.markdown();
         out += "\n## Seed 001 Tables 1 and 3, §5.1: the octree\n\n";
         if let Some(o) = &i.octree {
             out += &o.markdown();
@@ -228,8 +234,8 @@ impl PaperReport {
     }
 
     /// Seed 000 Table 3's ray casting speed beside maria17's walks on each backend.
-    fn ray_casting(&self) -> String {
-        let b = &self.speed;
+    fn ray_casting(&self, t: &Timings) -> String {
+        let b = &t.speed;
         let (cpu, gpu) = SEED000_TABLE3_MRAYS;
         let mut out = format!(
             "Ray casting, maria17 over the mesh's cells: ours on {} primary rays ({} of {}x{} with the camera inside the mesh), on {} CPU threads.\n\n| backend | ours, end to end Mrays/s | ours, kernel Mrays/s | seed 000, BUNNY (Mrays/s) |\n|---|---|---|---|\n",
@@ -262,8 +268,8 @@ impl PaperReport {
 
     /// Seed 003 Tables 1–3: each structure's walk time as a ratio to Tet-mesh-80, ours per backend
     /// beside the paper's range over its scenes.
-    fn structures(&self) -> String {
-        let b = &self.speed;
+    fn structures(&self, t: &Timings) -> String {
+        let b = &t.speed;
         let mut kinds: Vec<BackendKind> = Vec::new();
         for r in &b.rows {
             if !kinds.contains(&r.backend) {

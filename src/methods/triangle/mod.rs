@@ -8,6 +8,7 @@
 //! many triangles is the first with the smallest `t` ([`nearest`]).
 
 mod komatsu;
+pub mod lanes;
 mod mt;
 mod mt_precomputed;
 mod plucker_packet;
@@ -69,6 +70,68 @@ pub trait HitMethod {
     );
 }
 
+/// A method with a 4-wide version (seed 004's SIMD packets, [`lanes`]): four rays of a packet at once
+/// in the plain model, answering bit for bit as [`HitMethod::packet`] does there (`tests/triangle.rs`).
+pub trait Wide: HitMethod {
+    /// Four rays' data as the 4-wide test reads them (made once per packet).
+    type Lanes: Copy + Send + Sync;
+    /// What the test computes once per packet and triangle.
+    type Shared: Copy;
+    fn lanes(rays: [&Self::RayData; 4]) -> Self::Lanes;
+    fn shared(tri: &Self::TriData, org: Vec3) -> Self::Shared;
+    /// `out` (one to four answers) for four rays (the last repeated where a packet has fewer).
+    fn packet4(
+        tri: &Self::TriData,
+        shared: &Self::Shared,
+        lanes: &Self::Lanes,
+        out: &mut [Option<f32>],
+    );
+}
+
+/// How a packet of rays is tested against one triangle: a method's [`HitMethod::packet`] in a model
+/// ([`Scalar`]), or its 4-wide one ([`Four`]).
+pub trait Tester<M: HitMethod> {
+    /// A packet's rays as the test reads them.
+    type Rays: Default;
+    fn rays(rays: &[M::RayData], into: &mut Self::Rays);
+    fn test(tri: &M::TriData, org: Vec3, rays: &Self::Rays, out: &mut [Option<f32>]);
+}
+
+/// [`HitMethod::packet`] in the model `A`.
+pub struct Scalar<A>(std::marker::PhantomData<A>);
+/// [`Wide::packet4`], four rays at a time.
+pub struct Four;
+
+impl<M: HitMethod, A: Arith> Tester<M> for Scalar<A> {
+    type Rays = Vec<M::RayData>;
+    fn rays(rays: &[M::RayData], into: &mut Vec<M::RayData>) {
+        into.clear();
+        into.extend_from_slice(rays);
+    }
+    #[inline(always)]
+    fn test(tri: &M::TriData, org: Vec3, rays: &Vec<M::RayData>, out: &mut [Option<f32>]) {
+        M::packet::<A>(tri, org, rays, out);
+    }
+}
+
+impl<M: Wide> Tester<M> for Four {
+    type Rays = Vec<M::Lanes>;
+    fn rays(rays: &[M::RayData], into: &mut Vec<M::Lanes>) {
+        into.clear();
+        into.extend(rays.chunks(4).map(|c| {
+            let lane = |i: usize| &c[i.min(c.len() - 1)];
+            M::lanes([lane(0), lane(1), lane(2), lane(3)])
+        }));
+    }
+    #[inline(always)]
+    fn test(tri: &M::TriData, org: Vec3, rays: &Vec<M::Lanes>, out: &mut [Option<f32>]) {
+        let shared = M::shared(tri, org);
+        for (lanes, o) in rays.iter().zip(out.chunks_mut(4)) {
+            M::packet4(tri, &shared, lanes, o);
+        }
+    }
+}
+
 /// A method that tests ray by ray from the vertices, precomputing nothing.
 pub trait SingleRay {
     /// `Some(t)` where the method reports a hit at parameter `t`.
@@ -106,20 +169,21 @@ pub fn hit<M: HitMethod, A: Arith>(tri: &Tri, ray: &Ray) -> Option<f32> {
     })
 }
 
-/// Calls `f(triangle, ray, t)` for every hit that counts of each ray of a packet (rays sharing `org`)
-/// with each of `tris` (prepared, with their indices), triangle by triangle.
-pub fn each_hit<'a, M: HitMethod, A: Arith>(
+/// Calls `f(triangle, ray, t)` for every hit that counts of each of a packet's `n` rays (sharing
+/// `org`, prepared by `T`) with each of `tris` (prepared, with their indices), triangle by triangle.
+pub fn each_hit<'a, M: HitMethod, T: Tester<M>>(
     tris: impl Iterator<Item = (u32, &'a M::TriData)>,
     org: Vec3,
-    rays: &[M::RayData],
+    rays: &T::Rays,
+    n: usize,
     mut f: impl FnMut(u32, usize, f32),
 ) where
     M::TriData: 'a,
 {
-    let n = rays.len().min(MAX_PACKET);
+    let n = n.min(MAX_PACKET);
     let mut out = [None; MAX_PACKET];
     for (i, tri) in tris {
-        M::packet::<A>(tri, org, &rays[..n], &mut out[..n]);
+        T::test(tri, org, rays, &mut out[..n]);
         for (r, o) in out[..n].iter().enumerate() {
             if let Some(t) = *o
                 && accepts(t)
@@ -146,38 +210,70 @@ pub fn nearest_of(hits: &[(u32, f32)]) -> Option<(u32, f32)> {
 
 /// The nearest hit of each ray of a packet among `tris` (prepared, with their indices in ascending
 /// order): the first triangle with the smallest `t`.
-pub fn nearest<'a, M: HitMethod, A: Arith>(
+pub fn nearest<'a, M: HitMethod, T: Tester<M>>(
     tris: impl Iterator<Item = (u32, &'a M::TriData)>,
     org: Vec3,
-    rays: &[M::RayData],
+    rays: &T::Rays,
     best: &mut [Option<(u32, f32)>],
 ) where
     M::TriData: 'a,
 {
-    each_hit::<M, A>(tris, org, rays, |i, r, t| {
+    each_hit::<M, T>(tris, org, rays, best.len(), |i, r, t| {
         if nearer(best[r], t) {
             best[r] = Some((i, t));
         }
     });
 }
 
-/// The nearest hit of each ray among the triangles `among` names (indices into `tris`, ascending;
-/// each prepared once here), the rays taken `packet` at a time; a packet ends early where the origin
-/// changes, so each shares one origin. With every triangle named this is the brute-force answer; with
-/// fewer it is the same wherever no triangle left out could be hit (`family::bins` derives when).
+/// Runs of consecutive rays, each with the range of `ids` naming its triangles ([`Among::groups`]).
+pub type Groups = [(std::ops::Range<usize>, std::ops::Range<usize>)];
+
+/// The nearest hit of each ray of `groups` (in order; each group's rays against the triangles its ids
+/// name, ascending, prepared once per group), the rays taken `packet` at a time; a packet ends early
+/// where the origin changes, so each shares one origin. With every triangle named this is the
+/// brute-force answer; with fewer it is the same wherever no triangle left out could be hit
+/// (`family::bins` derives when).
 pub fn trace<M: HitMethod, A: Arith>(
     tris: &[Tri],
-    among: &[u32],
+    ids: &[u32],
+    groups: &Groups,
     rays: &[Ray],
     packet: usize,
 ) -> Vec<Option<(u32, f32)>> {
-    A::run((tris, among, rays), |(tris, among, rays)| {
-        let prepared: Vec<M::TriData> = among
-            .iter()
-            .map(|&i| M::tri::<A>(&tris[i as usize]))
-            .collect();
-        let mut best = vec![None; rays.len()];
-        let size = packet.clamp(1, MAX_PACKET);
+    A::run((tris, ids, groups, rays), |(tris, ids, groups, rays)| {
+        trace_by::<M, A, Scalar<A>>(tris, ids, groups, rays, packet)
+    })
+}
+
+/// [`trace`] in the plain model with the method's 4-wide test: the same answers, bit for bit.
+pub fn trace_wide<M: Wide>(
+    tris: &[Tri],
+    ids: &[u32],
+    groups: &Groups,
+    rays: &[Ray],
+    packet: usize,
+) -> Vec<Option<(u32, f32)>> {
+    trace_by::<M, super::Plain, Four>(tris, ids, groups, rays, packet)
+}
+
+/// [`trace`] with the packet test `T` (run in `A`'s environment); buffers reused across groups.
+fn trace_by<M: HitMethod, A: Arith, T: Tester<M>>(
+    tris: &[Tri],
+    ids: &[u32],
+    groups: &Groups,
+    rays: &[Ray],
+    packet: usize,
+) -> Vec<Option<(u32, f32)>> {
+    let mut best = Vec::with_capacity(groups.iter().map(|g| g.0.len()).sum());
+    let (mut prepared, mut data, mut packed) = (Vec::new(), Vec::new(), T::Rays::default());
+    let size = packet.clamp(1, MAX_PACKET);
+    for (range, named) in groups {
+        let among = &ids[named.clone()];
+        prepared.clear();
+        prepared.extend(among.iter().map(|&i| M::tri::<A>(&tris[i as usize])));
+        let rays = &rays[range.clone()];
+        let first = best.len();
+        best.resize(first + rays.len(), None);
         let mut start = 0;
         while start < rays.len() {
             let org = rays[start].org;
@@ -186,13 +282,16 @@ pub fn trace<M: HitMethod, A: Arith>(
                 .take(size)
                 .take_while(|r| r.org == org)
                 .count();
-            let data: Vec<M::RayData> = rays[start..start + len].iter().map(M::ray::<A>).collect();
+            data.clear();
+            data.extend(rays[start..start + len].iter().map(M::ray::<A>));
+            T::rays(&data, &mut packed);
             let named = among.iter().copied().zip(&prepared);
-            nearest::<M, A>(named, org, &data, &mut best[start..start + len]);
+            let at = first + start;
+            nearest::<M, T>(named, org, &packed, &mut best[at..at + len]);
             start += len;
         }
-        best
-    })
+    }
+    best
 }
 
 /// Every hit of one ray among `tris`, in triangle order.
@@ -201,9 +300,8 @@ pub fn hits<M: HitMethod, A: Arith>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> 
         let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
         let mut out = Vec::new();
         let named = (0..tris.len() as u32).zip(&prepared);
-        each_hit::<M, A>(named, ray.org, &[M::ray::<A>(ray)], |i, _, t| {
-            out.push((i, t))
-        });
+        let one = vec![M::ray::<A>(ray)];
+        each_hit::<M, Scalar<A>>(named, ray.org, &one, 1, |i, _, t| out.push((i, t)));
         out
     })
 }

@@ -2,7 +2,8 @@
 //! Barzel's jgt collection): `N = E1 × E2`, `E1`, `E2` once per triangle; per ray `S = O - P0`,
 //! `(t, u, v) = -1/(N·D) · (N·S, -(D × S)·E2, (D × S)·E1)`, tested `0 ≤ u`, `0 ≤ v`, `u + v ≤ 1`.
 
-use super::{HitMethod, Tri};
+use super::lanes::{F4, V4, answers};
+use super::{HitMethod, Tri, Wide};
 use crate::methods::Arith;
 use crate::tet::Ray;
 use glam::Vec3;
@@ -55,5 +56,27 @@ impl HitMethod for MtPrecomputed {
             let v = r * A::dot(ds, p.e1);
             *o = inside(u, v).then(|| r * A::dot(p.n, s));
         }
+    }
+}
+
+impl Wide for MtPrecomputed {
+    /// Four rays' directions and origins.
+    type Lanes = (V4, V4);
+    type Shared = ();
+    fn lanes(rays: [&Ray; 4]) -> (V4, V4) {
+        (V4::new(rays.map(|r| r.dir)), V4::new(rays.map(|r| r.org)))
+    }
+    fn shared(_: &Precomputed, _: Vec3) {}
+    /// The loop body above for four rays at once (SSE), op for op.
+    fn packet4(p: &Precomputed, _: &(), &(d, org): &(V4, V4), out: &mut [Option<f32>]) {
+        let (n, e1, e2) = (V4::splat(p.n), V4::splat(p.e1), V4::splat(p.e2));
+        let r = F4::splat(-1.0) / n.dot(d);
+        let s = org - V4::splat(p.p0);
+        let ds = d.cross(s);
+        let u = r * -ds.dot(e2);
+        let v = r * ds.dot(e1);
+        let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
+        let hit = u.ge(zero).and(v.ge(zero)).and((u + v).le(one));
+        answers(hit, r * n.dot(s), out);
     }
 }

@@ -3,8 +3,9 @@
 //! `D · (a' × b')` (`a' = a - O`): the three edge moments and `N · a'` once per packet and triangle,
 //! three dot products per ray, a hit when all three have one sign, then `t = N·a' / N·D`.
 
-use super::{HitMethod, Tri};
-use crate::methods::Arith;
+use super::lanes::{F4, V4, answers};
+use super::{HitMethod, Tri, Wide};
+use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
 
@@ -38,5 +39,32 @@ impl HitMethod for PluckerPacket {
             let one_sign = s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0);
             *o = one_sign.then(|| na / A::dot(tri.n, *d));
         }
+    }
+}
+
+impl Wide for PluckerPacket {
+    /// Four rays' directions.
+    type Lanes = V4;
+    /// The three edge moments and `N · a'`: once per packet and triangle, as above.
+    type Shared = ([Vec3; 3], f32);
+    fn lanes(dirs: [&Vec3; 4]) -> V4 {
+        V4::new(dirs.map(|d| *d))
+    }
+    fn shared(tri: &WithNormal, org: Vec3) -> ([Vec3; 3], f32) {
+        let [a, b, c] = tri.v.map(|p| p - org);
+        let m = [Plain::cross(a, b), Plain::cross(b, c), Plain::cross(c, a)];
+        (m, Plain::dot(tri.n, a))
+    }
+    /// Four rays' three side products at once (SSE).
+    fn packet4(tri: &WithNormal, &(m, na): &([Vec3; 3], f32), d: &V4, out: &mut [Option<f32>]) {
+        let s = m.map(|m| d.dot(V4::splat(m)));
+        let zero = F4::splat(0.0);
+        let all_ge = s[0].ge(zero).and(s[1].ge(zero)).and(s[2].ge(zero));
+        let all_le = s[0].le(zero).and(s[1].le(zero)).and(s[2].le(zero));
+        answers(
+            all_ge.or(all_le),
+            F4::splat(na) / V4::splat(tri.n).dot(*d),
+            out,
+        );
     }
 }
