@@ -437,9 +437,9 @@ pub struct TriangleMethod {
     pub info: Info,
     /// Whether it shares work across a packet of rays with one origin.
     pub packet: bool,
-    /// Whether its hits obey the side-product lemma of [`crate::family::bins`] (every method of the
-    /// registry; not one written outside tetwalk), so a count may test only binned candidates.
-    pub bounded: bool,
+    /// How its side products' rounding error scales, by the lemma of `family::bins` (every method of
+    /// the registry; `None` for one written outside tetwalk, for which a count tests every triangle).
+    pub side_error: Option<triangle::SideError>,
     /// Its 4-wide version (seed 004's SIMD packets, plain model, the same answers), where it has one.
     pub wide: Option<TraceFn>,
     hit: [HitFn; MODELS],
@@ -452,7 +452,7 @@ impl TriangleMethod {
         TriangleMethod {
             info,
             packet,
-            bounded: true,
+            side_error: Some(triangle::SideError::EdgeScaled),
             wide: None,
             hit: by_model!(triangle::hit, M),
             trace: by_model!(triangle::trace, M),
@@ -480,7 +480,7 @@ impl TriangleMethod {
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
     pub fn outside<M: HitMethod>(name: &'static str) -> Self {
         TriangleMethod {
-            bounded: false,
+            side_error: None,
             ..Self::of::<M>(Info::outside(name), false)
         }
     }
@@ -541,15 +541,20 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         ),
         true,
     ),
-    TriangleMethod::wide::<PluckerPacket>(
+    TriangleMethod {
+        side_error: Some(triangle::SideError::OriginScaled),
+        ..TriangleMethod::wide::<PluckerPacket>(
         Info::published(
             "plucker-packet",
             "Benthin 2006 as seed 004 §2 describes it: packet origin at the coordinate origin, three dot products per ray",
             Gpu::Wgsl(&[TRI_PLUCKER_PACKET]),
         ),
         true,
-    ),
-    TriangleMethod::of::<WoopWatertight>(
+    )
+    },
+    TriangleMethod {
+        side_error: Some(triangle::SideError::OriginScaled),
+        ..TriangleMethod::of::<WoopWatertight>(
         Info {
             ours: true,
             ..Info::published(
@@ -560,7 +565,8 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             .claiming(Claim::NoLeak)
         },
         false,
-    ),
+    )
+    },
 ];
 
 /// One octree method's answer for a cell `[lo, hi]` and a ray: the exit face (seed 001's numbering,

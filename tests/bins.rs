@@ -11,6 +11,7 @@ use tetwalk::engine::count::located_views;
 use tetwalk::family::bins::bins;
 use tetwalk::mesh::surface::{region_of, scene_triangles};
 use tetwalk::methods::triangle::Among;
+use tetwalk::methods::triangle::SideError::{EdgeScaled, OriginScaled};
 use tetwalk::registry::{Named, TRIANGLE_METHODS};
 use tetwalk::scenes::camera::{Camera, Views, packet_order};
 use tetwalk::scenes::rng;
@@ -71,6 +72,19 @@ fn scene(e: i32, f: i32, seed: u64) -> (Camera, Vec<Tri>) {
             tris.push([v, ring[k], ring[(k + 1) % 5]]);
         }
     }
+    // Micro triangles far off (edges about 2^-20 of their distance): the Plücker packet test's and
+    // Woop's side products err with the distance squared, a pixel or more around them.
+    for k in 0..48u32 {
+        let ray = cam.ray(k * 7 % W, k * 5 % H, W, H);
+        let v = ray.org + ray.dir * (3.0 * s);
+        let ulp = |x: f32| f32::from_bits(x.abs().to_bits() + 1) - x.abs();
+        let step = Vec3::new(ulp(v.x), ulp(v.y), ulp(v.z)) * 8.0;
+        tris.push([
+            v,
+            v + step * Vec3::new(1.0, 0.0, 1.0),
+            v + step * Vec3::new(0.0, 1.0, -1.0),
+        ]);
+    }
     // Slivers: a vertex one ulp off the opposite edge's midpoint.
     for _ in 0..6 {
         let a = eye + (Vec3::new(2.5, 0.0, 0.0) + jitter(&mut r)) * s;
@@ -114,8 +128,8 @@ fn no_triangle_a_method_could_hit_is_left_out() {
     ];
     for (k, &(e, f)) in regimes.iter().enumerate() {
         let (cam, tris) = scene(e, f, k as u64);
-        for tile in [2, 4] {
-            let b = bins(&cam, W, H, tile, &tris);
+        for (tile, scale) in [(2, EdgeScaled), (4, EdgeScaled), (2, OriginScaled)] {
+            let b = bins(&cam, W, H, tile, &tris, scale);
             kept += b.ids.len();
             possible += (b.tiles_x * b.tiles_y) as usize * tris.len();
             if e >= 45 {
@@ -130,7 +144,10 @@ fn no_triangle_a_method_could_hit_is_left_out() {
                     let ray = cam.ray(x, y, W, H);
                     let t = ((y / tile) * b.tiles_x + x / tile) as usize;
                     let cands = b.of_tile(t);
-                    for m in TRIANGLE_METHODS {
+                    for m in TRIANGLE_METHODS
+                        .iter()
+                        .filter(|m| m.side_error == Some(scale))
+                    {
                         for model in Model::ALL {
                             for (i, _) in m.hits(model)(&tris, &ray) {
                                 hits_seen += 1;
@@ -174,12 +191,19 @@ fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
             let tile = packet.max(2);
             let order = packet_order(views.width, views.height, packet, tile);
             let packed: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
-            let b = bins(&cam, views.width, views.height, tile, &tris);
-            fewer += b.per_ray(views.width, views.height) / tris.len() as f64;
-            let among = b.among(views.width, views.height);
+            let binned = [EdgeScaled, OriginScaled].map(|scale| {
+                let b = bins(&cam, views.width, views.height, tile, &tris, scale);
+                fewer += b.per_ray(views.width, views.height) / tris.len() as f64 / 2.0;
+                (scale, b.among(views.width, views.height))
+            });
             let every = Among::all(tris.len(), packed.len(), packed.len());
             let p = (packet * packet) as usize;
             for m in TRIANGLE_METHODS {
+                let among = &binned
+                    .iter()
+                    .find(|b| Some(b.0) == m.side_error)
+                    .expect("every registered method has an error scale")
+                    .1;
                 for model in Model::ALL {
                     // The scalar test, and in the plain model the 4-wide one (`fastest`).
                     for trace in [m.trace(model), m.fastest(model)] {

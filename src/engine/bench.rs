@@ -12,6 +12,7 @@ use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::mesh::surface::{region_of, scene_triangles};
 use crate::methods::Model;
+use crate::methods::triangle::{Among, SideError};
 use crate::registry::{Gpu, Method};
 use crate::registry::{Named, TriangleMethod};
 use crate::scenes::camera::Views;
@@ -315,8 +316,8 @@ pub struct SpeedRow {
     pub packet: u32,
     /// Nanoseconds per ray–triangle test, the best of the repeats.
     pub ns_per_test: f64,
-    /// `mt-precomputed`'s time in packets of the same side, scalar or 4-wide as this row is, over this
-    /// one's: seed 004's speedup, the loops alike (triangles outer, the packet's rays inner).
+    /// `mt-precomputed`'s time per test in packets of the same side, scalar or 4-wide as this row is,
+    /// over this one's: seed 004's speedup, the loops alike (triangles outer, the packet's rays inner).
     pub speedup: f64,
 }
 
@@ -326,9 +327,10 @@ pub struct SpeedReport {
     pub views: Views,
     pub triangles: usize,
     pub rays: usize,
-    /// Ray–triangle tests per packet side (each ray against its tile's candidates).
+    /// Ray–triangle tests of each method in 2×2 packets (each ray against its tile's candidates for
+    /// the method's error scale).
     #[serde(default)]
-    pub tests: Vec<(u32, u64)>,
+    pub tests: Vec<(String, u64)>,
     pub repeats: usize,
     pub rows: Vec<SpeedRow>,
 }
@@ -337,9 +339,9 @@ pub struct SpeedReport {
 pub const PACKETS: [u32; 4] = [1, 2, 4, 8];
 
 /// Time every method (and its 4-wide version) at every packet side of [`PACKETS`] on the primary rays
-/// of `views`' first view that lies inside the mesh, each ray against its tile's candidates, the best
-/// of `repeats` runs each, all in one run; speedups relative to `mt-precomputed` at the same packet
-/// side and width.
+/// of `views`' first view that lies inside the mesh, each ray against its tile's candidates for the
+/// method's error scale, the best of `repeats` runs each, all in one run; speedups per test relative
+/// to `mt-precomputed` at the same packet side and width.
 pub fn speed(
     mesh: &Mesh,
     scene: &str,
@@ -354,21 +356,33 @@ pub fn speed(
     let all = views.rays(&cam);
     let (w, h) = (views.width, views.height);
     let mut times = Vec::new();
-    let mut tests = Vec::new();
+    let mut tests: Vec<(String, u64)> = Vec::new();
     for p in PACKETS {
         let tile = p.max(crate::family::bins::MIN_TILE);
         let rays: Vec<Ray> = packet_order(w, h, p, tile)
             .iter()
             .map(|&i| all[i])
             .collect();
-        let among = crate::family::bins::bins(&cam, w, h, tile, &tris).among(w, h);
-        let n: u64 = among
-            .groups
-            .iter()
-            .map(|(r, ids)| (r.len() * ids.len()) as u64)
-            .sum();
-        tests.push((p, n));
+        let mut binned: Vec<(SideError, Among)> = Vec::new();
         for m in methods {
+            let scale = m.side_error.unwrap_or(SideError::OriginScaled);
+            if !binned.iter().any(|b| b.0 == scale) {
+                let among = crate::family::bins::bins(&cam, w, h, tile, &tris, scale).among(w, h);
+                binned.push((scale, among));
+            }
+            let among = &binned
+                .iter()
+                .find(|b| b.0 == scale)
+                .expect("binned above")
+                .1;
+            let n: u64 = among
+                .groups
+                .iter()
+                .map(|(r, ids)| (r.len() * ids.len()) as u64)
+                .sum();
+            if p == 2 {
+                tests.push((m.name().to_string(), n));
+            }
             let versions = std::iter::once((false, m.trace(Model::Plain)))
                 .chain(m.wide.map(|wide| (true, wide)));
             for (wide, trace) in versions {
@@ -384,14 +398,14 @@ pub fn speed(
                     ));
                     best = best.min(t0.elapsed().as_secs_f64());
                 }
-                times.push((m.name(), wide, p, best, n));
+                times.push((m.name(), wide, p, best * 1e9 / n.max(1) as f64));
             }
         }
     }
     let base = |p: u32, wide: bool| {
         times
             .iter()
-            .find(|(n, w, q, ..)| *n == "mt-precomputed" && *q == p && *w == wide)
+            .find(|(n, w, q, _)| *n == "mt-precomputed" && *q == p && *w == wide)
             .map(|t| t.3)
     };
     Ok(SpeedReport {
@@ -403,12 +417,12 @@ pub fn speed(
         repeats,
         rows: times
             .iter()
-            .map(|&(method, wide, packet, secs, n)| SpeedRow {
+            .map(|&(method, wide, packet, ns)| SpeedRow {
                 method: method.to_string(),
                 wide,
                 packet,
-                ns_per_test: secs * 1e9 / n.max(1) as f64,
-                speedup: base(packet, wide).map_or(f64::NAN, |b| b / secs),
+                ns_per_test: ns,
+                speedup: base(packet, wide).map_or(f64::NAN, |b| b / ns),
             })
             .collect(),
     })

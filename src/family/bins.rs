@@ -18,36 +18,48 @@
 //!   divided by `d_kz` (`|d_kz| ≥ |d|/√3`, `|S| ≤ 1`), all of one sign, recomputed in f64 when one is 0.
 //!
 //! Forward error, term by term (`u = 2^-24`, `γ_n = nu/(1-nu)`), for inputs and results in the normal
-//! range: a difference of inputs (1 rounding), a cross product (2), a dot product (3) give `γ_6` times
-//! the sum of the absolute terms, and a triple product's absolute terms sum to at most
-//! `‖a‖₁‖b‖₁‖c‖₁ ≤ 3√3 |a||b||c|`; with `|T| ≤ R`, `|E1|, |E2| ≤ 2R`: `u`, `v` err by at most
-//! `γ_6·10.4|d|R²`, `det = N·D` by `γ_6·20.8|d|R²`, so `det - u - v` (with `fl(u + v)`, or
-//! `u + v ≤ 1` after `1/det`, 5 more roundings of at most `|det|`) by at most `271u|d|R²`;
-//! plucker-packet's `D·(a'×b')` by `γ_6·5.2|d|R² ≤ 32u|d|R²`; woop's `U` (shear `A_x - S_x A_z` with
-//! `|S_x| ≤ 1`, `S_x` itself rounded) by `48u R²`, times `|d_kz| ≤ |d|` on the side products' scale.
+//! range: a difference of inputs (1 rounding, relative to the difference), a cross product (2), a dot
+//! product (3) give `γ_6` times the sum of the absolute terms, and a triple product's absolute terms
+//! sum to at most `‖a‖₁‖b‖₁‖c‖₁ ≤ 3√3 |a||b||c|`. Let `L` be the longest edge (`L ≤ 2R`).
+//! - Möller–Trumbore's forms ([`SideError::EdgeScaled`]): `|T|, |S| ≤ R`, `|E1|, |E2| ≤ L`, so `u`,
+//!   `v` err by at most `γ_6·5.2|d|RL`, `det = N·D` by `γ_6·5.2|d|L² ≤ γ_6·10.4|d|RL`, and
+//!   `det - u - v` (with `fl(u + v)`, or `u + v ≤ 1` after `1/det`: 5 more roundings of at most
+//!   `|det|`) by at most `177u|d|RL`.
+//! - The Plücker packet test and Woop's ([`SideError::OriginScaled`]): their terms are the vertices
+//!   seen from the origin, `|a'|, |b'| ≤ R`, whatever the edge. Plücker: `a' = fl(v - o)` errs by `uR`
+//!   a component, `a'×b'` then by `8uR²` a component (inputs `4uR²`, products `2uR²`, difference
+//!   `2uR²`), `D·(a'×b')` by `√3·8u|d|R² + 3u·√3|d|R² ≤ 20u|d|R²`. Woop: `A = fl(v - o)` (`uR`),
+//!   the shear `A_x - S_x A_z` with `|S_x| ≤ 1` and `S_x` itself rounded errs by `6uR` and is at most
+//!   `2R`, so `U = C_x B_y - C_y B_x` errs by `4·6uR·2R + 16uR² = 64uR²` against the exact shear, where
+//!   `U = s/d_kz`: times `|d_kz| ≤ |d|` that is `64u|d|R²` on the side products' scale; the f64
+//!   recomputation when one is 0 errs less.
+//!
 //! A fused multiply-add rounds once where two were counted, so the same bounds hold with `--fma`.
 //! Underflow: gradual underflow adds at most `2^-150` per product, flushing to zero `2^-126` per
 //! input or result (a zero keeps `u ≥ 0` true for a negative `u` only below `2^-126 |det|`, inside the
 //! relative bound); each is multiplied by at most two other factors `≤ 1 + 2R + |d|`, and there are
 //! fewer than 64, so all of them add at most `η = 2^-118 (1 + 2R + |d|)²`. Overflow: when
 //! `(1 + 2R + |d|)³ ≤ 2^120` no product of three factors, nor a sum of six, overflows, and no NaN
-//! arises before `t`; beyond that no bound is claimed. So, with `K = 2^-14 ≥ 271u`:
+//! arises before `t`; beyond that no bound is claimed. So, with `Λ = L` and `K = 2^-14 ≥ 177u`
+//! (edge-scaled) or `Λ = R` and `K = 2^-16 ≥ 64u` (origin-scaled), each about 4× its need:
 //!
-//! > a counted hit implies `σ s_i ≥ -(K |d| R² + η)` for `i = 0, 1, 2` and one `σ ∈ {+1, -1}`.
+//! > a counted hit implies `σ s_i ≥ -(K |d| R Λ + η)` for `i = 0, 1, 2` and one `σ ∈ {+1, -1}`.
 //!
 //! **Bins.** A primary ray is `d = fl(F + Rt·sx + Up·sy)` ([`Camera::ray`]); exactly,
 //! `ι = F + Rt·sx + Up·sy` with `|d - ι| ≤ γ_3 (|F| + |Rt| + |Up|)` (`|sx|, |sy| < 1`), so
-//! `s_i(d) = L_i(sx, sy) + e` with `L_i = m_i·F + sx m_i·Rt + sy m_i·Up` (`m_i` the edge moment above)
-//! and `|e| ≤ γ_3 D R²`, `D = (1 + γ_3)(|F| + |Rt| + |Up|) ≥ |d|`. Over a tile's rectangle of
-//! `(sx, sy)` a linear `σL_i` is at most its value at the centre plus `|m_i·Rt|·half width +
-//! |m_i·Up|·half height`, exactly; computed in f64 from f32 inputs, every term errs by under
+//! `s_i(d) = L_i(sx, sy) + e` with `L_i = m_i·F + sx m_i·Rt + sy m_i·Up` (`m_i` the edge moment above,
+//! `|m_i| ≤ R L`) and `|e| ≤ γ_3 D R L`, `D = (1 + γ_3)(|F| + |Rt| + |Up|) ≥ |d|`. Over a tile's
+//! rectangle of `(sx, sy)` a linear `σL_i` is at most its value at the centre plus `|m_i·Rt|·half
+//! width + |m_i·Up|·half height`, exactly; computed in f64 from f32 inputs, every term errs by under
 //! `2^-46 D R²`. A tile is left out for `σ` when some `i` has that maximum below
-//! `-B = -(2^-13 D R² + η)`, which exceeds `K D R² + γ_3 D R² + 2^-46 D R² + η`: no ray of the tile
-//! can satisfy the lemma, so no method reports the triangle there. A triangle is binned by halving
+//! `-B = -((K + 2^-20) D R Λ + 2^-40 D R² + η)`, which exceeds `K D R Λ + γ_3 D R L + 2^-46 D R² + η`
+//! (`L ≤ 2Λ` for both scales and `γ_3 ≤ 2^-22`, so `γ_3 D R L ≤ 2^-21 D R Λ`; `L` is taken from the
+//! f32 vertices' differences in f64, each rounded once, and enlarged by `10^-12`): no ray of the tile
+//! can satisfy the lemma, so no method of that error scale reports the triangle there. A triangle is binned by halving
 //! the image's tiles from the whole down to one; one whose `1 + 2R + D` exceeds `2^40` goes in every
 //! tile. Methods written outside tetwalk have no such lemma: the count tests every triangle for them.
 
-use crate::methods::triangle::{Among, Tri};
+use crate::methods::triangle::{Among, SideError, Tri};
 use crate::scenes::camera::Camera;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
@@ -55,8 +67,17 @@ use rayon::prelude::*;
 /// Fewest pixels per tile side: each tile's rays share one list of candidates.
 pub const MIN_TILE: u32 = 2;
 
-/// The lemma's `K` doubled, covering the pixel directions' and f64's rounding (module doc).
-const K_BINS: f64 = 1.0 / (1u64 << 13) as f64;
+/// The lemma's `K` for an error scale (module doc).
+fn k(scale: SideError) -> f64 {
+    match scale {
+        SideError::EdgeScaled => 1.0 / (1u64 << 14) as f64,
+        SideError::OriginScaled => 1.0 / (1u64 << 16) as f64,
+    }
+}
+/// Covers the pixel directions' rounding, `2^-20` of `D R Λ` (module doc).
+const PIXEL_SLACK: f64 = 1.0 / (1u64 << 20) as f64;
+/// Covers f64's rounding of the edge moments and the bounds, `2^-40` of `D R²`.
+const F64_SLACK: f64 = 1.0 / (1u64 << 40) as f64;
 /// The underflow term's factor, `2^-118`.
 const ETA: f64 = 1.0 / (1u128 << 118) as f64;
 /// Beyond this `1 + 2R + D` the lemma claims nothing (`2^40`).
@@ -124,18 +145,31 @@ fn d(v: Vec3) -> DVec3 {
 }
 
 impl Reach {
-    fn of(tri: &Tri, eye: Vec3, axes: &[DVec3; 3], big_d: f64) -> Option<Reach> {
+    fn of(tri: &Tri, eye: Vec3, axes: &[DVec3; 3], big_d: f64, scale: SideError) -> Option<Reach> {
         let w = tri.map(|v| d(v) - d(eye));
         let r = w.iter().map(|x| x.length()).fold(0.0, f64::max) * (1.0 + 1e-12);
-        let scale = 1.0 + 2.0 * r + big_d;
-        if scale.is_nan() || scale > LIMIT {
+        let lambda = match scale {
+            SideError::OriginScaled => r,
+            SideError::EdgeScaled => {
+                let [a, b, c] = tri.map(d);
+                [b - a, c - b, a - c]
+                    .iter()
+                    .map(|x| x.length())
+                    .fold(0.0, f64::max)
+                    * (1.0 + 1e-12)
+            }
+        };
+        let size = 1.0 + 2.0 * r + big_d;
+        if size.is_nan() || size > LIMIT {
             return None;
         }
         let m = [w[0].cross(w[1]), w[1].cross(w[2]), w[2].cross(w[0])];
         let [f, rt, up] = axes;
         Some(Reach {
             lines: m.map(|m| [m.dot(*f), m.dot(*rt), m.dot(*up)]),
-            bound: K_BINS * big_d * r * r + ETA * scale * scale,
+            bound: (k(scale) + PIXEL_SLACK) * big_d * r * lambda
+                + F64_SLACK * big_d * r * r
+                + ETA * size * size,
         })
     }
 
@@ -164,8 +198,16 @@ impl Reach {
     }
 }
 
-/// The candidate triangles of each tile of a `width × height` view from `cam` (module doc).
-pub fn bins(cam: &Camera, width: u32, height: u32, tile: u32, tris: &[Tri]) -> Bins {
+/// The candidate triangles of each tile of a `width × height` view from `cam` for methods of error
+/// scale `scale` (module doc).
+pub fn bins(
+    cam: &Camera,
+    width: u32,
+    height: u32,
+    tile: u32,
+    tris: &[Tri],
+    scale: SideError,
+) -> Bins {
     let (tiles_x, tiles_y) = (width.div_ceil(tile), height.div_ceil(tile));
     let sx: Vec<f64> = (0..width)
         .map(|x| Camera::screen(x, 0, width, height).0 as f64)
@@ -184,7 +226,7 @@ pub fn bins(cam: &Camera, width: u32, height: u32, tile: u32, tris: &[Tri]) -> B
             let mut out = Vec::new();
             for (k, tri) in chunk.iter().enumerate() {
                 let id = (c * 256 + k) as u32;
-                match Reach::of(tri, cam.eye, &axes, big_d) {
+                match Reach::of(tri, cam.eye, &axes, big_d, scale) {
                     None => out.extend((0..tiles_x * tiles_y).map(|t| (t, id))),
                     Some(reach) => {
                         let mut stack = vec![(0, tiles_x, 0, tiles_y)];

@@ -10,8 +10,8 @@ use crate::cases::{CaseError, HitCase, MAX_TRIS, field_error, number, vec3};
 use crate::choice::Choice;
 use crate::exact::hit::{HitTruth, Missed, first_crossing, judge_hit};
 use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
-use crate::methods::triangle::Among;
 use crate::methods::triangle::nearest_of;
+use crate::methods::triangle::{Among, SideError};
 use crate::registry::{Named, TRIANGLE_METHODS, TriangleMethod};
 use crate::scenes::camera::packet_order;
 use crate::scenes::closed::{MeshShape, TriAim, TriPlace, case};
@@ -544,12 +544,15 @@ pub struct TriangleFacts {
 }
 
 /// The scene's triangles facing a camera's region, with the region, and the last view's candidates
-/// (its index, tile side and bins, shared by every method of the view).
+/// (its index, tile side, error scale and bins, shared by the view's methods of that scale).
 pub struct Facing {
     region: Vec<bool>,
     triangles: SceneTriangles,
-    binned: std::sync::Mutex<Option<(usize, u32, std::sync::Arc<Among>)>>,
+    binned: std::sync::Mutex<Vec<ViewBins>>,
 }
+
+/// One view's candidates: its index, the tile side, the error scale, the bins.
+type ViewBins = (usize, u32, SideError, Arc<Among>);
 
 /// A nearest hit as a walk's ending: on the constrained face its triangle came from, or the mesh left.
 fn ending(hit: Option<u32>, from: &[(u32, u8)]) -> Walk {
@@ -617,16 +620,19 @@ impl Counted for Triangle {
         let order = packet_order(views.width, views.height, packet, tile);
         let packed: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
         let (tris, from) = &at.ready.triangles;
-        let binned =
-            !at.settings.brute_force && m.bounded && at.backend.ran().kind.model().is_some();
-        let among = if binned {
-            let mut last = at.ready.binned.lock().unwrap_or_else(|e| e.into_inner());
-            match &*last {
-                Some((v, t, among)) if (*v, *t) == (at.view, tile) => among.clone(),
-                _ => {
+        let binned = m
+            .side_error
+            .filter(|_| !at.settings.brute_force && at.backend.ran().kind.model().is_some());
+        let among = if let Some(scale) = binned {
+            let mut made = at.ready.binned.lock().unwrap_or_else(|e| e.into_inner());
+            made.retain(|b| b.0 == at.view);
+            match made.iter().find(|b| (b.1, b.2) == (tile, scale)) {
+                Some(b) => b.3.clone(),
+                None => {
                     let (w, h) = (views.width, views.height);
-                    let among = Arc::new(bins::bins(at.camera, w, h, tile, tris).among(w, h));
-                    *last = Some((at.view, tile, among.clone()));
+                    let among =
+                        Arc::new(bins::bins(at.camera, w, h, tile, tris, scale).among(w, h));
+                    made.push((at.view, tile, scale, among.clone()));
                     among
                 }
             }
@@ -644,7 +650,7 @@ impl Counted for Triangle {
         for (&i, hit) in order.iter().zip(&hits) {
             nearest[i] = *hit;
         }
-        if binned && !at.audited.is_empty() {
+        if binned.is_some() && !at.audited.is_empty() {
             let picked: Vec<Ray> = at.audited.iter().map(|&i| rays[i]).collect();
             // A run per thread, each preparing the triangles once; packets of one ray each.
             let run = picked.len().div_ceil(rayon::current_num_threads());

@@ -70,6 +70,16 @@ pub trait HitMethod {
     );
 }
 
+/// What a method's rounding error in its side products scales with (`family::bins` derives both):
+/// its terms are edges from a vertex and the vertex seen from the origin (`|d|·R·L`: Möller–Trumbore
+/// and its packet forms), or every vertex seen from the origin (`|d|·R²`: the Plücker packet test and
+/// Woop's sheared edge functions), `R` the farthest vertex from the origin and `L` the longest edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SideError {
+    EdgeScaled,
+    OriginScaled,
+}
+
 /// A method with a 4-wide version (seed 004's SIMD packets, [`lanes`]): four rays of a packet at once
 /// in the plain model, answering bit for bit as [`HitMethod::packet`] does there (`tests/triangle.rs`).
 pub trait Wide: HitMethod {
