@@ -18,6 +18,7 @@ use crate::scenes::closed::{MeshShape, TriAim, TriPlace, case};
 use crate::tet::{Ray, Tri};
 use crate::walk::{Outcome, OutcomeKind, Walk};
 use glam::Vec3;
+use rayon::prelude::*;
 use serde_json::{Map, Value, json};
 use std::sync::Arc;
 
@@ -623,25 +624,13 @@ impl Counted for Triangle {
         let binned = m
             .side_error
             .filter(|_| !at.settings.brute_force && at.backend.ran().kind.model().is_some());
-        let among = if let Some(scale) = binned {
-            let mut made = at.ready.binned.lock().unwrap_or_else(|e| e.into_inner());
-            made.retain(|b| b.0 == at.view);
-            match made.iter().find(|b| (b.1, b.2) == (tile, scale)) {
-                Some(b) => b.3.clone(),
-                None => {
-                    let (w, h) = (views.width, views.height);
-                    let among =
-                        Arc::new(bins::bins(at.camera, w, h, tile, tris, scale).among(w, h));
-                    made.push((at.view, tile, scale, among.clone()));
-                    among
-                }
-            }
-        } else {
-            Arc::new(Among::all(
+        let among = match binned {
+            Some(scale) => view_bins(at, tile, scale),
+            None => Arc::new(Among::all(
                 tris.len(),
                 packed.len(),
                 (packet * packet) as usize * 256,
-            ))
+            )),
         };
         let hits =
             at.backend
@@ -675,14 +664,48 @@ impl Counted for Triangle {
             .collect())
     }
 
+    /// The exact first crossing of each audited ray among its tile's edge-scaled candidates (an exact
+    /// crossing has its side products of one sign exactly, inside every bound of [`super::bins`], so
+    /// none is left out: were one, the reference walk would disagree and the audit stop the count), or
+    /// among every triangle with `--brute-force`.
     fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {
         let (tris, from) = &at.ready.triangles;
+        let (views, tile) = (at.scene.views, at.settings.packet.max(bins::MIN_TILE));
+        let among = (!at.settings.brute_force).then(|| view_bins(at, tile, SideError::EdgeScaled));
         Ok(rays
-            .iter()
-            .map(|r| {
-                let first = first_crossing((0..tris.len() as u32).zip(tris.iter().copied()), r);
+            .par_iter()
+            .zip(at.audited)
+            .map(|(r, &pixel)| {
+                let named: &[u32] = match &among {
+                    Some(among) => {
+                        let (x, y) = (pixel as u32 % views.width, pixel as u32 / views.width);
+                        let k = (y / tile) * views.width.div_ceil(tile) + x / tile;
+                        &among.ids[among.groups[k as usize].1.clone()]
+                    }
+                    None => &[],
+                };
+                let first = if among.is_some() {
+                    first_crossing(named.iter().map(|&i| (i, tris[i as usize])), r)
+                } else {
+                    first_crossing((0..tris.len() as u32).zip(tris.iter().copied()), r)
+                };
                 ending(first.map(|(_, at)| at[0]), from)
             })
             .collect())
     }
+}
+
+/// The view's candidates for tiles of `tile` and error scale `scale`, made once per view and shared
+/// by its methods and its audit.
+fn view_bins(at: &Prepared<Triangle>, tile: u32, scale: SideError) -> Arc<Among> {
+    let mut made = at.ready.binned.lock().unwrap_or_else(|e| e.into_inner());
+    made.retain(|b| b.0 == at.view);
+    if let Some(b) = made.iter().find(|b| (b.1, b.2) == (tile, scale)) {
+        return b.3.clone();
+    }
+    let (w, h) = (at.scene.views.width, at.scene.views.height);
+    let (tris, _) = &at.ready.triangles;
+    let among = Arc::new(bins::bins(at.camera, w, h, tile, tris, scale).among(w, h));
+    made.push((at.view, tile, scale, among.clone()));
+    among
 }
