@@ -151,6 +151,10 @@ fn scene_build_runs_tetgen_and_refuses_bad_models() {
         ok && out.contains(&format!("| {} |", mesh.tets.len())),
         "{out}"
     );
+    assert!(
+        out.contains("| seed 000's BUNNY (Table 3) | - | 682733 | 222775 | 1142650 | 62 |"),
+        "the paper's Table 3 row beside the scene's: {out}"
+    );
 
     let text = std::fs::read_to_string(model).unwrap();
     // A hole: drop the last triangle.
@@ -238,4 +242,47 @@ fn camera_rays_are_the_same_at_every_power_of_two_scale() {
     for e in [-120, -100, -60, -20, 20, 60, 100] {
         assert_eq!(rays(2f32.powi(e)), one, "scale 2^{e}");
     }
+}
+
+/// `scene subdivide` is byte for byte the same on every run, keeps the model closed and quadruples
+/// its triangles per level (the first step of corpora/scenes/bunny-paper.sh).
+#[test]
+fn subdividing_the_bunny_is_byte_for_byte_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let bunny = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/scenes/bunny.off");
+    let run = |name: &str| {
+        let out = dir.path().join(name);
+        let (ok, said) = tetwalk(
+            &[
+                "scene",
+                "subdivide",
+                bunny,
+                "--levels",
+                "2",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert!(ok && said.contains("58784 triangles"), "{said}");
+        std::fs::read(out).unwrap()
+    };
+    let (a, b) = (run("a.off"), run("b.off"));
+    assert_eq!(a, b);
+    let m = tetwalk::scenes::model::Model::read(&dir.path().join("a.off")).unwrap();
+    assert_eq!(m.triangles.len(), 3674 * 16);
+    m.check_closed().unwrap();
+    let (ok, said) = tetwalk(
+        &[
+            "scene",
+            "subdivide",
+            bunny,
+            "--levels",
+            "9",
+            "--out",
+            "x.off",
+        ],
+        None,
+    );
+    assert!(!ok && said.contains("--levels 9"), "{said}");
 }

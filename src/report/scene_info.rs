@@ -36,10 +36,19 @@ impl OctreeInfo {
     }
 }
 
+/// Seed 000 Table 3, the BUNNY column: tetrahedra, occlusive faces, non-occlusive faces, memory (MB).
+pub const SEED000_TABLE3_BUNNY: (usize, usize, usize, f64) = (682_733, 222_775, 1_142_650, 62.0);
+
 impl SceneInfo {
     pub fn markdown(&self) -> String {
+        let (t, occl, other, mb) = SEED000_TABLE3_BUNNY;
+        let tet80 = self
+            .layout_bytes
+            .iter()
+            .find(|(n, _)| n == "Tet80")
+            .map_or("-".into(), |(_, b)| format!("{:.1}", *b as f64 / 1e6));
         let mut s = format!(
-            "| points | tetrahedra | constrained faces | other faces |\n|---|---|---|---|\n| {} | {} | {} | {} |\n\n",
+            "| | points | tetrahedra | constrained faces | other faces | Tet80 MB |\n|---|---|---|---|---|---|\n| this scene | {} | {} | {} | {} | {tet80} |\n| seed 000's BUNNY (Table 3) | - | {t} | {occl} | {other} | {mb} |\n\n",
             self.points, self.tetrahedra, self.constrained_faces, self.other_faces
         );
         s += "| layout | MB |\n|---|---|\n";
