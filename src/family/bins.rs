@@ -51,7 +51,8 @@
 //! `|m_i| ≤ R L`) and `|e| ≤ γ_3 D R L`, `D = (1 + γ_3)(|F| + |Rt| + |Up|) ≥ |d|`. Over a tile's
 //! rectangle of `(sx, sy)` a linear `σL_i` is at most its value at the centre plus `|m_i·Rt|·half
 //! width + |m_i·Up|·half height`, exactly; computed in f64 from f32 inputs, every term errs by under
-//! `2^-46 D R²`. A tile is left out for `σ` when some `i` has that maximum below
+//! `2^-46 D R²` (their sum's coefficients, added in f64, by under `2^-44 D R²`). A tile is left out for
+//! `σ` when the sum's maximum is below `-3B`, or some `i` has that maximum below
 //! `-B = -((K + 2^-20) D R Λ + 2^-40 D R² + η)`, which exceeds `K D R Λ + γ_3 D R L + 2^-46 D R² + η`
 //! (`L ≤ 2Λ` for both scales and `γ_3 ≤ 2^-22`, so `γ_3 D R L ≤ 2^-21 D R Λ`; `L` is taken from the
 //! f32 vertices' differences in f64, each rounded once, and enlarged by `10^-12`): no ray of the tile
@@ -133,10 +134,13 @@ impl Bins {
     }
 }
 
-/// A triangle's three linear side-product functions on the screen, `c + a·sx + b·sy`, and the bound
-/// `B` below which a tile is left out; `None` where the lemma claims nothing (in every tile).
+/// A triangle's three linear side-product functions on the screen, `c + a·sx + b·sy`, their sum
+/// (`d·N`: where all three are at least `-B` it is at least `-3B`, a bound one line alone can prove
+/// of a whole rectangle near the triangle, for the sign it does not face), and the bound `B` below
+/// which a tile is left out; `None` where the lemma claims nothing (in every tile).
 struct Reach {
     lines: [[f64; 3]; 3],
+    sum: [f64; 3],
     bound: f64,
 }
 
@@ -165,8 +169,10 @@ impl Reach {
         }
         let m = [w[0].cross(w[1]), w[1].cross(w[2]), w[2].cross(w[0])];
         let [f, rt, up] = axes;
+        let lines = m.map(|m| [m.dot(*f), m.dot(*rt), m.dot(*up)]);
         Some(Reach {
-            lines: m.map(|m| [m.dot(*f), m.dot(*rt), m.dot(*up)]),
+            lines,
+            sum: std::array::from_fn(|k| lines[0][k] + lines[1][k] + lines[2][k]),
             bound: (k(scale) + PIXEL_SLACK) * big_d * r * lambda
                 + F64_SLACK * big_d * r * r
                 + ETA * size * size,
@@ -183,14 +189,19 @@ impl Reach {
             (y1 - y0) * 0.5,
         );
         let (mut some, mut every) = (false, false);
+        let range = |[c, a, b]: [f64; 3], sigma: f64| {
+            (sigma * (c + a * cx + b * cy), a.abs() * hx + b.abs() * hy)
+        };
         for sigma in [1.0, -1.0] {
             let (mut s, mut e) = (true, true);
-            for &[c, a, b] in &self.lines {
-                let (mid, spread) = (sigma * (c + a * cx + b * cy), a.abs() * hx + b.abs() * hy);
+            for &line in &self.lines {
+                let (mid, spread) = range(line, sigma);
                 // A NaN keeps the tile and claims nothing of every ray.
                 s &= (mid + spread).is_nan() || mid + spread >= -self.bound;
                 e &= mid - spread >= self.bound;
             }
+            let (mid, spread) = range(self.sum, sigma);
+            s &= (mid + spread).is_nan() || mid + spread >= -3.0 * self.bound;
             some |= s;
             every |= e;
         }
