@@ -228,3 +228,76 @@ fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
         "candidates are under 5% of the triangles per ray"
     );
 }
+
+/// A method that reports every triangle hit at `t = 1`: its nearest hit by brute force is triangle 0,
+/// among a tile's candidates the tile's first; it breaks the lemma, so claiming it obeys it must stop
+/// the count at the audit (the audited rays answered both ways), and as an outside method (no claim)
+/// it is counted by brute force.
+#[test]
+fn the_audit_stops_a_count_whose_bins_do_not_hold() {
+    use tetwalk::backend::Backend;
+    use tetwalk::engine::count::{Answerer, CountSettings, Shard, run};
+    use tetwalk::family::Triangle;
+    use tetwalk::family::count::CountError;
+    use tetwalk::family::triangle::TriCountSettings;
+    use tetwalk::methods::triangle::SingleRay;
+    use tetwalk::registry::TriangleMethod;
+
+    struct Everywhere;
+    impl SingleRay for Everywhere {
+        fn test<A: tetwalk::methods::Arith>(_: &Tri, _: &Ray) -> Option<f32> {
+            Some(1.0)
+        }
+    }
+    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let settings = CountSettings::<Triangle> {
+        scene: "bunny-quality".into(),
+        views: Views {
+            views: 2,
+            width: 32,
+            height: 32,
+            seed: 1,
+            fov_deg: Views::FOV_DEG,
+        },
+        reference: "certified".into(),
+        family: TriCountSettings {
+            packet: 2,
+            brute_force: false,
+        },
+        audit: 200,
+        shard: Shard::ALL,
+    };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
+    let outside = TriangleMethod::outside::<Everywhere>("everywhere");
+    let counted = run(
+        &mesh,
+        &settings,
+        &[Answerer::Method(&outside)],
+        &cpu,
+        &|| {},
+        None,
+    );
+    assert!(
+        counted.is_ok(),
+        "no claim, brute force: {:?}",
+        counted.err()
+    );
+    let mut claiming = TriangleMethod::outside::<Everywhere>("everywhere");
+    claiming.side_error = Some(EdgeScaled);
+    match run(
+        &mesh,
+        &settings,
+        &[Answerer::Method(&claiming)],
+        &cpu,
+        &|| {},
+        None,
+    ) {
+        Err(CountError::Bins { method, brute, .. }) => {
+            assert_eq!(method, "everywhere");
+            assert_eq!(brute, Some((0, 1.0)));
+        }
+        other => panic!("the audit must stop it: {:?}", other.map(|r| r.rays)),
+    }
+}
