@@ -448,11 +448,15 @@ pub struct TriangleMethod {
 }
 
 impl TriangleMethod {
-    const fn of<M: HitMethod>(info: Info, packet: bool) -> Self {
+    const fn of<M: HitMethod>(
+        info: Info,
+        packet: bool,
+        side_error: Option<triangle::SideError>,
+    ) -> Self {
         TriangleMethod {
             info,
             packet,
-            side_error: Some(triangle::SideError::EdgeScaled),
+            side_error,
             wide: None,
             hit: by_model!(triangle::hit, M),
             trace: by_model!(triangle::trace, M),
@@ -461,10 +465,14 @@ impl TriangleMethod {
     }
 
     /// A method with a 4-wide version ([`triangle::Wide`]).
-    const fn wide<M: triangle::Wide>(info: Info, packet: bool) -> Self {
+    const fn wide<M: triangle::Wide>(
+        info: Info,
+        packet: bool,
+        side_error: Option<triangle::SideError>,
+    ) -> Self {
         TriangleMethod {
             wide: Some(triangle::trace_wide::<M>),
-            ..Self::of::<M>(info, packet)
+            ..Self::of::<M>(info, packet, side_error)
         }
     }
 
@@ -479,10 +487,7 @@ impl TriangleMethod {
 
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
     pub fn outside<M: HitMethod>(name: &'static str) -> Self {
-        TriangleMethod {
-            side_error: None,
-            ..Self::of::<M>(Info::outside(name), false)
-        }
+        Self::of::<M>(Info::outside(name), false, None)
     }
 
     /// The test of one ray and one triangle, in an arithmetic model.
@@ -516,6 +521,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             Gpu::Wgsl(&[TRI_MT]),
         ),
         false,
+        Some(triangle::SideError::EdgeScaled),
     ),
     TriangleMethod::of::<MtTwoSided>(
         Info::published(
@@ -524,6 +530,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             Gpu::Wgsl(&[TRI_MT]),
         ),
         false,
+        Some(triangle::SideError::EdgeScaled),
     ),
     TriangleMethod::wide::<MtPrecomputed>(
         Info::published(
@@ -532,6 +539,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             Gpu::Wgsl(&[TRI_MT_PRECOMPUTED]),
         ),
         false,
+        Some(triangle::SideError::EdgeScaled),
     ),
     TriangleMethod::wide::<KomatsuPacket>(
         Info::published(
@@ -540,21 +548,18 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             Gpu::Wgsl(&[TRI_MT_PRECOMPUTED, TRI_KOMATSU]),
         ),
         true,
+        Some(triangle::SideError::EdgeScaled),
     ),
-    TriangleMethod {
-        side_error: Some(triangle::SideError::OriginScaled),
-        ..TriangleMethod::wide::<PluckerPacket>(
+    TriangleMethod::wide::<PluckerPacket>(
         Info::published(
             "plucker-packet",
             "Benthin 2006 as seed 004 §2 describes it: packet origin at the coordinate origin, three dot products per ray",
             Gpu::Wgsl(&[TRI_PLUCKER_PACKET]),
         ),
         true,
-    )
-    },
-    TriangleMethod {
-        side_error: Some(triangle::SideError::OriginScaled),
-        ..TriangleMethod::of::<WoopWatertight>(
+        Some(triangle::SideError::OriginScaled),
+    ),
+    TriangleMethod::of::<WoopWatertight>(
         Info {
             ours: true,
             ..Info::published(
@@ -565,8 +570,8 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             .claiming(Claim::NoLeak)
         },
         false,
-    )
-    },
+        Some(triangle::SideError::OriginScaled),
+    ),
 ];
 
 /// One octree method's answer for a cell `[lo, hi]` and a ray: the exit face (seed 001's numbering,

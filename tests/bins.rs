@@ -8,7 +8,7 @@ use glam::Vec3;
 use rand::RngExt;
 use tetwalk::choice::Model;
 use tetwalk::engine::count::located_views;
-use tetwalk::family::bins::bins;
+use tetwalk::family::bins::{bins, tile_of};
 use tetwalk::mesh::surface::{region_of, scene_triangles};
 use tetwalk::methods::triangle::Among;
 use tetwalk::methods::triangle::SideError::{EdgeScaled, OriginScaled};
@@ -142,8 +142,7 @@ fn no_triangle_a_method_could_hit_is_left_out() {
             for y in 0..H {
                 for x in 0..W {
                     let ray = cam.ray(x, y, W, H);
-                    let t = ((y / tile) * b.tiles_x + x / tile) as usize;
-                    let cands = b.of_tile(t);
+                    let cands = b.of_tile(tile_of(x, y, W, tile));
                     for m in TRIANGLE_METHODS
                         .iter()
                         .filter(|m| m.side_error == Some(scale))
@@ -192,9 +191,10 @@ fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
             let order = packet_order(views.width, views.height, packet, tile);
             let packed: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
             let binned = [EdgeScaled, OriginScaled].map(|scale| {
-                let b = bins(&cam, views.width, views.height, tile, &tris, scale);
-                fewer += b.per_ray(views.width, views.height) / tris.len() as f64 / 2.0;
-                (scale, b.among(views.width, views.height))
+                let among = bins(&cam, views.width, views.height, tile, &tris, scale)
+                    .among(views.width, views.height);
+                fewer += among.tests() as f64 / (rays.len() * tris.len()) as f64 / 2.0;
+                (scale, among)
             });
             let every = Among::all(tris.len(), packed.len(), packed.len());
             let p = (packet * packet) as usize;

@@ -375,11 +375,7 @@ pub fn speed(
                 .find(|b| b.0 == scale)
                 .expect("binned above")
                 .1;
-            let n: u64 = among
-                .groups
-                .iter()
-                .map(|(r, ids)| (r.len() * ids.len()) as u64)
-                .sum();
+            let n = among.tests();
             if p == 2 {
                 tests.push((m.name().to_string(), n));
             }

@@ -119,19 +119,12 @@ impl Bins {
             groups,
         }
     }
+}
 
-    /// Candidates per ray on average, over `width × height` pixels.
-    pub fn per_ray(&self, width: u32, height: u32) -> f64 {
-        let mut sum = 0u64;
-        for ty in 0..self.tiles_y {
-            for tx in 0..self.tiles_x {
-                let w = (width - tx * self.tile).min(self.tile) as u64;
-                let h = (height - ty * self.tile).min(self.tile) as u64;
-                sum += self.of_tile((ty * self.tiles_x + tx) as usize).len() as u64 * w * h;
-            }
-        }
-        sum as f64 / (width as u64 * height as u64).max(1) as f64
-    }
+/// The index of the tile of `tile²` pixels holding pixel `(x, y)` of a view `width` wide, tiles row
+/// by row ([`Bins::of_tile`], and [`Bins::among`]'s groups in that order).
+pub fn tile_of(x: u32, y: u32, width: u32, tile: u32) -> usize {
+    ((y / tile) * width.div_ceil(tile) + x / tile) as usize
 }
 
 /// A triangle's three linear side-product functions on the screen, `c + a·sx + b·sy`, their sum
@@ -234,13 +227,14 @@ pub fn bins(
         .par_chunks(256)
         .enumerate()
         .flat_map_iter(|(c, chunk)| {
-            let mut out = Vec::new();
+            let (mut out, mut stack) = (Vec::new(), Vec::new());
             for (k, tri) in chunk.iter().enumerate() {
                 let id = (c * 256 + k) as u32;
                 match Reach::of(tri, cam.eye, &axes, big_d, scale) {
                     None => out.extend((0..tiles_x * tiles_y).map(|t| (t, id))),
                     Some(reach) => {
-                        let mut stack = vec![(0, tiles_x, 0, tiles_y)];
+                        stack.clear();
+                        stack.push((0, tiles_x, 0, tiles_y));
                         while let Some((tx0, tx1, ty0, ty1)) = stack.pop() {
                             // Pixel columns and rows the tiles cover; sy falls as rows go down.
                             let (x0, x1) = (tx0 * tile, (tx1 * tile).min(width) - 1);

@@ -7,7 +7,7 @@ use super::wrong::Class;
 use super::{Family, Summed, Verdict, given_fields};
 use crate::backend::{Backend, BackendError};
 use crate::cases::{CaseError, HitCase, MAX_TRIS, field_error, number, vec3};
-use crate::choice::Choice;
+use crate::choice::{BackendKind, Choice};
 use crate::exact::hit::{HitTruth, Missed, first_crossing, judge_hit};
 use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
 use crate::methods::triangle::nearest_of;
@@ -537,6 +537,12 @@ pub struct TriCountSettings {
     pub brute_force: bool,
 }
 
+/// Whether a count with `settings` on a backend of `kind` tests each tile's candidates ([`super::bins`])
+/// for the methods that obey the bins' lemma: on a CPU backend, unless `--brute-force`.
+pub fn binned_on(settings: &TriCountSettings, kind: BackendKind) -> bool {
+    !settings.brute_force && kind.model().is_some()
+}
+
 /// What a ray–triangle count's report says of its scene.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TriangleFacts {
@@ -623,7 +629,7 @@ impl Counted for Triangle {
         let (tris, from) = &at.ready.triangles;
         let binned = m
             .side_error
-            .filter(|_| !at.settings.brute_force && at.backend.ran().kind.model().is_some());
+            .filter(|_| binned_on(at.settings, at.backend.ran().kind));
         let among = match binned {
             Some(scale) => view_bins(at, tile, scale),
             None => Arc::new(Among::all(
@@ -676,18 +682,16 @@ impl Counted for Triangle {
             .par_iter()
             .zip(at.audited)
             .map(|(r, &pixel)| {
-                let named: &[u32] = match &among {
+                let first = match &among {
                     Some(among) => {
                         let (x, y) = (pixel as u32 % views.width, pixel as u32 / views.width);
-                        let k = (y / tile) * views.width.div_ceil(tile) + x / tile;
-                        &among.ids[among.groups[k as usize].1.clone()]
+                        let named = &among.ids[among.groups
+                            [bins::tile_of(x, y, views.width, tile)]
+                        .1
+                        .clone()];
+                        first_crossing(named.iter().map(|&i| (i, tris[i as usize])), r)
                     }
-                    None => &[],
-                };
-                let first = if among.is_some() {
-                    first_crossing(named.iter().map(|&i| (i, tris[i as usize])), r)
-                } else {
-                    first_crossing((0..tris.len() as u32).zip(tris.iter().copied()), r)
+                    None => first_crossing((0..tris.len() as u32).zip(tris.iter().copied()), r),
                 };
                 ending(first.map(|(_, at)| at[0]), from)
             })

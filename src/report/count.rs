@@ -110,10 +110,10 @@ impl CountFormats for Triangle {
             s.family.packet,
             r.backend,
             s.views.seed,
-            if s.family.brute_force || r.backend.kind.model().is_none() {
-                "every triangle tested per ray (brute force)"
-            } else {
+            if crate::family::triangle::binned_on(&s.family, r.backend.kind) {
                 "each tile's candidate triangles tested per ray (src/family/bins.rs: none a method could hit is left out; on the audited rays every method also tested against every triangle, agreeing)"
+            } else {
+                "every triangle tested per ray (brute force)"
             },
             s.reference,
             audited(r, "the exact first hit among the triangles"),

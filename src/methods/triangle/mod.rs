@@ -46,6 +46,14 @@ impl Among {
                 .collect(),
         }
     }
+
+    /// The ray–triangle tests it asks for: each group's rays times its triangles.
+    pub fn tests(&self) -> u64 {
+        self.groups
+            .iter()
+            .map(|(r, ids)| (r.len() * ids.len()) as u64)
+            .sum()
+    }
 }
 
 /// Most rays in one packet (8×8).
