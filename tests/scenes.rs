@@ -269,6 +269,26 @@ fn subdividing_the_bunny_is_byte_for_byte_the_same() {
     };
     let (a, b) = (run("a.off"), run("b.off"));
     assert_eq!(a, b);
+    let json = dir.path().join("said.json");
+    let (ok, said) = tetwalk(
+        &[
+            "scene",
+            "subdivide",
+            bunny,
+            "--out",
+            dir.path().join("c.off").to_str().unwrap(),
+            "--json",
+            json.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(ok, "{said}");
+    let said: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    assert_eq!(
+        (said["levels"].as_u64(), said["triangles"].as_u64()),
+        (Some(1), Some(3674 * 4))
+    );
     let m = tetwalk::scenes::model::Model::read(&dir.path().join("a.off")).unwrap();
     assert_eq!(m.triangles.len(), 3674 * 16);
     m.check_closed().unwrap();

@@ -42,6 +42,9 @@ pub enum Scene {
         /// Where to write the OFF model (written whole, or not at all).
         #[arg(long)]
         out: PathBuf,
+        /// Also write what was written (model, levels, out, points, triangles) as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
     },
     /// Write a scene's mesh for another program's kernel (`count --rays-out` gives the rays, `judge`
     /// judges the walks): one JSON object in tetwalk's conventions (stated in its `convention` field).
@@ -113,10 +116,16 @@ pub fn run(s: Scene) -> Status {
             json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
         }
-        Scene::Subdivide { model, levels, out } => {
+        Scene::Subdivide {
+            model,
+            levels,
+            out,
+            json,
+        } => {
             if !(1..=4).contains(&levels) {
                 return Err(format!("--levels {levels} is not 1 to 4").into());
             }
+            let json = JsonOut::new(json.as_deref())?;
             let mut m = Model::read(&model)?;
             for _ in 0..levels {
                 m = m.loop_subdivided()?;
@@ -130,6 +139,13 @@ pub fn run(s: Scene) -> Status {
                 m.points.len(),
                 m.triangles.len()
             );
+            json.finish(&serde_json::json!({
+                "model": model,
+                "levels": levels,
+                "out": out,
+                "points": m.points.len(),
+                "triangles": m.triangles.len(),
+            }))?;
             Ok(ExitCode::SUCCESS)
         }
         Scene::Export {
