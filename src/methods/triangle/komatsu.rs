@@ -12,6 +12,13 @@ use glam::Vec3;
 
 pub struct KomatsuPacket;
 
+/// The dotted box of Figure 3, once per packet and triangle: `N·S`, `-S × E2`, `S × E1` (`S = O - P0`).
+#[inline(always)]
+fn per_packet<A: Arith>(p: &Precomputed, org: Vec3) -> (f32, Vec3, Vec3) {
+    let s = org - p.p0;
+    (A::dot(p.n, s), -A::cross(s, p.e2), A::cross(s, p.e1))
+}
+
 impl HitMethod for KomatsuPacket {
     type TriData = Precomputed;
     type RayData = Vec3;
@@ -22,11 +29,7 @@ impl HitMethod for KomatsuPacket {
         ray.dir
     }
     fn packet<A: Arith>(p: &Precomputed, org: Vec3, dirs: &[Vec3], out: &mut [Option<f32>]) {
-        // The dotted box of Figure 3: once per packet.
-        let s = org - p.p0;
-        let ns = A::dot(p.n, s);
-        let a = -A::cross(s, p.e2);
-        let b = A::cross(s, p.e1);
+        let (ns, a, b) = per_packet::<A>(p, org);
         for (d, o) in dirs.iter().zip(out) {
             *o = None;
             let r = -1.0 / A::dot(p.n, *d);
@@ -52,12 +55,7 @@ impl Wide for KomatsuPacket {
         V4::new(dirs.map(|d| *d))
     }
     fn shared(p: &Precomputed, org: Vec3) -> (f32, Vec3, Vec3) {
-        let s = org - p.p0;
-        (
-            Plain::dot(p.n, s),
-            -Plain::cross(s, p.e2),
-            Plain::cross(s, p.e1),
-        )
+        per_packet::<Plain>(p, org)
     }
     /// Four rays at once (SSE): the early exits become one miss mask of the same comparisons, and
     /// the four end after `u` where every lane missed (seed 004 §3.2's early termination).

@@ -11,6 +11,17 @@ use glam::Vec3;
 
 pub struct PluckerPacket;
 
+/// Once per packet and triangle: the vertices translated by the packet's origin (`a' = a - O`), the
+/// three edge moments `a'×b'`, `b'×c'`, `c'×a'`, and `N · a'`.
+#[inline(always)]
+fn per_packet<A: Arith>(tri: &WithNormal, org: Vec3) -> ([Vec3; 3], f32) {
+    let [a, b, c] = tri.v.map(|p| p - org);
+    (
+        [A::cross(a, b), A::cross(b, c), A::cross(c, a)],
+        A::dot(tri.n, a),
+    )
+}
+
 /// The vertices and the normal `N = (P1 - P0) × (P2 - P0)`, once per triangle.
 #[derive(Clone, Copy, Debug)]
 pub struct WithNormal {
@@ -31,9 +42,7 @@ impl HitMethod for PluckerPacket {
         ray.dir
     }
     fn packet<A: Arith>(tri: &WithNormal, org: Vec3, dirs: &[Vec3], out: &mut [Option<f32>]) {
-        let [a, b, c] = tri.v.map(|p| p - org);
-        let (mab, mbc, mca) = (A::cross(a, b), A::cross(b, c), A::cross(c, a));
-        let na = A::dot(tri.n, a);
+        let ([mab, mbc, mca], na) = per_packet::<A>(tri, org);
         for (d, o) in dirs.iter().zip(out) {
             let s = [A::dot(*d, mab), A::dot(*d, mbc), A::dot(*d, mca)];
             let one_sign = s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0);
@@ -51,9 +60,7 @@ impl Wide for PluckerPacket {
         V4::new(dirs.map(|d| *d))
     }
     fn shared(tri: &WithNormal, org: Vec3) -> ([Vec3; 3], f32) {
-        let [a, b, c] = tri.v.map(|p| p - org);
-        let m = [Plain::cross(a, b), Plain::cross(b, c), Plain::cross(c, a)];
-        (m, Plain::dot(tri.n, a))
+        per_packet::<Plain>(tri, org)
     }
     /// Four rays' three side products at once (SSE).
     fn packet4(tri: &WithNormal, &(m, na): &([Vec3; 3], f32), d: &V4, out: &mut [Option<f32>]) {
