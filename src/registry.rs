@@ -432,6 +432,15 @@ pub type TraceFn = fn(&[Tri], &[u32], &triangle::Groups, &[Ray], usize) -> Vec<O
 /// Every hit of one ray among triangles, in triangle order ([`triangle::hits`]).
 pub type HitsFn = fn(&[Tri], &Ray) -> Vec<(u32, f32)>;
 
+/// A method's 4-wide version ([`triangle::Wide`]): the nearest hits of rays in packets, and every hit
+/// of one ray, as its scalar [`TriangleMethod::trace`] and [`TriangleMethod::hits`] give them in the
+/// plain model.
+#[derive(Clone, Copy)]
+pub struct WideFns {
+    pub trace: TraceFn,
+    pub hits: HitsFn,
+}
+
 /// A registered ray–triangle method (seed 004).
 pub struct TriangleMethod {
     pub info: Info,
@@ -441,7 +450,7 @@ pub struct TriangleMethod {
     /// the registry; `None` for one written outside tetwalk, for which a count tests every triangle).
     pub side_error: Option<triangle::SideError>,
     /// Its 4-wide version (seed 004's SIMD packets, plain model, the same answers), where it has one.
-    pub wide: Option<TraceFn>,
+    pub wide: Option<WideFns>,
     hit: [HitFn; MODELS],
     trace: [TraceFn; MODELS],
     hits: [HitsFn; MODELS],
@@ -471,7 +480,10 @@ impl TriangleMethod {
         side_error: Option<triangle::SideError>,
     ) -> Self {
         TriangleMethod {
-            wide: Some(triangle::trace_wide::<M>),
+            wide: Some(WideFns {
+                trace: triangle::trace_wide::<M>,
+                hits: triangle::hits_wide::<M>,
+            }),
             ..Self::of::<M>(info, packet, side_error)
         }
     }
@@ -480,7 +492,7 @@ impl TriangleMethod {
     /// answers, bit for bit), else the scalar one.
     pub fn fastest(&self, model: Model) -> TraceFn {
         match (model, self.wide) {
-            (Model::Plain, Some(wide)) => wide,
+            (Model::Plain, Some(wide)) => wide.trace,
             _ => self.trace(model),
         }
     }

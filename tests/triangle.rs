@@ -672,7 +672,7 @@ fn near_rows_move_their_origin_at_the_cases_scale() {
 
 /// The 4-wide versions (seed 004's SIMD packets) answer bit for bit as the scalar ones in the plain
 /// model: every triangle alone and the nearest over all, in packets of 1 to 64 rays sharing an origin,
-/// on cases from every exponent regime (subnormal to near overflow, mixed in one case), degenerate
+/// and every hit of each ray alone (`hit --wide`), on cases from every exponent regime (subnormal to near overflow, mixed in one case), degenerate
 /// triangles, rays parallel to a triangle's plane, through its vertices, and with zero components.
 #[test]
 fn wide_packets_answer_bit_for_bit_as_the_scalar_ones() {
@@ -715,8 +715,8 @@ fn wide_packets_answer_bit_for_bit_as_the_scalar_ones() {
         let every = tetwalk::methods::triangle::Among::all(tris.len(), rays.len(), rays.len());
         let whole = [(0..rays.len(), 0..1)];
         for m in TRIANGLE_METHODS {
-            let Some(wide) = m.wide else { continue };
-            let scalar = m.trace(Model::Plain);
+            let Some(four) = m.wide else { continue };
+            let (wide, scalar) = (four.trace, m.trace(Model::Plain));
             let bits = |v: Vec<Option<(u32, f32)>>| -> Vec<_> {
                 v.into_iter()
                     .map(|h| h.map(|(i, t)| (i, t.to_bits())))
@@ -739,10 +739,94 @@ fn wide_packets_answer_bit_for_bit_as_the_scalar_ones() {
                     assert_eq!(bits(w), bits(s), "{} triangle {i}, round {round}", m.name());
                 }
             }
+            // Every hit of one ray, as `tetwalk hit --wide` compares them.
+            let every_hit = |v: Vec<(u32, f32)>| -> Vec<_> {
+                v.into_iter().map(|(i, t)| (i, t.to_bits())).collect()
+            };
+            for ray in &rays {
+                assert_eq!(
+                    every_hit((four.hits)(&tris, ray)),
+                    every_hit(m.hits(Model::Plain)(&tris, ray)),
+                    "{} every hit of {ray:?}, round {round}",
+                    m.name()
+                );
+            }
         }
     }
     assert!(
         hits > 1000 && compared > 100_000,
         "{hits} hits of {compared}"
     );
+}
+
+/// `hit --wide`: each method with a 4-wide version answers every case through it too, and says so on
+/// each line and in its summary (stress cases of every aim, near and far from the origin, one
+/// triangle and closed meshes); the run is refused where the comparison means nothing.
+#[test]
+fn hit_wide_compares_the_4_wide_versions_case_by_case() {
+    let mut input = Vec::new();
+    for (aim, place, one) in [
+        ("near-edge", "far", false),
+        ("near-vertex", "origin", true),
+        ("grazing", "embree", false),
+        ("edge", "origin", true),
+    ] {
+        let mut args = vec![
+            "gen-cases",
+            "--shape",
+            "icosahedron",
+            "--aim",
+            aim,
+            "--place",
+            place,
+            "--count",
+            "150",
+        ];
+        if one {
+            args.push("--single");
+        }
+        let (code, out, err) = common::run_tetwalk(&args, b"");
+        assert_eq!(code, 0, "{err}");
+        input.extend_from_slice(out.as_bytes());
+    }
+    let cases = input.iter().filter(|&&b| b == b'\n').count();
+    assert!(cases > 550, "{cases} cases");
+    let (code, out, err) = common::run_tetwalk(&["hit", "--wide"], &input);
+    assert_eq!(code, 0, "{err}");
+    let v = lines(&out);
+    assert_eq!(v.len(), cases * TRIANGLE_METHODS.len());
+    for m in TRIANGLE_METHODS {
+        let mine: Vec<_> = v.iter().filter(|x| x["method"] == m.name()).collect();
+        assert_eq!(mine.len(), cases);
+        for x in mine {
+            assert_eq!(
+                x.get("wide_same"),
+                m.wide.is_some().then_some(&serde_json::Value::Bool(true)),
+                "{x}"
+            );
+        }
+        if m.wide.is_some() {
+            assert!(
+                err.contains(&format!(
+                    "{}: {cases} cases, {} right",
+                    m.name(),
+                    v.iter()
+                        .filter(|x| x["method"] == m.name() && x["correct"] == true)
+                        .count()
+                )) && err.contains(&format!(
+                    "its 4-wide version answered all {cases} the same, bit for bit"
+                )),
+                "{err}"
+            );
+        }
+    }
+    let (code, _, err) = common::run_tetwalk(&["hit", "--wide", "--method", "mt"], &input);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("none of the methods asked for has a 4-wide version"),
+        "{err}"
+    );
+    let (code, _, err) = common::run_tetwalk(&["hit", "--wide", "--backend", "cpu-fma"], &input);
+    assert_eq!(code, 2);
+    assert!(err.contains("give --backend cpu"), "{err}");
 }

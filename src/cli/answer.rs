@@ -145,6 +145,12 @@ pub(super) struct Tally {
     /// Hits wrong for their `t` alone: the triangle right, `t` beyond `--t-ulps`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub t_alone: Option<u64>,
+    /// With `hit --wide`, for a method with a 4-wide version: the cases it answered otherwise than
+    /// the scalar version, and the cases compared.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wide_differs: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wide_compared: Option<u64>,
 }
 
 /// What a command answering JSON Lines writes with `--json`.
@@ -248,8 +254,17 @@ impl Answering<'_> {
                 true => String::new(),
                 false => format!(" (of them {})", of_them.join("; ")),
             };
+            let wide = match (t.wide_compared, t.wide_differs) {
+                (Some(n), Some(0)) => {
+                    format!("; its 4-wide version answered all {n} the same, bit for bit")
+                }
+                (Some(n), Some(d)) => format!(
+                    "; its 4-wide version answered {d} of {n} otherwise than the scalar one"
+                ),
+                _ => String::new(),
+            };
             eprintln!(
-                "tetwalk {}: {}: {}, {} right, {} wrong{back}, {not} not judged{}",
+                "tetwalk {}: {}: {}, {} right, {} wrong{back}, {not} not judged{}{wide}",
                 self.command,
                 t.method,
                 counted(answered, "case", "cases"),
@@ -264,6 +279,15 @@ impl Answering<'_> {
         }
         let standings: Vec<Standing> = summary.methods.iter().map(self.standing).collect();
         let status = self.fail.status(self.command, &standings);
+        let differ: u64 = summary.methods.iter().filter_map(|t| t.wide_differs).sum();
+        if differ > 0 {
+            eprintln!(
+                "tetwalk {}: a 4-wide version answered {} otherwise than its scalar version (the lines' \"wide_same\": false)",
+                self.command,
+                counted(differ, "case", "cases")
+            );
+            return Ok(ExitCode::FAILURE);
+        }
         if summary.errors > 0 {
             eprintln!(
                 "tetwalk {}: {} could not be answered",
@@ -291,10 +315,12 @@ type Taken<F> = (
     Option<<F as Family>::Answer>,
 );
 
-/// One family's part of a command: who answers its cases, and the cases of a batch taken so far.
+/// One family's part of a command: who answers its cases, whether methods with a 4-wide version are
+/// answered by it too and compared (`hit --wide`), and the cases of a batch taken so far.
 pub(super) struct Part<'a, F: Family> {
     pub answered: Answered<'a, F>,
     pub t_ulps: f64,
+    pub wide: bool,
     taken: Vec<Taken<F>>,
 }
 
@@ -303,6 +329,7 @@ impl<'a, F: Lines> Part<'a, F> {
         Part {
             answered,
             t_ulps,
+            wide: false,
             taken: Vec::new(),
         }
     }
@@ -378,12 +405,14 @@ impl<F: Lines> Takes for Part<'_, F> {
             Answered::Methods(methods, backend) => {
                 let cases: Vec<F::Case> = taken.iter().map(|(_, c, ..)| *c).collect();
                 let mut answers = Vec::new();
+                let mut wide = Vec::new();
                 for m in methods.iter() {
                     answers.push(F::answers(backend, m, &cases)?);
+                    wide.push(self.wide.then(|| F::wide_answers(m, &cases)).flatten());
                 }
                 for (k, (n, case, truth, _)) in taken.iter().enumerate() {
                     for (i, m) in methods.iter().enumerate() {
-                        let (fields, said) =
+                        let (mut fields, said) =
                             F::verdict_line(case, truth, &answers[i][k], self.t_ulps);
                         let tally = summary
                             .methods
@@ -391,6 +420,17 @@ impl<F: Lines> Takes for Part<'_, F> {
                             .find(|t| t.method == m.name())
                             .expect("every method has a tally");
                         tally.count(said);
+                        if let Some(w) = &wide[i] {
+                            // Hits are compared by value: each `t` a method reports is finite and
+                            // above zero, where equal values are equal bits.
+                            let same = w[k] == answers[i][k];
+                            fields.insert("wide_same".into(), json!(same));
+                            if !same {
+                                fields.insert("wide_answer".into(), F::answer_json(&w[k]));
+                            }
+                            *tally.wide_compared.get_or_insert(0) += 1;
+                            *tally.wide_differs.get_or_insert(0) += !same as u64;
+                        }
                         let on = backend.for_method(*m).ran().kind.name();
                         out.push((*n, line(*n, m.name(), on, fields)));
                     }

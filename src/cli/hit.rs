@@ -3,8 +3,9 @@
 
 use super::Status;
 use super::answer::{Answered, Answering, Part, Takes, answer, standing};
+use crate::choice::{BackendKind, Choice};
 use crate::family::{self, Kind, Triangle};
-use crate::registry::Named;
+use crate::registry::{Named, TRIANGLE_METHODS};
 
 /// The arguments of `hit`.
 #[derive(clap::Args)]
@@ -15,11 +16,44 @@ pub struct Args {
     /// always needs `0 < t < ∞` [default: 4096].
     #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
     t_ulps: Option<f64>,
+    /// Also answer every case with each method's 4-wide version (seed 004's SIMD packets:
+    /// mt-precomputed, komatsu-packet, plucker-packet), the ray in every lane, and compare: each
+    /// line of such a method says `"wide_same"`, and any case answered otherwise than by the scalar
+    /// version, bit for bit, gives exit status 1. Plain f32 only (`--backend cpu`).
+    #[arg(long)]
+    wide: bool,
 }
 
-pub fn run(Args { common: a, t_ulps }: Args) -> Status {
+pub fn run(
+    Args {
+        common: a,
+        t_ulps,
+        wide,
+    }: Args,
+) -> Status {
     let methods = family::parse_list::<Triangle>(&a.method)?;
     let t_ulps = super::t_ulps(t_ulps)?;
+    if wide {
+        if a.backend.backend != BackendKind::Cpu {
+            return Err(format!(
+                "--wide compares the 4-wide versions with the scalar ones in plain f32, where they answer alike: give --backend cpu, not {}",
+                a.backend.backend.name()
+            )
+            .into());
+        }
+        if methods.iter().all(|m| m.wide.is_none()) {
+            let have: Vec<&str> = TRIANGLE_METHODS
+                .iter()
+                .filter(|m| m.wide.is_some())
+                .map(|m| m.name())
+                .collect();
+            return Err(format!(
+                "--wide: none of the methods asked for has a 4-wide version ({} have)",
+                have.join(", ")
+            )
+            .into());
+        }
+    }
     let backend = a.backend.open()?;
     Answering {
         command: "hit",
@@ -36,8 +70,9 @@ pub fn run(Args { common: a, t_ulps }: Args) -> Status {
     .run(
         |batch, summary| {
             let answered = Answered::Methods(&methods, &backend);
-            let mut parts: [Box<dyn Takes>; 1] =
-                [Box::new(Part::<Triangle>::new(answered, t_ulps))];
+            let mut part = Part::<Triangle>::new(answered, t_ulps);
+            part.wide = wide;
+            let mut parts: [Box<dyn Takes>; 1] = [Box::new(part)];
             answer(batch, &mut parts, refuse, None, summary)
         },
         || Ok(()),

@@ -380,7 +380,7 @@ pub fn speed(
                 tests.push((m.name().to_string(), n));
             }
             let versions = std::iter::once((false, m.trace(Model::Plain)))
-                .chain(m.wide.map(|wide| (true, wide)));
+                .chain(m.wide.map(|wide| (true, wide.trace)));
             for (wide, trace) in versions {
                 let mut best = f64::INFINITY;
                 for _ in 0..repeats.max(1) {

@@ -180,6 +180,11 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
         method: &Self::Method,
         cases: &[Self::Case],
     ) -> Result<Vec<Self::Answer>, BackendError>;
+    /// `method`'s 4-wide version's answer to each case (plain f32; `tetwalk hit --wide` compares it
+    /// with the scalar one), or `None` where the method has no such version.
+    fn wide_answers(_method: &Self::Method, _cases: &[Self::Case]) -> Option<Vec<Self::Answer>> {
+        None
+    }
     /// The kind of ending an answer is (a face or a hit counts as [`OutcomeKind::Hit`]).
     fn kind(answer: &Self::Answer) -> OutcomeKind;
     /// An answer as a found case records it.

@@ -343,6 +343,16 @@ impl Family for Triangle {
             .collect())
     }
 
+    fn wide_answers(m: &TriangleMethod, cases: &[HitCase]) -> Option<Vec<Hits>> {
+        let wide = m.wide?;
+        Some(
+            cases
+                .par_iter()
+                .map(|c| Hits::of(&(wide.hits)(c.tris(), &c.ray())))
+                .collect(),
+        )
+    }
+
     fn kind(hits: &Hits) -> OutcomeKind {
         match hits.nearest() {
             Some(_) => OutcomeKind::Hit,

@@ -315,11 +315,22 @@ fn trace_by<M: HitMethod, A: Arith, T: Tester<M>>(
 /// Every hit of one ray among `tris`, in triangle order.
 pub fn hits<M: HitMethod, A: Arith>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> {
     A::run((tris, ray), |(tris, ray)| {
-        let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
-        let mut out = Vec::new();
-        let named = (0..tris.len() as u32).zip(&prepared);
-        let one = vec![M::ray::<A>(ray)];
-        each_hit::<M, Scalar<A>>(named, ray.org, &one, 1, |i, _, t| out.push((i, t)));
-        out
+        hits_by::<M, A, Scalar<A>>(tris, ray)
     })
+}
+
+/// [`hits`] in the plain model with the method's 4-wide test (the ray in every lane).
+pub fn hits_wide<M: Wide>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> {
+    hits_by::<M, super::Plain, Four>(tris, ray)
+}
+
+/// [`hits`] with the packet test `T`.
+fn hits_by<M: HitMethod, A: Arith, T: Tester<M>>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> {
+    let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
+    let mut out = Vec::new();
+    let named = (0..tris.len() as u32).zip(&prepared);
+    let mut one = T::Rays::default();
+    T::rays(&[M::ray::<A>(ray)], &mut one);
+    each_hit::<M, T>(named, ray.org, &one, 1, |i, _, t| out.push((i, t)));
+    out
 }
