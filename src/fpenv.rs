@@ -97,9 +97,123 @@ pub fn standard<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
     with(false, input, f)
 }
 
+/// Whether the fused model runs on the processor's fused multiply-add instruction: x86-64 with FMA3
+/// (checked at run time), unless the environment sets `TETWALK_NO_FMA=1` (then `f32::mul_add`, a
+/// library call: the same answers, slower; for comparing the two). Decided once per process.
+pub fn has_fma() -> bool {
+    static HAS: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *HAS.get_or_init(|| {
+        let off = std::env::var_os("TETWALK_NO_FMA").is_some_and(|v| v == "1");
+        #[cfg(target_arch = "x86_64")]
+        return !off && std::arch::is_x86_feature_detected!("fma");
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = off;
+            false
+        }
+    })
+}
+
+/// `a·b + c` rounded once by the FMA instruction: inline in code compiled for it ([`with_fma`]),
+/// a call to one instruction elsewhere.
+///
+/// # Safety
+/// The processor must have FMA ([`has_fma`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+#[inline]
+pub(crate) unsafe fn fma_instruction(a: f32, b: f32, c: f32) -> f32 {
+    a.mul_add(b, c)
+}
+
+/// `f(input)` compiled, as far as it inlines, for the FMA instruction.
+///
+/// # Safety
+/// The processor must have FMA ([`has_fma`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+#[inline]
+pub(crate) unsafe fn with_fma<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+    f(input)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The fused model's two instantiations round alike (`methods::Fused`, `methods::FusedFma`):
+    /// the FMA instruction, inline and called, against `f32::mul_add` without it, on operands from
+    /// every exponent regime (subnormal to near overflow, mixed in one operation), signed zeros,
+    /// infinities and NaN, and products that cancel the addend.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn hardware_fma_rounds_as_the_library_fma() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let special = [
+            0.0,
+            -0.0,
+            f32::MIN_POSITIVE,
+            1e-45,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NAN,
+        ];
+        let mut ops = Vec::new();
+        for _ in 0..200_000 {
+            // Sign and mantissa from `r`, any finite exponent (0: subnormal or zero); or a special.
+            let x = |r: u64| {
+                if r.is_multiple_of(16) {
+                    special[(r >> 8) as usize % special.len()]
+                } else {
+                    f32::from_bits((r as u32 & 0x807f_ffff) | (((r >> 40) as u32 % 255) << 23))
+                }
+            };
+            let (a, b) = (x(next()), x(next()));
+            let c = match next() % 3 {
+                0 => x(next()),
+                // An addend that cancels the product's leading bits.
+                1 => -(a * b) * f32::from_bits(0x3f80_0000 + (next() % 64) as u32),
+                _ => -(a * b),
+            };
+            ops.push((a, b, c));
+        }
+        let library: Vec<u32> = ops
+            .iter()
+            .map(|&(a, b, c)| std::hint::black_box(a).mul_add(b, c).to_bits())
+            .collect();
+        if !std::arch::is_x86_feature_detected!("fma") {
+            eprintln!(
+                "SKIPPED: this processor has no FMA instruction; the fused model uses mul_add"
+            );
+            return;
+        }
+        // SAFETY: the processor has FMA (checked above).
+        let inside: Vec<u32> = unsafe {
+            with_fma(&ops, |ops| {
+                ops.iter()
+                    .map(|&(a, b, c)| a.mul_add(b, c).to_bits())
+                    .collect()
+            })
+        };
+        // SAFETY: likewise.
+        let called: Vec<u32> = ops
+            .iter()
+            .map(|&(a, b, c)| unsafe { fma_instruction(a, b, c) }.to_bits())
+            .collect();
+        for (((op, l), f), c) in ops.iter().zip(&library).zip(&inside).zip(&called) {
+            let nan = |x: u32| f32::from_bits(x).is_nan();
+            assert!(
+                (l == f && l == c) || (nan(*l) && nan(*f) && nan(*c)),
+                "{op:?}: mul_add {l:#x}, inline FMA {f:#x}, called FMA {c:#x}"
+            );
+        }
+    }
 
     /// Whether the calling thread flushes subnormals now.
     fn flushing() -> bool {

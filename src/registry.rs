@@ -10,8 +10,9 @@ use crate::methods::triangle::{
     WoopWatertight,
 };
 use crate::methods::{
-    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Flushed, Fused, HalfSpace, Maria17,
-    Model, MomentFirst, Ms06, OriginFirst, Plain, Plucker, Query, RayPlane, Stp, time_queries,
+    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Flushed, Fused, FusedFma, HalfSpace,
+    Maria17, Model, MomentFirst, Ms06, OriginFirst, Plain, Plucker, Query, RayPlane, Stp,
+    time_queries,
 };
 use crate::octree::Octree;
 use crate::tet::{Ray, Tet};
@@ -137,28 +138,41 @@ const AMAN20_SCALED: &str = include_str!("methods/aman20_scaled.wgsl");
 const CERTIFIED: &str = include_str!("methods/certified.wgsl");
 const PORTALEZ16: &str = include_str!("methods/portalez16.wgsl");
 
-/// How many arithmetic models each method is instantiated in.
-const MODELS: usize = Model::ALL.len();
+/// How many instantiations each method has: one per arithmetic model, and the fused model's on the
+/// FMA instruction.
+const MODELS: usize = Model::ALL.len() + 1;
 
-/// `[f::<M, Plain>, f::<M, Fused>, f::<M, Flushed>]`: a function instantiated for every arithmetic
-/// model, indexed by [`Model`].
+/// `[f::<M, Plain>, f::<M, Fused>, f::<M, Flushed>, f::<M, FusedFma>]`: a function instantiated for
+/// every arithmetic model, indexed by [`slot`].
 macro_rules! by_model {
     ($($f:ident)::+, $m:ty) => {
         [
             $($f)::+::<$m, Plain>,
             $($f)::+::<$m, Fused>,
             $($f)::+::<$m, Flushed>,
+            $($f)::+::<$m, FusedFma>,
         ]
     };
+}
+
+/// Where model `m`'s instantiation is in a [`by_model!`] table: the fused model's on the FMA
+/// instruction (the same bits, faster) where the processor has it.
+fn slot(m: Model) -> usize {
+    match m {
+        Model::Fused if FusedFma::available() => Model::ALL.len(),
+        m => m as usize,
+    }
 }
 
 /// A method's exit function with its arithmetic fixed, for callers that pick methods at run time.
 pub type ExitFn = fn(&Tet, &Ray, Option<usize>) -> Option<usize>;
 
 fn exit_fn<M: ExitMethod, A: Arith>(tet: &Tet, ray: &Ray, entry: Option<usize>) -> Option<usize> {
-    A::run((tet, ray), |(tet, ray)| {
-        M::exit_face::<A>(tet, &M::prepare::<A>(ray), entry)
-    })
+    A::run(
+        (tet, ray),
+        #[inline(always)]
+        |(tet, ray)| M::exit_face::<A>(tet, &M::prepare::<A>(ray), entry),
+    )
 }
 
 /// A registered exit-face method (seeds 000 and 003): one tetrahedron's exit face, and the walks.
@@ -207,22 +221,22 @@ impl Method {
 
     /// The exit function, in an arithmetic model.
     pub fn exit(&self, model: Model) -> ExitFn {
-        self.exit[model as usize]
+        self.exit[slot(model)]
     }
 
     /// The walk specialised to this method, in an arithmetic model.
     pub fn walk(&self, model: Model) -> WalkFn {
-        self.walk[model as usize]
+        self.walk[slot(model)]
     }
 
     /// The walk of many rays from one start, interleaved on one thread ([`walk::walks`]).
     pub fn walks(&self, model: Model) -> WalksFn {
-        self.walks[model as usize]
+        self.walks[slot(model)]
     }
 
     /// The walk over Tet32/Tet20/Tet16, for the methods that have one (seed 003 Algorithms 2-7).
     pub fn layout_walk(&self, model: Model) -> Option<LayoutWalkFn> {
-        self.layout_walk.map(|w| w[model as usize])
+        self.layout_walk.map(|w| w[slot(model)])
     }
 
     /// Time this method's exit-face search over a batch of queries (benchmarks; seed 000 Table 5).
@@ -232,7 +246,7 @@ impl Method {
 
     /// The walk that judges every step with the oracle ([`walk::walk_checked`]).
     pub fn walk_checked(&self, model: Model) -> CheckedWalkFn {
-        self.checked[model as usize]
+        self.checked[slot(model)]
     }
 }
 
@@ -504,17 +518,17 @@ impl TriangleMethod {
 
     /// The test of one ray and one triangle, in an arithmetic model.
     pub fn hit(&self, model: Model) -> HitFn {
-        self.hit[model as usize]
+        self.hit[slot(model)]
     }
 
     /// The nearest hit among triangles, rays in packets.
     pub fn trace(&self, model: Model) -> TraceFn {
-        self.trace[model as usize]
+        self.trace[slot(model)]
     }
 
     /// Every hit of one ray among triangles.
     pub fn hits(&self, model: Model) -> HitsFn {
-        self.hits[model as usize]
+        self.hits[slot(model)]
     }
 }
 
@@ -591,9 +605,11 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
 pub type BoxExitFn = fn(Vec3, Vec3, &Ray) -> Option<(usize, usize)>;
 
 fn cell_exit<M: CellMethod, A: Arith>(lo: Vec3, hi: Vec3, ray: &Ray) -> Option<(usize, usize)> {
-    A::run((lo, hi, ray), |(lo, hi, ray)| {
-        M::exit::<A>(lo, hi, &M::prepare::<A>(ray))
-    })
+    A::run(
+        (lo, hi, ray),
+        #[inline(always)]
+        |(lo, hi, ray)| M::exit::<A>(lo, hi, &M::prepare::<A>(ray)),
+    )
 }
 
 /// The exact exit: the first exact exit face and its first quarter ([`crate::exact::boxes`]).
@@ -651,17 +667,17 @@ impl OctreeMethod {
 
     /// The exit face and quarter of one cell, in an arithmetic model.
     pub fn exit(&self, model: Model) -> BoxExitFn {
-        self.exit[model as usize]
+        self.exit[slot(model)]
     }
 
     /// The walk through an octree (seed 001 §4.2.3), in an arithmetic model.
     pub fn walk(&self, model: Model) -> OctreeWalkFn {
-        self.walk[model as usize]
+        self.walk[slot(model)]
     }
 
     /// The walk, also listing each cell's exit as the method chose it (none for the reference).
     pub fn walk_traced(&self, model: Model) -> OctreeTracedFn {
-        self.traced[model as usize]
+        self.traced[slot(model)]
     }
 }
 

@@ -148,6 +148,10 @@ pub struct BenchReport {
     pub backends: Vec<Ran>,
     /// Whether the mesh was put in Hilbert order first (seed 003 §3).
     pub hilbert: bool,
+    /// Whether `cpu-fma` ran on the processor's FMA instruction, or through `f32::mul_add` (no such
+    /// instruction, or `TETWALK_NO_FMA=1`): the same answers, not the same speed.
+    #[serde(default)]
+    pub fma_instruction: bool,
     pub rows: Vec<BenchRow>,
 }
 
@@ -299,6 +303,7 @@ pub fn run(
         batch: views_per_batch * per_view,
         backends: backends.iter().map(|b| b.ran()).collect(),
         hilbert,
+        fma_instruction: crate::fpenv::has_fma(),
         rows,
     })
 }

@@ -1,7 +1,7 @@
 //! `aman20` and `aman20-scaled`: Aman, Demirci, Güdükbay (seed 003) §4: the tetrahedron projected onto
 //! a 2-D frame around the ray, Algorithm 1 exit selection from the one newly fetched vertex.
 
-use super::{Arith, ExitMethod, leaves};
+use super::{Arith, ExitMethod, each, leaves};
 use crate::tet::{FACE_VERTICES, Ray, Tet};
 use glam::{Vec2, Vec3};
 
@@ -43,10 +43,10 @@ fn exit_2d<A: Arith>(tet: &Tet, frame: &impl Frame, entry: Option<usize>) -> Opt
         Some(e) => {
             let [a0, a1, a2] = FACE_VERTICES[e];
             let idx = [a0, a2, a1, e];
-            let p = idx.map(|i| frame.project::<A>(tet[i]));
+            let p = each(idx, |i| frame.project::<A>(tet[i]));
             Some(idx[get_exit_face::<A>(&p)])
         }
-        None => start_exit_face::<A>(&tet.map(|v| frame.project::<A>(v))),
+        None => start_exit_face::<A>(&each(*tet, |v| frame.project::<A>(v))),
     }
 }
 
@@ -55,7 +55,7 @@ fn exit_2d<A: Arith>(tet: &Tet, frame: &impl Frame, entry: Option<usize>) -> Opt
 pub fn start_exit_face<A: Arith>(p: &[Vec2; 4]) -> Option<usize> {
     (0..4).find(|&f| {
         let v = FACE_VERTICES[f];
-        let d: [f32; 3] = std::array::from_fn(|k| det::<A>(p[v[k]], p[v[(k + 1) % 3]]));
+        let d = each([0, 1, 2], |k| det::<A>(p[v[k]], p[v[(k + 1) % 3]]));
         leaves(&d)
     })
 }
@@ -88,6 +88,7 @@ impl ExitMethod for Aman20 {
         }
     }
 
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, r: &DuffFrame, entry: Option<usize>) -> Option<usize> {
         exit_2d::<A>(tet, r, entry)
     }
@@ -146,6 +147,7 @@ impl ExitMethod for Aman20Scaled {
         }
     }
 
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, r: &ScaledFrame, entry: Option<usize>) -> Option<usize> {
         exit_2d::<A>(tet, r, entry)
     }

@@ -20,6 +20,7 @@ impl ExitMethod for HalfSpace {
         *ray
     }
 
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, _entry: Option<usize>) -> Option<usize> {
         let plane = |f| face_plane::<A>(tet, f, ray.dir);
         let planes = [plane(0), plane(1), plane(2), plane(3)];

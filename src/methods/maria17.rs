@@ -94,6 +94,7 @@ impl<R: Reading> ExitMethod for Maria17<R> {
     /// Algorithm 1 with a known entry face; Algorithm 2 in the starting tetrahedron (side product
     /// with `V_2 V_3`, taken in the frame of `V_3`, then Algorithm 1 with `F_0` or `F_1` as fake entry).
     /// Always answers a face: the published method has no "no exit" outcome.
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &R::RayData, entry: Option<usize>) -> Option<usize> {
         let entry = entry.unwrap_or_else(|| {
             let s = side::<A>(R::moment::<A>(ray, tet[3]), tet[3], tet[2]);

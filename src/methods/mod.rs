@@ -47,10 +47,12 @@ pub trait Arith {
     /// `a·b + c`.
     fn mad(a: f32, b: f32, c: f32) -> f32;
     /// `a.x·b.x + a.y·b.y + a.z·b.z`, summed left to right.
+    #[inline(always)]
     fn dot(a: Vec3, b: Vec3) -> f32 {
         Self::mad(a.z, b.z, Self::mad(a.y, b.y, a.x * b.x))
     }
     /// `s·a + b`, per component.
+    #[inline(always)]
     fn axpy(s: f32, a: Vec3, b: Vec3) -> Vec3 {
         Vec3::new(
             Self::mad(a.x, s, b.x),
@@ -59,6 +61,7 @@ pub trait Arith {
         )
     }
     /// `a × b`, each component `a_j·b_k - a_k·b_j`.
+    #[inline(always)]
     fn cross(a: Vec3, b: Vec3) -> Vec3 {
         Vec3::new(
             Self::mad(a.y, b.z, -(a.z * b.y)),
@@ -76,6 +79,10 @@ pub struct Plain;
 pub struct Fused;
 /// Every product and sum rounded separately, subnormal inputs and results flushed to zero.
 pub struct Flushed;
+/// [`Fused`] on the processor's FMA instruction: the same roundings, so the same bits, several times
+/// faster than `f32::mul_add` without it (a library call). The registry runs the fused model in it
+/// only where the processor has FMA ([`crate::fpenv::has_fma`]); nothing else may name it.
+pub(crate) struct FusedFma;
 
 impl Arith for Plain {
     #[inline(always)]
@@ -93,6 +100,36 @@ impl Arith for Flushed {
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         a * b + c
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Arith for FusedFma {
+    #[inline(always)]
+    fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+        // SAFETY: the registry runs this model only where the processor has FMA.
+        unsafe { crate::fpenv::with_fma(input, f) }
+    }
+    #[inline(always)]
+    fn mad(a: f32, b: f32, c: f32) -> f32 {
+        // SAFETY: as above.
+        unsafe { crate::fpenv::fma_instruction(a, b, c) }
+    }
+}
+
+impl FusedFma {
+    /// Whether it can run here ([`crate::fpenv::has_fma`]).
+    pub(crate) fn available() -> bool {
+        crate::fpenv::has_fma()
+    }
+}
+
+/// Off x86-64 the fused model has no second instantiation: [`Fused`]'s.
+#[cfg(not(target_arch = "x86_64"))]
+impl Arith for FusedFma {
+    #[inline(always)]
+    fn mad(a: f32, b: f32, c: f32) -> f32 {
+        Fused::mad(a, b, c)
     }
 }
 
@@ -126,6 +163,21 @@ pub trait CellMethod {
     /// box `[lo, hi]` and the quarter of it (the neighbour index among four); `None` when the method
     /// finds no exit face.
     fn exit<A: Arith>(lo: Vec3, hi: Vec3, ray: &Self::RayData) -> Option<(usize, usize)>;
+}
+
+/// `a.map(f)` for the methods' small arrays, always inlined: `std`'s `map` and `from_fn` may be
+/// compiled apart, and the fused model's FMA instruction reaches only what its walk inlines
+/// (`crate::fpenv::with_fma`).
+#[inline(always)]
+pub(crate) fn each<T: Copy, U: Copy + Default, const N: usize>(
+    a: [T; N],
+    mut f: impl FnMut(T) -> U,
+) -> [U; N] {
+    let mut out = [U::default(); N];
+    for k in 0..N {
+        out[k] = f(a[k]);
+    }
+    out
 }
 
 /// Whether a face is left, from the signs along its outward cycle (side products or projected

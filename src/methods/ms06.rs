@@ -2,7 +2,7 @@
 //! entry face, 2.67 side products on average.
 
 use super::plucker::{PluckerRay, exit_by_sides, plucker_ray, side};
-use super::{Arith, ExitMethod};
+use super::{Arith, ExitMethod, each};
 use crate::tet::{EDGES, FACE_VERTICES, Ray, Tet};
 
 /// Reconstructed: with entry face `F_e`, outward cycle `a0 a1 a2`, and apex `V = v_e`, the ray leaves
@@ -21,12 +21,17 @@ impl ExitMethod for Ms06 {
         plucker_ray::<A>(ray)
     }
 
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &PluckerRay, entry: Option<usize>) -> Option<usize> {
         let Some(e) = entry else {
-            return exit_by_sides(&EDGES.map(|[a, b]| side::<A>(ray, tet[a], tet[b])));
+            return exit_by_sides(&each(EDGES, |[a, b]| side::<A>(ray, tet[a], tet[b])));
         };
         let a = FACE_VERTICES[e];
-        let sigma = |k: usize| side::<A>(ray, tet[a[k]], tet[e]);
+        #[inline(always)]
+        fn sigma<A: Arith>(ray: &PluckerRay, tet: &Tet, a: [usize; 3], e: usize, k: usize) -> f32 {
+            side::<A>(ray, tet[a[k]], tet[e])
+        }
+        let sigma = |k: usize| sigma::<A>(ray, tet, a, e, k);
         let (s0, s1) = (sigma(0), sigma(1));
         if s0 >= 0.0 && s1 <= 0.0 {
             return Some(a[2]);

@@ -1,7 +1,7 @@
 //! `plucker`: Lagae & Dutré 2008's third method (seed 000 §2.3.2), the permuted inner products of
 //! Platis & Theoharis 2003: six side products of the ray with the six edges.
 
-use super::{Arith, ExitMethod, leaves};
+use super::{Arith, ExitMethod, each, leaves};
 use crate::tet::{EDGES, FACE_VERTICES, Ray, Tet, edge_index};
 use glam::Vec3;
 
@@ -45,7 +45,7 @@ pub(super) fn side<A: Arith>(ray: &PluckerRay, a: Vec3, b: Vec3) -> f32 {
 pub(super) fn exit_by_sides(sides: &[f32; 6]) -> Option<usize> {
     (0..4).find(|&f| {
         let v = FACE_VERTICES[f];
-        let s: [f32; 3] = std::array::from_fn(|k| {
+        let s = each([0, 1, 2], |k| {
             let (e, rev) = edge_index(v[k], v[(k + 1) % 3]);
             if rev { -sides[e] } else { sides[e] }
         });
@@ -65,8 +65,9 @@ impl ExitMethod for Plucker {
         plucker_ray::<A>(ray)
     }
 
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &PluckerRay, _entry: Option<usize>) -> Option<usize> {
-        let sides = EDGES.map(|[a, b]| side::<A>(ray, tet[a], tet[b]));
+        let sides = each(EDGES, |[a, b]| side::<A>(ray, tet[a], tet[b]));
         exit_by_sides(&sides)
     }
 }

@@ -1,14 +1,14 @@
 //! `ray-plane`: Lagae & Dutré 2008's first method (seed 000 §2.3.2, seed 003 §2.3), after Garrity 1990:
 //! intersect the ray with the face planes it is leaving through and exit where `t` is smallest.
 
-use super::{Arith, ExitMethod};
+use super::{Arith, ExitMethod, each};
 use crate::tet::{FACE_VERTICES, Ray, Tet};
 use glam::Vec3;
 
 /// Face `f`'s outward normal `n = (b - a) × (c - a)` and `n · d`, as this family of methods computes them.
 #[inline(always)]
 pub(super) fn face_plane<A: Arith>(tet: &Tet, f: usize, dir: Vec3) -> (Vec3, f32) {
-    let [a, b, c] = FACE_VERTICES[f].map(|i| tet[i]);
+    let [a, b, c] = each(FACE_VERTICES[f], |i| tet[i]);
     let n = A::cross(b - a, c - a);
     (n, A::dot(n, dir))
 }
@@ -27,6 +27,7 @@ impl ExitMethod for RayPlane {
         *ray
     }
 
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, _entry: Option<usize>) -> Option<usize> {
         let mut best: Option<(usize, f32)> = None;
         for f in 0..4 {

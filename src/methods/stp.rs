@@ -1,7 +1,7 @@
 //! `stp`: Lagae & Dutré 2008's fourth and fastest method (seed 000 §2.3.2, seed 003 §2.2): three to six
 //! scalar triple products with early outs.
 
-use super::{Arith, ExitMethod};
+use super::{Arith, ExitMethod, each};
 use crate::tet::{FACE_VERTICES, Ray, Tet, edge_index};
 
 /// Reconstructed: with the vertices relative to the origin, `a' = a - o`, the scalar triple product
@@ -19,8 +19,9 @@ impl ExitMethod for Stp {
         *ray
     }
 
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, _entry: Option<usize>) -> Option<usize> {
-        let rel = tet.map(|v| v - ray.org);
+        let rel = each(*tet, |v| v - ray.org);
         let mut known: [Option<f32>; 6] = [None; 6];
         let mut stp = |i: usize, j: usize| {
             let (e, rev) = edge_index(i, j);

@@ -21,7 +21,14 @@ impl BenchReport {
             self.batch
         );
         for b in &self.backends {
-            out += &format!("- {b}\n");
+            let how = match (b.kind, self.fma_instruction) {
+                (crate::choice::BackendKind::CpuFma, true) => " (on the FMA instruction)",
+                (crate::choice::BackendKind::CpuFma, false) => {
+                    " (through f32::mul_add: no FMA instruction here, or TETWALK_NO_FMA=1)"
+                }
+                _ => "",
+            };
+            out += &format!("- {b}{how}\n");
         }
         out += "\n";
         let compared = self.rows.iter().any(|r| r.change.is_some());

@@ -177,6 +177,7 @@ where
 {
     A::run(
         (layout, points, ray, source),
+        #[inline(always)]
         |(layout, points, ray, source)| {
             walk_layout::<M, A>(kind, layout, points, ray, source, max_steps, |_| {})
         },

@@ -284,9 +284,11 @@ pub fn walk_traced<M: ExitMethod, A: Arith>(
 
 /// Walk with method `M` from `start` (which must contain the ray origin).
 pub fn walk<M: ExitMethod, A: Arith>(mesh: &Mesh, ray: &Ray, start: u32, max_steps: u32) -> Walk {
-    A::run((mesh, ray), |(mesh, ray)| {
-        walk_observed::<M, A>(mesh, ray, start, max_steps, |_, _, _| {})
-    })
+    A::run(
+        (mesh, ray),
+        #[inline(always)]
+        |(mesh, ray)| walk_observed::<M, A>(mesh, ray, start, max_steps, |_, _, _| {}),
+    )
 }
 
 /// [`walk`], judging every step with the exact oracle and reporting the first wrong one.
@@ -296,28 +298,32 @@ pub fn walk_checked<M: ExitMethod, A: Arith>(
     start: u32,
     max_steps: u32,
 ) -> (Walk, Option<Divergence>) {
-    A::run((mesh, ray), |(mesh, ray)| {
-        let mut first = None;
-        let mut step = 0;
-        let w = walk_observed::<M, A>(mesh, ray, start, max_steps, |tet, entry, face| {
-            step += 1;
-            if first.is_some() {
-                return;
-            }
-            let exit = crate::fpenv::standard(mesh.tet(tet), |t| exact::classify(&t, ray))
-                .map_or(FaceSet::default(), |c| c.exit);
-            if !face.is_some_and(|f| exit.contains(f)) {
-                first = Some(Divergence {
-                    step,
-                    tet,
-                    entry: entry.map(|e| e as u8),
-                    face: face.map(|f| f as u8),
-                    exact_exit: exit.iter().map(|f| f as u8).collect(),
-                });
-            }
-        });
-        (w, first)
-    })
+    A::run(
+        (mesh, ray),
+        #[inline(always)]
+        |(mesh, ray)| {
+            let mut first = None;
+            let mut step = 0;
+            let w = walk_observed::<M, A>(mesh, ray, start, max_steps, |tet, entry, face| {
+                step += 1;
+                if first.is_some() {
+                    return;
+                }
+                let exit = crate::fpenv::standard(mesh.tet(tet), |t| exact::classify(&t, ray))
+                    .map_or(FaceSet::default(), |c| c.exit);
+                if !face.is_some_and(|f| exit.contains(f)) {
+                    first = Some(Divergence {
+                        step,
+                        tet,
+                        entry: entry.map(|e| e as u8),
+                        face: face.map(|f| f as u8),
+                        exact_exit: exit.iter().map(|f| f as u8).collect(),
+                    });
+                }
+            });
+            (w, first)
+        },
+    )
 }
 
 /// The walk loop; `observe(tet, entry, face)` sees every step (a no-op closure compiles away).
@@ -348,43 +354,47 @@ pub fn walks<M: ExitMethod, A: Arith>(
     rays: &[(Ray, u32)],
     max_steps: u32,
 ) -> Vec<Walk> {
-    A::run((mesh, rays), |(mesh, rays)| {
-        if M::LANES <= 1 {
-            return rays
-                .iter()
-                .map(|(r, start)| walk::<M, A>(mesh, r, *start, max_steps))
-                .collect();
-        }
-        let mut out = vec![
-            Walk {
-                outcome: Outcome::StepLimit { tet: 0 },
-                steps: 0,
-            };
-            rays.len()
-        ];
-        let mut pending = rays.iter().enumerate();
-        let mut lanes: [Option<(usize, Walker<M>)>; MAX_LANES] = std::array::from_fn(|_| None);
-        let lanes = &mut lanes[..M::LANES.clamp(1, MAX_LANES)];
-        for lane in lanes.iter_mut() {
-            *lane = pending
-                .next()
-                .map(|(i, (r, start))| (i, Walker::new::<A>(r, *start)));
-        }
-        let mut observe = |_, _, _| {};
-        while lanes.iter().any(Option::is_some) {
+    A::run(
+        (mesh, rays),
+        #[inline(always)]
+        |(mesh, rays)| {
+            if M::LANES <= 1 {
+                return rays
+                    .iter()
+                    .map(|(r, start)| walk::<M, A>(mesh, r, *start, max_steps))
+                    .collect();
+            }
+            let mut out = vec![
+                Walk {
+                    outcome: Outcome::StepLimit { tet: 0 },
+                    steps: 0,
+                };
+                rays.len()
+            ];
+            let mut pending = rays.iter().enumerate();
+            let mut lanes: [Option<(usize, Walker<M>)>; MAX_LANES] = std::array::from_fn(|_| None);
+            let lanes = &mut lanes[..M::LANES.clamp(1, MAX_LANES)];
             for lane in lanes.iter_mut() {
-                if let Some((i, walker)) = lane
-                    && let Some(w) = walker.step::<A>(mesh, max_steps, &mut observe)
-                {
-                    out[*i] = w;
-                    *lane = pending
-                        .next()
-                        .map(|(i, (r, start))| (i, Walker::new::<A>(r, *start)));
+                *lane = pending
+                    .next()
+                    .map(|(i, (r, start))| (i, Walker::new::<A>(r, *start)));
+            }
+            let mut observe = |_, _, _| {};
+            while lanes.iter().any(Option::is_some) {
+                for lane in lanes.iter_mut() {
+                    if let Some((i, walker)) = lane
+                        && let Some(w) = walker.step::<A>(mesh, max_steps, &mut observe)
+                    {
+                        out[*i] = w;
+                        *lane = pending
+                            .next()
+                            .map(|(i, (r, start))| (i, Walker::new::<A>(r, *start)));
+                    }
                 }
             }
-        }
-        out
-    })
+            out
+        },
+    )
 }
 
 /// One walk in progress: Brent's cycle detection, one state comparison per step, no allocation.

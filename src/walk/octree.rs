@@ -125,9 +125,11 @@ pub fn walk<M: CellMethod, A: Arith>(
     ray: &Ray,
     max_steps: u32,
 ) -> OctreeWalk {
-    A::run((o, tris, ray), |(o, tris, ray)| {
-        walk_observed::<M, A>(o, tris, hit, ray, max_steps, |_, _| {})
-    })
+    A::run(
+        (o, tris, ray),
+        #[inline(always)]
+        |(o, tris, ray)| walk_observed::<M, A>(o, tris, hit, ray, max_steps, |_, _| {}),
+    )
 }
 
 /// One step of a walk: the leaf and the exit face and quarter the method chose there (none: no face).
@@ -141,11 +143,15 @@ pub fn walk_traced<M: CellMethod, A: Arith>(
     ray: &Ray,
     max_steps: u32,
 ) -> (OctreeWalk, Vec<Step>) {
-    A::run((o, tris, ray), |(o, tris, ray)| {
-        let mut steps = Vec::new();
-        let w = walk_observed::<M, A>(o, tris, hit, ray, max_steps, |c, x| steps.push((c, x)));
-        (w, steps)
-    })
+    A::run(
+        (o, tris, ray),
+        #[inline(always)]
+        |(o, tris, ray)| {
+            let mut steps = Vec::new();
+            let w = walk_observed::<M, A>(o, tris, hit, ray, max_steps, |c, x| steps.push((c, x)));
+            (w, steps)
+        },
+    )
 }
 
 fn walk_observed<M: CellMethod, A: Arith>(

@@ -162,11 +162,17 @@ pub fn settings() -> insta::Settings {
 /// Run the tetwalk binary with `stdin`: status, standard output and error. A run still going after
 /// [`HANG`] is killed and fails the test as a hang.
 pub fn run_tetwalk(args: &[&str], stdin: &[u8]) -> (i32, String, String) {
+    run_tetwalk_env(args, stdin, &[])
+}
+
+/// [`run_tetwalk`] with these environment variables set.
+pub fn run_tetwalk_env(args: &[&str], stdin: &[u8], env: &[(&str, &str)]) -> (i32, String, String) {
     use std::io::Write;
     use std::process::{Command, Stdio};
     use std::time::{Duration, Instant};
     let mut child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
         .args(args)
+        .envs(env.iter().copied())
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -28,6 +28,7 @@ impl HitMethod for KomatsuPacket {
     fn ray<A: Arith>(ray: &Ray) -> Vec3 {
         ray.dir
     }
+    #[inline(always)]
     fn packet<A: Arith>(p: &Precomputed, org: Vec3, dirs: &[Vec3], out: &mut [Option<f32>]) {
         let (ns, a, b) = per_packet::<A>(p, org);
         for (d, o) in dirs.iter().zip(out) {

@@ -165,6 +165,7 @@ impl<M: SingleRay> HitMethod for M {
     fn ray<A: Arith>(ray: &Ray) -> Ray {
         *ray
     }
+    #[inline(always)]
     fn packet<A: Arith>(tri: &Tri, _org: Vec3, rays: &[Ray], out: &mut [Option<f32>]) {
         for (ray, o) in rays.iter().zip(out) {
             *o = M::test::<A>(tri, ray);
@@ -180,15 +181,20 @@ pub fn accepts(t: f32) -> bool {
 
 /// `M`'s answer for one ray and one triangle: the `t` of a hit that counts.
 pub fn hit<M: HitMethod, A: Arith>(tri: &Tri, ray: &Ray) -> Option<f32> {
-    A::run((tri, ray), |(tri, ray)| {
-        let mut out = [None];
-        M::packet::<A>(&M::tri::<A>(tri), ray.org, &[M::ray::<A>(ray)], &mut out);
-        out[0].filter(|&t| accepts(t))
-    })
+    A::run(
+        (tri, ray),
+        #[inline(always)]
+        |(tri, ray)| {
+            let mut out = [None];
+            M::packet::<A>(&M::tri::<A>(tri), ray.org, &[M::ray::<A>(ray)], &mut out);
+            out[0].filter(|&t| accepts(t))
+        },
+    )
 }
 
 /// Calls `f(triangle, ray, t)` for every hit that counts of each of a packet's `n` rays (sharing
 /// `org`, prepared by `T`) with each of `tris` (prepared, with their indices), triangle by triangle.
+#[inline(always)]
 pub fn each_hit<'a, M: HitMethod, T: Tester<M>>(
     tris: impl Iterator<Item = (u32, &'a M::TriData)>,
     org: Vec3,
@@ -228,6 +234,7 @@ pub fn nearest_of(hits: &[(u32, f32)]) -> Option<(u32, f32)> {
 
 /// The nearest hit of each ray of a packet among `tris` (prepared, with their indices in ascending
 /// order): the first triangle with the smallest `t`.
+#[inline(always)]
 pub fn nearest<'a, M: HitMethod, T: Tester<M>>(
     tris: impl Iterator<Item = (u32, &'a M::TriData)>,
     org: Vec3,
@@ -258,9 +265,11 @@ pub fn trace<M: HitMethod, A: Arith>(
     rays: &[Ray],
     packet: usize,
 ) -> Vec<Option<(u32, f32)>> {
-    A::run((tris, ids, groups, rays), |(tris, ids, groups, rays)| {
-        trace_by::<M, A, Scalar<A>>(tris, ids, groups, rays, packet)
-    })
+    A::run(
+        (tris, ids, groups, rays),
+        #[inline(always)]
+        |(tris, ids, groups, rays)| trace_by::<M, A, Scalar<A>>(tris, ids, groups, rays, packet),
+    )
 }
 
 /// [`trace`] in the plain model with the method's 4-wide test: the same answers, bit for bit.
@@ -275,6 +284,7 @@ pub fn trace_wide<M: Wide>(
 }
 
 /// [`trace`] with the packet test `T` (run in `A`'s environment); buffers reused across groups.
+#[inline(always)]
 fn trace_by<M: HitMethod, A: Arith, T: Tester<M>>(
     tris: &[Tri],
     ids: &[u32],
@@ -314,9 +324,11 @@ fn trace_by<M: HitMethod, A: Arith, T: Tester<M>>(
 
 /// Every hit of one ray among `tris`, in triangle order.
 pub fn hits<M: HitMethod, A: Arith>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> {
-    A::run((tris, ray), |(tris, ray)| {
-        hits_by::<M, A, Scalar<A>>(tris, ray)
-    })
+    A::run(
+        (tris, ray),
+        #[inline(always)]
+        |(tris, ray)| hits_by::<M, A, Scalar<A>>(tris, ray),
+    )
 }
 
 /// [`hits`] in the plain model with the method's 4-wide test (the ray in every lane).
@@ -325,6 +337,7 @@ pub fn hits_wide<M: Wide>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> {
 }
 
 /// [`hits`] with the packet test `T`.
+#[inline(always)]
 fn hits_by<M: HitMethod, A: Arith, T: Tester<M>>(tris: &[Tri], ray: &Ray) -> Vec<(u32, f32)> {
     let prepared: Vec<M::TriData> = tris.iter().map(M::tri::<A>).collect();
     let mut out = Vec::new();

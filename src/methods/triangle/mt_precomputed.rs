@@ -47,6 +47,7 @@ impl HitMethod for MtPrecomputed {
     fn ray<A: Arith>(ray: &Ray) -> Ray {
         *ray
     }
+    #[inline(always)]
     fn packet<A: Arith>(p: &Precomputed, _org: Vec3, rays: &[Ray], out: &mut [Option<f32>]) {
         for (ray, o) in rays.iter().zip(out) {
             let r = -1.0 / A::dot(p.n, ray.dir);

@@ -41,6 +41,7 @@ impl HitMethod for PluckerPacket {
     fn ray<A: Arith>(ray: &Ray) -> Vec3 {
         ray.dir
     }
+    #[inline(always)]
     fn packet<A: Arith>(tri: &WithNormal, org: Vec3, dirs: &[Vec3], out: &mut [Option<f32>]) {
         let ([mab, mbc, mca], na) = per_packet::<A>(tri, org);
         for (d, o) in dirs.iter().zip(out) {

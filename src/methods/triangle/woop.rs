@@ -52,6 +52,7 @@ impl HitMethod for WoopWatertight {
             s: Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]),
         }
     }
+    #[inline(always)]
     fn packet<A: Arith>(tri: &Tri, _org: Vec3, rays: &[Sheared], out: &mut [Option<f32>]) {
         for (r, o) in rays.iter().zip(out) {
             *o = woop::<A>(tri, r);
