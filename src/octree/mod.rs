@@ -120,6 +120,9 @@ pub struct Octree {
     pub size: f32,
     /// Leaf `i`'s node.
     pub leaves: Vec<Key>,
+    /// Leaf `i`'s Morton code at the deepest level and its level, ascending: what
+    /// [`Octree::leaf_holding`] searches (one code per level tried, none per comparison).
+    pub leaf_keys: Vec<(u64, u32)>,
     /// Leaf `i`'s box (eq. 3's `i` indexes it).
     pub boxes: Vec<[Vec3; 2]>,
     /// Eq. 3, every leaf in turn.
@@ -362,11 +365,16 @@ impl Octree {
             }
             map
         });
+        let leaf_keys = order
+            .iter()
+            .map(|&l| (morton(l, s.depth), l.level))
+            .collect();
         let o = Octree {
             settings: s,
             lo,
             size,
             leaves: order,
+            leaf_keys,
             boxes,
             words,
             address,
@@ -483,10 +491,8 @@ impl Octree {
         };
         loop {
             if let Ok(i) = self
-                .leaves
-                .binary_search_by_key(&(morton(k, self.settings.depth), k.level), |&l| {
-                    (morton(l, self.settings.depth), l.level)
-                })
+                .leaf_keys
+                .binary_search(&(morton(k, self.settings.depth), k.level))
             {
                 return Some(self.address[i]);
             }
