@@ -286,7 +286,6 @@ impl Answering<'_> {
                 self.command,
                 counted(differ, "case", "cases")
             );
-            return Ok(ExitCode::FAILURE);
         }
         if summary.errors > 0 {
             eprintln!(
@@ -294,6 +293,8 @@ impl Answering<'_> {
                 self.command,
                 counted(summary.errors, "line", "lines")
             );
+        }
+        if differ > 0 || summary.errors > 0 {
             return Ok(ExitCode::FAILURE);
         }
         Ok(status)

@@ -27,16 +27,16 @@ impl ExitMethod for Ms06 {
             return exit_by_sides(&each(EDGES, |[a, b]| side::<A>(ray, tet[a], tet[b])));
         };
         let a = FACE_VERTICES[e];
-        #[inline(always)]
-        fn sigma<A: Arith>(ray: &PluckerRay, tet: &Tet, a: [usize; 3], e: usize, k: usize) -> f32 {
-            side::<A>(ray, tet[a[k]], tet[e])
-        }
-        let sigma = |k: usize| sigma::<A>(ray, tet, a, e, k);
-        let (s0, s1) = (sigma(0), sigma(1));
+        // σ_k, the side product with the complement edge a_k → V (`side` is always inlined; a
+        // closure around it was not, and the fused model's FMA instruction reaches only inlined code).
+        let (s0, s1) = (
+            side::<A>(ray, tet[a[0]], tet[e]),
+            side::<A>(ray, tet[a[1]], tet[e]),
+        );
         if s0 >= 0.0 && s1 <= 0.0 {
             return Some(a[2]);
         }
-        let s2 = sigma(2);
+        let s2 = side::<A>(ray, tet[a[2]], tet[e]);
         if s1 >= 0.0 && s2 <= 0.0 {
             Some(a[0])
         } else if s2 >= 0.0 && s0 <= 0.0 {

@@ -359,6 +359,9 @@ pub fn walks<M: ExitMethod, A: Arith>(
         #[inline(always)]
         |(mesh, rays)| {
             if M::LANES <= 1 {
+                // `walk` enters `A::run` again per ray: its closure is always inlined there, and the
+                // fused model's FMA instruction reaches only code inlined into that run (the
+                // iterator's closure here is compiled apart).
                 return rays
                     .iter()
                     .map(|(r, start)| walk::<M, A>(mesh, r, *start, max_steps))
