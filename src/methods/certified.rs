@@ -158,12 +158,15 @@ impl Apex {
         (det.abs() > bound).then(|| (det > 0.0) as i8 * 2 - 1)
     }
 
-    /// The f32 stage for the three vertices `v` of the entry face at once, one lane each (the same
-    /// operations as [`Apex::settled`], lane by lane): bit `k` of the first mask set where `v[k]`'s
-    /// sign is settled, of the second where it is positive.
+    /// The f32 stage for the three vertices `tet[lambda[k]]` of the entry face at once, one lane each
+    /// (the same operations as [`Apex::settled`], lane by lane): bit `k` of the first mask set where
+    /// vertex `k`'s sign is settled, of the second where it is positive. (Each lane is read from the
+    /// tetrahedron itself: gathering the vertices into an array first made a store-forwarding stall.)
     #[inline(always)]
-    fn entry_face(&self, v: [Vec3; 3], bound: Bound) -> (u32, u32) {
-        let lanes = |f: fn(Vec3) -> f32| Vec3A::new(f(v[0]), f(v[1]), f(v[2]));
+    fn entry_face(&self, tet: &Tet, lambda: [usize; 3], bound: Bound) -> (u32, u32) {
+        let lanes = |f: fn(&Vec3) -> f32| {
+            Vec3A::new(f(&tet[lambda[0]]), f(&tet[lambda[1]]), f(&tet[lambda[2]]))
+        };
         let ex = lanes(|p| p.x) - Vec3A::splat(self.b.x);
         let ey = lanes(|p| p.y) - Vec3A::splat(self.b.y);
         let ez = lanes(|p| p.z) - Vec3A::splat(self.b.z);
@@ -224,7 +227,7 @@ fn algorithm_1<A: Arith>(tet: &Tet, r: &CertifiedRay, e: usize) -> Option<usize>
     }
     let apex = Apex::new(tet[e], r, bound::<A>());
     let lambda = FACE_VERTICES[e];
-    let (settled, positive) = apex.entry_face(lambda.map(|k| tet[k]), bound::<A>());
+    let (settled, positive) = apex.entry_face(tet, lambda, bound::<A>());
     if settled == 0b111 {
         // Every sign settled (nearly always): the tree without a branch.
         let id = (positive >> 2 & 1) as usize;
