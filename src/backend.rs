@@ -243,9 +243,11 @@ impl Backend {
         match self {
             Backend::Cpu { model } => {
                 let trace = method.fastest(*model);
-                // Tasks of about 4,096 rays; each group's triangles prepared once for its packets.
-                let mean = rays.len() / among.groups.len().max(1);
-                let per_task = (4096 / mean.max(1)).max(1);
+                // Tasks of about 16,384 ray-triangle tests (a ray counted as one more), so that a few
+                // large groups still make a task each (a lone task would run on the calling thread);
+                // each group's triangles prepared once for its packets.
+                let cost = (among.tests() + rays.len() as u64) / among.groups.len().max(1) as u64;
+                let per_task = (16_384 / cost.max(1)).max(1) as usize;
                 Ok(among
                     .groups
                     .par_chunks(per_task)

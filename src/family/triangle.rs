@@ -11,7 +11,7 @@ use crate::choice::{BackendKind, Choice};
 use crate::exact::hit::{HitTruth, Missed, first_crossing, judge_hit};
 use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
 use crate::methods::triangle::nearest_of;
-use crate::methods::triangle::{Among, SideError};
+use crate::methods::triangle::{Among, MAX_PACKET, SideError};
 use crate::registry::{Named, TRIANGLE_METHODS, TriangleMethod};
 use crate::scenes::camera::packet_order;
 use crate::scenes::closed::{MeshShape, TriAim, TriPlace, case};
@@ -657,10 +657,13 @@ impl Counted for Triangle {
         }
         if binned.is_some() && !at.audited.is_empty() {
             let picked: Vec<Ray> = at.audited.iter().map(|&i| rays[i]).collect();
-            // A run per thread, each preparing the triangles once; packets of one ray each.
+            // A run per thread, each preparing the triangles once; its rays (all from the view's
+            // camera) in packets, which answer each ray as it alone would.
             let run = picked.len().div_ceil(rayon::current_num_threads());
             let all = Among::all(tris.len(), picked.len(), run);
-            let brute = at.backend.trace_triangles(m, tris, &picked, 1, &all)?;
+            let brute = at
+                .backend
+                .trace_triangles(m, tris, &picked, run.min(MAX_PACKET), &all)?;
             for (&i, b) in at.audited.iter().zip(brute) {
                 let same = |x: Option<(u32, f32)>| x.map(|(t, h)| (t, h.to_bits()));
                 if same(nearest[i]) != same(b) {
@@ -709,17 +712,22 @@ impl Counted for Triangle {
     }
 }
 
-/// The view's candidates for tiles of `tile` and error scale `scale`, made once per view and shared
-/// by its methods and its audit.
+/// The view's candidates for tiles of `tile` and error scale `scale`, made once per view for both
+/// scales and shared by its methods and its audit.
 fn view_bins(at: &Prepared<Triangle>, tile: u32, scale: SideError) -> Arc<Among> {
     let mut made = at.ready.binned.lock().unwrap_or_else(|e| e.into_inner());
     made.retain(|b| b.0 == at.view);
-    if let Some(b) = made.iter().find(|b| (b.1, b.2) == (tile, scale)) {
-        return b.3.clone();
+    if !made.iter().any(|b| b.1 == tile) {
+        let (w, h) = (at.scene.views.width, at.scene.views.height);
+        let (tris, _) = &at.ready.triangles;
+        let both = bins::bins(at.camera, w, h, tile, tris);
+        for s in bins::SCALES {
+            made.push((at.view, tile, s, Arc::new(both.get(s).among(w, h))));
+        }
     }
-    let (w, h) = (at.scene.views.width, at.scene.views.height);
-    let (tris, _) = &at.ready.triangles;
-    let among = Arc::new(bins::bins(at.camera, w, h, tile, tris, scale).among(w, h));
-    made.push((at.view, tile, scale, among.clone()));
-    among
+    made.iter()
+        .find(|b| (b.1, b.2) == (tile, scale))
+        .expect("made above")
+        .3
+        .clone()
 }
