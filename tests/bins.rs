@@ -129,7 +129,8 @@ fn no_triangle_a_method_could_hit_is_left_out() {
     for (k, &(e, f)) in regimes.iter().enumerate() {
         let (cam, tris) = scene(e, f, k as u64);
         for (tile, scale) in [(2, EdgeScaled), (4, EdgeScaled), (2, OriginScaled)] {
-            let b = bins(&cam, W, H, tile, &tris, scale);
+            let both = bins(&cam, W, H, tile, &tris);
+            let b = both.get(scale);
             kept += b.ids.len();
             possible += (b.tiles_x * b.tiles_y) as usize * tris.len();
             if e >= 45 {
@@ -191,7 +192,8 @@ fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
             let order = packet_order(views.width, views.height, packet, tile);
             let packed: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
             let binned = [EdgeScaled, OriginScaled].map(|scale| {
-                let among = bins(&cam, views.width, views.height, tile, &tris, scale)
+                let among = bins(&cam, views.width, views.height, tile, &tris)
+                    .get(scale)
                     .among(views.width, views.height);
                 fewer += among.tests() as f64 / (rays.len() * tris.len()) as f64 / 2.0;
                 (scale, among)

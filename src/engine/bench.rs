@@ -12,7 +12,7 @@ use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::mesh::surface::{region_of, scene_triangles};
 use crate::methods::Model;
-use crate::methods::triangle::{Among, SideError};
+use crate::methods::triangle::SideError;
 use crate::registry::{Gpu, Method};
 use crate::registry::{Named, TriangleMethod};
 use crate::scenes::camera::Views;
@@ -368,18 +368,10 @@ pub fn speed(
             .iter()
             .map(|&i| all[i])
             .collect();
-        let mut binned: Vec<(SideError, Among)> = Vec::new();
+        let binned = crate::family::bins::bins(&cam, w, h, tile, &tris);
         for m in methods {
             let scale = m.side_error.unwrap_or(SideError::OriginScaled);
-            if !binned.iter().any(|b| b.0 == scale) {
-                let among = crate::family::bins::bins(&cam, w, h, tile, &tris, scale).among(w, h);
-                binned.push((scale, among));
-            }
-            let among = &binned
-                .iter()
-                .find(|b| b.0 == scale)
-                .expect("binned above")
-                .1;
+            let among = &binned.get(scale).among(w, h);
             let n = among.tests();
             if p == 2 {
                 tests.push((m.name().to_string(), n));

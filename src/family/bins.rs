@@ -57,8 +57,10 @@
 //! (`L ≤ 2Λ` for both scales and `γ_3 ≤ 2^-22`, so `γ_3 D R L ≤ 2^-21 D R Λ`; `L` is taken from the
 //! f32 vertices' differences in f64, each rounded once, and enlarged by `10^-12`): no ray of the tile
 //! can satisfy the lemma, so no method of that error scale reports the triangle there. A triangle is binned by halving
-//! the image's tiles from the whole down to one; one whose `1 + 2R + D` exceeds `2^40` goes in every
-//! tile. Methods written outside tetwalk have no such lemma: the count tests every triangle for them.
+//! the image's tiles from the whole down to one, once for both error scales: a sign and scale left
+//! out of a rectangle are left out of every rectangle inside it (its maxima are no larger), and a
+//! scale whose every ray may meet the lemma keeps every tile inside; one whose `1 + 2R + D` exceeds
+//! `2^40` goes in every tile. Methods written outside tetwalk have no such lemma: the count tests every triangle for them.
 
 use crate::methods::triangle::{Among, SideError, Tri};
 use crate::scenes::camera::Camera;
@@ -102,7 +104,7 @@ impl Bins {
 
     /// The rays of a `width × height` view in [`packet_order`](crate::scenes::camera::packet_order)
     /// with these tiles, each tile's run of rays with its candidates.
-    pub fn among(self, width: u32, height: u32) -> Among {
+    pub fn among(&self, width: u32, height: u32) -> Among {
         let mut groups = Vec::with_capacity(self.start.len() - 1);
         let mut first = 0;
         for ty in 0..self.tiles_y {
@@ -115,7 +117,7 @@ impl Bins {
             }
         }
         Among {
-            ids: self.ids,
+            ids: self.ids.clone(),
             groups,
         }
     }
@@ -127,14 +129,18 @@ pub fn tile_of(x: u32, y: u32, width: u32, tile: u32) -> usize {
     ((y / tile) * width.div_ceil(tile) + x / tile) as usize
 }
 
+/// The error scales, in the order [`Reach::bounds`] and [`ByScale`] keep them.
+pub const SCALES: [SideError; 2] = [SideError::EdgeScaled, SideError::OriginScaled];
+
 /// A triangle's three linear side-product functions on the screen, `c + a·sx + b·sy`, their sum
 /// (`d·N`: where all three are at least `-B` it is at least `-3B`, a bound one line alone can prove
-/// of a whole rectangle near the triangle, for the sign it does not face), and the bound `B` below
-/// which a tile is left out; `None` where the lemma claims nothing (in every tile).
+/// of a whole rectangle near the triangle, for the sign it does not face), and for each error scale
+/// ([`SCALES`]) the bound `B` below which a tile is left out; `None` where the lemma claims nothing
+/// (in every tile).
 struct Reach {
     lines: [[f64; 3]; 3],
     sum: [f64; 3],
-    bound: f64,
+    bounds: [f64; 2],
 }
 
 fn d(v: Vec3) -> DVec3 {
@@ -142,10 +148,10 @@ fn d(v: Vec3) -> DVec3 {
 }
 
 impl Reach {
-    fn of(tri: &Tri, eye: Vec3, axes: &[DVec3; 3], big_d: f64, scale: SideError) -> Option<Reach> {
+    fn of(tri: &Tri, eye: Vec3, axes: &[DVec3; 3], big_d: f64) -> Option<Reach> {
         let w = tri.map(|v| d(v) - d(eye));
         let r = w.iter().map(|x| x.length()).fold(0.0, f64::max) * (1.0 + 1e-12);
-        let lambda = match scale {
+        let lambda = |scale| match scale {
             SideError::OriginScaled => r,
             SideError::EdgeScaled => {
                 let [a, b, c] = tri.map(d);
@@ -166,52 +172,86 @@ impl Reach {
         Some(Reach {
             lines,
             sum: std::array::from_fn(|k| lines[0][k] + lines[1][k] + lines[2][k]),
-            bound: (k(scale) + PIXEL_SLACK) * big_d * r * lambda
-                + F64_SLACK * big_d * r * r
-                + ETA * size * size,
+            bounds: SCALES.map(|scale| {
+                (k(scale) + PIXEL_SLACK) * big_d * r * lambda(scale)
+                    + F64_SLACK * big_d * r * r
+                    + ETA * size * size
+            }),
         })
     }
 
-    /// For the rays in `sx ∈ [x0, x1]`, `sy ∈ [y0, y1]`: whether some may meet the lemma for one
-    /// sign, and whether every one may (for one sign, then every tile inside is a candidate).
-    fn reach(&self, x0: f64, x1: f64, y0: f64, y1: f64) -> (bool, bool) {
+    /// For the rays in `sx ∈ [x0, x1]`, `sy ∈ [y0, y1]`, for each sign `σ` and error scale whose bit
+    /// ([`bit`]) is set in `open`: whether some may meet the lemma (first mask: a bit left unset stays
+    /// unset in every smaller rectangle), and whether every one may (second mask: then every tile
+    /// inside is a candidate).
+    fn reach(&self, open: u8, x0: f64, x1: f64, y0: f64, y1: f64) -> (u8, u8) {
         let (cx, cy, hx, hy) = (
             (x0 + x1) * 0.5,
             (y0 + y1) * 0.5,
             (x1 - x0) * 0.5,
             (y1 - y0) * 0.5,
         );
-        let (mut some, mut every) = (false, false);
-        let range = |[c, a, b]: [f64; 3], sigma: f64| {
-            (sigma * (c + a * cx + b * cy), a.abs() * hx + b.abs() * hy)
-        };
-        for sigma in [1.0, -1.0] {
-            let (mut s, mut e) = (true, true);
-            for &line in &self.lines {
-                let (mid, spread) = range(line, sigma);
-                // A NaN keeps the tile and claims nothing of every ray.
-                s &= (mid + spread).is_nan() || mid + spread >= -self.bound;
-                e &= mid - spread >= self.bound;
+        let range = |[c, a, b]: [f64; 3]| (c + a * cx + b * cy, a.abs() * hx + b.abs() * hy);
+        let (lines, sum) = (self.lines.map(range), range(self.sum));
+        let (mut some, mut every) = (0, 0);
+        for (i, sigma) in [1.0, -1.0].into_iter().enumerate() {
+            if open & (bit(i, 0) | bit(i, 1)) == 0 {
+                continue;
             }
-            let (mid, spread) = range(self.sum, sigma);
-            s &= (mid + spread).is_nan() || mid + spread >= -3.0 * self.bound;
-            some |= s;
-            every |= e;
+            // Each line's maximum and minimum over the rectangle for this sign; a NaN keeps the tile
+            // and claims nothing of every ray.
+            let high = |(mid, spread): (f64, f64)| {
+                let h: f64 = sigma * mid + spread;
+                if h.is_nan() { f64::INFINITY } else { h }
+            };
+            let highest = lines.iter().map(|&l| high(l)).fold(f64::INFINITY, f64::min);
+            let low = |(mid, spread): (f64, f64)| {
+                let l: f64 = sigma * mid - spread;
+                if l.is_nan() { f64::NEG_INFINITY } else { l }
+            };
+            let lowest = lines.iter().map(|&l| low(l)).fold(f64::INFINITY, f64::min);
+            let summed = high(sum);
+            for (k, &bound) in self.bounds.iter().enumerate() {
+                let b = bit(i, k) & open;
+                if highest >= -bound && summed >= -3.0 * bound {
+                    some |= b;
+                }
+                if lowest >= bound {
+                    every |= b;
+                }
+            }
         }
         (some, every)
     }
 }
 
-/// The candidate triangles of each tile of a `width × height` view from `cam` for methods of error
-/// scale `scale` (module doc).
-pub fn bins(
-    cam: &Camera,
-    width: u32,
-    height: u32,
-    tile: u32,
-    tris: &[Tri],
-    scale: SideError,
-) -> Bins {
+/// The bit of sign `σ` (`i`: 0 for `+1`, 1 for `-1`) and error scale `k` ([`SCALES`]) in
+/// [`Reach::reach`]'s masks.
+const fn bit(i: usize, k: usize) -> u8 {
+    1 << (2 * k + i)
+}
+
+/// The bits of error scale `k`, both signs.
+const fn of_scale(k: usize) -> u8 {
+    bit(0, k) | bit(1, k)
+}
+
+/// One view's candidates for each error scale.
+pub struct ByScale([Bins; 2]);
+
+impl ByScale {
+    /// The candidates of methods of error scale `scale`.
+    pub fn get(&self, scale: SideError) -> &Bins {
+        &self.0[SCALES
+            .iter()
+            .position(|&s| s == scale)
+            .expect("every scale")]
+    }
+}
+
+/// The candidate triangles of each tile of a `width × height` view from `cam`, for methods of each
+/// error scale (module doc), from one descent per triangle.
+pub fn bins(cam: &Camera, width: u32, height: u32, tile: u32, tris: &[Tri]) -> ByScale {
     let (tiles_x, tiles_y) = (width.div_ceil(tile), height.div_ceil(tile));
     let sx: Vec<f64> = (0..width)
         .map(|x| Camera::screen(x, 0, width, height).0 as f64)
@@ -222,41 +262,55 @@ pub fn bins(
     let axes = cam.axes().map(d);
     let gamma3 = 3.0 * f64::from(f32::EPSILON) * 0.5 / (1.0 - 1.5 * f64::from(f32::EPSILON));
     let big_d = (1.0 + gamma3) * axes.iter().map(|a| a.length()).sum::<f64>() * (1.0 + 1e-12);
-    // (tile, triangle) pairs, triangles ascending within each chunk and chunks in order.
-    let pairs: Vec<(u32, u32)> = tris
+    let every_bit = (1u8 << (2 * SCALES.len())) - 1;
+    let scales_of = |bits: u8| {
+        (0..SCALES.len())
+            .filter(|&k| bits & of_scale(k) != 0)
+            .fold(0u8, |m, k| m | 1 << k)
+    };
+    // (scales, tile, triangle) triples, triangles ascending within each chunk and chunks in order.
+    let triples: Vec<(u8, u32, u32)> = tris
         .par_chunks(256)
         .enumerate()
         .flat_map_iter(|(c, chunk)| {
             let (mut out, mut stack) = (Vec::new(), Vec::new());
             for (k, tri) in chunk.iter().enumerate() {
                 let id = (c * 256 + k) as u32;
-                match Reach::of(tri, cam.eye, &axes, big_d, scale) {
-                    None => out.extend((0..tiles_x * tiles_y).map(|t| (t, id))),
+                let all = scales_of(every_bit);
+                match Reach::of(tri, cam.eye, &axes, big_d) {
+                    None => out.extend((0..tiles_x * tiles_y).map(|t| (all, t, id))),
                     Some(reach) => {
                         stack.clear();
-                        stack.push((0, tiles_x, 0, tiles_y));
-                        while let Some((tx0, tx1, ty0, ty1)) = stack.pop() {
+                        stack.push((every_bit, 0, tiles_x, 0, tiles_y));
+                        while let Some((open, tx0, tx1, ty0, ty1)) = stack.pop() {
                             // Pixel columns and rows the tiles cover; sy falls as rows go down.
                             let (x0, x1) = (tx0 * tile, (tx1 * tile).min(width) - 1);
                             let (y0, y1) = (ty0 * tile, (ty1 * tile).min(height) - 1);
                             let (a, b) = (sx[x0 as usize], sx[x1 as usize]);
                             let (lo, hi) = (sy[y1 as usize], sy[y0 as usize]);
-                            let (some, every) = reach.reach(a, b, lo, hi);
-                            if !some {
+                            let (some, every) = reach.reach(open, a, b, lo, hi);
+                            // The scales for which every tile of the rectangle is a candidate.
+                            let one = tx1 - tx0 == 1 && ty1 - ty0 == 1;
+                            let whole = scales_of(if one { some } else { every });
+                            if whole != 0 {
+                                for ty in ty0..ty1 {
+                                    out.extend((tx0..tx1).map(|tx| (whole, ty * tiles_x + tx, id)));
+                                }
+                            }
+                            let open = (0..SCALES.len())
+                                .filter(|&k| whole & 1 << k == 0)
+                                .fold(0, |m, k| m | some & of_scale(k));
+                            if open == 0 {
                                 continue;
                             }
-                            if every || (tx1 - tx0 == 1 && ty1 - ty0 == 1) {
-                                for ty in ty0..ty1 {
-                                    out.extend((tx0..tx1).map(|tx| (ty * tiles_x + tx, id)));
-                                }
-                            } else if tx1 - tx0 >= ty1 - ty0 {
+                            if tx1 - tx0 >= ty1 - ty0 {
                                 let mid = (tx0 + tx1) / 2;
-                                stack.push((tx0, mid, ty0, ty1));
-                                stack.push((mid, tx1, ty0, ty1));
+                                stack.push((open, tx0, mid, ty0, ty1));
+                                stack.push((open, mid, tx1, ty0, ty1));
                             } else {
                                 let mid = (ty0 + ty1) / 2;
-                                stack.push((tx0, tx1, ty0, mid));
-                                stack.push((tx0, tx1, mid, ty1));
+                                stack.push((open, tx0, tx1, ty0, mid));
+                                stack.push((open, tx0, tx1, mid, ty1));
                             }
                         }
                     }
@@ -265,17 +319,35 @@ pub fn bins(
             out
         })
         .collect();
+    ByScale(std::array::from_fn(|k| {
+        sorted(
+            tile,
+            tiles_x,
+            tiles_y,
+            triples.iter().filter(|t| t.0 & (1 << k) != 0),
+        )
+    }))
+}
+
+/// The bins of these (scales, tile, triangle) triples, triangles ascending within each tile as they
+/// come.
+fn sorted<'a>(
+    tile: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    triples: impl Iterator<Item = &'a (u8, u32, u32)> + Clone,
+) -> Bins {
     // A counting sort by tile, stable: each tile's triangles stay ascending.
     let mut start = vec![0; (tiles_x * tiles_y) as usize + 1];
-    for &(t, _) in &pairs {
+    for &(_, t, _) in triples.clone() {
         start[t as usize + 1] += 1;
     }
     for k in 1..start.len() {
         start[k] += start[k - 1];
     }
     let mut next = start.clone();
-    let mut ids = vec![0; pairs.len()];
-    for &(t, id) in &pairs {
+    let mut ids = vec![0; start[start.len() - 1]];
+    for &(_, t, id) in triples {
         ids[next[t as usize]] = id;
         next[t as usize] += 1;
     }
