@@ -16,26 +16,51 @@ pub struct Crossing {
     pub on_boundary: bool,
 }
 
+/// Cramer's rule on `o + t d = a + u ab + v ac` for a triangle `abc` and a ray: the columns `ab`,
+/// `ac`, `-d`, the right side `o - a` and the determinant, not 0 (`None` where the line lies parallel
+/// to the triangle's plane).
+struct Cramer {
+    ab: [Rational; 3],
+    ac: [Rational; 3],
+    nd: [Rational; 3],
+    rhs: [Rational; 3],
+    den: Rational,
+}
+
+impl Cramer {
+    fn of(tri: [Vec3; 3], ray: &Ray) -> Option<Cramer> {
+        let [a, b, c] = tri.map(q3);
+        let (ab, ac, nd) = (sub(&b, &a), sub(&c, &a), neg(&q3(ray.dir)));
+        let den = det(&ab, &ac, &nd);
+        let rhs = sub(&q3(ray.org), &a);
+        (!den.cmp0().is_eq()).then_some(Cramer {
+            ab,
+            ac,
+            nd,
+            rhs,
+            den,
+        })
+    }
+
+    /// The line's parameter `t` where it meets the plane.
+    fn t(&self) -> Rational {
+        det(&self.ab, &self.ac, &self.rhs) / &self.den
+    }
+}
+
 /// Where the line `o + t·d` crosses the closed triangle `abc`, if it crosses it (a line in the
 /// triangle's plane does not cross it).
 pub fn line_triangle(tri: [Vec3; 3], ray: &Ray) -> Option<Crossing> {
-    let [a, b, c] = tri.map(q3);
-    let (o, d) = (q3(ray.org), q3(ray.dir));
-    let (ab, ac) = (sub(&b, &a), sub(&c, &a));
-    // Cramer on o + t d = a + u ab + v ac.
-    let nd = neg(&d);
-    let den = det(&ab, &ac, &nd);
-    if den.cmp0().is_eq() {
-        return None;
-    }
-    let rhs = sub(&o, &a);
-    let u = det(&rhs, &ac, &nd) / &den;
-    let v = det(&ab, &rhs, &nd) / &den;
-    let t = det(&ab, &ac, &rhs) / &den;
+    let c = Cramer::of(tri, ray)?;
+    let u = det(&c.rhs, &c.ac, &c.nd) / &c.den;
+    let v = det(&c.ab, &c.rhs, &c.nd) / &c.den;
     let w = Rational::from(1) - Rational::from(&u + &v);
     let inside = u.cmp0().is_ge() && v.cmp0().is_ge() && w.cmp0().is_ge();
     let on_boundary = u.cmp0().is_eq() || v.cmp0().is_eq() || w.cmp0().is_eq();
-    inside.then_some(Crossing { t, on_boundary })
+    inside.then(|| Crossing {
+        t: c.t(),
+        on_boundary,
+    })
 }
 
 /// The exact answer for a ray and one triangle (seed 004's question): a hit is a crossing of the
@@ -103,7 +128,9 @@ pub fn perturbed_crossing(tri: [Vec3; 3], ray: &Ray) -> Option<Rational> {
     if nd == 0 || sides.iter().any(|&s| s != nd) {
         return None;
     }
-    let t = line_triangle(tri, ray)?.t;
+    // The perturbed line crosses the triangle's interior, so the line meets the closed triangle: only
+    // `t` is needed.
+    let t = Cramer::of(tri, ray)?.t();
     let ahead = match t.cmp0() {
         std::cmp::Ordering::Equal => {
             // t(ε) = n · (a - o_ε) / (n · d): ahead iff -n's first nonzero component has the sign of n · d.
