@@ -193,7 +193,19 @@ pub fn parse_tetgen(stem: &Path, texts: &TetgenTexts) -> Result<Mesh, MeshError>
         p.push(ext);
         PathBuf::from(p)
     };
-    let node = Table::parse(&file("node"), texts.node)?;
+    // The four tables are parsed at once; each is checked where it was before, so the first error
+    // named is the same.
+    let parse = |ext: &str, text: Option<&str>| text.map(|t| Table::parse(&file(ext), t));
+    let ((node, ele), (neigh, face)) = rayon::join(
+        || {
+            rayon::join(
+                || parse("node", Some(texts.node)),
+                || parse("ele", Some(texts.ele)),
+            )
+        },
+        || rayon::join(|| parse("neigh", texts.neigh), || parse("face", texts.face)),
+    );
+    let node = node.expect("given")?;
     let (header, rows) = node.body(4)?;
     if header.get(1).is_some_and(|&d| d != 3.0) {
         return Err(node.err(0, format!("dimension {} is not 3", header[1])));
@@ -220,7 +232,7 @@ pub fn parse_tetgen(stem: &Path, texts: &TetgenTexts) -> Result<Mesh, MeshError>
         }
         points.push(p);
     }
-    let ele = Table::parse(&file("ele"), texts.ele)?;
+    let ele = ele.expect("given")?;
     let (header, rows) = ele.body(5)?;
     if header.get(1).is_some_and(|&n| n != 4.0 && n != 10.0) {
         return Err(ele.err(
@@ -239,10 +251,7 @@ pub fn parse_tetgen(stem: &Path, texts: &TetgenTexts) -> Result<Mesh, MeshError>
     if tets.is_empty() {
         return Err(ele.err(0, "no tetrahedra".into()));
     }
-    let neigh = texts
-        .neigh
-        .map(|t| Table::parse(&file("neigh"), t))
-        .transpose()?;
+    let neigh = neigh.transpose()?;
     let neighbors = match &neigh {
         None => None,
         Some(t) => {
@@ -262,10 +271,7 @@ pub fn parse_tetgen(stem: &Path, texts: &TetgenTexts) -> Result<Mesh, MeshError>
             Some(out)
         }
     };
-    let face = texts
-        .face
-        .map(|t| Table::parse(&file("face"), t))
-        .transpose()?;
+    let face = face.transpose()?;
     let mut constrained = Vec::new();
     if let Some(t) = &face {
         let (_, rows) = t.body(4)?;
