@@ -302,6 +302,7 @@ impl ExitMethod for Certified {
     /// In the starting tetrahedron, where the origin may lie on the boundary and the perturbed line
     /// may pass beside it, all six signs instead (Platis & Theoharis' test) — once per walk. At a tie
     /// (a sign exactly zero), `exact`'s answer.
+    #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, r: &CertifiedRay, entry: Option<usize>) -> Option<usize> {
         match entry {
             Some(e) => algorithm_1::<A>(tet, r, e),
