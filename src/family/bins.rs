@@ -86,6 +86,9 @@ const ETA: f64 = 1.0 / (1u128 << 118) as f64;
 /// Beyond this `1 + 2R + D` the lemma claims nothing (`2^40`).
 const LIMIT: f64 = (1u64 << 40) as f64;
 
+/// Triangles binned per task (small enough for the tasks to even out between threads).
+const CHUNK: usize = 64;
+
 /// One view's candidate triangles per tile of `tile²` pixels, tiles row by row (`tiles_x × tiles_y`).
 pub struct Bins {
     pub tile: u32,
@@ -270,12 +273,12 @@ pub fn bins(cam: &Camera, width: u32, height: u32, tile: u32, tris: &[Tri]) -> B
     };
     // (scales, tile, triangle) triples, triangles ascending within each chunk and chunks in order.
     let triples: Vec<(u8, u32, u32)> = tris
-        .par_chunks(256)
+        .par_chunks(CHUNK)
         .enumerate()
         .flat_map_iter(|(c, chunk)| {
             let (mut out, mut stack) = (Vec::new(), Vec::new());
             for (k, tri) in chunk.iter().enumerate() {
-                let id = (c * 256 + k) as u32;
+                let id = (c * CHUNK + k) as u32;
                 let all = scales_of(every_bit);
                 match Reach::of(tri, cam.eye, &axes, big_d) {
                     None => out.extend((0..tiles_x * tiles_y).map(|t| (all, t, id))),

@@ -483,7 +483,8 @@ pub fn same_result(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> bool {
     match (w.outcome, reference.outcome) {
         (Outcome::LeftMesh { .. }, Outcome::LeftMesh { .. }) => true,
         (Outcome::Hit { tet, face }, Outcome::Hit { tet: rt, face: rf }) => {
-            tri(tet, face) == tri(rt, rf)
+            (tet, face) == (rt, rf)
+                || tri(tet, face) == tri(rt, rf)
                 || matches!((crossing(tet, face), crossing(rt, rf)), (Some(x), Some(y)) if x.t == y.t)
         }
         (Outcome::Hit { tet, face }, Outcome::LeftMesh { .. }) => {
