@@ -585,7 +585,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         true,
         Some(triangle::SideError::OriginScaled),
     ),
-    TriangleMethod::of::<WoopWatertight>(
+    TriangleMethod::wide::<WoopWatertight>(
         Info {
             ours: true,
             ..Info::published(

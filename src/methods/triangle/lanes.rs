@@ -72,6 +72,11 @@ mod imp {
         pub fn ge(self, b: F4) -> M4 {
             M4(unsafe { _mm_cmpge_ps(self.0, b.0) })
         }
+        /// Equal, as scalar `==` (false where either is a NaN).
+        #[inline(always)]
+        pub fn eq(self, b: F4) -> M4 {
+            M4(unsafe { _mm_cmpeq_ps(self.0, b.0) })
+        }
     }
 
     impl M4 {
@@ -135,6 +140,9 @@ mod imp {
         }
         pub(super) fn neg(self) -> F4 {
             F4(self.0.map(|x| -x))
+        }
+        pub fn eq(self, b: F4) -> M4 {
+            test(self.0, b.0, |x, y| x == y)
         }
         pub fn lt(self, b: F4) -> M4 {
             test(self.0, b.0, |x, y| x < y)

@@ -4,8 +4,9 @@
 //! they have one sign and their sum is not 0. The listing's test against the current `hit.t` is the
 //! nearest-hit loop's, done after the division like every method's.
 
-use super::{HitMethod, Tri};
-use crate::methods::Arith;
+use super::lanes::{F4, V4, answers};
+use super::{HitMethod, Tri, Wide};
+use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
 
@@ -90,4 +91,82 @@ fn woop<A: Arith>(tri: &Tri, r: &Sheared) -> Option<f32> {
         return None;
     }
     Some(t_scaled * (1.0 / det))
+}
+
+/// Four rays as [`WoopWatertight`]'s 4-wide test reads them: each ray's own data (for a lane the f32
+/// test cannot decide alone), and, where the four share their axes `kx, ky, kz` (nearly always: the
+/// rays of a packet point nearly one way), the origins and shears in lanes.
+#[derive(Clone, Copy)]
+pub struct WoopLanes {
+    rays: [Sheared; 4],
+    shared: Option<([usize; 3], V4, V4)>,
+}
+
+/// Component `k` of four vectors.
+#[inline(always)]
+fn component(v: V4, k: usize) -> F4 {
+    match k {
+        0 => v.x,
+        1 => v.y,
+        _ => v.z,
+    }
+}
+
+impl Wide for WoopWatertight {
+    type Lanes = WoopLanes;
+    type Shared = ();
+    fn lanes(rays: [&Sheared; 4]) -> WoopLanes {
+        let k = rays[0].k;
+        WoopLanes {
+            rays: rays.map(|r| *r),
+            shared: rays
+                .iter()
+                .all(|r| r.k == k)
+                .then(|| (k, V4::new(rays.map(|r| r.org)), V4::new(rays.map(|r| r.s)))),
+        }
+    }
+    fn shared(_: &Tri, _: Vec3) {}
+    /// [`woop`] for four rays at once (SSE), op for op; a lane whose edge functions include an exact 0
+    /// (the f64 recomputation), and every lane where the rays' axes differ, answered by [`woop`].
+    fn packet4(tri: &Tri, _: &(), l: &WoopLanes, out: &mut [Option<f32>]) {
+        let scalar = |i: usize| woop::<Plain>(tri, &l.rays[i]);
+        let Some(([kx, ky, kz], org, s)) = l.shared else {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = scalar(i);
+            }
+            return;
+        };
+        let [a, b, c] = tri.map(|p| V4::splat(p) - org);
+        let shear = |p: V4| {
+            let pz = component(p, kz);
+            (-s.x * pz + component(p, kx), -s.y * pz + component(p, ky))
+        };
+        let ((ax, ay), (bx, by), (cx, cy)) = (shear(a), shear(b), shear(c));
+        let det2 = |p: F4, q: F4, s: F4, t: F4| p * q + -(s * t);
+        let u = det2(cx, by, cy, bx);
+        let v = det2(ax, cy, ay, cx);
+        let w = det2(bx, ay, by, ax);
+        let zero = F4::splat(0.0);
+        let flat = u.eq(zero).or(v.eq(zero)).or(w.eq(zero)).bits();
+        let negative = u.lt(zero).or(v.lt(zero)).or(w.lt(zero));
+        let positive = u.gt(zero).or(v.gt(zero)).or(w.gt(zero));
+        let det = u + v + w;
+        let (az, bz, cz) = (
+            s.z * component(a, kz),
+            s.z * component(b, kz),
+            s.z * component(c, kz),
+        );
+        let t_scaled = w * cz + (v * bz + u * az);
+        let behind = t_scaled
+            .lt(zero)
+            .and(det.gt(zero))
+            .or(t_scaled.gt(zero).and(det.lt(zero)));
+        let miss = negative.and(positive).or(det.eq(zero)).or(behind);
+        answers(miss.flipped(), t_scaled * (F4::splat(1.0) / det), out);
+        for (i, o) in out.iter_mut().enumerate() {
+            if flat >> i & 1 == 1 {
+                *o = scalar(i);
+            }
+        }
+    }
 }
