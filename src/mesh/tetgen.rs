@@ -195,17 +195,17 @@ pub fn parse_tetgen(stem: &Path, texts: &TetgenTexts) -> Result<Mesh, MeshError>
     };
     // The four tables are parsed at once; each is checked where it was before, so the first error
     // named is the same.
-    let parse = |ext: &str, text: Option<&str>| text.map(|t| Table::parse(&file(ext), t));
+    let table = |ext: &str, text: &str| Table::parse(&file(ext), text);
     let ((node, ele), (neigh, face)) = rayon::join(
+        || rayon::join(|| table("node", texts.node), || table("ele", texts.ele)),
         || {
             rayon::join(
-                || parse("node", Some(texts.node)),
-                || parse("ele", Some(texts.ele)),
+                || texts.neigh.map(|t| table("neigh", t)),
+                || texts.face.map(|t| table("face", t)),
             )
         },
-        || rayon::join(|| parse("neigh", texts.neigh), || parse("face", texts.face)),
     );
-    let node = node.expect("given")?;
+    let node = node?;
     let (header, rows) = node.body(4)?;
     if header.get(1).is_some_and(|&d| d != 3.0) {
         return Err(node.err(0, format!("dimension {} is not 3", header[1])));
@@ -232,7 +232,7 @@ pub fn parse_tetgen(stem: &Path, texts: &TetgenTexts) -> Result<Mesh, MeshError>
         }
         points.push(p);
     }
-    let ele = ele.expect("given")?;
+    let ele = ele?;
     let (header, rows) = ele.body(5)?;
     if header.get(1).is_some_and(|&n| n != 4.0 && n != 10.0) {
         return Err(ele.err(
