@@ -16,11 +16,10 @@ pub struct Args {
     /// always needs `0 < t < ∞` [default: 4096].
     #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
     t_ulps: Option<f64>,
-    /// Also answer every case with each method's 4-wide version (seed 004's SIMD packets:
-    /// mt-precomputed, komatsu-packet, plucker-packet; and woop-watertight), the ray in every lane,
-    /// and compare: each
-    /// line of such a method says `"wide_same"`, and any case answered otherwise than by the scalar
-    /// version, bit for bit, gives exit status 1. Plain f32 only (`--backend cpu`).
+    /// Also answer every case with each method's 4-wide version (seed 004's SIMD packets, where a
+    /// method has one), the ray in every lane, and compare: each line of such a method says
+    /// `"wide_same"`, and any case answered otherwise than by the scalar version, bit for bit, gives
+    /// exit status 1. Plain f32 only (`--backend cpu`).
     #[arg(long)]
     wide: bool,
 }

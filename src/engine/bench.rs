@@ -368,10 +368,14 @@ pub fn speed(
             .iter()
             .map(|&i| all[i])
             .collect();
-        let binned = crate::family::bins::bins(&cam, w, h, tile, &tris);
+        let binned = crate::family::bins::bins(&cam, w, h, tile, &tris).among(w, h);
         for m in methods {
             let scale = m.side_error.unwrap_or(SideError::OriginScaled);
-            let among = &binned.get(scale).among(w, h);
+            let among = &binned
+                .iter()
+                .find(|b| b.0 == scale)
+                .expect("every scale is binned")
+                .1;
             let n = among.tests();
             if p == 2 {
                 tests.push((m.name().to_string(), n));

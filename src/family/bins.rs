@@ -107,7 +107,7 @@ impl Bins {
 
     /// The rays of a `width × height` view in [`packet_order`](crate::scenes::camera::packet_order)
     /// with these tiles, each tile's run of rays with its candidates.
-    pub fn among(&self, width: u32, height: u32) -> Among {
+    pub fn among(self, width: u32, height: u32) -> Among {
         let mut groups = Vec::with_capacity(self.start.len() - 1);
         let mut first = 0;
         for ty in 0..self.tiles_y {
@@ -120,7 +120,7 @@ impl Bins {
             }
         }
         Among {
-            ids: self.ids.clone(),
+            ids: self.ids,
             groups,
         }
     }
@@ -250,6 +250,12 @@ impl ByScale {
             .position(|&s| s == scale)
             .expect("every scale")]
     }
+
+    /// Each scale with the rays of a `width × height` view and their candidates ([`Bins::among`]).
+    pub fn among(self, width: u32, height: u32) -> [(SideError, Among); 2] {
+        let ([a, b], [sa, sb]) = (self.0, SCALES);
+        [(sa, a.among(width, height)), (sb, b.among(width, height))]
+    }
 }
 
 /// The candidate triangles of each tile of a `width × height` view from `cam`, for methods of each
@@ -271,6 +277,7 @@ pub fn bins(cam: &Camera, width: u32, height: u32, tile: u32, tris: &[Tri]) -> B
             .filter(|&k| bits & of_scale(k) != 0)
             .fold(0u8, |m, k| m | 1 << k)
     };
+    let all = scales_of(every_bit);
     // (scales, tile, triangle) triples, triangles ascending within each chunk and chunks in order.
     let triples: Vec<(u8, u32, u32)> = tris
         .par_chunks(CHUNK)
@@ -279,7 +286,6 @@ pub fn bins(cam: &Camera, width: u32, height: u32, tile: u32, tris: &[Tri]) -> B
             let (mut out, mut stack) = (Vec::new(), Vec::new());
             for (k, tri) in chunk.iter().enumerate() {
                 let id = (c * CHUNK + k) as u32;
-                let all = scales_of(every_bit);
                 match Reach::of(tri, cam.eye, &axes, big_d) {
                     None => out.extend((0..tiles_x * tiles_y).map(|t| (all, t, id))),
                     Some(reach) => {

@@ -720,9 +720,8 @@ fn view_bins(at: &Prepared<Triangle>, tile: u32, scale: SideError) -> Arc<Among>
     if !made.iter().any(|b| b.1 == tile) {
         let (w, h) = (at.scene.views.width, at.scene.views.height);
         let (tris, _) = &at.ready.triangles;
-        let both = bins::bins(at.camera, w, h, tile, tris);
-        for s in bins::SCALES {
-            made.push((at.view, tile, s, Arc::new(both.get(s).among(w, h))));
+        for (s, among) in bins::bins(at.camera, w, h, tile, tris).among(w, h) {
+            made.push((at.view, tile, s, Arc::new(among)));
         }
     }
     made.iter()
