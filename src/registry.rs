@@ -279,7 +279,7 @@ pub static METHODS: &[Method] = &[
     ),
     published::<Stp>(
         "stp",
-        "Lagae & Dutré 2008: three to six scalar triple products with early outs (reconstructed)",
+        "Lagae & Dutré 2008: three to six scalar triple products with early outs, on the CPU all six four at a time (the same face) (reconstructed)",
         Gpu::Wgsl(&[STP]),
     ),
     published::<Ms06>(

@@ -54,7 +54,7 @@ pub const FACE_VERTICES: [[usize; 3]; 4] = [[1, 3, 2], [0, 2, 3], [0, 3, 1], [0,
 pub const EDGES: [[usize; 2]; 6] = [[0, 1], [0, 2], [0, 3], [1, 2], [1, 3], [2, 3]];
 
 /// [`edge_index`] for every pair of distinct vertices, computed once from [`EDGES`].
-const EDGE_OF: [[(usize, bool); 4]; 4] = {
+pub(crate) const EDGE_OF: [[(usize, bool); 4]; 4] = {
     let mut t = [[(usize::MAX, false); 4]; 4];
     let mut e = 0;
     while e < 6 {

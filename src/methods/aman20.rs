@@ -1,6 +1,7 @@
 //! `aman20` and `aman20-scaled`: Aman, Demirci, Güdükbay (seed 003) §4: the tetrahedron projected onto
 //! a 2-D frame around the ray, Algorithm 1 exit selection from the one newly fetched vertex.
 
+use super::lanes::{F4, Lane, V4};
 use super::{Arith, ExitMethod, each, leaves};
 use crate::tet::{FACE_VERTICES, Ray, Tet};
 use glam::{Vec2, Vec3};
@@ -13,7 +14,24 @@ fn det<A: Arith>(a: Vec2, b: Vec2) -> f32 {
 
 /// A 2-D frame around the ray onto which vertices are projected, with the ray at the origin.
 pub trait Frame: Copy + Send + Sync {
-    fn project<A: Arith>(&self, p: Vec3) -> Vec2;
+    /// The projection of the point with coordinates `p` (one point, or four in lanes).
+    fn project_lanes<A: Arith, L: Lane>(&self, p: [L; 3]) -> [L; 2];
+
+    /// The projection of `p`.
+    #[inline(always)]
+    fn project<A: Arith>(&self, p: Vec3) -> Vec2 {
+        Vec2::from(self.project_lanes::<A, f32>(p.to_array()))
+    }
+
+    /// The projections of a tetrahedron's four vertices, computed in four lanes.
+    #[inline(always)]
+    fn project_tet<A: Arith>(&self, tet: &Tet) -> [Vec2; 4] {
+        let v = V4::of(tet);
+        let [x, y] = self
+            .project_lanes::<A, F4>([v.x, v.y, v.z])
+            .map(F4::to_array);
+        [0, 1, 2, 3].map(|i| Vec2::new(x[i], y[i]))
+    }
 }
 
 /// Algorithm 1, GETEXITFACE: `p0 p1 p2` the entry face, `p3` the new vertex; returns `k`, the exit face
@@ -39,14 +57,14 @@ pub fn get_exit_face<A: Arith>(p: &[Vec2; 4]) -> usize {
 /// (or on) all three edges, not all on them.
 #[inline(always)]
 fn exit_2d<A: Arith>(tet: &Tet, frame: &impl Frame, entry: Option<usize>) -> Option<usize> {
+    let p = frame.project_tet::<A>(tet);
     match entry {
         Some(e) => {
             let [a0, a1, a2] = FACE_VERTICES[e];
             let idx = [a0, a2, a1, e];
-            let p = each(idx, |i| frame.project::<A>(tet[i]));
-            Some(idx[get_exit_face::<A>(&p)])
+            Some(idx[get_exit_face::<A>(&each(idx, |i| p[i]))])
         }
-        None => start_exit_face::<A>(&each(*tet, |v| frame.project::<A>(v))),
+        None => start_exit_face::<A>(&p),
     }
 }
 
@@ -155,26 +173,27 @@ impl ExitMethod for Aman20Scaled {
 
 impl Frame for DuffFrame {
     #[inline(always)]
-    fn project<A: Arith>(&self, p: Vec3) -> Vec2 {
-        let q = p - self.org;
-        Vec2::new(A::dot(self.u, q), A::dot(self.v, q))
+    fn project_lanes<A: Arith, L: Lane>(&self, p: [L; 3]) -> [L; 2] {
+        let q = [0, 1, 2].map(|k| p[k] - L::splat(self.org[k]));
+        let dot = |a: Vec3| {
+            let a = a.to_array().map(L::splat);
+            L::mad::<A>(a[2], q[2], L::mad::<A>(a[1], q[1], a[0] * q[0]))
+        };
+        [dot(self.u), dot(self.v)]
     }
 }
 
 impl Frame for ScaledFrame {
     #[inline(always)]
-    fn project<A: Arith>(&self, p: Vec3) -> Vec2 {
-        let q = p - self.org;
-        let x = A::mad(
-            self.u[self.max],
-            q[self.max],
-            self.u[self.other] * q[self.other],
+    fn project_lanes<A: Arith, L: Lane>(&self, p: [L; 3]) -> [L; 2] {
+        let q = [0, 1, 2].map(|k| p[k] - L::splat(self.org[k]));
+        let (u, v) = (
+            self.u.to_array().map(L::splat),
+            self.v.to_array().map(L::splat),
         );
-        let y = A::mad(
-            self.v[self.other],
-            q[self.other],
-            self.v[self.max] * q[self.max],
-        ) + self.v[self.min] * q[self.min];
-        Vec2::new(x, y)
+        let (max, other, min) = (self.max, self.other, self.min);
+        let x = L::mad::<A>(u[max], q[max], u[other] * q[other]);
+        let y = L::mad::<A>(v[other], q[other], v[max] * q[max]) + v[min] * q[min];
+        [x, y]
     }
 }

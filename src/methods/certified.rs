@@ -8,7 +8,7 @@
 //! (`proofs/certified/`).
 
 use super::maria17::{FACE_VERTICES, GET_FACE};
-use super::plucker::exit_by_sides;
+use super::plucker::{EdgeSigns, exit_by_sides};
 use super::{Arith, Exact, ExitMethod};
 use crate::tet::{EDGES, Ray, Tet};
 use glam::{Vec3, Vec3A, Vec3Swizzles};
@@ -271,7 +271,7 @@ fn start<A: Arith>(tet: &Tet, r: &CertifiedRay) -> Option<usize> {
     if sides.contains(&0.0) {
         None
     } else {
-        exit_by_sides(&sides)
+        exit_by_sides(EdgeSigns::of(&sides))
     }
 }
 

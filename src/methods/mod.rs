@@ -14,6 +14,7 @@ pub mod aman20;
 pub mod certified;
 mod exact;
 mod halfspace;
+pub mod lanes;
 pub mod maria17;
 mod ms06;
 mod plucker;
@@ -34,6 +35,7 @@ pub use stp::Stp;
 
 use crate::tet::{Ray, Tet};
 use glam::Vec3;
+use lanes::F4;
 
 /// Rounding of a method's arithmetic: as written, contracted to fused multiply-add, or flushed.
 pub trait Arith {
@@ -46,6 +48,11 @@ pub trait Arith {
     }
     /// `a·b + c`.
     fn mad(a: f32, b: f32, c: f32) -> f32;
+    /// [`Arith::mad`] in four lanes ([`lanes`]).
+    #[inline(always)]
+    fn mad4(a: F4, b: F4, c: F4) -> F4 {
+        F4::mad_by_lane::<Self>(a, b, c)
+    }
     /// `a.x·b.x + a.y·b.y + a.z·b.z`, summed left to right.
     #[inline(always)]
     fn dot(a: Vec3, b: Vec3) -> f32 {
@@ -89,6 +96,10 @@ impl Arith for Plain {
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         a * b + c
     }
+    #[inline(always)]
+    fn mad4(a: F4, b: F4, c: F4) -> F4 {
+        a * b + c
+    }
 }
 
 impl Arith for Flushed {
@@ -99,6 +110,10 @@ impl Arith for Flushed {
     }
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
+        a * b + c
+    }
+    #[inline(always)]
+    fn mad4(a: F4, b: F4, c: F4) -> F4 {
         a * b + c
     }
 }
@@ -114,6 +129,11 @@ impl Arith for FusedFma {
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         // SAFETY: as above.
         unsafe { crate::fpenv::fma_instruction(a, b, c) }
+    }
+    #[inline(always)]
+    fn mad4(a: F4, b: F4, c: F4) -> F4 {
+        // SAFETY: as above.
+        unsafe { lanes::fma_instruction(a, b, c) }
     }
 }
 

@@ -1,9 +1,9 @@
 //! `ms06`: Marmitt & Slusallek 2006 (as seed 000 §2.3.2 describes it): Plücker tests that use the
 //! entry face, 2.67 side products on average.
 
-use super::plucker::{PluckerRay, exit_by_sides, plucker_ray, side};
-use super::{Arith, ExitMethod, each};
-use crate::tet::{EDGES, FACE_VERTICES, Ray, Tet};
+use super::plucker::{PluckerRay, exit_by_sides_of, plucker_ray, side};
+use super::{Arith, ExitMethod};
+use crate::tet::{FACE_VERTICES, Ray, Tet};
 
 /// Reconstructed: with entry face `F_e`, outward cycle `a0 a1 a2`, and apex `V = v_e`, the ray leaves
 /// through the face holding `a_k a_(k+1) V` iff `σ_k ≥ 0` and `σ_(k+1) ≤ 0`, `σ_k` the side product with
@@ -24,7 +24,7 @@ impl ExitMethod for Ms06 {
     #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &PluckerRay, entry: Option<usize>) -> Option<usize> {
         let Some(e) = entry else {
-            return exit_by_sides(&each(EDGES, |[a, b]| side::<A>(ray, tet[a], tet[b])));
+            return exit_by_sides_of::<A>(ray, tet);
         };
         let a = FACE_VERTICES[e];
         // σ_k, the side product with the complement edge a_k → V (`side` is always inlined; a

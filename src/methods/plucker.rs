@@ -1,8 +1,9 @@
 //! `plucker`: Lagae & Dutré 2008's third method (seed 000 §2.3.2), the permuted inner products of
 //! Platis & Theoharis 2003: six side products of the ray with the six edges.
 
-use super::{Arith, ExitMethod, each, leaves};
-use crate::tet::{EDGES, FACE_VERTICES, Ray, Tet, edge_index};
+use super::lanes::{F4, M4, V4};
+use super::{Arith, ExitMethod};
+use crate::tet::{EDGE_OF, EDGES, FACE_VERTICES, Ray, Tet};
 use glam::Vec3;
 
 /// The ray as a Plücker line `{u : v}` = `{d : o × d}`, computed once per ray.
@@ -39,23 +40,132 @@ pub(super) fn side<A: Arith>(ray: &PluckerRay, a: Vec3, b: Vec3) -> f32 {
     )
 }
 
-/// Platis & Theoharis 2003 exit test over all four faces: face `f` is left when the side products
-/// along its outward cycle are all `≥ 0` and not all zero; the first such face in index order.
+/// [`side`] of four lines `a → b` at once, lane by lane op for op.
 #[inline(always)]
-pub(super) fn exit_by_sides(sides: &[f32; 6]) -> Option<usize> {
-    (0..4).find(|&f| {
+fn sides4<A: Arith>(ray: &PluckerRay, a: V4, b: V4) -> F4 {
+    let moment = a.cross::<A>(b);
+    let dir = b - a;
+    let v = V4::splat(ray.v);
+    A::mad4(
+        v.z,
+        dir.z,
+        A::mad4(
+            v.y,
+            dir.y,
+            A::mad4(v.x, dir.x, V4::splat(ray.u).dot::<A>(moment)),
+        ),
+    )
+}
+
+/// The two ends of the six edges ([`EDGES`]) of a tetrahedron whose vertices are in lanes: edges 0 to
+/// 3 in the first four lanes, 4 and 5 in the second four's first two (the last two repeat edge 5).
+#[inline(always)]
+pub(super) fn edge_ends(v: V4) -> [(V4, V4); 2] {
+    let end = |k: usize, first: usize| v.pick([0, 1, 2, 3].map(|i| EDGES[(first + i).min(5)][k]));
+    [(end(0, 0), end(1, 0)), (end(0, 4), end(1, 4))]
+}
+
+/// Six products' signs, one per edge, as bit sets over [`EDGES`]: `< 0`, `> 0`, NaN.
+#[derive(Clone, Copy)]
+pub(super) struct EdgeSigns {
+    lt: u32,
+    gt: u32,
+    nan: u32,
+}
+
+impl EdgeSigns {
+    /// The signs of six products.
+    #[inline(always)]
+    pub(super) fn of(products: &[f32; 6]) -> EdgeSigns {
+        let bits = |test: fn(f32) -> bool| (0..6).map(|e| (test(products[e]) as u32) << e).sum();
+        EdgeSigns {
+            lt: bits(|x| x < 0.0),
+            gt: bits(|x| x > 0.0),
+            nan: bits(f32::is_nan),
+        }
+    }
+
+    /// The signs of six products in lanes ([`edge_ends`]' order).
+    #[inline(always)]
+    pub(super) fn of_lanes([lo, hi]: [F4; 2]) -> EdgeSigns {
+        let zero = F4::splat(0.0);
+        let bits =
+            |test: fn(F4, F4) -> M4| test(lo, zero).bits() | (test(hi, zero).bits() & 0b11) << 4;
+        EdgeSigns {
+            lt: bits(F4::lt),
+            gt: bits(F4::gt),
+            nan: bits(|x, _| x.eq(x).flipped()),
+        }
+    }
+
+    /// The first face in `order` whose products along its outward cycle are none `< 0` (an edge run
+    /// backwards flips the sign) and not all zero; where `nan_fails`, none NaN either.
+    #[inline(always)]
+    fn first_face(self, order: impl Iterator<Item = usize>, nan_fails: bool) -> Option<usize> {
+        let nan = if nan_fails { self.nan } else { 0 };
+        let (forward_fails, backward_fails) = (self.lt | nan, self.gt | nan);
+        let nonzero = self.lt | self.gt | self.nan;
+        let mut order = order;
+        order.find(|&f| {
+            let (forward, backward, all) = FACE_SIGNS[f];
+            forward_fails & forward == 0 && backward_fails & backward == 0 && nonzero & all != 0
+        })
+    }
+
+    /// Scalar triple products' test, faces 3 to 0: the first whose products are none `< 0` and
+    /// not all zero (a NaN passes).
+    #[inline(always)]
+    pub(super) fn stp_exit(self) -> Option<usize> {
+        self.first_face((0..4).rev(), false)
+    }
+}
+
+/// The ray's [`side`] products with the six edges of `tet`, four at a time ([`edge_ends`]).
+#[inline(always)]
+fn sides_of_tet<A: Arith>(ray: &PluckerRay, tet: &Tet) -> [F4; 2] {
+    let [(a, b), (c, d)] = edge_ends(V4::of(tet));
+    [sides4::<A>(ray, a, b), sides4::<A>(ray, c, d)]
+}
+
+/// Per face, the edges its outward cycle runs forward and those it runs backward, and all three.
+const FACE_SIGNS: [(u32, u32, u32); 4] = {
+    let mut t = [(0, 0, 0); 4];
+    let mut f = 0;
+    while f < 4 {
         let v = FACE_VERTICES[f];
-        let s = each([0, 1, 2], |k| {
-            let (e, rev) = edge_index(v[k], v[(k + 1) % 3]);
-            if rev { -sides[e] } else { sides[e] }
-        });
-        leaves(&s)
-    })
+        let mut k = 0;
+        while k < 3 {
+            let (e, rev) = EDGE_OF[v[k]][v[(k + 1) % 3]];
+            if rev {
+                t[f].1 |= 1 << e;
+            } else {
+                t[f].0 |= 1 << e;
+            }
+            t[f].2 |= 1 << e;
+            k += 1;
+        }
+        f += 1;
+    }
+    t
+};
+
+/// Platis & Theoharis 2003 exit test over all four faces: face `f` is left when the side products
+/// along its outward cycle are all `≥ 0` and not all zero (a NaN fails); the first such face in index
+/// order.
+#[inline(always)]
+pub(super) fn exit_by_sides(s: EdgeSigns) -> Option<usize> {
+    s.first_face(0..4, true)
+}
+
+/// The ray's side products with the six edges of `tet`, and the face [`exit_by_sides`] finds.
+#[inline(always)]
+pub(super) fn exit_by_sides_of<A: Arith>(ray: &PluckerRay, tet: &Tet) -> Option<usize> {
+    exit_by_sides(EdgeSigns::of_lanes(sides_of_tet::<A>(ray, tet)))
 }
 
 /// Reconstructed: the six side products of the ray with the edges (6 × 23 = 138 operations, plus 9 for
-/// the ray once), then the face whose three edges all turn the right way. The entry face is not used.
-/// `None` when no face passes.
+/// the ray once; four at a time, lane by lane, [`edge_ends`]), then the face whose three edges
+/// all turn the right way. The entry face is not used. `None` when no face passes.
 pub struct Plucker;
 
 impl ExitMethod for Plucker {
@@ -67,7 +177,6 @@ impl ExitMethod for Plucker {
 
     #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &PluckerRay, _entry: Option<usize>) -> Option<usize> {
-        let sides = each(EDGES, |[a, b]| side::<A>(ray, tet[a], tet[b]));
-        exit_by_sides(&sides)
+        exit_by_sides_of::<A>(ray, tet)
     }
 }

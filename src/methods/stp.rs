@@ -1,15 +1,19 @@
 //! `stp`: Lagae & Dutré 2008's fourth and fastest method (seed 000 §2.3.2, seed 003 §2.2): three to six
 //! scalar triple products with early outs.
 
-use super::{Arith, ExitMethod, each};
-use crate::tet::{FACE_VERTICES, Ray, Tet, edge_index};
+use super::lanes::V4;
+use super::plucker::{EdgeSigns, edge_ends};
+use super::{Arith, ExitMethod};
+use crate::tet::{Ray, Tet};
 
 /// Reconstructed: with the vertices relative to the origin, `a' = a - o`, the scalar triple product
 /// `[d, a', b'] = d · (a' × b')` is the ray's side of edge `a → b` (14 operations each, shared between
-/// the two faces of an edge). Faces are tried in the order 3, 2, 1, 0; a face's edges are evaluated
-/// along its outward cycle until one is negative (early out), and the first face whose three products
-/// are all `≥ 0` (not all zero) is the exit face: 3 products at best, 6 at most. The entry face is not
-/// used. `None` when no face passes.
+/// the two faces of an edge). Faces are tried in the order 3, 2, 1, 0; the first face whose three
+/// products along its outward cycle are none `< 0` (not all zero) is the exit face. The published
+/// method evaluates a face's products until one is negative (early outs: 3 products at best, 6 at
+/// most); here all six are computed four at a time, lane by lane (on SSE faster than the early outs'
+/// branches), which decides the same face: a product's value does not depend on when it is taken.
+/// The entry face is not used. `None` when no face passes.
 pub struct Stp;
 
 impl ExitMethod for Stp {
@@ -21,31 +25,10 @@ impl ExitMethod for Stp {
 
     #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, _entry: Option<usize>) -> Option<usize> {
-        let rel = each(*tet, |v| v - ray.org);
-        let mut known: [Option<f32>; 6] = [None; 6];
-        let mut stp = |i: usize, j: usize| {
-            let (e, rev) = edge_index(i, j);
-            let s = *known[e].get_or_insert_with(|| {
-                let [a, b] = if rev {
-                    [rel[j], rel[i]]
-                } else {
-                    [rel[i], rel[j]]
-                };
-                A::dot(ray.dir, A::cross(a, b))
-            });
-            if rev { -s } else { s }
-        };
-        (0..4).rev().find(|&f| {
-            let v = FACE_VERTICES[f];
-            let mut nonzero = false;
-            for k in 0..3 {
-                let s = stp(v[k], v[(k + 1) % 3]);
-                if s < 0.0 {
-                    return false;
-                }
-                nonzero |= s != 0.0;
-            }
-            nonzero
-        })
+        let rel = V4::of(tet) - V4::splat(ray.org);
+        let dir = V4::splat(ray.dir);
+        let [(a, b), (c, d)] = edge_ends(rel);
+        let triple = |a: V4, b: V4| dir.dot::<A>(a.cross::<A>(b));
+        EdgeSigns::of_lanes([triple(a, b), triple(c, d)]).stp_exit()
     }
 }

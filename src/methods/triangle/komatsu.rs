@@ -3,9 +3,9 @@
 //! triangle; per ray `(t, u, v) = -1/(N·D) · (N·S, D·(-S × E2), D·(S × E1))`, with early termination
 //! after `u` and after `v`.
 
-use super::lanes::{F4, V4, answers};
 use super::mt_precomputed::{Precomputed, precompute};
 use super::{HitMethod, Tri, Wide};
+use crate::methods::lanes::{F4, V4, answers};
 use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
@@ -61,14 +61,14 @@ impl Wide for KomatsuPacket {
     /// Four rays at once (SSE): the early exits become one miss mask of the same comparisons, and
     /// the four end after `u` where every lane missed (seed 004 §3.2's early termination).
     fn packet4(p: &Precomputed, &(ns, a, b): &(f32, Vec3, Vec3), d: &V4, out: &mut [Option<f32>]) {
-        let r = F4::splat(-1.0) / V4::splat(p.n).dot(*d);
-        let u = r * d.dot(V4::splat(a));
+        let r = F4::splat(-1.0) / V4::splat(p.n).dot::<Plain>(*d);
+        let u = r * d.dot::<Plain>(V4::splat(a));
         let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
         if u.lt(zero).bits() == 0b1111 {
             out.fill(None);
             return;
         }
-        let v = r * d.dot(V4::splat(b));
+        let v = r * d.dot::<Plain>(V4::splat(b));
         let miss = u.lt(zero).or(v.lt(zero)).or((u + v).gt(one));
         answers(miss.flipped(), r * F4::splat(ns), out);
     }

@@ -8,7 +8,6 @@
 //! many triangles is the first with the smallest `t` ([`nearest`]).
 
 mod komatsu;
-pub mod lanes;
 mod mt;
 mod mt_precomputed;
 mod plucker_packet;
@@ -88,7 +87,7 @@ pub enum SideError {
     OriginScaled,
 }
 
-/// A method with a 4-wide version (seed 004's SIMD packets, [`lanes`]): four rays of a packet at once
+/// A method with a 4-wide version (seed 004's SIMD packets, [`crate::methods::lanes`]): four rays of a packet at once
 /// in the plain model, answering bit for bit as [`HitMethod::packet`] does there (`tests/triangle.rs`).
 pub trait Wide: HitMethod {
     /// Four rays' data as the 4-wide test reads them (made once per packet).

@@ -2,9 +2,9 @@
 //! Barzel's jgt collection): `N = E1 × E2`, `E1`, `E2` once per triangle; per ray `S = O - P0`,
 //! `(t, u, v) = -1/(N·D) · (N·S, -(D × S)·E2, (D × S)·E1)`, tested `0 ≤ u`, `0 ≤ v`, `u + v ≤ 1`.
 
-use super::lanes::{F4, V4, answers};
 use super::{HitMethod, Tri, Wide};
-use crate::methods::Arith;
+use crate::methods::lanes::{F4, V4, answers};
+use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
 
@@ -71,13 +71,13 @@ impl Wide for MtPrecomputed {
     /// The loop body above for four rays at once (SSE), op for op.
     fn packet4(p: &Precomputed, _: &(), &(d, org): &(V4, V4), out: &mut [Option<f32>]) {
         let (n, e1, e2) = (V4::splat(p.n), V4::splat(p.e1), V4::splat(p.e2));
-        let r = F4::splat(-1.0) / n.dot(d);
+        let r = F4::splat(-1.0) / n.dot::<Plain>(d);
         let s = org - V4::splat(p.p0);
-        let ds = d.cross(s);
-        let u = r * -ds.dot(e2);
-        let v = r * ds.dot(e1);
+        let ds = d.cross::<Plain>(s);
+        let u = r * -ds.dot::<Plain>(e2);
+        let v = r * ds.dot::<Plain>(e1);
         let (zero, one) = (F4::splat(0.0), F4::splat(1.0));
         let hit = u.ge(zero).and(v.ge(zero)).and((u + v).le(one));
-        answers(hit, r * n.dot(s), out);
+        answers(hit, r * n.dot::<Plain>(s), out);
     }
 }

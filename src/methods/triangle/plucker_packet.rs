@@ -3,8 +3,8 @@
 //! `D · (a' × b')` (`a' = a - O`): the three edge moments and `N · a'` once per packet and triangle,
 //! three dot products per ray, a hit when all three have one sign, then `t = N·a' / N·D`.
 
-use super::lanes::{F4, V4, answers};
 use super::{HitMethod, Tri, Wide};
+use crate::methods::lanes::{F4, V4, answers};
 use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
@@ -65,13 +65,13 @@ impl Wide for PluckerPacket {
     }
     /// Four rays' three side products at once (SSE).
     fn packet4(tri: &WithNormal, &(m, na): &([Vec3; 3], f32), d: &V4, out: &mut [Option<f32>]) {
-        let s = m.map(|m| d.dot(V4::splat(m)));
+        let s = m.map(|m| d.dot::<Plain>(V4::splat(m)));
         let zero = F4::splat(0.0);
         let all_ge = s[0].ge(zero).and(s[1].ge(zero)).and(s[2].ge(zero));
         let all_le = s[0].le(zero).and(s[1].le(zero)).and(s[2].le(zero));
         answers(
             all_ge.or(all_le),
-            F4::splat(na) / V4::splat(tri.n).dot(*d),
+            F4::splat(na) / V4::splat(tri.n).dot::<Plain>(*d),
             out,
         );
     }

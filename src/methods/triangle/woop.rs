@@ -4,8 +4,8 @@
 //! they have one sign and their sum is not 0. The listing's test against the current `hit.t` is the
 //! nearest-hit loop's, done after the division like every method's.
 
-use super::lanes::{F4, V4, answers};
 use super::{HitMethod, Tri, Wide};
+use crate::methods::lanes::{F4, V4, answers};
 use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
