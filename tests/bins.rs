@@ -193,6 +193,7 @@ fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
             let packed: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
             let binned =
                 bins(&cam, views.width, views.height, tile, &tris).among(views.width, views.height);
+            let binned = binned.into_pairs();
             for (_, among) in &binned {
                 fewer += among.tests() as f64 / (rays.len() * tris.len()) as f64 / 2.0;
             }

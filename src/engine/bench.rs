@@ -371,11 +371,7 @@ pub fn speed(
         let binned = crate::family::bins::bins(&cam, w, h, tile, &tris).among(w, h);
         for m in methods {
             let scale = m.side_error.unwrap_or(SideError::OriginScaled);
-            let among = &binned
-                .iter()
-                .find(|b| b.0 == scale)
-                .expect("every scale is binned")
-                .1;
+            let among = binned.get(scale);
             let n = among.tests();
             if p == 2 {
                 tests.push((m.name().to_string(), n));

@@ -239,22 +239,29 @@ const fn of_scale(k: usize) -> u8 {
     bit(0, k) | bit(1, k)
 }
 
-/// One view's candidates for each error scale.
-pub struct ByScale([Bins; 2]);
+/// One view's candidates (or their rays' [`Among`]) for each error scale, in [`SCALES`] order.
+pub struct ByScale<T = Bins>([T; 2]);
 
-impl ByScale {
+impl<T> ByScale<T> {
     /// The candidates of methods of error scale `scale`.
-    pub fn get(&self, scale: SideError) -> &Bins {
+    pub fn get(&self, scale: SideError) -> &T {
         &self.0[SCALES
             .iter()
             .position(|&s| s == scale)
             .expect("every scale")]
     }
 
-    /// Each scale with the rays of a `width × height` view and their candidates ([`Bins::among`]).
-    pub fn among(self, width: u32, height: u32) -> [(SideError, Among); 2] {
+    /// Each scale with its candidates.
+    pub fn into_pairs(self) -> [(SideError, T); 2] {
         let ([a, b], [sa, sb]) = (self.0, SCALES);
-        [(sa, a.among(width, height)), (sb, b.among(width, height))]
+        [(sa, a), (sb, b)]
+    }
+}
+
+impl ByScale {
+    /// The rays of a `width × height` view and their candidates, for each scale ([`Bins::among`]).
+    pub fn among(self, width: u32, height: u32) -> ByScale<Among> {
+        ByScale(self.0.map(|b| b.among(width, height)))
     }
 }
 

@@ -720,7 +720,10 @@ fn view_bins(at: &Prepared<Triangle>, tile: u32, scale: SideError) -> Arc<Among>
     if !made.iter().any(|b| b.1 == tile) {
         let (w, h) = (at.scene.views.width, at.scene.views.height);
         let (tris, _) = &at.ready.triangles;
-        for (s, among) in bins::bins(at.camera, w, h, tile, tris).among(w, h) {
+        for (s, among) in bins::bins(at.camera, w, h, tile, tris)
+            .among(w, h)
+            .into_pairs()
+        {
             made.push((at.view, tile, s, Arc::new(among)));
         }
     }

@@ -1,7 +1,7 @@
 //! `aman20` and `aman20-scaled`: Aman, Demirci, Güdükbay (seed 003) §4: the tetrahedron projected onto
 //! a 2-D frame around the ray, Algorithm 1 exit selection from the one newly fetched vertex.
 
-use super::lanes::{F4, Lane, V4};
+use super::lanes::{self, F4, Lane, V4};
 use super::{Arith, ExitMethod, each, leaves};
 use crate::tet::{FACE_VERTICES, Ray, Tet};
 use glam::{Vec2, Vec3};
@@ -175,11 +175,8 @@ impl Frame for DuffFrame {
     #[inline(always)]
     fn project_lanes<A: Arith, L: Lane>(&self, p: [L; 3]) -> [L; 2] {
         let q = [0, 1, 2].map(|k| p[k] - L::splat(self.org[k]));
-        let dot = |a: Vec3| {
-            let a = a.to_array().map(L::splat);
-            L::mad::<A>(a[2], q[2], L::mad::<A>(a[1], q[1], a[0] * q[0]))
-        };
-        [dot(self.u), dot(self.v)]
+        let along = |a: Vec3| lanes::dot::<A, L>(a.to_array().map(L::splat), q);
+        [along(self.u), along(self.v)]
     }
 }
 

@@ -230,6 +230,12 @@ pub trait Lane: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Se
     fn mad<A: Arith>(a: Self, b: Self, c: Self) -> Self;
 }
 
+/// `a·b` as [`Arith::dot`] computes it, over one f32 or four lanes.
+#[inline(always)]
+pub fn dot<A: Arith, L: Lane>(a: [L; 3], b: [L; 3]) -> L {
+    L::mad::<A>(a[2], b[2], L::mad::<A>(a[1], b[1], a[0] * b[0]))
+}
+
 impl Lane for f32 {
     #[inline(always)]
     fn splat(x: f32) -> f32 {
@@ -364,7 +370,7 @@ impl V4 {
     /// `a·b` as [`Arith::dot`] computes it, in every lane.
     #[inline(always)]
     pub fn dot<A: Arith>(self, b: V4) -> F4 {
-        A::mad4(self.z, b.z, A::mad4(self.y, b.y, self.x * b.x))
+        dot::<A, F4>([self.x, self.y, self.z], [b.x, b.y, b.z])
     }
 
     /// `a × b` as [`Arith::cross`] computes it, in every lane.

@@ -101,11 +101,10 @@ impl EdgeSigns {
     /// The first face in `order` whose products along its outward cycle are none `< 0` (an edge run
     /// backwards flips the sign) and not all zero; where `nan_fails`, none NaN either.
     #[inline(always)]
-    fn first_face(self, order: impl Iterator<Item = usize>, nan_fails: bool) -> Option<usize> {
+    fn first_face(self, mut order: impl Iterator<Item = usize>, nan_fails: bool) -> Option<usize> {
         let nan = if nan_fails { self.nan } else { 0 };
         let (forward_fails, backward_fails) = (self.lt | nan, self.gt | nan);
         let nonzero = self.lt | self.gt | self.nan;
-        let mut order = order;
         order.find(|&f| {
             let (forward, backward, all) = FACE_SIGNS[f];
             forward_fails & forward == 0 && backward_fails & backward == 0 && nonzero & all != 0
