@@ -479,7 +479,7 @@ impl Backend {
         start: u32,
         max_steps: u32,
     ) -> Result<Vec<Walk>, BackendError> {
-        let rays: Vec<(Ray, u32)> = rays.iter().map(|r| (*r, start)).collect();
+        let rays = map_all(rays, |r| (*r, start));
         Ok(self.walks_from(method, mesh, &rays, max_steps)?.walks)
     }
 
@@ -498,14 +498,20 @@ impl Backend {
             }
             Backend::Cpu { model } => {
                 let walks = method.walks(*model);
+                if rays.len() < PARALLEL_FROM {
+                    return Ok(Walked {
+                        walks: walks(mesh.mesh, rays, max_steps),
+                        kernel_seconds: None,
+                        flagged: 0,
+                    });
+                }
+                // Each chunk's walks written in place by the thread that walked them.
+                let mut out = vec![Walk::NONE; rays.len()];
+                out.par_chunks_mut(PARALLEL_FROM)
+                    .zip(rays.par_chunks(PARALLEL_FROM))
+                    .for_each(|(o, chunk)| o.copy_from_slice(&walks(mesh.mesh, chunk, max_steps)));
                 Ok(Walked {
-                    walks: if rays.len() < PARALLEL_FROM {
-                        walks(mesh.mesh, rays, max_steps)
-                    } else {
-                        rays.par_chunks(PARALLEL_FROM)
-                            .flat_map_iter(|chunk| walks(mesh.mesh, chunk, max_steps))
-                            .collect()
-                    },
+                    walks: out,
                     kernel_seconds: None,
                     flagged: 0,
                 })

@@ -739,9 +739,10 @@ impl Gpu {
         let cells: Vec<shader::Cell> = mesh
             .cells
             .iter()
-            .map(|c| {
+            .zip(&mesh.neighbors)
+            .map(|(c, n)| {
                 let [v0, v1, v2, v3] = c.v.map(|p| p.to_array());
-                let [n0, n1, n2, n3] = c.neighbors;
+                let [n0, n1, n2, n3] = *n;
                 shader::Cell {
                     v0,
                     n0,
@@ -755,12 +756,12 @@ impl Gpu {
             })
             .collect();
         let info: Vec<u32> = mesh
-            .cells
+            .mirror
             .iter()
-            .map(|c| {
-                let mirror =
-                    (0..4).fold(0u32, |acc, f| acc | ((c.mirror[f] as u32 & 3) << (2 * f)));
-                mirror | (c.constrained as u32) << 8
+            .zip(&mesh.constrained)
+            .map(|(m, &c)| {
+                let mirror = (0..4).fold(0u32, |acc, f| acc | ((m[f] as u32 & 3) << (2 * f)));
+                mirror | (c as u32) << 8
             })
             .collect();
         GpuMesh {

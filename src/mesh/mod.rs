@@ -30,19 +30,54 @@ pub struct Mesh {
     pub constrained: Vec<u8>,
     /// How many tetrahedra were swapped to the positive orientation when the mesh was built.
     pub flipped: usize,
-    /// What a walk step reads of each tetrahedron, together (Maria et al.'s Tet80 layout), derived
+    /// What a walk step reads of each tetrahedron, together (Maria et al.'s Tet80 layout packed into one 64-byte line), derived
     /// from the fields above when the mesh is made: one fetch per step instead of eight.
     pub cells: Vec<Cell>,
 }
 
-/// A tetrahedron as a walk step reads it: its four vertices inline, its neighbours, the faces of
-/// theirs it shares, and which of its faces are constrained.
+/// A tetrahedron as a walk step reads it, in one 64-byte cache line: its four vertices inline and,
+/// across each face, a [`Link`].
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(64))]
 pub struct Cell {
     pub v: Tet,
-    pub neighbors: [u32; 4],
-    pub mirror: [u8; 4],
-    pub constrained: u8,
+    pub links: [Link; 4],
+}
+
+/// What lies across one face of a [`Cell`], in one word: the neighbour (bits 3..32; all ones for
+/// [`HULL`]), the face of the neighbour that is shared (bits 1..3) and whether the face is
+/// constrained (bit 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Link(u32);
+
+impl Link {
+    /// The most tetrahedra a [`Link`] can name (one index is kept for [`HULL`]).
+    pub const MAX_TETS: usize = (1 << 29) - 1;
+    const HULL: u32 = HULL >> 3;
+
+    /// `neighbor` below [`Link::MAX_TETS`] or [`HULL`], `mirror` in `0..4`.
+    pub fn new(neighbor: u32, mirror: u8, constrained: bool) -> Link {
+        debug_assert!(neighbor == HULL || (neighbor as usize) < Link::MAX_TETS);
+        Link(neighbor << 3 | (mirror as u32 & 3) << 1 | constrained as u32)
+    }
+
+    #[inline(always)]
+    pub fn constrained(self) -> bool {
+        self.0 & 1 != 0
+    }
+
+    /// The neighbour's face that is this one.
+    #[inline(always)]
+    pub fn mirror(self) -> usize {
+        (self.0 >> 1 & 3) as usize
+    }
+
+    /// The neighbour; `None` on the mesh boundary.
+    #[inline(always)]
+    pub fn neighbor(self) -> Option<u32> {
+        let n = self.0 >> 3;
+        (n != Link::HULL).then_some(n)
+    }
 }
 
 /// The cells of a mesh, from its other fields.
@@ -56,9 +91,13 @@ pub fn cells(
     (0..tets.len())
         .map(|t| Cell {
             v: tets[t].map(|i| points[i as usize]),
-            neighbors: neighbors[t],
-            mirror: mirror[t],
-            constrained: constrained[t],
+            links: std::array::from_fn(|f| {
+                Link::new(
+                    neighbors[t][f],
+                    mirror[t][f],
+                    constrained[t] & (1 << f) != 0,
+                )
+            }),
         })
         .collect()
 }
@@ -136,6 +175,14 @@ impl Mesh {
         let mut tets = raw.tets;
         if tets.is_empty() {
             return Err(err(Item::Tet(0), "the mesh has no tetrahedra".into()));
+        }
+        if tets.len() > Link::MAX_TETS {
+            let what = format!(
+                "the mesh has {} tetrahedra; a walk addresses at most {}",
+                tets.len(),
+                Link::MAX_TETS
+            );
+            return Err(err(Item::Tet(Link::MAX_TETS), what));
         }
         let mut signs = Vec::with_capacity(tets.len());
         for (t, v) in tets.iter().enumerate() {
@@ -393,6 +440,25 @@ fn mirrors(tets: &[[u32; 4]], neighbors: &[[u32; 4]]) -> Result<Vec<[u8; 4]>, (u
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A cell is one 64-byte line, and a link gives back what it was made of, at the ends of its ranges.
+    #[test]
+    fn cell_is_a_line_and_links_round_trip() {
+        assert_eq!(std::mem::size_of::<Cell>(), 64);
+        assert_eq!(std::mem::align_of::<Cell>(), 64);
+        for n in [0, 1, 12345, Link::MAX_TETS as u32 - 1, HULL] {
+            for m in 0..4u8 {
+                for c in [false, true] {
+                    let l = Link::new(n, m, c);
+                    let want = (n != HULL).then_some(n);
+                    assert_eq!(
+                        (l.neighbor(), l.mirror(), l.constrained()),
+                        (want, m as usize, c)
+                    );
+                }
+            }
+        }
+    }
 
     fn two_tets() -> RawMesh {
         RawMesh {

@@ -8,7 +8,7 @@ pub mod octree;
 pub use locate::{LocateError, locate};
 
 use crate::exact::{self, FaceSet};
-use crate::mesh::{HULL, Mesh};
+use crate::mesh::Mesh;
 use crate::methods::{Arith, ExitMethod};
 use crate::tet::Ray;
 
@@ -241,6 +241,14 @@ pub struct Walk {
     pub steps: u32,
 }
 
+impl Walk {
+    /// A place for a walk not made yet: no step taken.
+    pub const NONE: Walk = Walk {
+        outcome: Outcome::StepLimit { tet: 0 },
+        steps: 0,
+    };
+}
+
 /// The first step of a checked walk at which the method's face was not an exact exit face.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Divergence {
@@ -367,13 +375,7 @@ pub fn walks<M: ExitMethod, A: Arith>(
                     .map(|(r, start)| walk::<M, A>(mesh, r, *start, max_steps))
                     .collect();
             }
-            let mut out = vec![
-                Walk {
-                    outcome: Outcome::StepLimit { tet: 0 },
-                    steps: 0,
-                };
-                rays.len()
-            ];
+            let mut out = vec![Walk::NONE; rays.len()];
             let mut pending = rays.iter().enumerate();
             let mut lanes: [Option<(usize, Walker<M>)>; MAX_LANES] = std::array::from_fn(|_| None);
             let lanes = &mut lanes[..M::LANES.clamp(1, MAX_LANES)];
@@ -449,14 +451,14 @@ impl<M: ExitMethod> Walker<M> {
         let Some(f) = face else {
             return end(Outcome::NoExitFace { tet });
         };
-        if cell.constrained & (1 << f) != 0 {
+        let link = cell.links[f];
+        if link.constrained() {
             return end(Outcome::Hit { tet, face: f as u8 });
         }
-        let next = cell.neighbors[f];
-        if next == HULL {
+        let Some(next) = link.neighbor() else {
             return end(Outcome::LeftMesh { tet, face: f as u8 });
-        }
-        self.entry = Some(cell.mirror[f] as usize);
+        };
+        self.entry = Some(link.mirror());
         self.tet = next;
         if let Some(period) = self.brent.step((next, self.entry)) {
             return end(Outcome::Cycle { tet: next, period });
