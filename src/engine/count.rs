@@ -360,8 +360,17 @@ pub enum MergeError {
         first: String,
         want: Vec<String>,
     },
-    #[error("the shards do not cover the views once each: have {have:?} of {count}")]
-    Shards { have: Vec<usize>, count: usize },
+    #[error(
+        "the shards do not cover the views once each: of shards 0 to {last}, missing {}, given more than once {}",
+        runs(missing),
+        runs(repeated),
+        last = count - 1
+    )]
+    Shards {
+        missing: Vec<usize>,
+        repeated: Vec<usize>,
+        count: usize,
+    },
     /// A report whose own numbers contradict each other (edited, or cut).
     #[error("{file}: {field}: {why}")]
     Inconsistent {
@@ -369,6 +378,29 @@ pub enum MergeError {
         field: String,
         why: String,
     },
+}
+
+/// Sorted indices as runs, `0-4, 7, 9-12` (`none` when empty).
+fn runs(sorted: &[usize]) -> String {
+    let mut out: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < sorted.len() {
+        let mut j = i;
+        while j + 1 < sorted.len() && sorted[j + 1] == sorted[j] + 1 {
+            j += 1;
+        }
+        out.push(if i == j {
+            sorted[i].to_string()
+        } else {
+            format!("{}-{}", sorted[i], sorted[j])
+        });
+        i = j + 1;
+    }
+    if out.is_empty() {
+        "none".into()
+    } else {
+        out.join(", ")
+    }
 }
 
 /// A count that runs in shards (`--shard I/N`, disjoint slices of the views) and adds up.
@@ -425,7 +457,19 @@ pub fn merge<R: Sharded>(reports: &[(String, R)]) -> Result<R, MergeError> {
     }
     have.sort_unstable();
     if have != (0..count).collect::<Vec<_>>() {
-        return Err(MergeError::Shards { have, count });
+        let mut repeated: Vec<usize> = have
+            .windows(2)
+            .filter(|w| w[0] == w[1])
+            .map(|w| w[0])
+            .collect();
+        repeated.dedup();
+        return Err(MergeError::Shards {
+            missing: (0..count)
+                .filter(|i| have.binary_search(i).is_err())
+                .collect(),
+            repeated,
+            count,
+        });
     }
     let mut order: Vec<&R> = reports.iter().map(|(_, r)| r).collect();
     order.sort_by_key(|r| r.shard().index);
@@ -579,5 +623,18 @@ impl<F: Counted> Sharded for CountReport<F> {
         for t in &mut self.methods {
             t.finish(self.views_counted, self.rays);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::runs;
+
+    /// Missing shards are named as runs, one of a kind apart, so a long gap reads as one range.
+    #[test]
+    fn runs_of_indices() {
+        assert_eq!(runs(&[]), "none");
+        assert_eq!(runs(&[5]), "5");
+        assert_eq!(runs(&[0, 1, 2, 4, 6, 7, 1281]), "0-2, 4, 6-7, 1281");
     }
 }

@@ -30,8 +30,8 @@ pub struct Mesh {
     pub constrained: Vec<u8>,
     /// How many tetrahedra were swapped to the positive orientation when the mesh was built.
     pub flipped: usize,
-    /// What a walk step reads of each tetrahedron, together (Maria et al.'s Tet80 layout packed into one 64-byte line), derived
-    /// from the fields above when the mesh is made: one fetch per step instead of eight.
+    /// What a walk step reads of each tetrahedron, together (Maria et al.'s Tet80 layout, packed into
+    /// one 64-byte line), derived from the fields above when the mesh is made: one fetch per step.
     pub cells: Vec<Cell>,
 }
 
