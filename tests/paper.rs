@@ -116,7 +116,7 @@ fn shards_merge_to_the_whole_run_and_strangers_are_refused() {
 
     let missing = merge(&named(&shards[..2])).unwrap_err().to_string();
     assert!(
-        missing.contains("of shards 0 to 2, missing 2, given more than once none"),
+        missing.contains("of 3 shards, missing 2, given more than once none"),
         "{missing}"
     );
     let twice = [shards[0].clone(), shards[1].clone(), shards[1].clone()];

@@ -361,10 +361,9 @@ pub enum MergeError {
         want: Vec<String>,
     },
     #[error(
-        "the shards do not cover the views once each: of shards 0 to {last}, missing {}, given more than once {}",
+        "the shards do not cover the views once each: of {count} shards, missing {}, given more than once {}",
         runs(missing),
-        runs(repeated),
-        last = count - 1
+        runs(repeated)
     )]
     Shards {
         missing: Vec<usize>,
