@@ -10,7 +10,7 @@
 use super::maria17::{FACE_VERTICES, GET_FACE};
 use super::plucker::{EdgeSigns, exit_by_sides};
 use super::{Arith, Exact, ExitMethod};
-use crate::tet::{EDGES, Ray, Tet};
+use crate::tet::{EDGE_OF, Ray, Tet};
 use glam::{Vec3, Vec3A, Vec3Swizzles};
 use std::cell::Cell;
 
@@ -176,15 +176,17 @@ impl Apex {
         // A settled det is nonzero, so its sign bit is its sign.
         (det.abs().cmpgt(bound).bitmask(), !det.is_negative_bitmask())
     }
+}
 
-    /// Sign of the side product, certified: the f32 stage's, else the exact sign — 0, a tie, when it is
-    /// exactly zero (the line meets the edge, or is parallel to it).
-    #[inline(always)]
-    fn side(&self, a: Vec3, r: &CertifiedRay, bound: Bound) -> i8 {
-        match self.settled(a, bound) {
-            Some(s) => s,
-            None => exact_side(a, self.b.into(), &r.ray()),
-        }
+/// Lane `k`'s sign of `det[a - o, b - o, d]`, certified, from [`Apex::entry_face`]'s masks: the f32
+/// stage's where it settled, else the exact sign — 0, a tie, when it is exactly zero (the line meets
+/// the edge, or is parallel to it).
+#[inline(always)]
+fn lane_sign((settled, above): (u32, u32), k: usize, a: Vec3, b: Vec3, r: &CertifiedRay) -> i8 {
+    if settled >> k & 1 == 1 {
+        (above >> k & 1) as i8 * 2 - 1
+    } else {
+        exact_side(a, b, &r.ray())
     }
 }
 
@@ -227,19 +229,13 @@ fn algorithm_1<A: Arith>(tet: &Tet, r: &CertifiedRay, e: usize) -> Option<usize>
     }
     let apex = Apex::new(tet[e], r, bound::<A>());
     let lambda = FACE_VERTICES[e];
-    let (settled, positive) = apex.entry_face(tet, lambda, bound::<A>());
+    let masks @ (settled, positive) = apex.entry_face(tet, lambda, bound::<A>());
     if settled == 0b111 {
         // Every sign settled (nearly always): the tree without a branch.
         let id = (positive >> 2 & 1) as usize;
         return Some(GET_FACE[e][id + (positive >> id & 1 == 0) as usize]);
     }
-    decision_tree(e, |k| {
-        if settled & (1 << k) != 0 {
-            (positive >> k & 1) as i8 * 2 - 1
-        } else {
-            exact_side(tet[lambda[k]], tet[e], &r.ray())
-        }
-    })
+    decision_tree(e, |k| lane_sign(masks, k, tet[lambda[k]], tet[e], r))
 }
 
 /// Maria et al.'s Algorithm 1 (Tables 1 and 2) from entry face `e`, given the sign of
@@ -259,20 +255,32 @@ pub(super) fn decision_tree(e: usize, mut sign: impl FnMut(usize) -> i8) -> Opti
     Some(GET_FACE[e][id + (s < 0) as usize])
 }
 
+/// The edges `[a, b]` of [`crate::tet::EDGES`] by their end `b` = 1, 2, 3: the ends `a` in lanes
+/// (the last repeated), so that [`Apex::entry_face`] takes each apex's side products at once.
+const BY_END: [[usize; 3]; 3] = [[0, 0, 0], [0, 1, 1], [0, 1, 2]];
+
 /// The starting tetrahedron: all six certified signs, the face the perturbed line leaves through
 /// (`None` at a tie, or when the perturbed line passes beside the tetrahedron).
-#[inline(never)]
+#[inline(always)]
 fn start<A: Arith>(tet: &Tet, r: &CertifiedRay) -> Option<usize> {
     if !settles::<A>(tet, r) {
         return None;
     }
-    let apex: [Apex; 4] = std::array::from_fn(|b| Apex::new(tet[b], r, bound::<A>()));
-    let sides = EDGES.map(|[a, b]| apex[b].side(tet[a], r, bound::<A>()) as f32);
-    if sides.contains(&0.0) {
-        None
-    } else {
-        exit_by_sides(EdgeSigns::of(&sides))
+    let (mut negative, mut positive) = (0, 0);
+    for (b, ends) in (1..4).zip(BY_END) {
+        let apex = Apex::new(tet[b], r, bound::<A>());
+        let masks = apex.entry_face(tet, ends, bound::<A>());
+        for (k, a) in ends.into_iter().enumerate().take(b) {
+            let sign = lane_sign(masks, k, tet[a], tet[b], r);
+            if sign == 0 {
+                return None;
+            }
+            let edge = EDGE_OF[a][b].0;
+            negative |= ((sign < 0) as u32) << edge;
+            positive |= ((sign > 0) as u32) << edge;
+        }
     }
+    exit_by_sides(EdgeSigns::of_signs(negative, positive))
 }
 
 /// At a tie (or where the f32 stage may not settle): the exact answer, ties broken as `exact` breaks

@@ -74,14 +74,14 @@ pub(super) struct EdgeSigns {
 }
 
 impl EdgeSigns {
-    /// The signs of six products.
+    /// The signs of six products known to be nonzero and finite: bit `e` of `negative` or
+    /// `positive` set for edge `e`.
     #[inline(always)]
-    pub(super) fn of(products: &[f32; 6]) -> EdgeSigns {
-        let bits = |test: fn(f32) -> bool| (0..6).map(|e| (test(products[e]) as u32) << e).sum();
+    pub(super) fn of_signs(negative: u32, positive: u32) -> EdgeSigns {
         EdgeSigns {
-            lt: bits(|x| x < 0.0),
-            gt: bits(|x| x > 0.0),
-            nan: bits(f32::is_nan),
+            lt: negative,
+            gt: positive,
+            nan: 0,
         }
     }
 

@@ -354,9 +354,11 @@ fn walk_observed<M: ExitMethod, A: Arith>(
 /// The most walks in flight at once on one thread ([`walks`]).
 pub const MAX_LANES: usize = 4;
 
-/// [`walk`] of every ray from its starting tetrahedron, [`ExitMethod::LANES`] at a time, interleaved: a walk step waits on the
-/// tetrahedron it reads and on the face it computes, so one thread advances several independent walks
-/// in turn (each ends exactly as [`walk`] would end it).
+/// [`walk`] of every ray from its starting tetrahedron; where [`ExitMethod::LANES`] is more than one,
+/// that many neighbouring rays at a time, interleaved step by step until the last of them ends: a walk
+/// step waits on the tetrahedron it reads and on the face it computes, so one thread advances several
+/// independent walks in turn, and neighbouring rays mostly take the same steps, so a group ends
+/// together and its walks read the same cells (each ends exactly as [`walk`] would end it).
 pub fn walks<M: ExitMethod, A: Arith>(
     mesh: &Mesh,
     rays: &[(Ray, u32)],
@@ -375,25 +377,22 @@ pub fn walks<M: ExitMethod, A: Arith>(
                     .map(|(r, start)| walk::<M, A>(mesh, r, *start, max_steps))
                     .collect();
             }
+            let lanes = M::LANES.min(MAX_LANES);
             let mut out = vec![Walk::NONE; rays.len()];
-            let mut pending = rays.iter().enumerate();
-            let mut lanes: [Option<(usize, Walker<M>)>; MAX_LANES] = std::array::from_fn(|_| None);
-            let lanes = &mut lanes[..M::LANES.clamp(1, MAX_LANES)];
-            for lane in lanes.iter_mut() {
-                *lane = pending
-                    .next()
-                    .map(|(i, (r, start))| (i, Walker::new::<A>(r, *start)));
-            }
             let mut observe = |_, _, _| {};
-            while lanes.iter().any(Option::is_some) {
-                for lane in lanes.iter_mut() {
-                    if let Some((i, walker)) = lane
-                        && let Some(w) = walker.step::<A>(mesh, max_steps, &mut observe)
-                    {
-                        out[*i] = w;
-                        *lane = pending
-                            .next()
-                            .map(|(i, (r, start))| (i, Walker::new::<A>(r, *start)));
+            for (done, group) in out.chunks_mut(lanes).zip(rays.chunks(lanes)) {
+                let mut walkers: [Option<Walker<M>>; MAX_LANES] =
+                    std::array::from_fn(|k| group.get(k).map(|(r, s)| Walker::new::<A>(r, *s)));
+                let mut left = group.len();
+                while left > 0 {
+                    for (lane, walker) in walkers[..lanes].iter_mut().enumerate() {
+                        if let Some(w) = walker
+                            && let Some(end) = w.step::<A>(mesh, max_steps, &mut observe)
+                        {
+                            done[lane] = end;
+                            *walker = None;
+                            left -= 1;
+                        }
                     }
                 }
             }
