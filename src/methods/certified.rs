@@ -261,7 +261,7 @@ const BY_END: [[usize; 3]; 3] = [[0, 0, 0], [0, 1, 1], [0, 1, 2]];
 
 /// The starting tetrahedron: all six certified signs, the face the perturbed line leaves through
 /// (`None` at a tie, or when the perturbed line passes beside the tetrahedron).
-#[inline(always)]
+#[inline(never)]
 fn start<A: Arith>(tet: &Tet, r: &CertifiedRay) -> Option<usize> {
     if !settles::<A>(tet, r) {
         return None;
