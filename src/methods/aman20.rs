@@ -215,8 +215,8 @@ mod tests {
     use super::*;
     use crate::methods::Plain;
 
-    /// The unbranched GETEXITFACE answers as the published tree on every sign pattern, with zero,
-    /// subnormal, infinite and NaN determinants among them.
+    /// The unbranched GETEXITFACE answers as the published tree on 4,000 vertex sets that give every
+    /// outcome of the tree's three tests, with zero, subnormal, infinite and NaN coordinates among them.
     #[test]
     fn unbranched_get_exit_face_is_the_published_tree() {
         let xs = [
@@ -232,6 +232,8 @@ mod tests {
             f32::NAN,
         ];
         let mut n = 0;
+        // The tree's three tests, `d30 < 0`, `d32 >= 0`, `d31 < 0`, as they fall.
+        let mut patterns = std::collections::BTreeSet::new();
         for &a in &xs {
             for &b in &xs {
                 for &c in &xs {
@@ -247,11 +249,17 @@ mod tests {
                             get_exit_face::<Plain>(&p),
                             "{p:?}"
                         );
+                        patterns.insert([
+                            det::<Plain>(p[3], p[0]) < 0.0,
+                            det::<Plain>(p[3], p[2]) >= 0.0,
+                            det::<Plain>(p[3], p[1]) < 0.0,
+                        ]);
                         n += 1;
                     }
                 }
             }
         }
         assert_eq!(n, 4000);
+        assert_eq!(patterns.len(), 8, "every outcome of the three tests");
     }
 }
