@@ -54,10 +54,11 @@ mod imp {
         pub(super) fn div(self, b: F4) -> F4 {
             F4(unsafe { _mm_div_ps(self.0, b.0) })
         }
-        /// The sign bit flipped, as scalar negation does (also of a zero and a NaN).
+        /// The sign bit flipped, as scalar negation does (also of a zero and a NaN): lane by lane,
+        /// so that the compiler sees a negation and folds `a + -b` into `a - b` (the same bits).
         #[inline(always)]
         pub(super) fn neg(self) -> F4 {
-            F4(unsafe { _mm_xor_ps(self.0, _mm_set1_ps(-0.0)) })
+            F4::new(self.to_array().map(|x| -x))
         }
         #[inline(always)]
         pub fn lt(self, b: F4) -> M4 {

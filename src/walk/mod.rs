@@ -292,10 +292,32 @@ pub fn walk_traced<M: ExitMethod, A: Arith>(
 
 /// Walk with method `M` from `start` (which must contain the ray origin).
 pub fn walk<M: ExitMethod, A: Arith>(mesh: &Mesh, ray: &Ray, start: u32, max_steps: u32) -> Walk {
+    walk_unwatched_first::<M, A>(mesh, ray, start, max_steps, UNWATCHED)
+}
+
+/// [`walk`], its first `unwatched` steps not watched for cycles ([`UNWATCHED`]).
+fn walk_unwatched_first<M: ExitMethod, A: Arith>(
+    mesh: &Mesh,
+    ray: &Ray,
+    start: u32,
+    max_steps: u32,
+    unwatched: u32,
+) -> Walk {
     A::run(
         (mesh, ray),
         #[inline(always)]
-        |(mesh, ray)| walk_observed::<M, A>(mesh, ray, start, max_steps, |_, _, _| {}),
+        |(mesh, ray)| {
+            let limit = max_steps.min(unwatched);
+            let end = match Walker::<M>::first::<A>(mesh, ray, start, limit, &mut |_, _, _| {}) {
+                Ok(mut walker) => loop {
+                    if let Some(end) = walker.step::<A>(mesh, limit, &mut |_, _, _| {}) {
+                        break end;
+                    }
+                },
+                Err(end) => end,
+            };
+            watched_if_long::<M, A>(end, mesh, ray, start, max_steps)
+        },
     )
 }
 
@@ -334,7 +356,8 @@ pub fn walk_checked<M: ExitMethod, A: Arith>(
     )
 }
 
-/// The walk loop; `observe(tet, entry, face)` sees every step (a no-op closure compiles away).
+/// The walk loop, watched for cycles by Brent's detector from its first step; `observe(tet, entry,
+/// face)` sees every step (a no-op closure compiles away).
 #[inline(always)]
 fn walk_observed<M: ExitMethod, A: Arith>(
     mesh: &Mesh,
@@ -343,12 +366,65 @@ fn walk_observed<M: ExitMethod, A: Arith>(
     max_steps: u32,
     mut observe: impl FnMut(u32, Option<usize>, Option<usize>),
 ) -> Walk {
-    let mut walker = Walker::<M>::new::<A>(ray, start);
+    let mut walker = match Walker::<M>::first::<A>(mesh, ray, start, max_steps, &mut observe) {
+        Ok(w) => w,
+        Err(end) => return end,
+    };
+    let mut brent = Brent::new((start, None));
     loop {
-        if let Some(w) = walker.step::<A>(mesh, max_steps, &mut observe) {
-            return w;
+        if let Some(period) = brent.step((walker.tet, Some(walker.entry))) {
+            return Walk {
+                outcome: Outcome::Cycle {
+                    tet: walker.tet,
+                    period,
+                },
+                steps: walker.steps,
+            };
+        }
+        if let Some(end) = walker.step::<A>(mesh, max_steps, &mut observe) {
+            return end;
         }
     }
+}
+
+/// Steps a walk takes before it is watched for cycles. A step depends only on the walk's state (its
+/// tetrahedron and entry face), so a walk that ends never repeated a state and Brent's detector would
+/// not have fired in it: the first steps go unwatched, and a walk still going after them is walked
+/// again from its start, watched ([`walk_observed`]), to the same ending it would have had.
+const UNWATCHED: u32 = 1024;
+
+/// `end`, a walk of `ray` from `start` taken unwatched to at most [`UNWATCHED`] steps; where it was
+/// stopped by that bound, the walk again from its start, watched, to `max_steps`.
+#[inline(always)]
+fn watched_if_long<M: ExitMethod, A: Arith>(
+    end: Walk,
+    mesh: &Mesh,
+    ray: &Ray,
+    start: u32,
+    max_steps: u32,
+) -> Walk {
+    if end.outcome.kind() == OutcomeKind::StepLimit {
+        walk_watched::<M, A>(mesh, ray, start, max_steps)
+    } else {
+        end
+    }
+}
+
+/// [`walk_observed`] observing nothing, in `A`'s environment: a long walk's second run (also a test's
+/// watched walk).
+#[cold]
+#[inline(never)]
+fn walk_watched<M: ExitMethod, A: Arith>(
+    mesh: &Mesh,
+    ray: &Ray,
+    start: u32,
+    max_steps: u32,
+) -> Walk {
+    A::run(
+        (mesh, ray),
+        #[inline(always)]
+        |(mesh, ray)| walk_observed::<M, A>(mesh, ray, start, max_steps, |_, _, _| {}),
+    )
 }
 
 /// The most walks in flight at once on one thread ([`walks`]).
@@ -364,6 +440,16 @@ pub fn walks<M: ExitMethod, A: Arith>(
     rays: &[(Ray, u32)],
     max_steps: u32,
 ) -> Vec<Walk> {
+    walks_unwatched_first::<M, A>(mesh, rays, max_steps, UNWATCHED)
+}
+
+/// [`walks`], the first `unwatched` steps of each not watched for cycles ([`UNWATCHED`]).
+fn walks_unwatched_first<M: ExitMethod, A: Arith>(
+    mesh: &Mesh,
+    rays: &[(Ray, u32)],
+    max_steps: u32,
+    unwatched: u32,
+) -> Vec<Walk> {
     A::run(
         (mesh, rays),
         #[inline(always)]
@@ -374,22 +460,36 @@ pub fn walks<M: ExitMethod, A: Arith>(
                 // iterator's closure here is compiled apart).
                 return rays
                     .iter()
-                    .map(|(r, start)| walk::<M, A>(mesh, r, *start, max_steps))
+                    .map(|(r, start)| {
+                        walk_unwatched_first::<M, A>(mesh, r, *start, max_steps, unwatched)
+                    })
                     .collect();
             }
             let lanes = M::LANES.min(MAX_LANES);
+            let limit = max_steps.min(unwatched);
             let mut out = vec![Walk::NONE; rays.len()];
-            let mut observe = |_, _, _| {};
             for (done, group) in out.chunks_mut(lanes).zip(rays.chunks(lanes)) {
-                let mut walkers: [Option<Walker<M>>; MAX_LANES] =
-                    std::array::from_fn(|k| group.get(k).map(|(r, s)| Walker::new::<A>(r, *s)));
-                let mut left = group.len();
+                let mut left = 0;
+                let mut walkers: [Option<Walker<M>>; MAX_LANES] = std::array::from_fn(|k| {
+                    let (ray, start) = group.get(k)?;
+                    match Walker::first::<A>(mesh, ray, *start, limit, &mut |_, _, _| {}) {
+                        Ok(w) => {
+                            left += 1;
+                            Some(w)
+                        }
+                        Err(end) => {
+                            done[k] = watched_if_long::<M, A>(end, mesh, ray, *start, max_steps);
+                            None
+                        }
+                    }
+                });
                 while left > 0 {
                     for (lane, walker) in walkers[..lanes].iter_mut().enumerate() {
                         if let Some(w) = walker
-                            && let Some(end) = w.step::<A>(mesh, max_steps, &mut observe)
+                            && let Some(end) = w.step::<A>(mesh, limit, &mut |_, _, _| {})
                         {
-                            done[lane] = end;
+                            let (ray, start) = &group[lane];
+                            done[lane] = watched_if_long::<M, A>(end, mesh, ray, *start, max_steps);
                             *walker = None;
                             left -= 1;
                         }
@@ -401,33 +501,59 @@ pub fn walks<M: ExitMethod, A: Arith>(
     )
 }
 
-/// One walk in progress: Brent's cycle detection, one state comparison per step, no allocation.
+/// One walk in progress past its first tetrahedron: the tetrahedron it is in, the face it entered
+/// that through, and the steps taken; no allocation.
 struct Walker<M: ExitMethod> {
     data: M::RayData,
     tet: u32,
-    entry: Option<usize>,
+    entry: usize,
     steps: u32,
-    brent: Brent<(u32, Option<usize>)>,
 }
 
 impl<M: ExitMethod> Walker<M> {
+    /// The walk of `ray` from `start` after its first step, taken there without an entry face; the
+    /// walk when it ends there.
     #[inline(always)]
-    fn new<A: Arith>(ray: &Ray, start: u32) -> Self {
-        Walker {
+    fn first<A: Arith>(
+        mesh: &Mesh,
+        ray: &Ray,
+        start: u32,
+        max_steps: u32,
+        observe: &mut impl FnMut(u32, Option<usize>, Option<usize>),
+    ) -> Result<Self, Walk> {
+        let mut walker = Walker {
             data: M::prepare::<A>(ray),
             tet: start,
-            entry: None,
+            entry: 0,
             steps: 0,
-            brent: Brent::new((start, None)),
+        };
+        match walker.cross::<A>(mesh, max_steps, None, observe) {
+            Some(end) => Err(end),
+            None => Ok(walker),
         }
     }
 
-    /// One step (none once `max_steps` are taken); the walk when it ends.
+    /// One step, from the face the walk entered through; the walk when it ends.
     #[inline(always)]
     fn step<A: Arith>(
         &mut self,
         mesh: &Mesh,
         max_steps: u32,
+        observe: &mut impl FnMut(u32, Option<usize>, Option<usize>),
+    ) -> Option<Walk> {
+        // `& 3` tells the methods' tables the face is one of four (it is: `Link::mirror`).
+        let entry = self.entry & 3;
+        self.cross::<A>(mesh, max_steps, Some(entry), observe)
+    }
+
+    /// The step in the walk's tetrahedron entered through `entry` (none once `max_steps` are taken):
+    /// the method's exit face, and across it the next tetrahedron; the walk when it ends.
+    #[inline(always)]
+    fn cross<A: Arith>(
+        &mut self,
+        mesh: &Mesh,
+        max_steps: u32,
+        entry: Option<usize>,
         observe: &mut impl FnMut(u32, Option<usize>, Option<usize>),
     ) -> Option<Walk> {
         let tet = self.tet;
@@ -439,8 +565,8 @@ impl<M: ExitMethod> Walker<M> {
         }
         self.steps += 1;
         let cell = &mesh.cells[tet as usize];
-        let face = M::exit_face::<A>(&cell.v, &self.data, self.entry);
-        observe(tet, self.entry, face);
+        let face = M::exit_face::<A>(&cell.v, &self.data, entry);
+        observe(tet, entry, face);
         let end = |outcome| {
             Some(Walk {
                 outcome,
@@ -457,11 +583,8 @@ impl<M: ExitMethod> Walker<M> {
         let Some(next) = link.neighbor() else {
             return end(Outcome::LeftMesh { tet, face: f as u8 });
         };
-        self.entry = Some(link.mirror());
+        self.entry = link.mirror();
         self.tet = next;
-        if let Some(period) = self.brent.step((next, self.entry)) {
-            return end(Outcome::Cycle { tet: next, period });
-        }
         None
     }
 }
@@ -537,6 +660,81 @@ impl<S: PartialEq> Brent<S> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::methods::Plain;
+    use crate::tet::Tet;
+
+    /// A toy method that leaves a tetrahedron through a face drawn by hashing its vertices, the entry
+    /// face and `K` (never the entry face), walked `L` rays at a time: its walks wander, end after
+    /// few steps or many, and many come back to a state they were in.
+    struct Wander<const K: u32, const L: usize>;
+
+    impl<const K: u32, const L: usize> ExitMethod for Wander<K, L> {
+        type RayData = ();
+        const LANES: usize = L;
+        fn prepare<A: Arith>(_: &Ray) {}
+        fn exit_face<A: Arith>(tet: &Tet, _: &(), entry: Option<usize>) -> Option<usize> {
+            let mut h = K.wrapping_add(entry.map_or(7, |e| e as u32));
+            for c in tet.iter().flat_map(|v| v.to_array()) {
+                h = (h ^ c.to_bits()).wrapping_mul(0x9e37_79b9);
+            }
+            let turn = (h >> 16) as usize % 3 + 1;
+            Some(entry.map_or(turn, |e| (e + turn) % 4))
+        }
+    }
+
+    /// `Wander`'s walks from every tetrahedron, unwatched for their first `unwatched` steps (one ray
+    /// and `L` at a time), against the walks watched from their first step; how many of each ending
+    /// (cycle, step limit, other) came within and after the unwatched steps.
+    fn unwatched_against_watched<const K: u32, const L: usize>(
+        mesh: &Mesh,
+        unwatched: u32,
+        seen: &mut [[usize; 2]; 3],
+    ) {
+        let ray = Ray {
+            org: glam::Vec3::ZERO,
+            dir: glam::Vec3::X,
+        };
+        let starts: Vec<(Ray, u32)> = (0..mesh.tets.len() as u32).map(|t| (ray, t)).collect();
+        for max in [
+            default_max_steps(mesh),
+            unwatched + 20,
+            unwatched.saturating_sub(5),
+            0,
+        ] {
+            let together =
+                walks_unwatched_first::<Wander<K, L>, Plain>(mesh, &starts, max, unwatched);
+            for (&(_, start), got) in starts.iter().zip(&together) {
+                let want = walk_watched::<Wander<K, L>, Plain>(mesh, &ray, start, max);
+                assert_eq!(*got, want, "hash {K}, lanes {L}, start {start}, max {max}");
+                let alone =
+                    walk_unwatched_first::<Wander<K, L>, Plain>(mesh, &ray, start, max, unwatched);
+                assert_eq!(alone, want, "hash {K}, one lane, start {start}, max {max}");
+                let kind = match want.outcome {
+                    Outcome::Cycle { .. } => 0,
+                    Outcome::StepLimit { .. } => 1,
+                    _ => 2,
+                };
+                seen[kind][(want.steps > unwatched) as usize] += 1;
+            }
+        }
+    }
+
+    /// Walks unwatched for cycles at first end as walks watched from their first step end: the same
+    /// outcome, tetrahedron, period and steps, whether they end, cycle or reach the step bound before
+    /// or after the unwatched steps, one ray and four at a time.
+    #[test]
+    fn walks_unwatched_at_first_end_as_watched_walks() {
+        let mesh =
+            crate::scenes::generated_mesh(crate::scenes::Generated::Kuhn, 6, glam::Vec3::ZERO, 1)
+                .unwrap();
+        let mut seen = [[0; 2]; 3];
+        for unwatched in [1, 8, 40] {
+            unwatched_against_watched::<0, 1>(&mesh, unwatched, &mut seen);
+            unwatched_against_watched::<0, 4>(&mesh, unwatched, &mut seen);
+            unwatched_against_watched::<1, 4>(&mesh, unwatched, &mut seen);
+        }
+        assert!(seen.iter().flatten().all(|&n| n > 0), "{seen:?}");
+    }
 
     #[test]
     fn brent_finds_the_period() {
