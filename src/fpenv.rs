@@ -97,21 +97,69 @@ pub fn standard<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
     with(false, input, f)
 }
 
-/// Whether the fused model runs on the processor's fused multiply-add instruction: x86-64 with FMA3
-/// (checked at run time), unless the environment sets `TETWALK_NO_FMA=1` (then `f32::mul_add`, a
-/// library call: the same answers, slower; for comparing the two). Decided once per process.
-pub fn has_fma() -> bool {
-    static HAS: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *HAS.get_or_init(|| {
-        let off = std::env::var_os("TETWALK_NO_FMA").is_some_and(|v| v == "1");
+/// A processor feature the models' code may be compiled for.
+#[derive(Clone, Copy)]
+enum Feature {
+    Fma,
+    Avx2,
+}
+
+/// Whether `feature` is used: x86-64 with it (checked at run time), unless the environment turns it
+/// off (`TETWALK_NO_FMA=1`, `TETWALK_NO_AVX2=1`: for comparing the code with and without it, which
+/// answer alike). Decided once per process.
+fn used(feature: Feature) -> bool {
+    static USED: [std::sync::OnceLock<bool>; 2] = [const { std::sync::OnceLock::new() }; 2];
+    *USED[feature as usize].get_or_init(|| {
+        let off = match feature {
+            Feature::Fma => "TETWALK_NO_FMA",
+            Feature::Avx2 => "TETWALK_NO_AVX2",
+        };
         #[cfg(target_arch = "x86_64")]
-        return !off && std::arch::is_x86_feature_detected!("fma");
+        let detected = match feature {
+            Feature::Fma => std::arch::is_x86_feature_detected!("fma"),
+            Feature::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+        };
         #[cfg(not(target_arch = "x86_64"))]
-        {
-            let _ = off;
-            false
-        }
+        let detected = false;
+        std::env::var_os(off).is_none_or(|v| v != "1") && detected
     })
+}
+
+/// Whether the fused model runs on the processor's fused multiply-add instruction (FMA3; without it
+/// `f32::mul_add`, a library call: the same answers, slower).
+pub fn has_fma() -> bool {
+    used(Feature::Fma)
+}
+
+/// Whether the plain and flushed models run in code compiled for AVX2 ([`wide`]; without it SSE2's
+/// encoding: the same answers).
+pub fn has_avx2() -> bool {
+    used(Feature::Avx2)
+}
+
+/// `f(input)` compiled, as far as it inlines, for AVX2 where the processor has it ([`has_avx2`]),
+/// else as it is: the same IEEE operations lane by lane (nothing is contracted into a fused
+/// multiply-add: that takes the FMA feature, which this does not enable), encoded with three
+/// operands, so with fewer register copies.
+#[inline(always)]
+pub fn wide<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx2() {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe { with_avx2(input, f) };
+    }
+    f(input)
+}
+
+/// `f(input)` compiled, as far as it inlines, for AVX2.
+///
+/// # Safety
+/// The processor must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn with_avx2<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+    f(input)
 }
 
 /// `a·b + c` rounded once by the FMA instruction: inline in code compiled for it ([`with_fma`]),

@@ -3,12 +3,16 @@
 //! `aman20-scaled`: the four vertices' projections) answer as their formulas written face by face,
 //! edge by edge and vertex by vertex in scalar f32, bit for bit: in the plain, fused and flushed
 //! models, on tetrahedra and rays from every exponent regime (subnormal to overflow, mixed scales
-//! inside one case, near-edge cases scaled), with and without an entry face.
+//! inside one case, near-edge cases scaled), with and without an entry face; and every exit-face method
+//! answers alike compiled for AVX2 (as the walks run) and for SSE2 alone.
 
 use glam::Vec3;
 use tetwalk::engine::filters::{Regime, draw};
 use tetwalk::methods::aman20::{Frame, get_exit_face, start_exit_face};
-use tetwalk::methods::{Aman20, Aman20Scaled, Arith, ExitMethod, Flushed, Fused, Model, Plain};
+use tetwalk::methods::{
+    Aman20, Aman20Scaled, Arith, Certified, ExitMethod, Flushed, Fused, HalfSpace, Maria17, Model,
+    MomentFirst, Ms06, OriginFirst, Plain, Plucker, RayPlane, Stp,
+};
 use tetwalk::registry::by_name;
 use tetwalk::tet::{EDGES, FACE_VERTICES, Ray, Tet, edge_index};
 
@@ -234,4 +238,76 @@ fn four_lane_methods_answer_as_their_scalar_formulas() {
     }
     // Not vacuous: every face answered, and none.
     assert!(answered.iter().all(|&n| n > 100), "{answered:?} of {asked}");
+}
+
+/// `M`'s exit face for one case, in the plain or flushed model: run as the walks run it (compiled for
+/// AVX2 where the processor has it, `tetwalk::fpenv::wide`) and called straight from here (this
+/// test's own code, compiled for SSE2 alone): how many of `cases` differ.
+fn wide_differs<M: ExitMethod>(cases: &[(Tet, Ray, Option<usize>)]) -> usize {
+    let one = |flushed: bool, (t, r, e): &(Tet, Ray, Option<usize>)| {
+        let wide = |(t, r, e): (&Tet, &Ray, Option<usize>)| {
+            if flushed {
+                Flushed::run((t, r, e), |(t, r, e)| {
+                    M::exit_face::<Flushed>(t, &M::prepare::<Flushed>(r), e)
+                })
+            } else {
+                Plain::run((t, r, e), |(t, r, e)| {
+                    M::exit_face::<Plain>(t, &M::prepare::<Plain>(r), e)
+                })
+            }
+        };
+        let narrow = if flushed {
+            tetwalk::fpenv::flushed((), |_| {
+                M::exit_face::<Flushed>(t, &M::prepare::<Flushed>(r), *e)
+            })
+        } else {
+            M::exit_face::<Plain>(t, &M::prepare::<Plain>(r), *e)
+        };
+        wide((t, r, *e)) != narrow
+    };
+    cases
+        .iter()
+        .map(|c| one(false, c) as usize + one(true, c) as usize)
+        .sum()
+}
+
+/// Every exit-face method answers alike whether compiled for AVX2 (as the plain and flushed models'
+/// walks run where the processor has it) or for SSE2 alone, on cases from every exponent regime, with
+/// and without an entry face.
+#[test]
+fn methods_answer_alike_compiled_for_avx2_and_for_sse2() {
+    eprintln!(
+        "AVX2 here: {} (where it is not, both sides are SSE2 code)",
+        tetwalk::fpenv::has_avx2()
+    );
+    let mut rng = tetwalk::scenes::rng(26);
+    let mut cases = Vec::new();
+    for regime in Regime::ALL {
+        for i in 0..2000 {
+            let (x, y) = (draw(regime, &mut rng), draw(regime, &mut rng));
+            let ray = Ray {
+                org: x.org,
+                dir: x.dir,
+            };
+            for entry in [None, Some(i % 4)] {
+                cases.push(([x.a, x.b, x.c, y.a], ray, entry));
+            }
+        }
+    }
+    let differ = [
+        ("certified", wide_differs::<Certified>(&cases)),
+        ("ray-plane", wide_differs::<RayPlane>(&cases)),
+        ("halfspace", wide_differs::<HalfSpace>(&cases)),
+        ("plucker", wide_differs::<Plucker>(&cases)),
+        ("stp", wide_differs::<Stp>(&cases)),
+        ("ms06", wide_differs::<Ms06>(&cases)),
+        ("maria17", wide_differs::<Maria17<MomentFirst>>(&cases)),
+        (
+            "maria17-translated",
+            wide_differs::<Maria17<OriginFirst>>(&cases),
+        ),
+        ("aman20", wide_differs::<Aman20>(&cases)),
+        ("aman20-scaled", wide_differs::<Aman20Scaled>(&cases)),
+    ];
+    assert!(differ.iter().all(|(_, n)| *n == 0), "{differ:?}");
 }

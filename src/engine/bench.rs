@@ -152,6 +152,10 @@ pub struct BenchReport {
     /// instruction, or `TETWALK_NO_FMA=1`): the same answers, not the same speed.
     #[serde(default)]
     pub fma_instruction: bool,
+    /// Whether `cpu` and `cpu-ftz` ran compiled for AVX2, or for SSE2 alone (no AVX2 here, or
+    /// `TETWALK_NO_AVX2=1`): the same answers, not the same speed.
+    #[serde(default)]
+    pub avx2: bool,
     pub rows: Vec<BenchRow>,
 }
 
@@ -304,6 +308,7 @@ pub fn run(
         backends: backends.iter().map(|b| b.ran()).collect(),
         hilbert,
         fma_instruction: crate::fpenv::has_fma(),
+        avx2: crate::fpenv::has_avx2(),
         rows,
     })
 }

@@ -21,12 +21,13 @@ impl BenchReport {
             self.batch
         );
         for b in &self.backends {
-            let how = match (b.kind, self.fma_instruction) {
-                (crate::choice::BackendKind::CpuFma, true) => " (on the FMA instruction)",
-                (crate::choice::BackendKind::CpuFma, false) => {
-                    " (through f32::mul_add: no FMA instruction here, or TETWALK_NO_FMA=1)"
-                }
-                _ => "",
+            use crate::choice::BackendKind::{Cpu, CpuFma, CpuFtz, Gpu};
+            let how = match b.kind {
+                CpuFma if self.fma_instruction => " (on the FMA instruction)",
+                CpuFma => " (through f32::mul_add: no FMA instruction here, or TETWALK_NO_FMA=1)",
+                Cpu | CpuFtz if self.avx2 => " (compiled for AVX2)",
+                Cpu | CpuFtz => " (compiled for SSE2: no AVX2 here, or TETWALK_NO_AVX2=1)",
+                Gpu => "",
             };
             out += &format!("- {b}{how}\n");
         }
