@@ -393,8 +393,8 @@ fn walk_observed<M: ExitMethod, A: Arith>(
 /// again from its start, watched ([`walk_observed`]), to the same ending it would have had.
 const UNWATCHED: u32 = 1024;
 
-/// `end`, a walk of `ray` from `start` taken unwatched to at most [`UNWATCHED`] steps; where it was
-/// stopped by that bound, the walk again from its start, watched, to `max_steps`.
+/// `end`, a walk of `ray` from `start` taken unwatched and bounded by its unwatched steps (at most
+/// `max_steps`); where that bound stopped it, the walk again from its start, watched, to `max_steps`.
 #[inline(always)]
 fn watched_if_long<M: ExitMethod, A: Arith>(
     end: Walk,
