@@ -746,7 +746,7 @@ mod tests {
 
     /// Walks unwatched for cycles at first end as walks watched from their first step end: the same
     /// outcome, tetrahedron, period and steps, whether they end, cycle or reach the step bound before
-    /// or after the unwatched steps, one ray and four at a time.
+    /// or after the unwatched steps, one ray, three (a lane left empty) and four at a time.
     #[test]
     fn walks_unwatched_at_first_end_as_watched_walks() {
         let stem = concat!(env!("CARGO_MANIFEST_DIR"), "/corpora/scenes/bunny-quality");
@@ -756,6 +756,7 @@ mod tests {
             unwatched_against_watched::<0, 1>(&mesh, unwatched, &mut seen);
             unwatched_against_watched::<0, 4>(&mesh, unwatched, &mut seen);
             unwatched_against_watched::<1, 4>(&mesh, unwatched, &mut seen);
+            unwatched_against_watched::<2, 3>(&mesh, unwatched, &mut seen);
         }
         assert!(seen.iter().flatten().all(|&n| n > 0), "{seen:?}");
     }
