@@ -13,7 +13,7 @@ use tetwalk::methods::{
     Aman20, Aman20Scaled, Arith, Certified, ExitMethod, Flushed, Fused, HalfSpace, Maria17, Model,
     MomentFirst, Ms06, OriginFirst, Plain, Plucker, RayPlane, Stp,
 };
-use tetwalk::registry::by_name;
+use tetwalk::registry::{METHODS, by_name};
 use tetwalk::tet::{EDGES, FACE_VERTICES, Ray, Tet, edge_index};
 
 /// `a·b + c` as the model rounds it.
@@ -246,10 +246,16 @@ fn answer<M: ExitMethod, A: Arith>((t, r, e): &(Tet, Ray, Option<usize>)) -> Opt
     M::exit_face::<A>(t, &M::prepare::<A>(r), *e)
 }
 
-/// How many of `cases` `M` answers differently in model `A` run as the walks run it (`A::run`:
-/// compiled for AVX2 where the processor has it, `tetwalk::fpenv::wide`) and called straight from
-/// here (this test's own code, compiled for SSE2 alone, in the model's environment).
-fn wide_differs<M: ExitMethod, A: Arith>(cases: &[(Tet, Ray, Option<usize>)]) -> usize {
+/// How many of `cases` registered method `name` (of type `M`) answers differently in `model` (of
+/// type `A`) through the registry, as counts and walks run it (compiled for AVX2 where the processor
+/// has it, `tetwalk::fpenv::wide`), and called straight from here (this test's own code, compiled for
+/// SSE2 alone, in the model's environment).
+fn wide_differs<M: ExitMethod, A: Arith>(
+    name: &str,
+    model: Model,
+    cases: &[(Tet, Ray, Option<usize>)],
+) -> usize {
+    let wide = by_name(name).unwrap().exit(model);
     cases
         .iter()
         .filter(|c| {
@@ -258,19 +264,25 @@ fn wide_differs<M: ExitMethod, A: Arith>(cases: &[(Tet, Ray, Option<usize>)]) ->
             } else {
                 answer::<M, A>(c)
             };
-            A::run(*c, answer::<M, A>) != narrow
+            wide(&c.0, &c.1, c.2) != narrow
         })
         .count()
 }
 
 /// [`wide_differs`] in the plain and the flushed model.
-fn differs<M: ExitMethod>(cases: &[(Tet, Ray, Option<usize>)]) -> usize {
-    wide_differs::<M, Plain>(cases) + wide_differs::<M, Flushed>(cases)
+fn differs<M: ExitMethod>(
+    name: &'static str,
+    cases: &[(Tet, Ray, Option<usize>)],
+) -> (&'static str, usize) {
+    let n = wide_differs::<M, Plain>(name, Model::Plain, cases)
+        + wide_differs::<M, Flushed>(name, Model::Flushed, cases);
+    (name, n)
 }
 
-/// Every exit-face method answers alike whether compiled for AVX2 (as the plain and flushed models'
-/// walks run where the processor has it) or for SSE2 alone, on cases from every exponent regime, with
-/// and without an entry face.
+/// Every exit-face method but the exact reference answers alike through the registry, compiled for
+/// AVX2 (as the plain and flushed models run where the processor has it), and compiled for SSE2
+/// alone, on cases from every exponent regime, with and without an entry face; the list below holds
+/// every such registered method.
 #[test]
 fn methods_answer_alike_compiled_for_avx2_and_for_sse2() {
     eprintln!(
@@ -292,19 +304,25 @@ fn methods_answer_alike_compiled_for_avx2_and_for_sse2() {
         }
     }
     let differ = [
-        ("certified", differs::<Certified>(&cases)),
-        ("ray-plane", differs::<RayPlane>(&cases)),
-        ("halfspace", differs::<HalfSpace>(&cases)),
-        ("plucker", differs::<Plucker>(&cases)),
-        ("stp", differs::<Stp>(&cases)),
-        ("ms06", differs::<Ms06>(&cases)),
-        ("maria17", differs::<Maria17<MomentFirst>>(&cases)),
-        (
-            "maria17-translated",
-            differs::<Maria17<OriginFirst>>(&cases),
-        ),
-        ("aman20", differs::<Aman20>(&cases)),
-        ("aman20-scaled", differs::<Aman20Scaled>(&cases)),
+        differs::<Certified>("certified", &cases),
+        differs::<RayPlane>("ray-plane", &cases),
+        differs::<HalfSpace>("halfspace", &cases),
+        differs::<Plucker>("plucker", &cases),
+        differs::<Stp>("stp", &cases),
+        differs::<Ms06>("ms06", &cases),
+        differs::<Maria17<MomentFirst>>("maria17", &cases),
+        differs::<Maria17<OriginFirst>>("maria17-translated", &cases),
+        differs::<Aman20>("aman20", &cases),
+        differs::<Aman20Scaled>("aman20-scaled", &cases),
     ];
     assert!(differ.iter().all(|(_, n)| *n == 0), "{differ:?}");
+    for m in METHODS {
+        assert!(
+            m.info.reference
+                || !m.info.runs_on_cpu
+                || differ.iter().any(|(n, _)| *n == m.info.name),
+            "{} is registered but not compared here",
+            m.info.name
+        );
+    }
 }
