@@ -131,7 +131,8 @@ pub fn has_fma() -> bool {
     used(Feature::Fma)
 }
 
-/// Whether the plain and flushed models run in code compiled for AVX2 ([`wide`]; without it SSE2's
+/// Whether the plain and flushed models run in code compiled for AVX2 ([`wide`]; the plain model's
+/// exit-face methods as `crate::methods::PlainAvx2`, eight lanes in one register; without it SSE2's
 /// encoding: the same answers).
 pub fn has_avx2() -> bool {
     used(Feature::Avx2)
@@ -158,7 +159,7 @@ pub fn wide<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[inline]
-unsafe fn with_avx2<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+pub(crate) unsafe fn with_avx2<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
     f(input)
 }
 

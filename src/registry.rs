@@ -11,8 +11,8 @@ use crate::methods::triangle::{
 };
 use crate::methods::{
     Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Flushed, Fused, FusedFma, HalfSpace,
-    Maria17, Model, MomentFirst, Ms06, OriginFirst, Plain, Plucker, Query, RayPlane, Stp,
-    time_queries,
+    Maria17, Model, MomentFirst, Ms06, OriginFirst, Plain, PlainAvx2, Plucker, Query, RayPlane,
+    Stp, time_queries,
 };
 use crate::octree::Octree;
 use crate::tet::{Ray, Tet};
@@ -138,28 +138,36 @@ const AMAN20_SCALED: &str = include_str!("methods/aman20_scaled.wgsl");
 const CERTIFIED: &str = include_str!("methods/certified.wgsl");
 const PORTALEZ16: &str = include_str!("methods/portalez16.wgsl");
 
-/// How many instantiations each method has: one per arithmetic model, and the fused model's on the
-/// FMA instruction.
-const MODELS: usize = Model::ALL.len() + 1;
+/// How many instantiations each method has: one per arithmetic model, the fused model's on the FMA
+/// instruction, and the plain model's compiled for AVX2.
+const MODELS: usize = Model::ALL.len() + 2;
 
-/// `[f::<M, Plain>, f::<M, Fused>, f::<M, Flushed>, f::<M, FusedFma>]`: a function instantiated for
-/// every arithmetic model, indexed by [`slot`].
+/// `[f::<M, Plain>, f::<M, Fused>, f::<M, Flushed>, f::<M, FusedFma>, f::<M, PlainAvx2>]`: a function
+/// instantiated for every arithmetic model, indexed by [`slot`]; `plain` in place of `PlainAvx2` (the
+/// exit-face methods' tables have it; elsewhere `Plain` is already compiled for AVX2 as far as it gains,
+/// [`crate::fpenv::wide`]).
 macro_rules! by_model {
     ($($f:ident)::+, $m:ty) => {
+        by_model!($($f)::+, $m, Plain)
+    };
+    ($($f:ident)::+, $m:ty, $wide:ty) => {
         [
             $($f)::+::<$m, Plain>,
             $($f)::+::<$m, Fused>,
             $($f)::+::<$m, Flushed>,
             $($f)::+::<$m, FusedFma>,
+            $($f)::+::<$m, $wide>,
         ]
     };
 }
 
 /// Where model `m`'s instantiation is in a [`by_model!`] table: the fused model's on the FMA
-/// instruction (the same bits, faster) where the processor has it.
+/// instruction (the same bits, faster) where the processor has it, the plain model's compiled for
+/// AVX2 where it has that.
 fn slot(m: Model) -> usize {
     match m {
         Model::Fused if FusedFma::available() => Model::ALL.len(),
+        Model::Plain if PlainAvx2::available() => Model::ALL.len() + 1,
         m => m as usize,
     }
 }
@@ -193,9 +201,9 @@ impl Method {
     const fn of<M: ExitMethod>(info: Info) -> Self {
         Method {
             info,
-            exit: by_model!(exit_fn, M),
-            walk: by_model!(walk::walk, M),
-            walks: by_model!(walk::walks, M),
+            exit: by_model!(exit_fn, M, PlainAvx2),
+            walk: by_model!(walk::walk, M, PlainAvx2),
+            walks: by_model!(walk::walks, M, PlainAvx2),
             checked: by_model!(walk::walk_checked, M),
             layout_walk: None,
             time_queries: time_queries::<M, Plain>,

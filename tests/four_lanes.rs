@@ -1,10 +1,11 @@
 //! The exit-face methods computed in four lanes (`ray-plane` and `halfspace`: the four faces at once;
-//! `plucker`, `stp`, and `ms06` in a starting tetrahedron: the six edges, four at a time; `aman20` and
+//! `plucker`, `stp`, and `ms06` in a starting tetrahedron: the six edges in eight lanes; `aman20` and
 //! `aman20-scaled`: the four vertices' projections) answer as their formulas written face by face,
 //! edge by edge and vertex by vertex in scalar f32, bit for bit: in the plain, fused and flushed
 //! models, on tetrahedra and rays from every exponent regime (subnormal to overflow, mixed scales
 //! inside one case, near-edge cases scaled), with and without an entry face; and every exit-face method
-//! answers alike compiled for AVX2 (as the walks run) and for SSE2 alone.
+//! answers alike compiled for AVX2 (as the walks run: the plain model's eight lanes one AVX register)
+//! and for SSE2 alone (eight lanes two SSE registers).
 
 use glam::Vec3;
 use tetwalk::engine::filters::{Regime, draw};
@@ -248,7 +249,7 @@ fn answer<M: ExitMethod, A: Arith>((t, r, e): &(Tet, Ray, Option<usize>)) -> Opt
 
 /// How many of `cases` registered method `name` (of type `M`) answers differently in `model` (of
 /// type `A`) through the registry, as counts and walks run it (compiled for AVX2 where the processor
-/// has it, `tetwalk::fpenv::wide`), and called straight from here (this test's own code, compiled for
+/// has it, `tetwalk::fpenv::wide`; the plain model's eight lanes then one AVX register), and called straight from here (this test's own code, compiled for
 /// SSE2 alone, in the model's environment).
 fn wide_differs<M: ExitMethod, A: Arith>(
     name: &str,
@@ -280,7 +281,8 @@ fn differs<M: ExitMethod>(
 }
 
 /// Every exit-face method but the exact reference answers alike through the registry, compiled for
-/// AVX2 (as the plain and flushed models run where the processor has it), and compiled for SSE2
+/// AVX2 (as the plain and flushed models run where the processor has it, the plain model's eight lanes
+/// one AVX register), and compiled for SSE2
 /// alone, on cases from every exponent regime, with and without an entry face; the list below holds
 /// every such registered method.
 #[test]

@@ -1,9 +1,10 @@
 //! Four f32 lanes: SSE (`std::arch`, part of every x86-64) where there is one, else four scalars; for
 //! seed 004's SIMD packets (four rays) and the exit-face methods that compute the same step for every
-//! face or edge of a tetrahedron (four faces, six edges in two groups). Every operation is IEEE's, lane
-//! by lane, as the scalar f32 one (no reciprocal estimates); multiply-adds go through
-//! [`Arith::mad4`], each lane as [`Arith::mad`]. So code written in the scalar one's order answers bit
-//! for bit as it does, in every model.
+//! face or vertex of a tetrahedron. Eight lanes ([`Eight`], for the six edges at once): two groups of
+//! four, or one AVX register in the model compiled for AVX2 (`PlainAvx2`). Every operation is IEEE's,
+//! lane by lane, as the scalar f32 one (no reciprocal estimates); multiply-adds go through
+//! [`Arith::mad4`] and [`Arith::mad8`], each lane as [`Arith::mad`]. So code written in the scalar
+//! one's order answers bit for bit as it does, in every model.
 
 use crate::methods::Arith;
 use glam::Vec3;
@@ -124,6 +125,71 @@ mod imp {
         F4(_mm_fmadd_ps(a.0, b.0, c.0))
     }
 
+    /// Eight f32 lanes in one AVX register: the eight-lane type of the model compiled for AVX2 alone.
+    ///
+    /// SAFETY, for every `unsafe` of it: only `PlainAvx2` names it, whose work runs compiled for AVX2
+    /// (`crate::fpenv::with_avx2`) and only where the processor has it; so each intrinsic is inlined
+    /// into AVX2 code.
+    #[derive(Clone, Copy)]
+    pub struct F8(__m256);
+
+    impl F8 {
+        #[inline(always)]
+        pub(super) fn splat(x: f32) -> F8 {
+            F8(unsafe { _mm256_set1_ps(x) })
+        }
+        #[inline(always)]
+        pub(super) fn pick(v: F4, from: [u32; 8]) -> F8 {
+            let i = from.map(|i| i as i32);
+            unsafe {
+                let index = _mm256_setr_epi32(i[0], i[1], i[2], i[3], i[4], i[5], i[6], i[7]);
+                F8(_mm256_permutevar8x32_ps(_mm256_castps128_ps256(v.0), index))
+            }
+        }
+        #[inline(always)]
+        pub(super) fn halves(self) -> [F4; 2] {
+            unsafe {
+                [
+                    F4(_mm256_castps256_ps128(self.0)),
+                    F4(_mm256_extractf128_ps::<1>(self.0)),
+                ]
+            }
+        }
+        #[inline(always)]
+        pub(super) fn of_halves([lo, hi]: [F4; 2]) -> F8 {
+            F8(unsafe { _mm256_set_m128(hi.0, lo.0) })
+        }
+        #[inline(always)]
+        pub(super) fn add(self, b: F8) -> F8 {
+            F8(unsafe { _mm256_add_ps(self.0, b.0) })
+        }
+        #[inline(always)]
+        pub(super) fn sub(self, b: F8) -> F8 {
+            F8(unsafe { _mm256_sub_ps(self.0, b.0) })
+        }
+        #[inline(always)]
+        pub(super) fn mul(self, b: F8) -> F8 {
+            F8(unsafe { _mm256_mul_ps(self.0, b.0) })
+        }
+        /// The sign bit flipped, as scalar negation does.
+        #[inline(always)]
+        pub(super) fn neg(self) -> F8 {
+            F8(unsafe { _mm256_xor_ps(self.0, _mm256_set1_ps(-0.0)) })
+        }
+        /// Bit sets of the lanes `< 0`, `> 0` and NaN.
+        #[inline(always)]
+        pub(super) fn signs(self) -> [u32; 3] {
+            unsafe {
+                let zero = _mm256_setzero_ps();
+                [
+                    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(self.0, zero)) as u32,
+                    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, zero)) as u32,
+                    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_UNORD_Q>(self.0, self.0)) as u32,
+                ]
+            }
+        }
+    }
+
     impl M4 {
         #[inline(always)]
         pub fn and(self, b: M4) -> M4 {
@@ -219,9 +285,9 @@ mod imp {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-pub(crate) use imp::fma_instruction;
 pub use imp::{F4, M4};
+#[cfg(target_arch = "x86_64")]
+pub(crate) use imp::{F8, fma_instruction};
 
 /// One f32 or four lanes of them: what code written once for both ([`crate::methods::aman20`]'s
 /// projections) computes with.
@@ -280,41 +346,30 @@ impl F4 {
     }
 }
 
-impl Add for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn add(self, b: F4) -> F4 {
-        F4::add(self, b)
-    }
+/// The operators of a lane type, each its inherent operation of the same name.
+macro_rules! lane_ops {
+    ($t:ty: $($tr:ident $f:ident),*) => {
+        $(impl $tr for $t {
+            type Output = $t;
+            #[inline(always)]
+            fn $f(self, b: $t) -> $t {
+                <$t>::$f(self, b)
+            }
+        })*
+        impl Neg for $t {
+            type Output = $t;
+            #[inline(always)]
+            fn neg(self) -> $t {
+                <$t>::neg(self)
+            }
+        }
+    };
 }
-impl Sub for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn sub(self, b: F4) -> F4 {
-        F4::sub(self, b)
-    }
-}
-impl Mul for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn mul(self, b: F4) -> F4 {
-        F4::mul(self, b)
-    }
-}
-impl Div for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn div(self, b: F4) -> F4 {
-        F4::div(self, b)
-    }
-}
-impl Neg for F4 {
-    type Output = F4;
-    #[inline(always)]
-    fn neg(self) -> F4 {
-        F4::neg(self)
-    }
-}
+
+lane_ops!(F4: Add add, Sub sub, Mul mul, Div div);
+#[cfg(target_arch = "x86_64")]
+lane_ops!(F8: Add add, Sub sub, Mul mul);
+lane_ops!(F4x2: Add add, Sub sub, Mul mul);
 
 /// Four vectors, one per lane (structure of arrays).
 #[derive(Clone, Copy)]
@@ -407,6 +462,164 @@ impl Sub for V4 {
     }
 }
 
+/// Eight f32 lanes, as a model computes them ([`Arith::Eight`]).
+pub trait Eight:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+{
+    fn splat(x: f32) -> Self;
+    /// Lane `i` holds lane `from[i]` of `v`.
+    fn pick(v: F4, from: [u32; 8]) -> Self;
+    /// Lanes 0 to 3, and 4 to 7.
+    fn halves(self) -> [F4; 2];
+    fn of_halves(h: [F4; 2]) -> Self;
+    /// Bit sets of the lanes `< 0`, `> 0` and NaN.
+    fn signs(self) -> [u32; 3];
+}
+
+/// Eight lanes as two groups of four.
+#[derive(Clone, Copy)]
+pub struct F4x2([F4; 2]);
+
+impl F4x2 {
+    #[inline(always)]
+    fn each(self, b: F4x2, f: impl Fn(F4, F4) -> F4) -> F4x2 {
+        F4x2([f(self.0[0], b.0[0]), f(self.0[1], b.0[1])])
+    }
+    #[inline(always)]
+    fn add(self, b: F4x2) -> F4x2 {
+        self.each(b, |x, y| x + y)
+    }
+    #[inline(always)]
+    fn sub(self, b: F4x2) -> F4x2 {
+        self.each(b, |x, y| x - y)
+    }
+    #[inline(always)]
+    fn mul(self, b: F4x2) -> F4x2 {
+        self.each(b, |x, y| x * y)
+    }
+    #[inline(always)]
+    fn neg(self) -> F4x2 {
+        F4x2(self.0.map(|x| -x))
+    }
+}
+
+impl Eight for F4x2 {
+    #[inline(always)]
+    fn splat(x: f32) -> F4x2 {
+        F4x2([F4::splat(x); 2])
+    }
+    #[inline(always)]
+    fn pick(v: F4, from: [u32; 8]) -> F4x2 {
+        let half = |k: usize| v.pick(std::array::from_fn(|i| from[4 * k + i] as usize));
+        F4x2([half(0), half(1)])
+    }
+    #[inline(always)]
+    fn halves(self) -> [F4; 2] {
+        self.0
+    }
+    #[inline(always)]
+    fn of_halves(h: [F4; 2]) -> F4x2 {
+        F4x2(h)
+    }
+    #[inline(always)]
+    fn signs(self) -> [u32; 3] {
+        let zero = F4::splat(0.0);
+        let bits = |test: fn(F4, F4) -> M4| {
+            test(self.0[0], zero).bits() | test(self.0[1], zero).bits() << 4
+        };
+        [bits(F4::lt), bits(F4::gt), bits(|x, _| x.eq(x).flipped())]
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Eight for F8 {
+    #[inline(always)]
+    fn splat(x: f32) -> F8 {
+        F8::splat(x)
+    }
+    #[inline(always)]
+    fn pick(v: F4, from: [u32; 8]) -> F8 {
+        F8::pick(v, from)
+    }
+    #[inline(always)]
+    fn halves(self) -> [F4; 2] {
+        F8::halves(self)
+    }
+    #[inline(always)]
+    fn of_halves(h: [F4; 2]) -> F8 {
+        F8::of_halves(h)
+    }
+    #[inline(always)]
+    fn signs(self) -> [u32; 3] {
+        F8::signs(self)
+    }
+}
+
+/// Eight vectors, one per lane, in model `A`'s eight lanes.
+pub struct V8<A: Arith> {
+    pub x: A::Eight,
+    pub y: A::Eight,
+    pub z: A::Eight,
+}
+
+impl<A: Arith> Clone for V8<A> {
+    #[inline(always)]
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<A: Arith> Copy for V8<A> {}
+
+impl<A: Arith> V8<A> {
+    /// One vector in every lane.
+    #[inline(always)]
+    pub fn splat(v: Vec3) -> Self {
+        V8 {
+            x: A::Eight::splat(v.x),
+            y: A::Eight::splat(v.y),
+            z: A::Eight::splat(v.z),
+        }
+    }
+
+    /// Lane `i` holds lane `from[i]` of `v`.
+    #[inline(always)]
+    pub fn pick(v: V4, from: [u32; 8]) -> Self {
+        V8 {
+            x: A::Eight::pick(v.x, from),
+            y: A::Eight::pick(v.y, from),
+            z: A::Eight::pick(v.z, from),
+        }
+    }
+
+    /// `a·b` as [`Arith::dot`] computes it, in every lane.
+    #[inline(always)]
+    pub fn dot(self, b: Self) -> A::Eight {
+        A::mad8(self.z, b.z, A::mad8(self.y, b.y, self.x * b.x))
+    }
+
+    /// `a × b` as [`Arith::cross`] computes it, in every lane.
+    #[inline(always)]
+    pub fn cross(self, b: Self) -> Self {
+        V8 {
+            x: A::mad8(self.y, b.z, -(self.z * b.y)),
+            y: A::mad8(self.z, b.x, -(self.x * b.z)),
+            z: A::mad8(self.x, b.y, -(self.y * b.x)),
+        }
+    }
+}
+
+impl<A: Arith> Sub for V8<A> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, b: Self) -> Self {
+        V8 {
+            x: self.x - b.x,
+            y: self.y - b.y,
+            z: self.z - b.z,
+        }
+    }
+}
+
 /// Lane by lane: `Some(t)` where `hit` holds.
 #[inline(always)]
 pub fn answers(hit: M4, t: F4, out: &mut [Option<f32>]) {
@@ -434,5 +647,76 @@ mod tests {
             )
         });
         assert_eq!(bits(V4::of(&p)), bits(V4::new(p)));
+    }
+
+    /// Every operation of `E` on lanes picked from `v` (as bits), and the sign sets of `v[0]` and
+    /// `v[3]` put in eight lanes.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn computed<E: Eight>(
+        v: &[[f32; 4]; 4],
+        from: [u32; 8],
+        mad: impl Fn(E, E, E) -> E,
+    ) -> ([[u32; 8]; 6], [u32; 3]) {
+        let [a, b, c, d] = v.map(|x| E::pick(F4::new(x), from));
+        let e = E::of_halves([F4::new(v[0]), F4::new(v[3])]);
+        let bits = |x: E| {
+            let [lo, hi] = x.halves().map(F4::to_array);
+            std::array::from_fn(|i| if i < 4 { lo[i] } else { hi[i - 4] }.to_bits())
+        };
+        (
+            [a + b, a - c, b * d, -d, mad(a, b, c), e].map(bits),
+            e.signs(),
+        )
+    }
+
+    /// One AVX register's eight lanes ([`F8`], the plain model's compiled for AVX2) compute as two
+    /// groups of four ([`F4x2`], every other model's), bit for bit: each operation, the picks the
+    /// six edges use, the multiply-add and the sign sets, on values from every exponent regime (signed
+    /// zeros, subnormals, overflow, infinities, NaN).
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn one_avx_register_computes_as_two_groups_of_four() {
+        use crate::methods::{Arith, Plain, PlainAvx2};
+        if !PlainAvx2::available() {
+            eprintln!(
+                "SKIPPED: no AVX2 here (or TETWALK_NO_AVX2=1): the plain model has no eight-lane register"
+            );
+            return;
+        }
+        let specials = [
+            0.0,
+            -0.0,
+            1e-45,
+            -3e-39,
+            1.5,
+            -2.5e-20,
+            3e38,
+            -f32::INFINITY,
+            f32::NAN,
+        ];
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            if state.is_multiple_of(4) {
+                specials[(state >> 8) as usize % specials.len()]
+            } else {
+                f32::from_bits((state >> 16) as u32)
+            }
+        };
+        for _ in 0..20_000 {
+            let v: [[f32; 4]; 4] = std::array::from_fn(|_| std::array::from_fn(|_| next()));
+            let from: [u32; 8] = std::array::from_fn(|_| next().to_bits() % 4);
+            let wide = PlainAvx2::run(&v, |v| computed::<F8>(v, from, PlainAvx2::mad8));
+            let pair = computed::<F4x2>(&v, from, Plain::mad8);
+            assert_eq!(wide, pair, "{v:?} {from:?}");
+            let lanes = [v[0], v[3]].concat();
+            let set =
+                |test: fn(f32) -> bool| (0..8).map(|i| (test(lanes[i]) as u32) << i).sum::<u32>();
+            let signs = [set(|x| x < 0.0), set(|x| x > 0.0), set(f32::is_nan)];
+            assert_eq!(pair.1, signs, "{lanes:?}");
+        }
     }
 }

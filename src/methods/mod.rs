@@ -10,7 +10,8 @@
 //! [`Plain`] does, with the processor set to read subnormal inputs as zero and flush subnormal results
 //! to zero ([`crate::fpenv`]), as a GPU may compute. The plain and flushed models' work runs compiled
 //! for AVX2 where the processor has it ([`crate::fpenv::wide`]: the same IEEE operations, fewer
-//! register copies).
+//! register copies; the registry runs the plain model's exit-face methods as `PlainAvx2`, whose
+//! eight lanes are one AVX register).
 
 pub mod aman20;
 pub mod certified;
@@ -37,12 +38,14 @@ pub use stp::Stp;
 
 use crate::tet::{Ray, Tet};
 use glam::Vec3;
-use lanes::F4;
+use lanes::{Eight, F4};
 
 /// Rounding of a method's arithmetic: as written, contracted to fused multiply-add, or flushed.
 pub trait Arith {
     /// Whether subnormal inputs and results are flushed to zero (what a method's fast path must allow for).
     const FLUSHES: bool = false;
+    /// Eight f32 lanes as this model computes them ([`lanes::Eight`]).
+    type Eight: lanes::Eight;
     /// Run a method's work in this model's floating-point environment (the registry's entry points do).
     #[inline(always)]
     fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
@@ -54,6 +57,12 @@ pub trait Arith {
     #[inline(always)]
     fn mad4(a: F4, b: F4, c: F4) -> F4 {
         F4::mad_by_lane::<Self>(a, b, c)
+    }
+    /// [`Arith::mad`] in eight lanes, four at a time.
+    #[inline(always)]
+    fn mad8(a: Self::Eight, b: Self::Eight, c: Self::Eight) -> Self::Eight {
+        let (a, b, c) = (a.halves(), b.halves(), c.halves());
+        Eight::of_halves([0, 1].map(|k| Self::mad4(a[k], b[k], c[k])))
     }
     /// `a.x·b.x + a.y·b.y + a.z·b.z`, summed left to right.
     #[inline(always)]
@@ -92,8 +101,13 @@ pub struct Flushed;
 /// faster than `f32::mul_add` without it (a library call). The registry runs the fused model in it
 /// only where the processor has FMA ([`crate::fpenv::has_fma`]); nothing else may name it.
 pub(crate) struct FusedFma;
+/// [`Plain`] compiled for AVX2, its eight lanes one AVX register ([`lanes::F8`]): the same roundings,
+/// so the same bits. The registry runs the plain model's exit-face methods in it only where the
+/// processor has AVX2 ([`crate::fpenv::has_avx2`]); nothing else may name it.
+pub(crate) struct PlainAvx2;
 
 impl Arith for Plain {
+    type Eight = lanes::F4x2;
     #[inline(always)]
     fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
         crate::fpenv::wide(input, f)
@@ -110,6 +124,7 @@ impl Arith for Plain {
 
 impl Arith for Flushed {
     const FLUSHES: bool = true;
+    type Eight = lanes::F4x2;
     #[inline(always)]
     fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
         crate::fpenv::flushed(input, |input| crate::fpenv::wide(input, f))
@@ -126,6 +141,7 @@ impl Arith for Flushed {
 
 #[cfg(target_arch = "x86_64")]
 impl Arith for FusedFma {
+    type Eight = lanes::F4x2;
     #[inline(always)]
     fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
         // SAFETY: the registry runs this model only where the processor has FMA.
@@ -150,9 +166,49 @@ impl FusedFma {
     }
 }
 
+#[cfg(target_arch = "x86_64")]
+impl Arith for PlainAvx2 {
+    type Eight = lanes::F8;
+    #[inline(always)]
+    fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+        // SAFETY: the registry runs this model only where the processor has AVX2.
+        unsafe { crate::fpenv::with_avx2(input, f) }
+    }
+    #[inline(always)]
+    fn mad(a: f32, b: f32, c: f32) -> f32 {
+        a * b + c
+    }
+    #[inline(always)]
+    fn mad4(a: F4, b: F4, c: F4) -> F4 {
+        a * b + c
+    }
+    #[inline(always)]
+    fn mad8(a: lanes::F8, b: lanes::F8, c: lanes::F8) -> lanes::F8 {
+        a * b + c
+    }
+}
+
+/// Off x86-64 the plain model has no second instantiation: [`Plain`]'s.
+#[cfg(not(target_arch = "x86_64"))]
+impl Arith for PlainAvx2 {
+    type Eight = lanes::F4x2;
+    #[inline(always)]
+    fn mad(a: f32, b: f32, c: f32) -> f32 {
+        Plain::mad(a, b, c)
+    }
+}
+
+impl PlainAvx2 {
+    /// Whether it can run here ([`crate::fpenv::has_avx2`]).
+    pub(crate) fn available() -> bool {
+        crate::fpenv::has_avx2()
+    }
+}
+
 /// Off x86-64 the fused model has no second instantiation: [`Fused`]'s.
 #[cfg(not(target_arch = "x86_64"))]
 impl Arith for FusedFma {
+    type Eight = lanes::F4x2;
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         Fused::mad(a, b, c)
@@ -160,6 +216,7 @@ impl Arith for FusedFma {
 }
 
 impl Arith for Fused {
+    type Eight = lanes::F4x2;
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         a.mul_add(b, c)

@@ -1,7 +1,7 @@
 //! `plucker`: Lagae & Dutré 2008's third method (seed 000 §2.3.2), the permuted inner products of
 //! Platis & Theoharis 2003: six side products of the ray with the six edges.
 
-use super::lanes::{F4, M4, V4};
+use super::lanes::{Eight, V4, V8};
 use super::{Arith, ExitMethod};
 use crate::tet::{EDGE_OF, EDGES, FACE_VERTICES, Ray, Tet};
 use glam::Vec3;
@@ -40,29 +40,23 @@ pub(super) fn side<A: Arith>(ray: &PluckerRay, a: Vec3, b: Vec3) -> f32 {
     )
 }
 
-/// [`side`] of four lines `a → b` at once, lane by lane op for op.
+/// The two ends of the six edges ([`EDGES`]) of a tetrahedron whose vertices are in lanes, in the
+/// first six of eight lanes (the last two repeat edge 5).
 #[inline(always)]
-fn sides4<A: Arith>(ray: &PluckerRay, a: V4, b: V4) -> F4 {
-    let moment = a.cross::<A>(b);
-    let dir = b - a;
-    let v = V4::splat(ray.v);
-    A::mad4(
-        v.z,
-        dir.z,
-        A::mad4(
-            v.y,
-            dir.y,
-            A::mad4(v.x, dir.x, V4::splat(ray.u).dot::<A>(moment)),
-        ),
+pub(super) fn edge_ends<A: Arith>(v: V4) -> (V8<A>, V8<A>) {
+    const fn ends(k: usize) -> [u32; 8] {
+        let mut out = [0; 8];
+        let mut i = 0;
+        while i < 8 {
+            out[i] = EDGES[if i < 5 { i } else { 5 }][k] as u32;
+            i += 1;
+        }
+        out
+    }
+    (
+        V8::pick(v, const { ends(0) }),
+        V8::pick(v, const { ends(1) }),
     )
-}
-
-/// The two ends of the six edges ([`EDGES`]) of a tetrahedron whose vertices are in lanes: edges 0 to
-/// 3 in the first four lanes, 4 and 5 in the second four's first two (the last two repeat edge 5).
-#[inline(always)]
-pub(super) fn edge_ends(v: V4) -> [(V4, V4); 2] {
-    let end = |k: usize, first: usize| v.pick([0, 1, 2, 3].map(|i| EDGES[(first + i).min(5)][k]));
-    [(end(0, 0), end(1, 0)), (end(0, 4), end(1, 4))]
 }
 
 /// Six products' signs, one per edge, as bit sets over [`EDGES`]: `< 0`, `> 0`, NaN.
@@ -87,15 +81,9 @@ impl EdgeSigns {
 
     /// The signs of six products in lanes ([`edge_ends`]' order).
     #[inline(always)]
-    pub(super) fn of_lanes([lo, hi]: [F4; 2]) -> EdgeSigns {
-        let zero = F4::splat(0.0);
-        let bits =
-            |test: fn(F4, F4) -> M4| test(lo, zero).bits() | (test(hi, zero).bits() & 0b11) << 4;
-        EdgeSigns {
-            lt: bits(F4::lt),
-            gt: bits(F4::gt),
-            nan: bits(|x, _| x.eq(x).flipped()),
-        }
+    pub(super) fn of_lanes<E: Eight>(x: E) -> EdgeSigns {
+        let [lt, gt, nan] = x.signs().map(|bits| bits & 0b11_1111);
+        EdgeSigns { lt, gt, nan }
     }
 
     /// The first face in `order` whose products along its outward cycle are none `< 0` (an edge run
@@ -119,11 +107,23 @@ impl EdgeSigns {
     }
 }
 
-/// The ray's [`side`] products with the six edges of `tet`, four at a time ([`edge_ends`]).
+/// The ray's [`side`] products with the six edges of `tet`, all in lanes ([`edge_ends`]), each as
+/// [`side`] computes it.
 #[inline(always)]
-fn sides_of_tet<A: Arith>(ray: &PluckerRay, tet: &Tet) -> [F4; 2] {
-    let [(a, b), (c, d)] = edge_ends(V4::of(tet));
-    [sides4::<A>(ray, a, b), sides4::<A>(ray, c, d)]
+fn sides_of_tet<A: Arith>(ray: &PluckerRay, tet: &Tet) -> A::Eight {
+    let (a, b) = edge_ends::<A>(V4::of(tet));
+    let moment = a.cross(b);
+    let dir = b - a;
+    let v = V8::<A>::splat(ray.v);
+    A::mad8(
+        v.z,
+        dir.z,
+        A::mad8(
+            v.y,
+            dir.y,
+            A::mad8(v.x, dir.x, V8::splat(ray.u).dot(moment)),
+        ),
+    )
 }
 
 /// Per face, the edges its outward cycle runs forward and those it runs backward, and all three.
@@ -163,7 +163,7 @@ pub(super) fn exit_by_sides_of<A: Arith>(ray: &PluckerRay, tet: &Tet) -> Option<
 }
 
 /// Reconstructed: the six side products of the ray with the edges (6 × 23 = 138 operations, plus 9 for
-/// the ray once; four at a time, lane by lane, [`edge_ends`]), then the face whose three edges
+/// the ray once; all six in lanes, lane by lane, [`edge_ends`]), then the face whose three edges
 /// all turn the right way. The entry face is not used. `None` when no face passes.
 pub struct Plucker;
 

@@ -1,7 +1,7 @@
 //! `stp`: Lagae & Dutré 2008's fourth and fastest method (seed 000 §2.3.2, seed 003 §2.2): three to six
 //! scalar triple products with early outs.
 
-use super::lanes::V4;
+use super::lanes::{V4, V8};
 use super::plucker::{EdgeSigns, edge_ends};
 use super::{Arith, ExitMethod};
 use crate::tet::{Ray, Tet};
@@ -11,7 +11,7 @@ use crate::tet::{Ray, Tet};
 /// the two faces of an edge). Faces are tried in the order 3, 2, 1, 0; the first face whose three
 /// products along its outward cycle are none `< 0` (not all zero) is the exit face. The published
 /// method evaluates a face's products until one is negative (early outs: 3 products at best, 6 at
-/// most); here all six are computed four at a time, lane by lane (on SSE faster than the early outs'
+/// most); here all six are computed at once in lanes, lane by lane (faster than the early outs'
 /// branches), which decides the same face: a product's value does not depend on when it is taken.
 /// The entry face is not used. `None` when no face passes.
 pub struct Stp;
@@ -25,10 +25,7 @@ impl ExitMethod for Stp {
 
     #[inline(always)]
     fn exit_face<A: Arith>(tet: &Tet, ray: &Ray, _entry: Option<usize>) -> Option<usize> {
-        let rel = V4::of(tet) - V4::splat(ray.org);
-        let dir = V4::splat(ray.dir);
-        let [(a, b), (c, d)] = edge_ends(rel);
-        let triple = |a: V4, b: V4| dir.dot::<A>(a.cross::<A>(b));
-        EdgeSigns::of_lanes([triple(a, b), triple(c, d)]).stp_exit()
+        let (a, b) = edge_ends::<A>(V4::of(tet) - V4::splat(ray.org));
+        EdgeSigns::of_lanes(V8::<A>::splat(ray.dir).dot(a.cross(b))).stp_exit()
     }
 }
