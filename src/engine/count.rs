@@ -50,12 +50,13 @@ pub fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
 }
 
 /// The views that `holds` keeps whose camera lies inside the mesh, each with its camera and the
-/// tetrahedron holding it (located from the previous view's); `tick` is called for every view tried.
+/// tetrahedron holding it (located from the previous view's); `skipped` is called for every view kept
+/// whose camera lies outside.
 pub fn located_views<'a>(
     mesh: &'a Mesh,
     views: &'a Views,
     holds: impl Fn(usize) -> bool + 'a,
-    tick: &'a (dyn Fn() + Sync),
+    skipped: &'a (dyn Fn() + Sync),
 ) -> impl Iterator<Item = (usize, Camera, u32)> + 'a {
     let (lo, hi) = crate::mesh::bounds(&mesh.points);
     let mut start = 0;
@@ -63,8 +64,10 @@ pub fn located_views<'a>(
         .filter(move |&v| holds(v))
         .filter_map(move |v| {
             let cam = views.camera(lo, hi, v);
-            tick();
-            let located = locate(mesh, cam.eye, start).ok()?;
+            let Ok(located) = locate(mesh, cam.eye, start) else {
+                skipped();
+                return None;
+            };
             start = located;
             Some((v, cam, located))
         })
@@ -122,7 +125,7 @@ pub enum Answerer<'a, F: Family> {
 }
 
 /// Walks given from outside for one view (its index and its rays).
-pub type GivenWalks<'a> = dyn Fn(usize, &[Ray]) -> Result<Vec<Walk>, CountError> + 'a;
+pub type GivenWalks<'a> = dyn Fn(usize, &[Ray]) -> Result<Vec<Walk>, CountError> + Sync + 'a;
 
 impl<F: Family> Answerer<'_, F> {
     fn name(&self) -> &str {
@@ -136,9 +139,24 @@ impl<F: Family> Answerer<'_, F> {
 /// Where each wrong ray goes besides the tallies (`count --dump`).
 pub type Sink<'a> = dyn FnMut(&WrongRay) -> std::io::Result<()> + 'a;
 
-/// Count wrong rays per answerer over the views the shard holds; `tick` is called once per view, and
-/// `sink` sees every wrong ray written out ([`WrongRay`]). Memory holds one view's rays and walks at a
-/// time.
+/// Views counted at once per thread on the CPU (each view's walks split between the threads as
+/// well): while one view's serial steps run (its rays, its audit) or its last walks end, the
+/// threads walk another's.
+const VIEWS_PER_THREAD: usize = 2;
+
+/// One view's tallies: per row (the reference walk's first where it is one), the steps, the seconds
+/// its answers took and its wrong rays, described; and the rays audited.
+struct ViewCount {
+    work: Vec<(u64, f64)>,
+    wrong: Vec<Vec<WrongRay>>,
+    audits: u64,
+    rays: u64,
+}
+
+/// Count wrong rays per answerer over the views the shard holds; `tick` is called once per view
+/// (counted, or skipped for a camera outside the mesh), and `sink` sees every wrong ray written out
+/// ([`WrongRay`]), view by view in order. On the CPU several views are counted at once
+/// ([`VIEWS_PER_THREAD`]); memory holds those views' rays and walks.
 pub fn run<F: Counted>(
     mesh: &Mesh,
     s: &CountSettings<F>,
@@ -155,97 +173,71 @@ pub fn run<F: Counted>(
         max_steps: max,
         views: s.views,
     };
-    let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
     let own = F::reference_row() as usize;
     let mut rows: Vec<CountRow<F::Counts>> = std::iter::once(reference.name())
         .take(own)
         .chain(answerers.iter().map(|a| a.name()))
         .map(CountRow::new)
         .collect();
+    // A GPU takes one batch at a time: its views one by one.
+    let at_once = match backend.kind() {
+        crate::choice::BackendKind::Gpu => 1,
+        _ => VIEWS_PER_THREAD * rayon::current_num_threads(),
+    };
     let (mut rays_counted, mut views_counted, mut audits) = (0u64, 0usize, 0u64);
     let mut ready: Option<F::Ready> = None;
-    for (v, cam, located) in located_views(mesh, &s.views, |v| s.shard.holds(v), tick) {
-        views_counted += 1;
-        if ready.as_ref().is_none_or(|r| !F::serves(r, located)) {
-            ready = Some(F::prepare(&scene, &s.family, backend, located)?);
-        }
-        let rays = s.views.rays(&cam);
-        rays_counted += rays.len() as u64;
-        let first = v as u64 * rays.len() as u64;
-        let picked: Vec<usize> = (0..rays.len())
-            .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))
-            .collect();
-        let at = Prepared::<F> {
-            backend,
-            scene: &scene,
-            ready: ready.as_ref().expect("made ready above"),
-            settings: &s.family,
-            located,
-            view: v,
-            camera: &cam,
-            audited: &picked,
-        };
-        let t0 = Instant::now();
-        let walked = backend.walks(reference, &scene.on, &rays, located, max)?;
-        if own == 1 {
-            let steps = walked.iter().map(|w| w.steps as u64).sum();
-            rows[0].add_work(steps, t0.elapsed().as_secs_f64());
-        }
-        if !picked.is_empty() {
-            let picked_rays: Vec<Ray> = picked.iter().map(|&i| rays[i]).collect();
-            let exact = F::audit(&at, &picked_rays)?;
-            audits += picked.len() as u64;
-            for (&i, e) in picked.iter().zip(&exact) {
-                if !F::agrees(mesh, &rays[i], e, &walked[i]) {
-                    return Err(CountError::Audit {
-                        reference: s.reference.clone(),
-                        exact: F::EXACT,
-                        view: v,
-                        pixel: [i as u32 % s.views.width, i as u32 / s.views.width],
-                        walked: walked[i],
-                        answered: *e,
-                    });
+    let mut views = located_views(mesh, &s.views, |v| s.shard.holds(v), tick).peekable();
+    loop {
+        // The next views that one preparation serves, at most `at_once`.
+        let mut group = Vec::new();
+        while group.len() < at_once
+            && let Some(&(_, _, located)) = views.peek()
+        {
+            if ready.as_ref().is_none_or(|r| !F::serves(r, located)) {
+                if !group.is_empty() {
+                    break;
                 }
+                ready = Some(F::prepare(&scene, &s.family, backend, located)?);
             }
+            group.extend(views.next());
         }
-        for (a, row) in answerers.iter().zip(&mut rows[own..]) {
-            let t0 = Instant::now();
-            // Given walks were timed elsewhere, if at all: their speed is not measured here.
-            let (walks, seconds) = match a {
-                Answerer::Method(m) => {
-                    let w = F::answer_rays(&at, m, &rays)?;
-                    (w, t0.elapsed().as_secs_f64())
-                }
-                Answerer::Given(_, given) => (given(v, &rays)?, 0.0),
-            };
-            row.add_work(walks.iter().map(|w| w.steps as u64).sum(), seconds);
-            let seen = Seen {
-                scene: &s.scene,
-                view: v,
-                pixel: [0, 0],
-                name: a.name(),
-                walked: match a {
-                    Answerer::Method(m) => {
-                        F::walker(m).map(|w| (w, backend.for_method(*m).ran().kind))
+        if group.is_empty() {
+            break;
+        }
+        let ready = ready.as_ref().expect("made ready above");
+        let t0 = Instant::now();
+        let counted: Vec<_> = group
+            .par_iter()
+            .map(|&(v, cam, located)| {
+                let c = count_view(
+                    &scene, s, answerers, reference, backend, ready, v, &cam, located,
+                );
+                tick();
+                c
+            })
+            .collect();
+        let wall = t0.elapsed().as_secs_f64();
+        let summed: f64 = counted
+            .iter()
+            .flatten()
+            .flat_map(|c| c.work.iter().map(|w| w.1))
+            .sum();
+        // Views counted at once overlap: where their answers' times add up to more than the wall
+        // time, each is scaled down in proportion, so that the rows add up to the wall time.
+        let scale = if summed > wall { wall / summed } else { 1.0 };
+        for c in counted {
+            let c = c?;
+            views_counted += 1;
+            rays_counted += c.rays;
+            audits += c.audits;
+            for ((row, (steps, seconds)), wrong) in rows.iter_mut().zip(c.work).zip(c.wrong) {
+                row.add_work(steps, seconds * scale);
+                for d in &wrong {
+                    row.counts
+                        .add_wrong(d.kind().expect("a wrong ray has a kind"), d.class);
+                    if let Some(sink) = sink.as_mut() {
+                        sink(d).map_err(CountError::Dump)?;
                     }
-                    Answerer::Given(..) => None,
-                },
-            };
-            let described = wrong_rays(
-                mesh,
-                &seen,
-                s.views.width,
-                &rays,
-                &walks,
-                &walked,
-                located,
-                max,
-            );
-            for d in &described {
-                row.counts
-                    .add_wrong(d.kind().expect("a wrong ray has a kind"), d.class);
-                if let Some(sink) = sink.as_mut() {
-                    sink(d).map_err(CountError::Dump)?;
                 }
             }
         }
@@ -265,6 +257,104 @@ pub fn run<F: Counted>(
         rays: rays_counted,
         views_counted,
         methods: rows,
+    })
+}
+
+/// View `v`'s count: the reference walk, the audit of its picked rays, and each answerer's answers
+/// judged against the reference, with the steps and seconds of each.
+#[allow(clippy::too_many_arguments)]
+fn count_view<F: Counted>(
+    scene: &Scene,
+    s: &CountSettings<F>,
+    answerers: &[Answerer<F>],
+    reference: &crate::registry::Method,
+    backend: &Backend,
+    ready: &F::Ready,
+    v: usize,
+    cam: &Camera,
+    located: u32,
+) -> Result<ViewCount, CountError> {
+    let (mesh, max) = (scene.mesh, scene.max_steps);
+    let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
+    let rays = s.views.rays(cam);
+    let first = v as u64 * rays.len() as u64;
+    let picked: Vec<usize> = (0..rays.len())
+        .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))
+        .collect();
+    let at = Prepared::<F> {
+        backend,
+        scene,
+        ready,
+        settings: &s.family,
+        located,
+        view: v,
+        camera: cam,
+        audited: &picked,
+    };
+    let mut work = Vec::with_capacity(answerers.len() + 1);
+    let mut wrong = Vec::with_capacity(answerers.len() + 1);
+    let t0 = Instant::now();
+    let walked = backend.walks(reference, &scene.on, &rays, located, max)?;
+    if F::reference_row() {
+        work.push((
+            walked.iter().map(|w| w.steps as u64).sum(),
+            t0.elapsed().as_secs_f64(),
+        ));
+        wrong.push(Vec::new());
+    }
+    if !picked.is_empty() {
+        let picked_rays: Vec<Ray> = picked.iter().map(|&i| rays[i]).collect();
+        let exact = F::audit(&at, &picked_rays)?;
+        for (&i, e) in picked.iter().zip(&exact) {
+            if !F::agrees(mesh, &rays[i], e, &walked[i]) {
+                return Err(CountError::Audit {
+                    reference: s.reference.clone(),
+                    exact: F::EXACT,
+                    view: v,
+                    pixel: [i as u32 % s.views.width, i as u32 / s.views.width],
+                    walked: walked[i],
+                    answered: *e,
+                });
+            }
+        }
+    }
+    for a in answerers {
+        let t0 = Instant::now();
+        // Given walks were timed elsewhere, if at all: their speed is not measured here.
+        let (walks, seconds) = match a {
+            Answerer::Method(m) => {
+                let w = F::answer_rays(&at, m, &rays)?;
+                (w, t0.elapsed().as_secs_f64())
+            }
+            Answerer::Given(_, given) => (given(v, &rays)?, 0.0),
+        };
+        work.push((walks.iter().map(|w| w.steps as u64).sum(), seconds));
+        let seen = Seen {
+            scene: &s.scene,
+            view: v,
+            pixel: [0, 0],
+            name: a.name(),
+            walked: match a {
+                Answerer::Method(m) => F::walker(m).map(|w| (w, backend.for_method(*m).ran().kind)),
+                Answerer::Given(..) => None,
+            },
+        };
+        wrong.push(wrong_rays(
+            mesh,
+            &seen,
+            s.views.width,
+            &rays,
+            &walks,
+            &walked,
+            located,
+            max,
+        ));
+    }
+    Ok(ViewCount {
+        work,
+        wrong,
+        audits: picked.len() as u64,
+        rays: rays.len() as u64,
     })
 }
 

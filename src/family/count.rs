@@ -187,7 +187,8 @@ pub struct CountRow<C: Counts> {
     pub method: String,
     #[serde(flatten)]
     pub counts: C,
-    /// Wall-clock seconds spent answering.
+    /// Wall-clock seconds spent answering (where views were counted at once, its share of their wall
+    /// time: `engine::count::run`).
     #[serde(default)]
     pub seconds: f64,
     /// Rays answered per second, in millions (0 for answers given from outside, not timed here).
