@@ -144,6 +144,14 @@ pub type Sink<'a> = dyn FnMut(&WrongRay) -> std::io::Result<()> + 'a;
 /// threads walk another's.
 const VIEWS_PER_THREAD: usize = 2;
 
+/// Memory the views counted at once may take, at about [`BYTES_PER_RAY`] each ray: fewer views at
+/// once where images are large (four of 1024² here).
+const VIEWS_MEMORY: u64 = 512 << 20;
+
+/// A view's bytes per ray while it is counted: the ray (24), the reference walk's and one method's
+/// walks (16 each), the ray with its start as the backend takes it (28), with room to spare.
+const BYTES_PER_RAY: u64 = 128;
+
 /// One view's tallies: per row (the reference walk's first where it is one), the steps, the seconds
 /// its answers took and its wrong rays, described; and the rays audited.
 struct ViewCount {
@@ -156,7 +164,8 @@ struct ViewCount {
 /// Count wrong rays per answerer over the views the shard holds; `tick` is called once per view
 /// (counted, or skipped for a camera outside the mesh), and `sink` sees every wrong ray written out
 /// ([`WrongRay`]), view by view in order. On the CPU several views are counted at once
-/// ([`VIEWS_PER_THREAD`]); memory holds those views' rays and walks.
+/// ([`VIEWS_PER_THREAD`], as many as [`VIEWS_MEMORY`] holds); memory holds those views' rays and
+/// walks.
 pub fn run<F: Counted>(
     mesh: &Mesh,
     s: &CountSettings<F>,
@@ -182,7 +191,11 @@ pub fn run<F: Counted>(
     // A GPU takes one batch at a time: its views one by one.
     let at_once = match backend.kind() {
         crate::choice::BackendKind::Gpu => 1,
-        _ => VIEWS_PER_THREAD * rayon::current_num_threads(),
+        _ => {
+            let rays = s.views.width as u64 * s.views.height as u64;
+            let fit = VIEWS_MEMORY / (rays * BYTES_PER_RAY).max(1);
+            (VIEWS_PER_THREAD * rayon::current_num_threads()).min(fit.max(1) as usize)
+        }
     };
     let (mut rays_counted, mut views_counted, mut audits) = (0u64, 0usize, 0u64);
     let mut ready: Option<F::Ready> = None;
