@@ -176,11 +176,11 @@ impl Arith for PlainAvx2 {
     }
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
-        a * b + c
+        Plain::mad(a, b, c)
     }
     #[inline(always)]
     fn mad4(a: F4, b: F4, c: F4) -> F4 {
-        a * b + c
+        Plain::mad4(a, b, c)
     }
     #[inline(always)]
     fn mad8(a: lanes::F8, b: lanes::F8, c: lanes::F8) -> lanes::F8 {
