@@ -7,8 +7,11 @@ cd "$SRC/tetwalk"
 export TETWALK_FUZZ_DEFAULT=ours
 cargo fuzz build -O
 triple=$(rustc -vV | sed -n 's/^host: //p')
+# Where cargo put them: fuzz/target, or CARGO_TARGET_DIR (cargo-fuzz builds where cargo would).
+target_dir=$(cargo metadata --format-version 1 --no-deps --manifest-path fuzz/Cargo.toml |
+    sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
 for target in $(cargo fuzz list); do
-    cp "fuzz/target/$triple/release/$target" "$OUT/"
+    cp "$target_dir/$triple/release/$target" "$OUT/"
     if [ -d "corpora/$target" ]; then
         (cd "corpora/$target" && zip -q -r "$OUT/${target}_seed_corpus.zip" .)
     fi

@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 secs=${1:-600}
 shift || true
 others=${*:-ray-plane halfspace plucker stp ms06 aman20 aman20-scaled}
-cargo build --release --quiet
+TETWALK_BUILD=1 source scripts/tetwalk-bin.sh
 cargo +nightly fuzz build -O -s none >/dev/null
 log=$(mktemp -d)
 backend=${TETWALK_FUZZ_BACKEND:-cpu}
@@ -36,7 +36,7 @@ run() { # target selection
             TETWALK_FUZZ_METHOD=$sel cargo +nightly fuzz tmin -O -s none "$target" "$c" -- -runs=5000 >/dev/null 2>&1
             m="fuzz/artifacts/$target/minimized-from-${c##*crash-}"
             [ -f "$m" ] || m=$c
-            TETWALK_FUZZ_METHOD=$sel ./target/release/tetwalk fuzz-import --target "$target" "$m" >>"$out/found"
+            TETWALK_FUZZ_METHOD=$sel "$tetwalk" fuzz-import --target "$target" "$m" >>"$out/found"
         done
         found="$(cut -d' ' -f2- "$out/found" | sort | uniq -c | tr '\n' ';')"
         printf '| %s | %s | %s | %s | %.1f | %s |\n' "$target" "$backend" "$sel" "$execs" "$(echo "$end - $start" | bc)" "$found" >> "$log/table"

@@ -4,6 +4,7 @@
 # foreign shard.
 set -euo pipefail
 dir=$1
-tetwalk=${TETWALK:-target/release/tetwalk}
+# The program: scripts/tetwalk-bin.sh (TETWALK, else the release build where cargo puts it).
+source "$(dirname "$0")/tetwalk-bin.sh"
 "$tetwalk" paper merge "$dir"/shard-*.json --out "$dir/paper.md" --json "$dir/paper.json" >/dev/null
 echo "merged $(ls "$dir"/shard-*.json | wc -l) shards into $dir/paper.md"

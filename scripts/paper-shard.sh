@@ -2,12 +2,12 @@
 # One shard of `tetwalk paper`: scripts/paper-shard.sh I N OUT_DIR writes OUT_DIR/shard-I.json (the
 # counts of views v with v % N == I; shard 0 also times the timed tables). What is run comes from
 # PAPER_ARGS (default: the papers' size on the paper-scale bunny, `--scene bunny-paper --full`), the
-# program from TETWALK (default: target/release/tetwalk). The GitHub workflow
+# program from scripts/tetwalk-bin.sh (TETWALK, else the release build where cargo puts it). The GitHub workflow
 # (.github/workflows/paper.yml), the GNU parallel line and the Slurm array (scripts/paper.slurm) of the
-# README all run this.
+# user guide (docs/paper-scale.md) all run this.
 set -euo pipefail
 i=$1 n=$2 out=$3
-tetwalk=${TETWALK:-target/release/tetwalk}
+source "$(dirname "$0")/tetwalk-bin.sh"
 mkdir -p "$out"
 start=$(date +%s)
 # shellcheck disable=SC2086

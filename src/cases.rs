@@ -5,6 +5,7 @@
 //! cell case `{"box", "org", "dir"}`), and the keys a line holds name its family; every number is the
 //! nearest f32 to its decimal text (one rounding). Here: the case types the backend answers, the JSON
 //! helpers every family's reader shares, and their errors.
+#![warn(missing_docs)]
 
 use crate::exact::{self, ExactError};
 use crate::methods::triangle::Tri;
@@ -17,26 +18,46 @@ use serde_json::{Map, Value};
 /// Why a line is not a case the oracle can judge.
 #[derive(Debug, thiserror::Error)]
 pub enum CaseError {
+    /// A line that is not JSON (the parser's message).
     #[error("malformed JSON: {0}")]
     Json(String),
+    /// A line that is JSON but not an object.
     #[error("expected a JSON object")]
     NotObject,
+    /// A key no case of the family holds.
     #[error("unknown field '{0}'")]
     UnknownField(String),
+    /// A key the case needs is absent.
     #[error("missing field '{0}'")]
     Missing(&'static str),
+    /// A field whose value is not what it must be: which, and why.
     #[error("{field}: {why}")]
-    Field { field: String, why: String },
+    Field {
+        /// The field, as the line names it.
+        field: String,
+        /// What is wrong with its value.
+        why: String,
+    },
+    /// The given entry face is not one the line exactly enters through.
     #[error("entry {entry} is not an exact entry face (exact entry faces: {exact:?})")]
-    NotAnEntry { entry: u8, exact: Vec<usize> },
+    NotAnEntry {
+        /// The face the line gives.
+        entry: u8,
+        /// The faces the line exactly enters through.
+        exact: Vec<usize>,
+    },
+    /// The oracle cannot judge the geometry (flat, zero direction, not finite).
     #[error(transparent)]
     Exact(#[from] ExactError),
+    /// A walk case's generated mesh cannot be built.
     #[error("the walk case's mesh could not be built: {0}")]
     Mesh(String),
+    /// A walk case's origin lies in no tetrahedron of its mesh.
     #[error("the walk case's origin is not inside its mesh: {0}")]
     Outside(String),
 }
 
+/// A [`CaseError::Field`] for `field`, saying `why`.
 pub fn field_error(field: impl Into<String>, why: impl Into<String>) -> CaseError {
     CaseError::Field {
         field: field.into(),
@@ -48,13 +69,18 @@ pub fn field_error(field: impl Into<String>, why: impl Into<String>) -> CaseErro
 /// box (`lo < hi` on every axis) and a ray whose exit face and quarter are asked (seed 001).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BoxCase {
+    /// The lower corner.
     pub lo: Vec3,
+    /// The upper corner.
     pub hi: Vec3,
+    /// The ray's origin.
     pub org: Vec3,
+    /// The ray's direction (any length but zero).
     pub dir: Vec3,
 }
 
 impl BoxCase {
+    /// The case's ray.
     pub fn ray(&self) -> Ray {
         Ray {
             org: self.org,
@@ -75,7 +101,9 @@ pub struct HitCase {
     len: u8,
     /// Written as `tris`: a closed mesh.
     pub closed: bool,
+    /// The ray's origin.
     pub org: Vec3,
+    /// The ray's direction (any length but zero).
     pub dir: Vec3,
 }
 
@@ -131,6 +159,7 @@ impl HitCase {
         })
     }
 
+    /// The case's triangles (one, or the closed mesh's).
     pub fn tris(&self) -> &[Tri] {
         &self.tris[..self.len as usize]
     }
@@ -144,6 +173,7 @@ impl HitCase {
         }
     }
 
+    /// The case's ray.
     pub fn ray(&self) -> Ray {
         Ray {
             org: self.org,

@@ -5,13 +5,16 @@
 pub trait Choice: Copy + Sized + Send + Sync + 'static {
     /// Every value, in the order help text and reports list them.
     const ALL: &'static [Self];
+    /// The value's one name.
     fn name(self) -> &'static str;
+    /// The value of a name, if it is one.
     fn from_name(s: &str) -> Option<Self> {
         Self::ALL.iter().copied().find(|v| v.name() == s)
     }
 }
 
-/// Implement [`Choice`] for a fieldless enum from `Variant => "name"` pairs.
+/// Implement `Choice` for a fieldless enum from `Variant => "name"` pairs.
+#[doc(hidden)]
 #[macro_export]
 macro_rules! choice {
     ($t:ty { $($v:ident => $n:literal),* $(,)? }) => {
@@ -28,12 +31,16 @@ macro_rules! choice {
 /// products fused into multiply-adds, subnormals flushed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Model {
+    /// Each operation rounded once, as written, with gradual underflow (`cpu`).
     Plain,
+    /// `a·b + c` fused into one rounding where a GPU compiler may contract it (`cpu-fma`).
     Fused,
+    /// As written, with subnormal inputs read as zero and subnormal results flushed (`cpu-ftz`).
     Flushed,
 }
 
 impl Model {
+    /// Every model, in the order reports list them.
     pub const ALL: [Model; 3] = [Model::Plain, Model::Fused, Model::Flushed];
 }
 

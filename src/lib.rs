@@ -1,24 +1,62 @@
-//! tetwalk: finds out, with proof, when ray traversal of tetrahedral meshes, octrees and triangle sets
-//! goes wrong in f32.
+//! tetwalk finds out, with proof, when ray traversal code gives wrong answers in 32-bit floats: the
+//! published methods for walking a ray through a tetrahedral mesh, through an octree, and for
+//! intersecting rays with triangles, run in f32 exactly as published, every answer judged by an exact
+//! oracle. This page is for using it as a library; the command-line tool has a user guide (`docs/` in
+//! the repository) and its own `--help`.
 //!
-//! Data flows one way, and so do the imports (`tests/layering.rs` states each module's allowed imports
-//! and checks them): files written whole (`staged`), the floating-point environment (`fpenv`) and
-//! geometry (`tet`, with the named value sets of `choice`) → `mesh`, `octree` → the oracle (`exact`) →
-//! `scenes` (generators, cameras) → `methods` → `walk` (outcomes, judging) → `registry` (every method
-//! once) → the case format (`cases`) → `gpu` → `backend` (the one seam where answers are computed) →
-//! `family` (what a family of methods is: cases, answers, truths, verdicts, stress rows, counts) →
-//! `engine` (stress, campaigns, counts, found cases, fuzz policy, standings: runs that return tallies)
-//! → `kit` (users' methods judged from their `cargo test`) → `report` and `render` (formatting only)
-//! → `cli`.
+//! # Depending on it
 //!
-//! A user's crate depends on it with `default-features = false` and imports [`kit::prelude`]; the
-//! oracle ([`exact`]), the methods ([`methods`]) and the case format ([`cases`]) are public too.
-//! Everything else is the tool's own: public with the `internals` feature (the default `cli` turns it
-//! on, for the binaries, tests, fuzz targets and benchmarks), crate-private without it.
+//! ```toml
+//! [dev-dependencies]
+//! tetwalk = { path = "…", default-features = false }
+//! ```
+//!
+//! Without default features no GPU or command-line crate is built. What the library promises:
+//!
+//! - [`kit`]: judge your own traversal method from your own `cargo test` — every stress row, property
+//!   campaigns through the fuzz generators, walks through lattice-tie meshes, each failure shrunk to
+//!   its simplest case ([`kit::exit_faces`], [`kit::triangles`], [`kit::cells`]; a user imports
+//!   [`kit::prelude`]).
+//! - [`exact`]: the oracle — through which faces a line leaves a tetrahedron ([`exact::classify`]),
+//!   exact ray–triangle hits, octree cell exits — with ties broken by Simulation of Simplicity.
+//! - [`methods`]: every published method as a plain function over plain data, generic over the
+//!   arithmetic model ([`methods::Plain`], and as a GPU may compute it).
+//! - [`cases`]: the case format that `tetwalk exit`, `hit` and `judge` read.
+//! - [`tet`]: tetrahedra, rays, and the one orientation convention: face `i` is opposite vertex `i`,
+//!   and tetrahedra are positively oriented (`orient3d(v0, v1, v2, v3) > 0`).
+//!
+//! # The oracle and a published method on one case
+//!
+//! ```
+//! use tetwalk::kit::prelude::*;
+//! use tetwalk::methods::{Maria17, MomentFirst};
+//!
+//! // A positively oriented tetrahedron and a ray entering through face 3 (z = 0).
+//! let tet: Tet = [Vec3::X, Vec3::ZERO, Vec3::Y, Vec3::Z];
+//! let ray = Ray { org: Vec3::new(0.1, 0.1, -1.0), dir: Vec3::Z };
+//! let exact = tetwalk::exact::classify(&tet, &ray).unwrap();
+//! assert_eq!(exact.entry.to_vec(), vec![3]);
+//! assert_eq!(exact.exit.to_vec(), vec![1]); // the face x + y + z = 1, opposite vertex 1
+//!
+//! // Maria et al. 2017, Algorithm 1, in plain f32, entering through face 3.
+//! type M = Maria17<MomentFirst>; // seed 000 §3.4 read by its formula: `maria17`
+//! let face = M::exit_face::<Plain>(&tet, &M::prepare::<Plain>(&ray), Some(3));
+//! assert!(exact.exit.contains(face.unwrap()));
+//! ```
+//!
+//! # Features
+//!
+//! `cli` (the default: the command line, its renders and reports; turns on the two below), `gpu` (the
+//! GPU backend through wgpu), `internals` (every module public, for tetwalk's own binaries, tests, fuzz
+//! targets and benchmarks; nothing beyond the modules above is promised). The modules' layering is in
+//! the repository's `docs/architecture.md`.
 
 // Without `internals`, what only the tool's binaries and tests call is unreachable from outside the
 // crate, so the compiler would call it dead, and the re-exports for them unused.
 #![cfg_attr(not(feature = "internals"), allow(dead_code, unused_imports))]
+// Everything the library promises is documented: the crate's public items without `internals`, and
+// the public modules' items always (each of `cases`, `exact`, `kit`, `methods`, `tet` warns too).
+#![cfg_attr(not(feature = "internals"), warn(missing_docs))]
 
 pub mod cases;
 pub mod exact;

@@ -1,11 +1,14 @@
 //! Tetrahedra and rays in f32, and the one orientation convention that all of tetwalk shares.
+#![warn(missing_docs)]
 
 use glam::Vec3;
 
 /// The line `org + t·dir`, in f32 as the methods see it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray {
+    /// The origin.
     pub org: Vec3,
+    /// The direction (any length but zero).
     pub dir: Vec3,
 }
 
@@ -19,9 +22,13 @@ pub type Tet = [Vec3; 4];
 /// (`None` in a starting tetrahedron). Its text form is in the `cases` module.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Case {
+    /// The tetrahedron, in either orientation.
     pub tet: Tet,
+    /// The ray's origin.
     pub org: Vec3,
+    /// The ray's direction (any length but zero).
     pub dir: Vec3,
+    /// The face the ray entered through, or `None` in a starting tetrahedron.
     pub entry: Option<u8>,
 }
 
@@ -38,6 +45,7 @@ impl Case {
         }
     }
 
+    /// The case's ray.
     pub fn ray(&self) -> Ray {
         Ray {
             org: self.org,

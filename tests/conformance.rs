@@ -158,7 +158,7 @@ fn touch_only_accepts_touching_lines_alone() {
 
 #[test]
 fn a_registered_method_through_the_kit_is_named_as_registered() {
-    let passed = kit::registered::<ExitFace>("certified", &lenient())
+    let passed = kit::run::registered::<ExitFace>("certified", &lenient())
         .unwrap()
         .unwrap();
     assert!(passed.groups.iter().all(|g| g.failed == 0 && g.judged > 0));

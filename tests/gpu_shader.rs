@@ -1,6 +1,6 @@
 //! The WGSL module is generated from the Rust definitions (registry, outcome kinds, face tables, shared
 //! buffer structs); the committed `src/gpu/tetwalk.wgsl` must be what the generator writes now
-//! (`cargo run --bin codegen` rewrites it), and every registered method must have a GPU version or say
+//! (`cargo run --example codegen` rewrites it), and every registered method must have a GPU version or say
 //! why not.
 
 use tetwalk::gpu::shader::{self, COMMITTED, generate};
@@ -11,7 +11,7 @@ use tetwalk::walk::OutcomeKind;
 fn committed_wgsl_is_what_the_generator_writes() {
     assert!(
         COMMITTED == generate(),
-        "src/gpu/tetwalk.wgsl is stale: run `cargo run --bin codegen`"
+        "src/gpu/tetwalk.wgsl is stale: run `cargo run --example codegen`"
     );
 }
 

@@ -234,7 +234,7 @@ fn shrink_shrinks_for_a_program_outside_tetwalk() {
         .find_map(|l| l.trim().strip_prefix("reproduce: "))
         .expect("a reproducing command");
     assert!(
-        reproduce.contains("tetwalk judge /dev/stdin answer.jsonl"),
+        reproduce.contains("tetwalk judge - answer.jsonl"),
         "{reproduce}"
     );
     // The shrunk case, answered by the same program, is judged wrong.

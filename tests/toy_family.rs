@@ -365,9 +365,9 @@ fn a_toy_family_gets_the_kit() {
         properties: 300,
         ..Settings::default()
     };
-    let passed = kit::check::<Segments>(&METHODS[0], &s).unwrap();
+    let passed = kit::run::check::<Segments>(&METHODS[0], &s).unwrap();
     assert_eq!(passed.groups.len(), 3, "two rows and the property campaign");
-    let failed = kit::check::<Segments>(&METHODS[1], &s).unwrap_err();
+    let failed = kit::run::check::<Segments>(&METHODS[1], &s).unwrap_err();
     assert_eq!(failed.family, "segment");
     assert_eq!(failed.group, "stress row subnormal");
     assert!(failed.reproduced, "{failed}");

@@ -1,4 +1,4 @@
-//! The register of claims: the README's table is the one `tetwalk verify --register` generates, every
+//! The register of claims: the table of `docs/results.md` is the one `tetwalk verify --register` generates, every
 //! check names a registered method and an existing counterexample, and `verify` says PASS or FAIL per
 //! claim with an exit status that holds the register to what it finds.
 
@@ -14,12 +14,12 @@ fn found() -> std::path::PathBuf {
 }
 
 #[test]
-fn the_readme_holds_the_generated_register() {
+fn the_guide_holds_the_generated_register() {
     let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/results.md")).unwrap();
     assert!(
         readme.contains(&register_table()),
-        "README's register is stale: paste `cargo run --release -- verify --register`"
+        "docs/results.md's register is stale: paste `cargo run --release -- verify --register`"
     );
 }
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The three routes of README "Judging your own traversal", end to end, as the README shows them (a test
-# checks the README holds these lines; CI runs this script). Needs a GPU adapter for route 2 (lavapipe).
+# The three routes of "Judging your own traversal" (docs/your-own.md), end to end, as the guide shows
+# them (a test checks the guide holds these lines; CI runs this script). Needs a GPU adapter for route 2 (lavapipe).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=$(mktemp -d)

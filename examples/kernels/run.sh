@@ -11,8 +11,7 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 cases=${1:-2000}
 out=${2:-/dev/stdout}
-cargo build --release --quiet
-tetwalk=target/release/tetwalk
+TETWALK_BUILD=1 source scripts/tetwalk-bin.sh
 kernels=()
 if python3 -c "import embreex" 2>/dev/null; then
     kernels+=(embree embree-robust)

@@ -34,12 +34,16 @@ pub struct Common {
     /// tetrahedron) as JSON here.
     #[arg(long)]
     pub(super) json: Option<PathBuf>,
-    /// JSON Lines file of cases (found cases too); standard input when absent.
+    /// JSON Lines file of cases (found cases too); standard input when absent or `-`.
     pub(super) file: Option<PathBuf>,
 }
 
-/// A file of JSON lines opened for reading (a pipe too: `/dev/stdin`); a folder is refused.
+/// A file of JSON lines opened for reading (a pipe too: `/dev/stdin`; `-` is standard input); a
+/// folder is refused.
 pub(super) fn open_lines(p: &std::path::Path) -> Result<Box<dyn BufRead + Send>, super::Error> {
+    if p == std::path::Path::new("-") {
+        return Ok(Box::new(std::io::BufReader::new(std::io::stdin())));
+    }
     if p.is_dir() {
         return Err(format!("{}: is a folder, not a file of JSON lines", p.display()).into());
     }

@@ -19,13 +19,15 @@ use std::path::{Path, PathBuf};
 #[derive(clap::Args)]
 pub struct Args {
     /// JSON Lines of cases, as `exit` and `hit` read them (exit-face and ray–triangle cases), or the
-    /// rays of a scene as `count --rays-out` writes them (its header line first).
+    /// rays of a scene as `count --rays-out` writes them (its header line first); `-` is standard
+    /// input.
     cases: PathBuf,
     /// JSON Lines of answers, one per case, by the case's line number (1-based): `{"line": n,
     /// "face": 0..3|null}` for a tetrahedron (in the case's own numbering), `{"line": n, "hit":
     /// true|false, "t": number|null}` for one triangle, `{"line": n, "tri": i|null, "t": number|null}`
     /// for a closed mesh (the nearest hit), `{"line": n, "face": "-x"|"+x"|…|null, "quarter": [su, sv]}`
-    /// for an octree cell (`box-exit`'s cases). For a scene's rays, one walk per ray: `{"view": v,
+    /// for an octree cell (`box-exit`'s cases); `-` is standard input. For a scene's rays, one walk
+    /// per ray: `{"view": v,
     /// "pixel": [x, y], "kind": "hit"|"left_mesh"|"no_exit_face"|"cycle"|"step_limit", "tet": t,
     /// "face": f (hit, left_mesh), "period": p (cycle), "steps": n (optional)}`, judged as `count`
     /// judges (the same table; `--json` the same report).
@@ -67,11 +69,11 @@ fn each_answer(
     mut take: impl FnMut(usize, Value) -> Result<(), String>,
 ) -> Result<(), JudgeError> {
     let file = path.display().to_string();
-    let f = std::fs::File::open(path).map_err(|e| JudgeError::File {
+    let f = super::answer::open_lines(path).map_err(|e| JudgeError::File {
         file: file.clone(),
         why: e.to_string(),
     })?;
-    for (i, l) in reader(Box::new(std::io::BufReader::new(f))) {
+    for (i, l) in reader(f) {
         let at = |why: String| JudgeError::Answer {
             file: file.clone(),
             line: i,
@@ -135,6 +137,12 @@ pub fn run(a: Args) -> Status {
         return Err("--fail-on claims: judge's answers are yours, and tetwalk knows no claim of theirs; --fail-on wrong fails on any wrong answer".into());
     }
     let t_ulps = super::t_ulps(a.t_ulps)?;
+    let stdin = std::path::Path::new("-");
+    if a.cases == stdin && a.answers == stdin {
+        return Err(
+            "CASES and ANSWERS are both `-`: standard input can be one of them, not both".into(),
+        );
+    }
     let (header, input) = open_cases(&a.cases)?;
     if let Some(header) = header {
         if a.t_ulps.is_some() {

@@ -424,7 +424,7 @@ const MAX_WGSL: u64 = 1 << 20;
 /// `--wgsl FILE`: a user's exit-face function in WGSL, judged on the GPU as method `user`.
 #[derive(clap::Args)]
 struct WgslArg {
-    /// A WGSL file defining `user_prepare` and `user_exit` (README, "Judging your own traversal"),
+    /// A WGSL file defining `user_prepare` and `user_exit` (user guide, docs/your-own.md),
     /// spliced into the GPU's shader and judged as method `user` beside the methods listed (needs
     /// --backend gpu).
     #[arg(long, value_name = "FILE")]

@@ -202,7 +202,7 @@ fn shrink_outside<F: Family>(
         backend: "outside".into(),
         shrunk: serde_json::Value::Object(F::case_json(&s.case)),
         reproduce: Some(format!(
-            "echo {0} | {1} > answer.jsonl && echo {0} | tetwalk judge /dev/stdin answer.jsonl",
+            "echo {0} | {1} > answer.jsonl && echo {0} | tetwalk judge - answer.jsonl",
             quoted(&line),
             cmd
         )),

@@ -24,7 +24,7 @@ pub struct Args {
     /// The found corpus: the counterexamples, and the cases every standing claim must survive.
     #[arg(long, default_value = "corpora/found")]
     found: PathBuf,
-    /// Print the register as the README's markdown table and stop.
+    /// Print the register as the markdown table of docs/results.md and stop.
     #[arg(long)]
     register: bool,
     /// Also write every check's findings as JSON here.

@@ -2,7 +2,7 @@
 //! as Embree's `verify` checks its kernels: each paper's robustness claim and tetwalk's own, on each
 //! backend, backed by the counterexample that refutes it (replayed) or by the stress rows of its family
 //! at every scale of the domain where it was found to hold, the found corpus beside them, and the
-//! scales where it stops holding. `tetwalk verify` runs the checks; the README's table is generated
+//! scales where it stops holding. `tetwalk verify` runs the checks; the register's table in docs/results.md is generated
 //! from [`REGISTER`] (`tetwalk verify --register`) and a test holds the two together.
 
 use crate::backend::{Backend, BackendKind};
@@ -47,7 +47,7 @@ pub struct Check {
 }
 
 /// A row of the register: the methods, the claim quoted, the verdict and the counterexample (as the
-/// README writes them), and the checks behind the verdict.
+/// docs/results.md writes them), and the checks behind the verdict.
 #[derive(Clone, Copy, Debug)]
 pub struct Entry {
     pub methods: &'static str,

@@ -11,6 +11,7 @@ use rug::Rational;
 /// Where the line `o + t·d` crosses a closed triangle.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Crossing {
+    /// The line parameter of the crossing, exactly.
     pub t: Rational,
     /// The point lies on the triangle's boundary (an edge or a vertex).
     pub on_boundary: bool,
@@ -68,6 +69,7 @@ pub fn line_triangle(tri: [Vec3; 3], ray: &Ray) -> Option<Crossing> {
 /// it, even in it), on its boundary when the point lies on an edge or vertex.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RayHit {
+    /// The ray hits the closed triangle at `t > 0`.
     pub hit: bool,
     /// The hit point lies on an edge or a vertex (false for a miss).
     pub on_boundary: bool,
@@ -181,6 +183,7 @@ pub fn first_hit(mesh: &Mesh, ray: &Ray) -> Option<(Rational, Vec<(u32, u8)>)> {
 /// One point where a ray meets a triangle case's surface, exactly.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HitPoint {
+    /// The ray parameter of the point, exactly.
     pub t: rug::Rational,
     /// The triangles holding the point.
     pub holding: Vec<u32>,
@@ -217,6 +220,7 @@ pub struct HitTruth {
     pub each: Vec<RayHit>,
     /// Where the ray meets the surface, nearest first.
     pub points: Vec<HitPoint>,
+    /// The case is a closed mesh (`tris`), not one triangle.
     pub closed: bool,
     /// Per triangle, the sign of its normal `(b - a) × (c - a)` dotted with the ray's direction:
     /// negative where the ray sees it counter-clockwise (its front, as `mt` tests it).
@@ -326,13 +330,14 @@ pub fn ulps_from(t: f32, exact: &rug::Rational) -> f64 {
     })
 }
 
-/// A hit's `t` judged: the README's rule (a hit has `0 < t < ∞`) and its distance from the exact
+/// A hit's `t` judged: the rule of docs/triangles.md (a hit has `0 < t < ∞`) and its distance from the exact
 /// `t` of the point the answer names, within `bound` ulps ([`ulps_from`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct TJudged {
     /// `None` when the answer names no exact hit point (a wrong triangle, or a hit where there is
     /// none).
     pub ulps: Option<f64>,
+    /// The `t` is right: `0 < t < ∞` and within the bound.
     pub right: bool,
 }
 

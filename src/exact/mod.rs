@@ -1,5 +1,6 @@
 //! The exact oracle: through which faces a line enters and leaves a tetrahedron, decided exactly from
 //! the signs of Plücker side products and face normals (filtered f64, then exact integers).
+#![warn(missing_docs)]
 
 pub mod boxes;
 pub mod clip;
@@ -17,21 +18,27 @@ use glam::Vec3;
 pub struct FaceSet(pub u8);
 
 impl FaceSet {
+    /// Whether face `face` is in the set.
     pub fn contains(self, face: usize) -> bool {
         face < 4 && self.0 & (1 << face) != 0
     }
+    /// Whether the set holds no face.
     pub fn is_empty(self) -> bool {
         self.0 == 0
     }
+    /// Add face `face`.
     pub fn insert(&mut self, face: usize) {
         self.0 |= 1 << face;
     }
+    /// The faces, lowest first.
     pub fn iter(self) -> impl Iterator<Item = usize> {
         (0..4).filter(move |&f| self.contains(f))
     }
+    /// The lowest face, if any.
     pub fn first(self) -> Option<usize> {
         self.iter().next()
     }
+    /// The faces, lowest first.
     pub fn to_vec(self) -> Vec<usize> {
         self.iter().collect()
     }
@@ -47,6 +54,7 @@ pub struct Classification {
 }
 
 impl Classification {
+    /// Whether the line meets the closed tetrahedron.
     pub fn meets(&self) -> bool {
         !self.exit.is_empty()
     }
@@ -55,14 +63,19 @@ impl Classification {
 /// Why the oracle cannot answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum ExactError {
+    /// A coordinate is NaN or infinite.
     #[error("a coordinate is NaN or infinite")]
     NonFinite,
+    /// The tetrahedron has zero volume.
     #[error("the tetrahedron is flat (zero volume)")]
     FlatTet,
+    /// The ray's direction is zero.
     #[error("the ray direction is zero")]
     ZeroDirection,
+    /// The triangle's vertices are collinear.
     #[error("the triangle is degenerate (its vertices are collinear)")]
     FlatTriangle,
+    /// The box is empty or flat.
     #[error("the box is empty or flat (every lower corner coordinate must be below the upper one)")]
     FlatBox,
 }

@@ -62,7 +62,7 @@ const U: f64 = f64::EPSILON / 2.0;
 /// never overflow or underflow f64 here: nonzero differences are ≥ 2^-149, products ≥ 2^-447.
 const FILTER_BOUND: f64 = 8.0 * U;
 
-/// The f64 filter alone: the sign of `det[p1 - q1, p2 - q2, r]` when [`FILTER_BOUND`] settles it, for
+/// The f64 filter alone: the sign of `det[p1 - q1, p2 - q2, r]` when `FILTER_BOUND` settles it, for
 /// finite f32 inputs (`None`: the exact stage decides).
 pub fn filter(p1: Vec3, q1: Vec3, p2: Vec3, q2: Vec3, r: Vec3) -> Option<i8> {
     let (p1, q1, p2, q2, r) = (w64(p1), w64(q1), w64(p2), w64(q2), w64(r));

@@ -346,7 +346,8 @@ pub enum CountKind {
 
 crate::choice!(CountKind { Walk => "walk", Triangle => "triangle", Octree => "octree" });
 
-/// Run `$body` with `$F` the counted family a [`CountKind`] names.
+/// Run `$body` with `$F` the counted family a `CountKind` names.
+#[doc(hidden)]
 #[macro_export]
 macro_rules! with_counted {
     ($kind:expr, $F:ident => $body:expr) => {

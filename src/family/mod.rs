@@ -342,7 +342,8 @@ pub enum Kind {
 
 crate::choice!(Kind { ExitFace => "exit-face", Walk => "walk", Triangle => "triangle", Octree => "octree" });
 
-/// Run `$body` with `$F` the family type a [`Kind`] names.
+/// Run `$body` with `$F` the family type a `Kind` names.
+#[doc(hidden)]
 #[macro_export]
 macro_rules! with_family {
     ($kind:expr, $F:ident => $body:expr) => {

@@ -4,7 +4,7 @@
 //! `exact`) only where the bound cannot settle it. Its walks therefore follow the perturbed line of the
 //! `exact` walk, terminate, and end where it ends. The f32 stage's bound holds for every finite f32
 //! input in each arithmetic model (gradual underflow, flushed to zero, a GPU's): its derivation, term
-//! by term as [`Apex`] computes it, is `certified.md` beside this file, checked in part by z3
+//! by term as the code computes it, is `certified.md` beside this file, checked in part by z3
 //! (`proofs/certified/`).
 
 use super::maria17::{FACE_VERTICES, GET_FACE};
@@ -15,7 +15,7 @@ use glam::{Vec3, Vec3A, Vec3Swizzles};
 use std::cell::Cell;
 
 /// The f32 stage's error bound for one arithmetic model: a side product `det` computed as
-/// [`Apex::side`] computes it has the sign of the exact one whenever
+/// [`f32_stage`] computes it has the sign of the exact one whenever
 /// `|det| > a · permanent + c`, the permanent computed with every `|p1| + |p2|` raised by `mu`
 /// (derivation in the module's text, `certified.md` beside this file).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,7 +43,7 @@ pub const GRADUAL: Bound = Bound {
 };
 
 /// Subnormals flushed to zero, round to nearest (`cpu-ftz`): u = 2^-24, η× = η± = 2^-126, inputs gated
-/// ([`tiny`]).
+/// (`tiny`).
 pub const FLUSHING: Bound = Bound {
     a: two_to(-21),
     mu: two_to(-102),

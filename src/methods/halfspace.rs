@@ -11,7 +11,7 @@ use crate::tet::{Ray, Tet};
 /// other candidates' half-spaces; the first candidate whose point lies in all of them
 /// (`n_g · (p - a_g) ≤ 0`) is the exit face. Per tetrahedron: 80 operations for the four planes, then
 /// per tested candidate 3 sub + 5 dot + 1 div + 6 for `p`, and 8 per half-space test. Computed in four
-/// lanes, op for op ([`face_planes`]): the planes and the points `p` face by face, and one candidate's
+/// lanes, op for op (`face_planes`): the planes and the points `p` face by face, and one candidate's
 /// point against the four half-spaces at once (those of faces that are not candidates ignored).
 /// The entry face is not used. `None` when no candidate passes.
 pub struct HalfSpace;

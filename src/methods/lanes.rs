@@ -24,14 +24,17 @@ mod imp {
     pub struct M4(__m128);
 
     impl F4 {
+        /// Every lane `x`.
         #[inline(always)]
         pub fn splat(x: f32) -> F4 {
             F4(unsafe { _mm_set1_ps(x) })
         }
+        /// Lane `i` holds `a[i]`.
         #[inline(always)]
         pub fn new(a: [f32; 4]) -> F4 {
             F4(unsafe { _mm_set_ps(a[3], a[2], a[1], a[0]) })
         }
+        /// The lanes, lane 0 first.
         #[inline(always)]
         pub fn to_array(self) -> [f32; 4] {
             let mut out = [0.0f32; 4];
@@ -61,18 +64,22 @@ mod imp {
         pub(super) fn neg(self) -> F4 {
             F4::new(self.to_array().map(|x| -x))
         }
+        /// Less, lane by lane, as scalar `<` (false where either is a NaN).
         #[inline(always)]
         pub fn lt(self, b: F4) -> M4 {
             M4(unsafe { _mm_cmplt_ps(self.0, b.0) })
         }
+        /// Less or equal, as scalar `<=`.
         #[inline(always)]
         pub fn le(self, b: F4) -> M4 {
             M4(unsafe { _mm_cmple_ps(self.0, b.0) })
         }
+        /// Greater, as scalar `>`.
         #[inline(always)]
         pub fn gt(self, b: F4) -> M4 {
             M4(unsafe { _mm_cmpgt_ps(self.0, b.0) })
         }
+        /// Greater or equal, as scalar `>=`.
         #[inline(always)]
         pub fn ge(self, b: F4) -> M4 {
             M4(unsafe { _mm_cmpge_ps(self.0, b.0) })
@@ -191,14 +198,17 @@ mod imp {
     }
 
     impl M4 {
+        /// True where both are.
         #[inline(always)]
         pub fn and(self, b: M4) -> M4 {
             M4(unsafe { _mm_and_ps(self.0, b.0) })
         }
+        /// True where either is.
         #[inline(always)]
         pub fn or(self, b: M4) -> M4 {
             M4(unsafe { _mm_or_ps(self.0, b.0) })
         }
+        /// True where this is false.
         #[inline(always)]
         pub fn flipped(self) -> M4 {
             M4(unsafe { _mm_xor_ps(self.0, _mm_castsi128_ps(_mm_set1_epi32(-1))) })
@@ -228,12 +238,15 @@ mod imp {
     }
 
     impl F4 {
+        /// Every lane `x`.
         pub fn splat(x: f32) -> F4 {
             F4([x; 4])
         }
+        /// Lane `i` holds `a[i]`.
         pub fn new(a: [f32; 4]) -> F4 {
             F4(a)
         }
+        /// The lanes, lane 0 first.
         pub fn to_array(self) -> [f32; 4] {
             self.0
         }
@@ -252,33 +265,42 @@ mod imp {
         pub(super) fn neg(self) -> F4 {
             F4(self.0.map(|x| -x))
         }
+        /// Equal, as scalar `==` (false where either is a NaN).
         pub fn eq(self, b: F4) -> M4 {
             test(self.0, b.0, |x, y| x == y)
         }
+        /// Less, lane by lane, as scalar `<` (false where either is a NaN).
         pub fn lt(self, b: F4) -> M4 {
             test(self.0, b.0, |x, y| x < y)
         }
+        /// Less or equal, as scalar `<=`.
         pub fn le(self, b: F4) -> M4 {
             test(self.0, b.0, |x, y| x <= y)
         }
+        /// Greater, as scalar `>`.
         pub fn gt(self, b: F4) -> M4 {
             test(self.0, b.0, |x, y| x > y)
         }
+        /// Greater or equal, as scalar `>=`.
         pub fn ge(self, b: F4) -> M4 {
             test(self.0, b.0, |x, y| x >= y)
         }
     }
 
     impl M4 {
+        /// True where both are.
         pub fn and(self, b: M4) -> M4 {
             M4(std::array::from_fn(|i| self.0[i] && b.0[i]))
         }
+        /// True where either is.
         pub fn or(self, b: M4) -> M4 {
             M4(std::array::from_fn(|i| self.0[i] || b.0[i]))
         }
+        /// True where this is false.
         pub fn flipped(self) -> M4 {
             M4(self.0.map(|x| !x))
         }
+        /// Bit `i` set where lane `i` is true.
         pub fn bits(self) -> u32 {
             (0..4).map(|i| (self.0[i] as u32) << i).sum()
         }
@@ -292,6 +314,7 @@ pub(crate) use imp::{F8, fma_instruction};
 /// One f32 or four lanes of them: what code written once for both ([`crate::methods::aman20`]'s
 /// projections) computes with.
 pub trait Lane: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
+    /// Every lane `x`.
     fn splat(x: f32) -> Self;
     /// `a·b + c` as [`Arith::mad`] rounds it, lane by lane.
     fn mad<A: Arith>(a: Self, b: Self, c: Self) -> Self;
@@ -374,8 +397,11 @@ lane_ops!(F4x2: Add add, Sub sub, Mul mul);
 /// Four vectors, one per lane (structure of arrays).
 #[derive(Clone, Copy)]
 pub struct V4 {
+    /// The lanes' x coordinates.
     pub x: F4,
+    /// The lanes' y coordinates.
     pub y: F4,
+    /// The lanes' z coordinates.
     pub z: F4,
 }
 
@@ -466,11 +492,13 @@ impl Sub for V4 {
 pub trait Eight:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
 {
+    /// Every lane `x`.
     fn splat(x: f32) -> Self;
     /// Lane `i` holds lane `from[i]` of `v`.
     fn pick(v: F4, from: [u32; 8]) -> Self;
     /// Lanes 0 to 3, and 4 to 7.
     fn halves(self) -> [F4; 2];
+    /// Lanes 0 to 3 from `h[0]`, 4 to 7 from `h[1]`.
     fn of_halves(h: [F4; 2]) -> Self;
     /// Bit sets of the lanes `< 0`, `> 0` and NaN.
     fn signs(self) -> [u32; 3];
@@ -557,8 +585,11 @@ impl Eight for F8 {
 
 /// Eight vectors, one per lane, in model `A`'s eight lanes.
 pub struct V8<A: Arith> {
+    /// The lanes' x coordinates.
     pub x: A::Eight,
+    /// The lanes' y coordinates.
     pub y: A::Eight,
+    /// The lanes' z coordinates.
     pub z: A::Eight,
 }
 
@@ -649,8 +680,10 @@ mod tests {
         assert_eq!(bits(V4::of(&p)), bits(V4::new(p)));
     }
 
-    /// Every operation of `E` on lanes picked from `v` (as bits), and the sign sets of `v[0]` and
-    /// `v[3]` put in eight lanes.
+    /// Every operation of `E` on lanes picked from `v` (as bits, every NaN as one: IEEE 754 leaves to
+    /// the implementation which operand's payload a two-NaN operation keeps, and the compiler may order
+    /// a commutative operation's operands either way, as an opt-level 1 build does), and the sign sets
+    /// of `v[0]` and `v[3]` put in eight lanes.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn computed<E: Eight>(
@@ -662,7 +695,10 @@ mod tests {
         let e = E::of_halves([F4::new(v[0]), F4::new(v[3])]);
         let bits = |x: E| {
             let [lo, hi] = x.halves().map(F4::to_array);
-            std::array::from_fn(|i| if i < 4 { lo[i] } else { hi[i - 4] }.to_bits())
+            std::array::from_fn(|i| {
+                let x = if i < 4 { lo[i] } else { hi[i - 4] };
+                if x.is_nan() { f32::NAN } else { x }.to_bits()
+            })
         };
         (
             [a + b, a - c, b * d, -d, mad(a, b, c), e].map(bits),

@@ -26,6 +26,7 @@ pub struct Maria17<R>(std::marker::PhantomData<R>);
 pub trait Reading {
     /// What is computed once per ray.
     type RayData: Copy + Send + Sync;
+    /// What is computed once per ray, in arithmetic model `A`.
     fn prepare<A: Arith>(ray: &Ray) -> Self::RayData;
     /// `v'` for the complement vertex `vf`.
     fn moment<A: Arith>(ray: &Self::RayData, vf: Vec3) -> Vec3;

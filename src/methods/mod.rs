@@ -8,10 +8,11 @@
 //! component is fused with the negated second one; in [`Arith::axpy`] each product with its sum; and
 //! wherever a method calls [`Arith::mad`]. Nothing else is contracted. [`Flushed`] rounds as
 //! [`Plain`] does, with the processor set to read subnormal inputs as zero and flush subnormal results
-//! to zero ([`crate::fpenv`]), as a GPU may compute. The plain and flushed models' work runs compiled
-//! for AVX2 where the processor has it ([`crate::fpenv::wide`]: the same IEEE operations, fewer
+//! to zero (the crate's `fpenv` module), as a GPU may compute. The plain and flushed models' work runs compiled
+//! for AVX2 where the processor has it (`fpenv::wide`: the same IEEE operations, fewer
 //! register copies; the registry runs the plain model's exit-face methods as `PlainAvx2`, whose
 //! eight lanes are one AVX register).
+#![warn(missing_docs)]
 
 pub mod aman20;
 pub mod certified;
@@ -231,6 +232,7 @@ pub trait ExitMethod {
     /// walks' latencies overlap; one where it branches on signs, which one coherent walk predicts well
     /// and interleaved walks do not.
     const LANES: usize = 1;
+    /// The per-ray data, computed once in arithmetic model `A`.
     fn prepare<A: Arith>(ray: &Ray) -> Self::RayData;
     /// The face (0..4, opposite that vertex) through which the ray leaves the positively oriented
     /// tetrahedron, knowing the face it entered through (`None` in the starting tetrahedron); `None`
@@ -240,7 +242,9 @@ pub trait ExitMethod {
 
 /// An octree cell method (seed 001's family): per-ray data computed once, then one call per cell.
 pub trait CellMethod {
+    /// What the method precomputes once per ray.
     type RayData: Copy + Send + Sync;
+    /// The per-ray data, computed once in arithmetic model `A`.
     fn prepare<A: Arith>(ray: &Ray) -> Self::RayData;
     /// The face (0..6, numbered as [`crate::octree::cell`] states) through which the ray leaves the
     /// box `[lo, hi]` and the quarter of it (the neighbour index among four); `None` when the method

@@ -163,7 +163,7 @@ pub(super) fn exit_by_sides_of<A: Arith>(ray: &PluckerRay, tet: &Tet) -> Option<
 }
 
 /// Reconstructed: the six side products of the ray with the edges (6 × 23 = 138 operations, plus 9 for
-/// the ray once; all six in lanes, lane by lane, [`edge_ends`]), then the face whose three edges
+/// the ray once; all six in lanes, lane by lane, `edge_ends`), then the face whose three edges
 /// all turn the right way. The entry face is not used. `None` when no face passes.
 pub struct Plucker;
 

@@ -42,6 +42,7 @@ pub type Pi = [f32; 6];
 
 /// How eq. 1 is read.
 pub trait Reading {
+    /// The ray's `π0 … π5`, in arithmetic model `A`.
     fn pi<A: Arith>(ray: &Ray) -> Pi;
 }
 
@@ -135,7 +136,9 @@ pub struct Portalez16<R>(std::marker::PhantomData<R>);
 /// A ray prepared once (eq. 1).
 #[derive(Clone, Copy, Debug)]
 pub struct Prepared {
+    /// Eq. 1's Plücker coordinates.
     pub pi: Pi,
+    /// The ray's direction.
     pub dir: Vec3,
 }
 

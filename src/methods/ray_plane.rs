@@ -22,7 +22,7 @@ pub(super) fn face_planes<A: Arith>(tet: &Tet, dir: Vec3) -> (V4, V4, F4) {
 /// `n · d`; where `n · d > 0` the ray leaves through the plane at `t = n · (a - o) / (n · d)`; the exit
 /// face is the one with the smallest `t` (strictly smaller wins, so the lowest index on a tie). Per
 /// tetrahedron: 4 × (6 sub + 9 cross + 5 dot) + up to 4 × (3 sub + 5 dot + 1 div) = 80 to 116 operations,
-/// the four faces' in four lanes ([`face_planes`]; `t` in every lane, kept where `n · d > 0`).
+/// the four faces' in four lanes (`face_planes`; `t` in every lane, kept where `n · d > 0`).
 /// The entry face is not used. `None` when no face has `n · d > 0` (or every `t` is NaN).
 pub struct RayPlane;
 

@@ -136,7 +136,7 @@ impl PaperReport {
                 out += "\n";
             }
         }
-        out += "\nThe paper's claim that maria17 (\"Ours\") is never wrong does not hold under exact judging; see the README's register of claims.\n\n";
+        out += "\nThe paper's claim that maria17 (\"Ours\") is never wrong does not hold under exact judging; see the register of claims (docs/results.md).\n\n";
         out += "## Seed 000 Table 5: exit-face search, ratio to maria17\n\nOurs on this CPU, one thread, each ray's data prepared once, and on each GPU backend the kernel time of one dispatch per million queries (each query uploaded with its tetrahedron); the paper's CPU and GPU times as ratios.\n\n| method | ours, cpu: ns/query | ratio |";
         for g in &timed.table5_gpu {
             out += &format!(" ours, {}: ns/query | ratio |", g.backend.kind.name());

@@ -1,8 +1,8 @@
-//! The register of claims as the README shows it, and `tetwalk verify`'s lines.
+//! The register of claims as docs/results.md shows it, and `tetwalk verify`'s lines.
 
 use crate::engine::verify::{Checked, Expect, REGISTER};
 
-/// The register as a markdown table, generated from [`REGISTER`] (the README holds it verbatim).
+/// The register as a markdown table, generated from [`REGISTER`] (docs/results.md holds it verbatim).
 pub fn register_table() -> String {
     let mut out = String::from(
         "| method | the claim, quoted | verdict | smallest counterexample we know | `tetwalk verify` checks |\n|---|---|---|---|---|\n",

@@ -83,13 +83,18 @@ pub fn exit_case(u: &mut Unstructured) -> Result<Option<Case>> {
 /// A small generated mesh and a ray through it, as a found walk failure records them.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WalkCase {
+    /// Which generated mesh.
     pub mesh: super::Generated,
+    /// Its size (grid cells per side, or 16·size tetrahedra in the fan).
     pub size: u32,
+    /// How far it is moved along (1, 1, 1).
     pub offset: f32,
     /// The mesh's points (after the offset) times 2^`scale`, exactly; 0 (left out): as generated.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub scale: i32,
+    /// The ray's origin, inside the mesh.
     pub org: [f32; 3],
+    /// The ray's direction.
     pub dir: [f32; 3],
 }
 
@@ -98,6 +103,7 @@ fn is_zero(e: &i32) -> bool {
 }
 
 impl WalkCase {
+    /// The case's ray.
     pub fn ray(&self) -> Ray {
         Ray {
             org: Vec3::from(self.org),

@@ -84,21 +84,74 @@ pub enum Generated {
 
 crate::choice!(Generated { Kuhn => "kuhn", Jitter => "jitter", Fan => "fan" });
 
-/// The scenes shipped in `corpora/scenes/`, by name.
-pub const BUILT_IN: [&str; 4] = [
-    "bunny-quality",
-    "bunny-cdt",
-    "bunny-far",
-    "bunny-quality-far",
-];
+mod built_in;
+pub use built_in::{BUILT_IN, BUILT_IN_FILES};
 
-/// Scenes too large to ship, built on this machine by a script in `corpora/scenes/` (byte for byte the
-/// same wherever it runs): name and script.
+include!(concat!(env!("OUT_DIR"), "/built_in_scenes.rs"));
+
+/// Scenes too large to ship, built on the user's machine by a script of the repository (byte for byte
+/// the same wherever it runs) into the folder [`built_here_dir`] names: name and script.
 pub const BUILT_HERE: [(&str, &str); 1] = [("bunny-paper", "corpora/scenes/bunny-paper.sh")];
 
-/// A scene by name: a built-in one (`corpora/scenes/NAME`), a generated one (`kuhn`, `jitter`, `fan`,
-/// each with a `-far` variant moved by 2^16), a Gmsh, VTK or MEDIT file (`.msh`, `.vtk`, `.vtu`,
-/// `.mesh`), or the stem or any file of TetGen output.
+/// The environment variable naming the folder of the scenes built on this machine ([`BUILT_HERE`]).
+pub const SCENES_VAR: &str = "TETWALK_SCENES";
+
+/// Where the scenes built on this machine are looked for: the folder `TETWALK_SCENES` names, else
+/// `corpora/scenes` under the current directory (a checkout's root, where the script writes them).
+pub fn built_here_dir() -> std::path::PathBuf {
+    std::env::var_os(SCENES_VAR)
+        .filter(|v| !v.is_empty())
+        .map_or_else(|| "corpora/scenes".into(), Into::into)
+}
+
+/// Most bytes a built-in scene's file inflates to (the largest is under 1 MB).
+const MAX_BUILT_IN_FILE: usize = 64 << 20;
+
+/// A built-in scene's mesh, from the copy embedded in the binary (`build.rs`).
+fn built_in(name: &str) -> Option<Result<Mesh, MeshError>> {
+    let (_, files) = EMBEDDED.iter().find(|(n, _)| *n == name)?;
+    let texts: Result<Vec<String>, MeshError> = files
+        .iter()
+        .zip(BUILT_IN_FILES)
+        .map(|(packed, ext)| {
+            let bad = |what: String| MeshError {
+                place: format!("built-in scene {name} ({name}.{ext})"),
+                what,
+            };
+            let bytes =
+                miniz_oxide::inflate::decompress_to_vec_zlib_with_limit(packed, MAX_BUILT_IN_FILE)
+                    .map_err(|e| bad(format!("the embedded copy does not inflate: {e:?}")))?;
+            String::from_utf8(bytes).map_err(|e| bad(format!("not UTF-8: {e}")))
+        })
+        .collect();
+    Some(texts.and_then(|t| {
+        let [node, ele, neigh, face] = [&t[0], &t[1], &t[2], &t[3]];
+        crate::mesh::parse_tetgen(
+            std::path::Path::new(name),
+            &crate::mesh::TetgenTexts {
+                node,
+                ele,
+                neigh: Some(neigh),
+                face: Some(face),
+            },
+        )
+    }))
+}
+
+/// The scene names a user may give besides files: the built-in, built-here and generated ones.
+pub fn names() -> String {
+    let mut all: Vec<String> = BUILT_IN.iter().map(|s| s.to_string()).collect();
+    all.extend(BUILT_HERE.iter().map(|(n, _)| format!("{n} (once built)")));
+    for g in Generated::ALL {
+        all.push(format!("{0}, {0}-far", g.name()));
+    }
+    all.join(", ")
+}
+
+/// A scene by name: a built-in one (embedded in the binary: [`BUILT_IN`]), one built on this machine
+/// ([`BUILT_HERE`], in [`built_here_dir`]), a generated one (`kuhn`, `jitter`, `fan`, each with a
+/// `-far` variant moved by 2^16), a Gmsh, VTK or MEDIT file (`.msh`, `.vtk`, `.vtu`, `.mesh`), or the
+/// stem or any file of TetGen output.
 pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
     let kind = Generated::from_name;
     let generated = match name.strip_suffix("-far").and_then(kind) {
@@ -108,17 +161,18 @@ pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
     if let Some((k, offset)) = generated {
         return generated_mesh(k, 8, offset, 1);
     }
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let path = if BUILT_IN.contains(&name) {
-        root.join("corpora/scenes").join(name)
-    } else if let Some((_, script)) = BUILT_HERE.iter().find(|(n, _)| *n == name) {
-        let stem = root.join("corpora/scenes").join(name);
+    if let Some(mesh) = built_in(name) {
+        return mesh;
+    }
+    let path = if let Some((_, script)) = BUILT_HERE.iter().find(|(n, _)| *n == name) {
+        let dir = built_here_dir();
+        let stem = dir.join(name);
         if !stem.with_extension("ele").exists() {
             return Err(MeshError {
                 place: format!("scene {name}"),
                 what: format!(
-                    "not built on this machine (too large to ship): run `bash {}` first (about 15 s)",
-                    root.join(script).display()
+                    "not built on this machine (too large to ship): no {} here; in a tetwalk checkout run `bash {script}` (about 15 s; it writes corpora/scenes/{name}.*), then run tetwalk from the checkout's root or set {SCENES_VAR} to the folder holding {name}.node",
+                    stem.with_extension("ele").display()
                 ),
             });
         }
@@ -129,6 +183,32 @@ pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
     #[cfg(feature = "formats")]
     if let Some(format) = crate::mesh::formats::Format::of(&path) {
         return crate::mesh::formats::load(&path, format, faces);
+    }
+    if let Some(ext @ ("off" | "obj" | "ply")) = path.extension().and_then(|e| e.to_str()) {
+        return Err(MeshError {
+            place: path.display().to_string(),
+            what: format!(
+                "a surface model (.{ext}), not a tetrahedral mesh: tetrahedralize it first with `tetwalk scene build {} --out STEM`, then name STEM",
+                path.display()
+            ),
+        });
+    }
+    let tetgen = |ext: &str| {
+        let mut p = path.clone().into_os_string();
+        p.push(".");
+        p.push(ext);
+        std::path::PathBuf::from(p)
+    };
+    if !path.exists() && !tetgen("node").exists() && !tetgen("ele").exists() {
+        return Err(MeshError {
+            place: format!("scene {name}"),
+            what: format!(
+                "no such scene: not one of {}, nor a mesh file (.msh, .vtk, .vtu, .mesh) or TetGen stem (no {} or {})",
+                names(),
+                tetgen("node").display(),
+                tetgen("ele").display()
+            ),
+        });
     }
     crate::mesh::load_tetgen_with(&path, faces)
 }

@@ -14,17 +14,34 @@ use tetwalk::scenes::rng;
 use tetwalk::scenes::tets::{self, Target, TetShape};
 use tetwalk::tet::{Case, Ray, Tet};
 
-/// Proptest configuration persisting failures under `corpora/proptest/<name>.txt`.
+/// Proptest configuration persisting failures under `corpora/proptest/<name>.txt`: `cases` cases, or
+/// as many as `PROPTEST_CASES` asks. Cases a test rejects (`prop_assume!`, filters) may be up to
+/// [`REJECTS_PER_CASE`] per case asked, so that a run of any size ends on its cases, not on rejects
+/// (`PROPTEST_MAX_GLOBAL_REJECTS` raises it further).
 pub fn config(name: &'static str, cases: u32) -> Config {
     let path: &'static str = Box::leak(
         format!("{}/corpora/proptest/{name}.txt", env!("CARGO_MANIFEST_DIR")).into_boxed_str(),
     );
+    let from_env = Config::default();
+    let cases = match std::env::var("PROPTEST_CASES") {
+        Ok(_) => from_env.cases,
+        Err(_) => cases,
+    };
     Config {
         cases,
+        max_global_rejects: from_env
+            .max_global_rejects
+            .max(cases.saturating_mul(REJECTS_PER_CASE)),
+        max_local_rejects: from_env
+            .max_local_rejects
+            .max(cases.saturating_mul(REJECTS_PER_CASE)),
         failure_persistence: Some(Box::new(FileFailurePersistence::Direct(path))),
-        ..Config::default()
+        ..from_env
     }
 }
+
+/// Rejected inputs allowed per case asked (the tests' filters reject fewer than one in two).
+pub const REJECTS_PER_CASE: u32 = 4;
 
 /// How a generated case's ray meets its tetrahedron.
 #[derive(Clone, Copy, Debug)]

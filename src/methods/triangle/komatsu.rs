@@ -10,6 +10,8 @@ use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
 
+/// Seed 004 eq. 3 (Komatsu et al., Figure 3): `N·S`, `−S×E2` and `S×E1` once per packet of rays sharing
+/// an origin, early termination after `u` and after `v`.
 pub struct KomatsuPacket;
 
 /// The dotted box of Figure 3, once per packet and triangle: `N·S`, `-S × E2`, `S × E1` (`S = O - P0`).

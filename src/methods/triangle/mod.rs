@@ -29,7 +29,9 @@ pub use crate::tet::Tri;
 /// ranges, in order, covering every ray), each with a range of `ids` (ascending triangle indices).
 #[derive(Clone, Debug, Default)]
 pub struct Among {
+    /// Triangle indices, each group's ascending.
     pub ids: Vec<u32>,
+    /// Per group: its rays, and its range of `ids`.
     pub groups: Vec<(std::ops::Range<usize>, std::ops::Range<usize>)>,
 }
 
@@ -65,7 +67,9 @@ pub trait HitMethod {
     type TriData: Copy + Send + Sync;
     /// Precomputed per ray (Woop et al.'s axes and shear), or the ray.
     type RayData: Copy + Send + Sync;
+    /// The per-triangle data, computed once in arithmetic model `A`.
     fn tri<A: Arith>(tri: &Tri) -> Self::TriData;
+    /// The per-ray data, computed once in arithmetic model `A`.
     fn ray<A: Arith>(ray: &Ray) -> Self::RayData;
     /// For each ray of a packet whose rays all start at `org`: `Some(t)` where the method reports a hit
     /// at parameter `t`, else `None` (`out` is as long as `rays`).
@@ -83,7 +87,9 @@ pub trait HitMethod {
 /// Woop's sheared edge functions), `R` the farthest vertex from the origin and `L` the longest edge.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SideError {
+    /// Errors grow with `|d|·R·L` (Möller–Trumbore and its packet forms).
     EdgeScaled,
+    /// Errors grow with `|d|·R²` (the Plücker packet test, Woop's edge functions).
     OriginScaled,
 }
 
@@ -94,7 +100,9 @@ pub trait Wide: HitMethod {
     type Lanes: Copy + Send + Sync;
     /// What the test computes once per packet and triangle.
     type Shared: Copy;
+    /// Four rays' data in lanes.
     fn lanes(rays: [&Self::RayData; 4]) -> Self::Lanes;
+    /// What a packet sharing origin `org` computes once for a triangle.
     fn shared(tri: &Self::TriData, org: Vec3) -> Self::Shared;
     /// `out` (one to four answers) for four rays (the last repeated where a packet has fewer).
     fn packet4(
@@ -110,7 +118,9 @@ pub trait Wide: HitMethod {
 pub trait Tester<M: HitMethod> {
     /// A packet's rays as the test reads them.
     type Rays: Default;
+    /// Lay a packet's rays out as the test reads them.
     fn rays(rays: &[M::RayData], into: &mut Self::Rays);
+    /// Each ray's hit `t`, or `None`, for one triangle.
     fn test(tri: &M::TriData, org: Vec3, rays: &Self::Rays, out: &mut [Option<f32>]);
 }
 

@@ -8,6 +8,7 @@ use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
 
+/// Seed 004 eq. 2, the "improved Möller" test: `N`, `E1`, `E2` once per triangle.
 pub struct MtPrecomputed;
 
 /// Eq. 2's per-triangle terms.

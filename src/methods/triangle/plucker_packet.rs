@@ -9,6 +9,8 @@ use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
 
+/// Benthin 2006 as seed 004 §2 describes it: the packet's origin moved to the coordinate origin, three
+/// edge moments once per packet, three dot products per ray.
 pub struct PluckerPacket;
 
 /// Once per packet and triangle: the vertices translated by the packet's origin (`a' = a - O`), the

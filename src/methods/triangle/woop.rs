@@ -10,6 +10,8 @@ use crate::methods::{Arith, Plain};
 use crate::tet::Ray;
 use glam::Vec3;
 
+/// Woop, Benthin, Wald 2013, Listing 1 (culling off): sheared ray space, `U, V, W` recomputed in f64
+/// when one is exactly 0.
 pub struct WoopWatertight;
 
 /// Listing 1's per-ray precomputation: the axes `kx, ky, kz` and the shear `Sx, Sy, Sz`.
@@ -126,8 +128,8 @@ impl Wide for WoopWatertight {
         }
     }
     fn shared(_: &Tri, _: Vec3) {}
-    /// [`woop`] for four rays at once (SSE), op for op; a lane whose edge functions include an exact 0
-    /// (the f64 recomputation), and every lane where the rays' axes differ, answered by [`woop`].
+    /// `woop` for four rays at once (SSE), op for op; a lane whose edge functions include an exact 0
+    /// (the f64 recomputation), and every lane where the rays' axes differ, answered by `woop`.
     fn packet4(tri: &Tri, _: &(), l: &WoopLanes, out: &mut [Option<f32>]) {
         let scalar = |i: usize| woop::<Plain>(tri, &l.rays[i]);
         let Some(([kx, ky, kz], org, s)) = l.shared else {

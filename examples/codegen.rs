@@ -11,7 +11,7 @@ fn main() -> ExitCode {
         [] => false,
         [flag] if flag == "--check" => true,
         _ => {
-            eprintln!("usage: cargo run --bin codegen [-- --check]");
+            eprintln!("usage: cargo run --example codegen [-- --check]");
             return ExitCode::from(2);
         }
     };
@@ -21,7 +21,7 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     if check {
-        eprintln!("{path} is stale: run `cargo run --bin codegen`");
+        eprintln!("{path} is stale: run `cargo run --example codegen`");
         return ExitCode::FAILURE;
     }
     // Written beside it and renamed over it, so that a failed write leaves the old file whole.
