@@ -1,4 +1,4 @@
-//! `tetwalk scene build`, `scene export` and `scene info`.
+//! `tetwalk scene build`, `scene subdivide`, `scene export`, `scene check` and `scene info`.
 
 use super::{JsonOut, Status};
 use crate::engine::info::SceneInfo;
@@ -58,6 +58,20 @@ pub enum Scene {
         /// Where to write it (written whole, or not at all).
         out: PathBuf,
     },
+    /// Check a mesh as a tetrahedralization, exactly, as every command that loads one does (no overlap,
+    /// fold or crack; neighbours, counts and the boundary as docs/scenes.md states): exit status 0 when
+    /// it is one, 1 when it is not (what is wrong, and where, printed).
+    Check {
+        /// A built-in scene name, a TetGen stem, or a Gmsh, VTK or MEDIT file.
+        scene: String,
+        /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
+        /// another format).
+        #[arg(long)]
+        no_faces: bool,
+        /// Also write the verdict (and, for a tetrahedralization, its counts) as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Counts, memory per layout and flatness of a scene, and seed 001's octree over its constrained
     /// faces (leaves with and without the regularity constraint, bytes per cell, the four arrays).
     Info {
@@ -81,6 +95,43 @@ pub enum Scene {
 
 pub fn run(s: Scene) -> Status {
     match s {
+        Scene::Check {
+            scene,
+            no_faces,
+            json,
+        } => {
+            let json = JsonOut::new(json.as_deref())?;
+            let verdict = match crate::scenes::load(&scene, super::faces(no_faces)) {
+                Ok(m) => {
+                    let s = crate::mesh::valid::check(&m.points, &m.tets, &m.neighbors)
+                        .map_err(|(_, what)| what)?;
+                    println!(
+                        "{scene}: a tetrahedralization: {} points, {} tetrahedra, {} interior and {} boundary faces ({} boundary {}), {} constrained faces",
+                        m.points.len(),
+                        m.tets.len(),
+                        s.interior_faces,
+                        s.boundary_faces,
+                        s.boundary_components,
+                        if s.boundary_components == 1 {
+                            "component"
+                        } else {
+                            "components"
+                        },
+                        m.constrained_faces()
+                    );
+                    serde_json::json!({"scene": scene, "valid": true, "points": m.points.len(), "tetrahedra": m.tets.len(), "summary": s})
+                }
+                Err(e) => {
+                    println!("{scene}: not a tetrahedralization: {e}");
+                    serde_json::json!({"scene": scene, "valid": false, "error": e.to_string()})
+                }
+            };
+            json.finish(&verdict)?;
+            Ok(match verdict["valid"].as_bool() {
+                Some(true) => ExitCode::SUCCESS,
+                _ => ExitCode::FAILURE,
+            })
+        }
         Scene::Build {
             model,
             quality,

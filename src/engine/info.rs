@@ -1,8 +1,8 @@
 //! What seed 000 Table 3 and seed 003 Table 4 report of a scene, how flat its tetrahedra are, and
 //! seed 001's octree over its constrained faces (Tables 1 and 3), measured (`tetwalk scene info`).
 
+use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
-use crate::mesh::{HULL, Mesh};
 use crate::tet::{EDGES, FACE_VERTICES};
 
 /// Counts of a scene.
@@ -84,19 +84,8 @@ pub fn min_dihedral(t: &crate::tet::Tet) -> f64 {
 impl SceneInfo {
     /// The scene's counts, with seed 001's octree over its constrained faces built as `octree` says.
     pub fn of(mesh: &Mesh, octree: crate::octree::Settings) -> SceneInfo {
-        let (mut constrained, mut other) = (0, 0);
-        for t in 0..mesh.tets.len() as u32 {
-            for f in 0..4 {
-                let nb = mesh.neighbors[t as usize][f];
-                if nb == HULL || nb > t {
-                    if mesh.is_constrained(t, f) {
-                        constrained += 1
-                    } else {
-                        other += 1
-                    }
-                }
-            }
-        }
+        let constrained = mesh.constrained_faces();
+        let other = mesh.faces_once().count() - constrained;
         let mut dihedral = vec![0; 19];
         let mut decades = vec![0; 12];
         for t in 0..mesh.tets.len() as u32 {

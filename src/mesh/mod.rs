@@ -7,6 +7,7 @@ pub mod layout;
 pub mod reorder;
 pub mod surface;
 mod tetgen;
+pub mod valid;
 
 pub use tetgen::{Faces, TetgenTexts, load_tetgen, load_tetgen_with, parse_tetgen};
 
@@ -156,8 +157,9 @@ impl Mesh {
     ///
     /// Checks: coordinates finite; vertex indices in range and distinct; every tetrahedron non-flat, all
     /// of one orientation (negative ones, as TetGen writes, are swapped to positive here, the one place
-    /// this happens); neighbours in range and symmetric, both sides naming the same three vertices; no
-    /// face shared by more than two tetrahedra; every constrained face a face of the mesh.
+    /// this happens); no face shared by more than two tetrahedra; given neighbours the ones the
+    /// tetrahedra's shared faces make; every constrained face a face of the mesh; and the mesh a
+    /// tetrahedralization of its region, decided exactly ([`valid`]: no overlap, fold or crack).
     pub fn build_at(raw: RawMesh, place: &dyn Fn(Item) -> String) -> Result<Mesh, MeshError> {
         let err = |item, what: String| MeshError {
             place: place(item),
@@ -230,6 +232,7 @@ impl Mesh {
                 v.swap(0, 1);
             }
         }
+        let derived = derive_neighbors(&tets).map_err(|(t, what)| err(Item::Tet(t), what))?;
         let neighbors = match raw.neighbors {
             Some(mut given) => {
                 if given.len() != tets.len() {
@@ -260,12 +263,31 @@ impl Mesh {
                     }
                     out.push(r);
                 }
+                // Given neighbours must be the tetrahedra's own: the faces they share.
+                for (t, (mine, theirs)) in out.iter().zip(&derived).enumerate() {
+                    if let Some(f) = (0..4).find(|&f| mine[f] != theirs[f]) {
+                        let name = |n: u32| match n {
+                            HULL => "none (the boundary)".to_string(),
+                            n => format!("tetrahedron {n}"),
+                        };
+                        let ids = sorted(FACE_VERTICES[f].map(|i| tets[t][i]));
+                        return Err(err(
+                            Item::Neighbors(t),
+                            format!(
+                                "across face {f} {ids:?} the neighbours name {}, the tetrahedra {}",
+                                name(mine[f]),
+                                name(theirs[f])
+                            ),
+                        ));
+                    }
+                }
                 out
             }
-            None => derive_neighbors(&tets).map_err(|(t, what)| err(Item::Tet(t), what))?,
+            None => derived,
         };
         let mirror =
             mirrors(&tets, &neighbors).map_err(|(t, what)| err(Item::Neighbors(t), what))?;
+        valid::check(&raw.points, &tets, &neighbors).map_err(|(item, what)| err(item, what))?;
         let mut constrained = vec![0u8; tets.len()];
         let faces = face_index(&tets);
         for (i, tri) in raw.constrained.iter().enumerate() {
@@ -302,6 +324,23 @@ impl Mesh {
     #[inline(always)]
     pub fn is_constrained(&self, t: u32, f: usize) -> bool {
         self.constrained[t as usize] & (1 << f) != 0
+    }
+
+    /// Every face of the mesh once: `(t, f)` with `t` the lower-numbered of the tetrahedra that share it.
+    pub fn faces_once(&self) -> impl Iterator<Item = (u32, usize)> + '_ {
+        (0..self.tets.len() as u32).flat_map(move |t| {
+            (0..4).filter_map(move |f| {
+                let nb = self.neighbors[t as usize][f];
+                (nb == HULL || nb > t).then_some((t, f))
+            })
+        })
+    }
+
+    /// How many faces are constrained (each counted once).
+    pub fn constrained_faces(&self) -> usize {
+        self.faces_once()
+            .filter(|&(t, f)| self.is_constrained(t, f))
+            .count()
     }
 
     /// Vertex indices of face `f` of tetrahedron `t`, counterclockwise seen from outside.
@@ -503,7 +542,7 @@ mod tests {
             Mesh::build(r)
                 .unwrap_err()
                 .to_string()
-                .contains("does not name it back")
+                .contains("the neighbours name none (the boundary), the tetrahedra tetrahedron 0")
         );
         let mut r = two_tets();
         r.constrained = vec![[0, 3, 4]];

@@ -72,6 +72,13 @@ impl Table {
             );
             return Err(self.err(0, what));
         }
+        if (count as usize) < self.rows.len() - 1 {
+            let what = format!(
+                "a row beyond the {count} the header announces (the file has {}): counts as announced, or the mesh would be read short",
+                self.rows.len() - 1
+            );
+            return Err(self.err(count as usize + 1, what));
+        }
         let body = &self.rows[1..=count as usize];
         if let Some(k) = body.iter().position(|(_, r)| r.len() < min_cols) {
             let what = format!(
