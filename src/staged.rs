@@ -59,7 +59,7 @@ fn forget(path: &Path) {
 }
 
 /// A temporary file in the folder of `dest` (the current folder for a bare name; with symbolic links
-/// followed, the real target's folder), for renaming onto it with [`Staging::persist`] once complete;
+/// followed, dangling ones too, the real target's folder: [`resolve`]), for renaming onto it with [`Staging::persist`] once complete;
 /// an error when `dest` is a folder. A target that exists and is not a regular file (a device, a
 /// FIFO) is opened and written straight into: renaming over it would replace it.
 pub fn beside(dest: &Path) -> std::io::Result<Staging> {
@@ -69,7 +69,7 @@ pub fn beside(dest: &Path) -> std::io::Result<Staging> {
             "is a folder: give a file's path",
         ));
     }
-    let real = std::fs::canonicalize(dest).unwrap_or_else(|_| dest.to_path_buf());
+    let real = resolve(dest);
     if std::fs::metadata(&real).is_ok_and(|m| !m.is_file()) {
         let file = std::fs::OpenOptions::new().write(true).open(&real)?;
         return Ok(Staging {
@@ -99,6 +99,58 @@ pub fn beside(dest: &Path) -> std::io::Result<Staging> {
         target: real,
         guard: Some(guard),
     })
+}
+
+/// Most symbolic links followed from one path (as Linux's own limit).
+const MAX_LINKS: usize = 40;
+
+/// Where a path leads: the real file, its symbolic links followed (a dangling one too, to the file it
+/// names, which writing then makes), as an absolute path; for a path that does not exist, its real
+/// folder joined with its name.
+pub fn resolve(p: &Path) -> PathBuf {
+    let mut p = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    for _ in 0..MAX_LINKS {
+        match std::fs::read_link(&p) {
+            Ok(target) => {
+                let dir = p.parent().map(Path::to_path_buf).unwrap_or_default();
+                p = std::path::absolute(dir.join(target)).unwrap_or(p);
+            }
+            Err(_) => break,
+        }
+    }
+    if let Ok(real) = std::fs::canonicalize(&p) {
+        return real;
+    }
+    match (p.parent(), p.file_name()) {
+        (Some(dir), Some(name)) => std::fs::canonicalize(dir)
+            .map(|d| d.join(name))
+            .unwrap_or(p.clone()),
+        _ => p,
+    }
+}
+
+/// Whether two paths name the same regular file (by identity: links, other spellings and hard links
+/// alike), or the same place where neither exists yet. Devices and pipes (`/dev/stdout`) are never
+/// the same file as anything: they are written into, not replaced.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let (ra, rb) = (resolve(a), resolve(b));
+    match (std::fs::metadata(&ra), std::fs::metadata(&rb)) {
+        (Ok(ma), Ok(mb)) => {
+            ma.is_file() && mb.is_file() && {
+                #[cfg(unix)]
+                {
+                    use std::os::unix::fs::MetadataExt;
+                    ma.dev() == mb.dev() && ma.ino() == mb.ino()
+                }
+                #[cfg(not(unix))]
+                {
+                    ra == rb
+                }
+            }
+        }
+        (Err(_), Err(_)) => ra == rb,
+        _ => false,
+    }
 }
 
 /// Write `bytes` to `dest` whole or not at all (staged beside it, then renamed).

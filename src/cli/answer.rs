@@ -38,6 +38,15 @@ pub struct Common {
     pub(super) file: Option<PathBuf>,
 }
 
+impl Common {
+    /// The cases read and the summary written.
+    pub(super) fn io(&self) -> super::Files {
+        super::Files::default()
+            .input("FILE", self.file.as_deref())
+            .output("--json", self.json.as_deref())
+    }
+}
+
 /// A file of JSON lines opened for reading (a pipe too: `/dev/stdin`; `-` is standard input); a
 /// folder is refused.
 pub(super) fn open_lines(p: &std::path::Path) -> Result<Box<dyn BufRead + Send>, super::Error> {

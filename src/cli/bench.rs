@@ -58,6 +58,15 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default()
+            .scene("--scene", &self.scene)
+            .input("--baseline", self.baseline.as_deref())
+            .output("--json", self.json.as_deref())
+    }
+}
+
 pub fn run(a: Args) -> Status {
     if a.family == "triangle" {
         return run_triangle(a);

@@ -25,6 +25,14 @@ pub struct Args {
     file: Option<std::path::PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default()
+            .input("FILE", self.file.as_deref())
+            .output("--json", self.json.as_deref())
+    }
+}
+
 pub fn run(a: Args) -> Status {
     let methods = family::parse_list::<OctreeCells>(&a.method)?;
     let backend = a.backend.open()?;

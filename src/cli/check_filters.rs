@@ -22,6 +22,12 @@ pub struct Args {
     json: Option<std::path::PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default().output("--json", self.json.as_deref())
+    }
+}
+
 #[derive(serde::Serialize)]
 struct Row {
     regime: Regime,

@@ -109,6 +109,22 @@ pub struct Args {
     dump: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        match &self.merge {
+            Some(Merge::Merge { reports, json }) => super::Files::default()
+                .inputs("REPORTS", reports)
+                .output("--json", json.as_deref()),
+            None => super::Files::default()
+                .scene("--scene", &self.scene)
+                .input("--wgsl", self.wgsl.wgsl.as_deref())
+                .output("--json", self.json.as_deref())
+                .output("--dump", self.dump.as_deref())
+                .output("--rays-out", self.rays_out.as_deref()),
+        }
+    }
+}
+
 #[derive(clap::Subcommand)]
 enum Merge {
     /// Add up the JSON reports of a sharded count (`--shard I/N`, every I once) into one, of one

@@ -15,6 +15,14 @@ pub struct Args {
     wgsl: WgslArg,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        self.common
+            .io()
+            .input("--wgsl", self.wgsl.wgsl.as_deref())
+    }
+}
+
 pub fn run(Args { common: a, wgsl }: Args) -> Status {
     let (backend, methods) = wgsl.open::<ExitFace>(a.backend, &a.method)?;
     Answering {

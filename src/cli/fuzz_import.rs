@@ -28,6 +28,14 @@ pub struct Args {
     artifacts: Vec<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default()
+            .inputs("ARTIFACTS", &self.artifacts)
+            .output("--json", self.json.as_deref())
+    }
+}
+
 pub fn run(a: Args) -> Status {
     let json = JsonOut::new(a.json.as_deref())?;
     let mut filed = Vec::new();

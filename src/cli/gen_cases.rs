@@ -101,6 +101,12 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default().output("--json", self.json.as_deref())
+    }
+}
+
 #[derive(serde::Serialize)]
 struct Generated {
     tet_shape: TetShape,

@@ -24,6 +24,12 @@ pub struct Args {
     wide: bool,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        self.common.io()
+    }
+}
+
 pub fn run(
     Args {
         common: a,

@@ -49,6 +49,16 @@ pub struct Args {
     fail: super::FailArg,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default()
+            .input("CASES", Some(&self.cases))
+            .input("ANSWERS", Some(&self.answers))
+            .output("--json", self.json.as_deref())
+            .output("--dump", self.dump.as_deref())
+    }
+}
+
 /// Why an answers file cannot be read.
 #[derive(Debug, thiserror::Error)]
 pub enum JudgeError {

@@ -107,7 +107,29 @@ pub fn main() -> ExitCode {
     quiet_mesa();
     clean_on_interrupt();
     let cli = Cli::parse();
-    let result = match cli.command {
+    let io = match &cli.command {
+        Command::Methods { json } | Command::GpuInfo { json } => {
+            Files::default().output("--json", json.as_deref())
+        }
+        Command::Exit(a) => a.io(),
+        Command::Hit(a) => a.io(),
+        Command::Judge(a) => a.io(),
+        Command::BoxExit(a) => a.io(),
+        Command::GenCases(a) => a.io(),
+        Command::Walk(a) => a.io(),
+        Command::Stress(a) => a.io(),
+        Command::Scene(s) => s.io(),
+        Command::Count(a) => a.io(),
+        Command::Bench(a) => a.io(),
+        Command::Paper(a) => a.io(),
+        Command::FuzzImport(a) => a.io(),
+        Command::CheckFilters(a) => a.io(),
+        Command::Render(a) => a.io(),
+        Command::Replay(a) => a.io(),
+        Command::Shrink(a) => a.io(),
+        Command::Verify(a) => a.io(),
+    };
+    let result = io.check().and_then(|()| match cli.command {
         Command::Methods { json } => methods(json),
         Command::Exit(a) => exit::run(a),
         Command::Hit(a) => hit::run(a),
@@ -127,7 +149,7 @@ pub fn main() -> ExitCode {
         Command::Shrink(a) => shrink::run(a),
         Command::Verify(a) => verify::run(a),
         Command::GpuInfo { json } => gpu_info(json),
-    };
+    });
     result.unwrap_or_else(|e| {
         let mut msg = e.to_string();
         let mut src = e.source();
@@ -475,6 +497,70 @@ impl WgslArg {
         methods.insert(0, user);
         Ok((backend, methods))
     }
+}
+
+/// The files a command reads and writes, declared beside its arguments ([`Io`]) and checked in
+/// [`main`] before any work: no output is one of the run's inputs or another of its outputs (the same
+/// file by identity: links followed, hard links and other spellings alike; standard input and output,
+/// devices and pipes aside), so that nothing the user gave is overwritten and no output is lost.
+#[derive(Default)]
+struct Files {
+    inputs: Vec<(String, PathBuf)>,
+    outputs: Vec<(String, PathBuf)>,
+}
+
+impl Files {
+    /// An input, named as the user gave it (`CASES`, `--wgsl`); `-` is standard input.
+    fn input(mut self, what: &str, p: Option<&Path>) -> Files {
+        if let Some(p) = p.filter(|p| *p != Path::new("-")) {
+            self.inputs.push((what.to_string(), p.to_path_buf()));
+        }
+        self
+    }
+
+    /// Several inputs under one name (`REPORTS`, `FILES`).
+    fn inputs(self, what: &str, ps: &[PathBuf]) -> Files {
+        ps.iter().fold(self, |f, p| f.input(what, Some(p)))
+    }
+
+    /// The files the scene `name` is read from (none for a built-in or generated one).
+    fn scene(self, what: &str, name: &str) -> Files {
+        self.inputs(what, &crate::scenes::files_of(name))
+    }
+
+    /// An output (`--json`, `--dump`, `--out`).
+    fn output(mut self, what: &str, p: Option<&Path>) -> Files {
+        if let Some(p) = p {
+            self.outputs.push((what.to_string(), p.to_path_buf()));
+        }
+        self
+    }
+
+    /// An error naming the first output that is an input, or another output.
+    fn check(&self) -> Result<(), Error> {
+        for (i, (what, out)) in self.outputs.iter().enumerate() {
+            let clash = self
+                .inputs
+                .iter()
+                .map(|(w, p)| (w, p, "the run's input"))
+                .chain(self.outputs[..i].iter().map(|(w, p)| (w, p, "another output,")))
+                .find(|(_, p, _)| crate::staged::same_file(out, p));
+            if let Some((w, p, role)) = clash {
+                return Err(format!(
+                    "{what} {} is the same file as {role} {w} {}: an output never overwrites what the run reads or another output; nothing was written",
+                    out.display(),
+                    p.display()
+                )
+                .into());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A command's arguments declare the files it reads and writes.
+trait Io {
+    fn io(&self) -> Files;
 }
 
 /// A file written under a temporary name beside its target, made when the command starts (so an

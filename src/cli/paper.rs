@@ -43,6 +43,21 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        match &self.merge {
+            Some(Merge::Merge { reports, out, json }) => super::Files::default()
+                .inputs("REPORTS", reports)
+                .output("--out", out.as_deref())
+                .output("--json", json.as_deref()),
+            None => super::Files::default()
+                .scene("--scene", &self.scene)
+                .output("--out", self.out.as_deref())
+                .output("--json", self.json.as_deref()),
+        }
+    }
+}
+
 #[derive(clap::Subcommand)]
 enum Merge {
     /// Add up the JSON reports of a sharded run (`paper --shard I/N --json FILE`, every I once) and

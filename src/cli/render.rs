@@ -84,6 +84,15 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default()
+            .scene("--scene", &self.scene)
+            .output("--out", Some(&self.out))
+            .output("--json", self.json.as_deref())
+    }
+}
+
 #[derive(Default, serde::Serialize)]
 struct Drawn {
     files: Vec<String>,

@@ -93,6 +93,35 @@ pub enum Scene {
     },
 }
 
+impl super::Io for Scene {
+    fn io(&self) -> super::Files {
+        let none = super::Files::default();
+        match self {
+            Scene::Build {
+                model, out, json, ..
+            } => {
+                let stem = out.clone().unwrap_or_else(|| model.with_extension(""));
+                crate::mesh::tetgen_files(&stem)
+                    .iter()
+                    .fold(none.input("MODEL", Some(model)), |f, p| {
+                        f.output("--out", Some(p))
+                    })
+                    .output("--json", json.as_deref())
+            }
+            Scene::Subdivide {
+                model, out, json, ..
+            } => none
+                .input("MODEL", Some(model))
+                .output("--out", Some(out))
+                .output("--json", json.as_deref()),
+            Scene::Export { scene, out, .. } => none.scene("SCENE", scene).output("OUT", Some(out)),
+            Scene::Check { scene, json, .. } | Scene::Info { scene, json, .. } => {
+                none.scene("SCENE", scene).output("--json", json.as_deref())
+            }
+        }
+    }
+}
+
 pub fn run(s: Scene) -> Status {
     match s {
         Scene::Check {

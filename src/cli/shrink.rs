@@ -41,6 +41,14 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default()
+            .inputs("FILES", &self.files)
+            .output("--json", self.json.as_deref())
+    }
+}
+
 /// One case shrunk.
 #[derive(serde::Serialize)]
 struct Done {

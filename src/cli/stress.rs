@@ -102,6 +102,14 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default()
+            .input("--wgsl", self.wgsl.wgsl.as_deref())
+            .output("--json", self.json.as_deref())
+    }
+}
+
 /// The stress rows a family's flags choose.
 trait Rows: Formats {
     fn chosen(a: &Args) -> Self::Rows;

@@ -32,6 +32,12 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default().output("--json", self.json.as_deref())
+    }
+}
+
 pub fn run(a: Args) -> Status {
     if a.register {
         print!("{}", register_table());

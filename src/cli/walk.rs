@@ -59,6 +59,14 @@ pub struct Args {
     json: Option<PathBuf>,
 }
 
+impl super::Io for Args {
+    fn io(&self) -> super::Files {
+        super::Files::default()
+            .input("--wgsl", self.wgsl.wgsl.as_deref())
+            .output("--json", self.json.as_deref())
+    }
+}
+
 /// One method's walks: how they ended ([`OutcomeKind::ALL`] order), how many ended elsewhere than the
 /// `exact` walk, how many took a step outside the exact exit set, and the steps.
 #[derive(Default, Clone, Copy, serde::Serialize)]

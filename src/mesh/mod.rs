@@ -9,7 +9,7 @@ pub mod surface;
 mod tetgen;
 pub mod valid;
 
-pub use tetgen::{Faces, TetgenTexts, load_tetgen, load_tetgen_with, parse_tetgen};
+pub use tetgen::{Faces, TetgenTexts, load_tetgen, load_tetgen_with, parse_tetgen, tetgen_files};
 
 use crate::tet::{FACE_VERTICES, Tet, orientation};
 use glam::Vec3;

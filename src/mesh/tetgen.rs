@@ -133,10 +133,7 @@ pub fn load_tetgen(path: &Path) -> Result<Mesh, MeshError> {
 /// (neighbours are derived from shared faces without `.neigh`; every `.face` entry is constrained).
 /// `path` may be the stem or any of the four files. Coordinates are rounded to the nearest f32.
 pub fn load_tetgen_with(path: &Path, faces: Faces) -> Result<Mesh, MeshError> {
-    let stem = match path.extension().and_then(|e| e.to_str()) {
-        Some("node" | "ele" | "neigh" | "face") => path.with_extension(""),
-        _ => path.to_path_buf(),
-    };
+    let stem = tetgen_stem(path);
     let file = |ext: &str| {
         let mut p = stem.clone().into_os_string();
         p.push(".");
@@ -182,6 +179,26 @@ pub fn load_tetgen_with(path: &Path, faces: Faces) -> Result<Mesh, MeshError> {
             face: face.as_deref(),
         },
     )
+}
+
+/// The stem of a TetGen mesh named by its stem or any of its four files.
+fn tetgen_stem(path: &Path) -> PathBuf {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("node" | "ele" | "neigh" | "face") => path.with_extension(""),
+        _ => path.to_path_buf(),
+    }
+}
+
+/// The four files of a TetGen mesh named by its stem or any of them: `.node`, `.ele`, `.neigh`,
+/// `.face`.
+pub fn tetgen_files(path: &Path) -> [PathBuf; 4] {
+    let stem = tetgen_stem(path);
+    ["node", "ele", "neigh", "face"].map(|ext| {
+        let mut p = stem.clone().into_os_string();
+        p.push(".");
+        p.push(ext);
+        PathBuf::from(p)
+    })
 }
 
 /// The texts of a TetGen mesh's files.

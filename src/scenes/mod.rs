@@ -107,7 +107,7 @@ pub fn built_here_dir() -> std::path::PathBuf {
 /// Most bytes a built-in scene's file inflates to (the largest is under 1 MB).
 const MAX_BUILT_IN_FILE: usize = 64 << 20;
 
-/// A built-in scene's mesh, from the copy embedded in the binary (`build.rs`).
+/// A built-in scene's mesh, from the copy embedded in the binary (`build.rs`); `None` for another name.
 fn built_in(name: &str) -> Option<Result<Mesh, MeshError>> {
     let (_, files) = EMBEDDED.iter().find(|(n, _)| *n == name)?;
     let texts: Result<Vec<String>, MeshError> = files
@@ -148,37 +148,71 @@ pub fn names() -> String {
     all.join(", ")
 }
 
-/// A scene by name: a built-in one (embedded in the binary: [`BUILT_IN`]), one built on this machine
-/// ([`BUILT_HERE`], in [`built_here_dir`]), a generated one (`kuhn`, `jitter`, `fan`, each with a
-/// `-far` variant moved by 2^16), a Gmsh, VTK or MEDIT file (`.msh`, `.vtk`, `.vtu`, `.mesh`), or the
-/// stem or any file of TetGen output.
-pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
+/// Where a scene named by the user comes from.
+enum Source {
+    /// Made in code: the kind, moved by the offset.
+    Generated(Generated, Vec3),
+    /// Embedded in the binary.
+    BuiltIn,
+    /// A file: a Gmsh, VTK or MEDIT mesh, a TetGen stem or one of its files, or something else.
+    File(std::path::PathBuf),
+}
+
+/// Where the scene `name` comes from; a scene built here that is not built yet is an error saying how
+/// to build it.
+fn source(name: &str) -> Result<Source, MeshError> {
     let kind = Generated::from_name;
     let generated = match name.strip_suffix("-far").and_then(kind) {
         Some(k) => Some((k, Vec3::splat(65536.0))),
         None => kind(name).map(|k| (k, Vec3::ZERO)),
     };
     if let Some((k, offset)) = generated {
-        return generated_mesh(k, 8, offset, 1);
+        return Ok(Source::Generated(k, offset));
     }
-    if let Some(mesh) = built_in(name) {
-        return mesh;
+    if BUILT_IN.contains(&name) {
+        return Ok(Source::BuiltIn);
     }
-    let path = if let Some((_, script)) = BUILT_HERE.iter().find(|(n, _)| *n == name) {
-        let dir = built_here_dir();
-        let stem = dir.join(name);
-        if !stem.with_extension("ele").exists() {
-            return Err(MeshError {
-                place: format!("scene {name}"),
-                what: format!(
-                    "not built on this machine (too large to ship): no {} here; in a tetwalk checkout run `bash {script}` (about 15 s; it writes corpora/scenes/{name}.*), then run tetwalk from the checkout's root or set {SCENES_VAR} to the folder holding {name}.node",
-                    stem.with_extension("ele").display()
-                ),
-            });
+    let Some((_, script)) = BUILT_HERE.iter().find(|(n, _)| *n == name) else {
+        return Ok(Source::File(name.into()));
+    };
+    let stem = built_here_dir().join(name);
+    let [_, ele, ..] = crate::mesh::tetgen_files(&stem);
+    if !ele.exists() {
+        return Err(MeshError {
+            place: format!("scene {name}"),
+            what: format!(
+                "not built on this machine (too large to ship): no {} here; in a tetwalk checkout run `bash {script}` (about 20 s; it writes corpora/scenes/{name}.*), then run tetwalk from the checkout's root or set {SCENES_VAR} to the folder holding {name}.node",
+                ele.display()
+            ),
+        });
+    }
+    Ok(Source::File(stem))
+}
+
+/// The files the scene `name` is read from: none for a built-in or generated scene, the mesh file, or
+/// a TetGen mesh's four.
+pub fn files_of(name: &str) -> Vec<std::path::PathBuf> {
+    match source(name) {
+        Ok(Source::File(path)) => {
+            #[cfg(feature = "formats")]
+            if crate::mesh::formats::Format::of(&path).is_some() {
+                return vec![path];
+            }
+            crate::mesh::tetgen_files(&path).into()
         }
-        stem
-    } else {
-        std::path::PathBuf::from(name)
+        _ => Vec::new(),
+    }
+}
+
+/// A scene by name: a built-in one (embedded in the binary: [`BUILT_IN`]), one built on this machine
+/// ([`BUILT_HERE`], in [`built_here_dir`]), a generated one (`kuhn`, `jitter`, `fan`, each with a
+/// `-far` variant moved by 2^16), a Gmsh, VTK or MEDIT file (`.msh`, `.vtk`, `.vtu`, `.mesh`), or the
+/// stem or any file of TetGen output.
+pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
+    let path = match source(name)? {
+        Source::Generated(k, offset) => return generated_mesh(k, 8, offset, 1),
+        Source::BuiltIn => return built_in(name).expect("a built-in scene is embedded"),
+        Source::File(path) => path,
     };
     #[cfg(feature = "formats")]
     if let Some(format) = crate::mesh::formats::Format::of(&path) {
@@ -193,20 +227,15 @@ pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
             ),
         });
     }
-    let tetgen = |ext: &str| {
-        let mut p = path.clone().into_os_string();
-        p.push(".");
-        p.push(ext);
-        std::path::PathBuf::from(p)
-    };
-    if !path.exists() && !tetgen("node").exists() && !tetgen("ele").exists() {
+    let [node, ele, ..] = crate::mesh::tetgen_files(&path);
+    if !path.exists() && !node.exists() && !ele.exists() {
         return Err(MeshError {
             place: format!("scene {name}"),
             what: format!(
                 "no such scene: not one of {}, nor a mesh file (.msh, .vtk, .vtu, .mesh) or TetGen stem (no {} or {})",
                 names(),
-                tetgen("node").display(),
-                tetgen("ele").display()
+                node.display(),
+                ele.display()
             ),
         });
     }
