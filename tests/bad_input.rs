@@ -511,3 +511,52 @@ fn outputs_through_links_and_fifos_are_written_not_replaced() {
         "still a FIFO"
     );
 }
+
+/// A closed standard output (`tetwalk … | head -1`) ends a command quietly with status 141, as SIGPIPE
+/// would, and a full one (`> /dev/full`) with status 2 and one line saying so: never a panic.
+#[test]
+fn a_closed_or_full_standard_output_ends_the_command_quietly() {
+    for args in [
+        &["gen-cases", "--count", "200000"][..],
+        &["stress", "--cases", "2000", "--rows", "well"],
+        &["methods"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        // A run whose output fitted the pipe before it closed may have ended well.
+        assert!(
+            matches!(out.status.code(), Some(0 | 141)),
+            "{args:?}: {:?} {err}",
+            out.status
+        );
+        if args[0] == "gen-cases" {
+            assert_eq!(out.status.code(), Some(141), "{err}");
+            assert!(err.is_empty(), "{err}");
+        }
+        if Path::new("/dev/full").exists() {
+            let full = std::fs::OpenOptions::new()
+                .write(true)
+                .open("/dev/full")
+                .unwrap();
+            let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+                .args(args)
+                .stdout(full)
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+            assert!(
+                !err.contains("panicked") && err.contains("No space left"),
+                "{err}"
+            );
+        }
+    }
+}

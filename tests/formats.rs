@@ -153,6 +153,30 @@ fn bad_files_are_refused_naming_the_place() {
         e.contains("vtkio-panic.vtu: the VTK reader (vtkio) failed on it"),
         "{e}"
     );
+    // A .vtu whose zlib header claims about 1.2 TiB (300 blocks of 4 GiB): refused before vtkio
+    // would allocate it, as are more blocks than the file could hold.
+    let good = std::fs::read_to_string(format!("{DIR}/box.vtu")).unwrap();
+    let header = "AQAAAACAAAA4BAAALAEAAA==";
+    assert!(good.contains(header), "box.vtu's first array header");
+    for (name, claim, says) in [
+        ("huge.vtu", "LAEAAP////8AAAAALAEAAA==", "claim"),
+        (
+            "blocks.vtu",
+            "/////wCAAAA4BAAALAEAAA==",
+            "more than the file could hold",
+        ),
+    ] {
+        let e = tetwalk::mesh::formats::parse(
+            good.replacen(header, claim, 1).as_bytes(),
+            tetwalk::mesh::formats::Format::Vtu,
+            Faces::Required,
+            name,
+        )
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(e.contains(name) && e.contains(says), "{e}");
+    }
     let tetgen_g = std::fs::read_to_string(format!("{DIR}/tetgen-g.mesh")).unwrap();
     refused(
         "tetgen-g.mesh",

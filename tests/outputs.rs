@@ -46,35 +46,72 @@ fn an_output_that_is_an_input_or_another_output_is_refused() {
     )
     .unwrap();
     let (c, a) = (at("cases.jsonl"), at("answers.jsonl"));
-    refused(dir.path(), &["judge", &c, &a, "--json", &c], &["--json", "CASES"]);
-    refused(dir.path(), &["judge", &c, &a, "--json", &a], &["--json", "ANSWERS"]);
+    refused(
+        dir.path(),
+        &["judge", &c, &a, "--json", &c],
+        &["--json", "CASES"],
+    );
+    refused(
+        dir.path(),
+        &["judge", &c, &a, "--json", &a],
+        &["--json", "ANSWERS"],
+    );
     // Another spelling, a symbolic link and a hard link are the same file.
     let spelled = format!("{}/./cases.jsonl", dir.path().display());
-    refused(dir.path(), &["judge", &c, &a, "--json", &spelled], &["CASES"]);
+    refused(
+        dir.path(),
+        &["judge", &c, &a, "--json", &spelled],
+        &["CASES"],
+    );
     std::os::unix::fs::symlink(&c, at("link.jsonl")).unwrap();
-    refused(dir.path(), &["judge", &c, &a, "--json", &at("link.jsonl")], &["CASES"]);
+    refused(
+        dir.path(),
+        &["judge", &c, &a, "--json", &at("link.jsonl")],
+        &["CASES"],
+    );
     std::fs::hard_link(&a, at("hard.jsonl")).unwrap();
-    refused(dir.path(), &["judge", &c, &a, "--json", &at("hard.jsonl")], &["ANSWERS"]);
+    refused(
+        dir.path(),
+        &["judge", &c, &a, "--json", &at("hard.jsonl")],
+        &["ANSWERS"],
+    );
     refused(dir.path(), &["exit", &c, "--json", &c], &["--json", "FILE"]);
     // Two outputs in one place: one would be lost.
     let x = at("x.json");
     refused(
         dir.path(),
-        &["count", "--views", "1", "--size", "4x4", "--json", &x, "--dump", &x],
+        &[
+            "count", "--views", "1", "--size", "4x4", "--json", &x, "--dump", &x,
+        ],
         &["--dump", "another output, --json"],
     );
     // Shards and found cases read by the run.
     let shard = at("shard.json");
     let (code, _, err) = tetwalk(
-        &["count", "--views", "2", "--size", "4x4", "--shard", "0/2", "--json", &shard],
+        &[
+            "count", "--views", "2", "--size", "4x4", "--shard", "0/2", "--json", &shard,
+        ],
         b"",
     );
     assert_eq!(code, 0, "{err}");
-    refused(dir.path(), &["count", "merge", &shard, "--json", &shard], &["REPORTS"]);
+    refused(
+        dir.path(),
+        &["count", "merge", &shard, "--json", &shard],
+        &["REPORTS"],
+    );
     let found = Path::new(env!("CARGO_MANIFEST_DIR")).join("corpora/found/maria17");
-    let one = std::fs::read_dir(&found).unwrap().flatten().next().unwrap().path();
+    let one = std::fs::read_dir(&found)
+        .unwrap()
+        .flatten()
+        .next()
+        .unwrap()
+        .path();
     std::fs::copy(&one, at("found.json")).unwrap();
-    refused(dir.path(), &["shrink", &at("found.json"), "--json", &at("found.json")], &["FILES"]);
+    refused(
+        dir.path(),
+        &["shrink", &at("found.json"), "--json", &at("found.json")],
+        &["FILES"],
+    );
 }
 
 #[test]
@@ -84,7 +121,12 @@ fn a_dangling_link_given_as_an_output_stays_a_link() {
     std::os::unix::fs::symlink("target.json", &link).unwrap();
     let (code, _, err) = tetwalk(&["methods", "--json", &link.display().to_string()], b"");
     assert_eq!(code, 0, "{err}");
-    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
     let written = std::fs::read_to_string(dir.path().join("target.json")).unwrap();
     assert!(written.contains("maria17"), "{written}");
 }

@@ -17,9 +17,7 @@ pub struct Args {
 
 impl super::Io for Args {
     fn io(&self) -> super::Files {
-        self.common
-            .io()
-            .input("--wgsl", self.wgsl.wgsl.as_deref())
+        self.common.io().input("--wgsl", self.wgsl.wgsl.as_deref())
     }
 }
 

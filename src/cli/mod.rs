@@ -106,6 +106,7 @@ enum Command {
 pub fn main() -> ExitCode {
     quiet_mesa();
     clean_on_interrupt();
+    quiet_on_closed_output();
     let cli = Cli::parse();
     let io = match &cli.command {
         Command::Methods { json } | Command::GpuInfo { json } => {
@@ -151,6 +152,10 @@ pub fn main() -> ExitCode {
         Command::GpuInfo { json } => gpu_info(json),
     });
     result.unwrap_or_else(|e| {
+        if closed_output(&*e) {
+            crate::staged::remove_all();
+            return ExitCode::from(CLOSED_OUTPUT);
+        }
         let mut msg = e.to_string();
         let mut src = e.source();
         while let Some(s) = src {
@@ -163,6 +168,49 @@ pub fn main() -> ExitCode {
         eprintln!("tetwalk: {msg}");
         ExitCode::from(2)
     })
+}
+
+/// The exit status of a run whose standard output was closed under it: that of a program SIGPIPE
+/// ends (128 + 13), as `tetwalk methods | head -1` expects.
+const CLOSED_OUTPUT: u8 = 141;
+
+/// Whether an error is a write to a closed pipe.
+fn closed_output(e: &(dyn std::error::Error + 'static)) -> bool {
+    let mut at = Some(e);
+    while let Some(err) = at {
+        if let Some(io) = err.downcast_ref::<std::io::Error>()
+            && io.kind() == std::io::ErrorKind::BrokenPipe
+        {
+            return true;
+        }
+        at = err.source();
+    }
+    false
+}
+
+/// A closed or full standard output (`tetwalk methods | head -1`, `> /dev/full`) ends the command
+/// quietly, with a non-zero status and its staging files removed: `print!` panics on such a write, and
+/// this hook turns that panic into the exit (status [`CLOSED_OUTPUT`] for a closed pipe, else 2 with
+/// one line saying why). Every other panic is reported as before.
+fn quiet_on_closed_output() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let p = info.payload();
+        let msg = p
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| p.downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if let Some(why) = msg.strip_prefix("failed printing to stdout: ") {
+            crate::staged::remove_all();
+            if why.contains("Broken pipe") {
+                std::process::exit(CLOSED_OUTPUT.into());
+            }
+            eprintln!("tetwalk: standard output: {why}");
+            std::process::exit(2);
+        }
+        default(info);
+    }));
 }
 
 /// Ctrl-C, SIGTERM or SIGHUP: remove the staging files of the outputs being written (nothing
@@ -543,7 +591,11 @@ impl Files {
                 .inputs
                 .iter()
                 .map(|(w, p)| (w, p, "the run's input"))
-                .chain(self.outputs[..i].iter().map(|(w, p)| (w, p, "another output,")))
+                .chain(
+                    self.outputs[..i]
+                        .iter()
+                        .map(|(w, p)| (w, p, "another output,")),
+                )
                 .find(|(_, p, _)| crate::staged::same_file(out, p));
             if let Some((w, p, role)) = clash {
                 return Err(format!(

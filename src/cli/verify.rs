@@ -3,6 +3,7 @@
 
 use super::{JsonOut, Status};
 use crate::backend::{Backend, BackendKind};
+use crate::choice::Choice;
 use crate::engine::verify::{Checked, pick, verify};
 use crate::report::verify::{line, register_table};
 use std::collections::HashMap;
@@ -46,6 +47,13 @@ pub fn run(a: Args) -> Status {
     if a.cases == 0 {
         return Err("--cases 0 would check nothing".into());
     }
+    // A row's cases of the largest family, with their truths and answers, are held at once.
+    let per_case = crate::family::Kind::ALL
+        .iter()
+        .map(|&k| crate::with_family!(k, F => <F as crate::family::Family>::BYTES_PER_CASE))
+        .max()
+        .unwrap_or(0);
+    super::fits(&format!("--cases {}", a.cases), a.cases as u128 * per_case)?;
     let checks = pick(&a.run, &a.skip)?;
     if checks.is_empty() {
         return Err("--run and --skip leave no claim to check".into());

@@ -33,6 +33,9 @@ pub(super) fn read(bytes: &[u8], xml: bool, file: &str) -> Result<Read, MeshErro
         place: file.to_string(),
         what,
     };
+    if xml {
+        compressed_sizes(bytes).map_err(fail)?;
+    }
     let vtk = super::guarded("the VTK reader (vtkio)", file, || match xml {
         false => vtkio::Vtk::parse_legacy_be(bytes),
         true => vtkio::Vtk::parse_xml(bytes),
@@ -130,4 +133,114 @@ pub(super) fn read(bytes: &[u8], xml: bool, file: &str) -> Result<Read, MeshErro
         cells_before += cells.len() as u64;
     }
     Ok(read)
+}
+
+/// Most bytes the compressed arrays of a `.vtu` file may claim to hold once decompressed, together
+/// (tetwalk's memory budget): `vtkio` allocates what a block header claims before it decompresses.
+const MAX_DECOMPRESSED: u128 = 8 << 30;
+
+/// The value of attribute `name` in the tag `tag` (the text from `<` to `>`).
+fn attribute<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let at = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+    tag[at..].split('"').next()
+}
+
+/// Standard base64, as far as it decodes (padding and whitespace end it).
+fn base64(text: &[u8]) -> Vec<u8> {
+    let value = |c: u8| match c {
+        b'A'..=b'Z' => Some(c - b'A'),
+        b'a'..=b'z' => Some(c - b'a' + 26),
+        b'0'..=b'9' => Some(c - b'0' + 52),
+        b'+' => Some(62),
+        b'/' => Some(63),
+        _ => None,
+    };
+    let (mut out, mut acc, mut bits) = (Vec::new(), 0u32, 0);
+    for v in text.iter().map_while(|&c| value(c)) {
+        acc = acc << 6 | v as u32;
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+        }
+    }
+    out
+}
+
+/// Refuse a `.vtu` file whose compressed arrays claim more than [`MAX_DECOMPRESSED`] bytes, or more
+/// blocks than the file could hold, before `vtkio` allocates what they claim.
+fn compressed_sizes(bytes: &[u8]) -> Result<(), String> {
+    let text = String::from_utf8_lossy(bytes);
+    let Some(start) = text.find("<VTKFile") else {
+        return Ok(());
+    };
+    let head = &text[start..start + text[start..].find('>').unwrap_or(0)];
+    if attribute(head, "compressor").is_none_or(str::is_empty) {
+        return Ok(());
+    }
+    let word = match attribute(head, "header_type") {
+        Some("UInt64") => 8,
+        _ => 4,
+    };
+    let big = attribute(head, "byte_order") == Some("BigEndian");
+    let number = |b: &[u8]| -> u128 {
+        let mut w = [0u8; 8];
+        w[..b.len()].copy_from_slice(b);
+        if big {
+            w[..b.len()].reverse();
+        }
+        u64::from_le_bytes(w) as u128
+    };
+    // The appended data, after its `_`, raw or in base64.
+    let appended = text.find("<AppendedData").map(|a| {
+        let tag = &text[a..a + text[a..].find('>').unwrap_or(0)];
+        let raw = attribute(tag, "encoding") != Some("base64");
+        let from = a + text[a..].find('_').map_or(0, |u| u + 1);
+        (from, raw)
+    });
+    let mut claimed = 0u128;
+    let mut at = 0;
+    while let Some(i) = text[at..].find("<DataArray") {
+        let open = at + i;
+        let close = open + text[open..].find('>').unwrap_or(0);
+        let tag = &text[open..close];
+        at = close.max(open + 1);
+        let header = match attribute(tag, "format") {
+            Some("binary") => {
+                let body = text[close + 1..].trim_start();
+                base64(&body.as_bytes()[..body.len().min(4 * 3 * word)])
+            }
+            Some("appended") => match (
+                appended,
+                attribute(tag, "offset").and_then(|o| o.parse::<usize>().ok()),
+            ) {
+                (Some((from, raw)), Some(offset)) => {
+                    let data = bytes.get(from + offset..).unwrap_or(&[]);
+                    match raw {
+                        true => data[..data.len().min(3 * word)].to_vec(),
+                        false => base64(&data[..data.len().min(4 * 3 * word)]),
+                    }
+                }
+                _ => continue,
+            },
+            _ => continue,
+        };
+        if header.len() < 3 * word {
+            continue;
+        }
+        let [blocks, size, last] = [0, 1, 2].map(|k| number(&header[k * word..(k + 1) * word]));
+        if blocks * word as u128 > bytes.len() as u128 {
+            return Err(format!(
+                "a DataArray's compression header claims {blocks} blocks, more than the file could hold ({} bytes)",
+                bytes.len()
+            ));
+        }
+        claimed += size * blocks.saturating_sub(1) + last;
+        if claimed > MAX_DECOMPRESSED {
+            return Err(format!(
+                "its compressed arrays claim {claimed} bytes once decompressed, more than the {MAX_DECOMPRESSED} tetwalk reads (a corrupt compression header?)"
+            ));
+        }
+    }
+    Ok(())
 }
