@@ -71,6 +71,10 @@ pub mod backend;
 #[cfg(not(feature = "internals"))]
 pub(crate) mod backend;
 #[cfg(feature = "internals")]
+pub mod child;
+#[cfg(not(feature = "internals"))]
+pub(crate) mod child;
+#[cfg(feature = "internals")]
 pub mod choice;
 #[cfg(not(feature = "internals"))]
 pub(crate) mod choice;

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-/// The staging files alive now.
+/// The staging files (and working folders) alive now.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 /// A staging file: removed when dropped unpersisted, and by [`remove_all`]. Where the target is not a
@@ -160,12 +160,46 @@ pub fn write(dest: &Path, bytes: &[u8]) -> std::io::Result<()> {
     s.persist()
 }
 
-/// Remove every staging file alive (an interrupted run's); returns how many were removed.
+/// A working folder (TetGen's, while a scene is built) that an interrupted run removes too: made
+/// when tracked, removed with everything in it when dropped, or by [`remove_all`].
+pub struct WorkDir(PathBuf);
+
+impl WorkDir {
+    /// A fresh folder under the temporary directory, tracked.
+    pub fn new() -> std::io::Result<WorkDir> {
+        let path = tempfile::Builder::new()
+            .prefix(".tetwalk-")
+            .tempdir()?
+            .keep();
+        if let Ok(mut live) = LIVE.lock() {
+            live.push(path.clone());
+        }
+        Ok(WorkDir(path))
+    }
+
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for WorkDir {
+    fn drop(&mut self) {
+        forget(&self.0);
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Remove every staging file and working folder alive (an interrupted run's); returns how many were
+/// removed.
 pub fn remove_all() -> usize {
     let Ok(mut live) = LIVE.lock() else {
         return 0;
     };
     live.drain(..)
-        .filter(|p| std::fs::remove_file(p).is_ok())
+        .filter(|p| match p.is_dir() {
+            true => std::fs::remove_dir_all(p).is_ok(),
+            false => std::fs::remove_file(p).is_ok(),
+        })
         .count()
 }

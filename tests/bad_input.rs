@@ -560,3 +560,64 @@ fn a_closed_or_full_standard_output_ends_the_command_quietly() {
         }
     }
 }
+
+/// A `scene build` interrupted while TetGen runs stops TetGen, removes its working folder and writes
+/// nothing.
+#[test]
+fn an_interrupted_scene_build_leaves_nothing_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let model = dir.path().join("bunny2.off");
+    let bunny = Path::new(env!("CARGO_MANIFEST_DIR")).join("corpora/scenes/bunny.off");
+    let (code, _, err) = tetwalk(
+        &[
+            "scene",
+            "subdivide",
+            bunny.to_str().unwrap(),
+            "--levels",
+            "2",
+            "--out",
+            model.to_str().unwrap(),
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    let out = dir.path().join("built");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args([
+            "scene",
+            "build",
+            model.to_str().unwrap(),
+            "--quality",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .env("TMPDIR", &tmp)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until TetGen works in its folder.
+    let started = std::time::Instant::now();
+    let working = || -> Vec<std::path::PathBuf> {
+        std::fs::read_dir(&tmp)
+            .unwrap()
+            .flatten()
+            .map(|e| e.path())
+            // Mesa's private runtime folder (made by every run, kept) aside.
+            .filter(|p| p.file_name().unwrap() != "tetwalk-xdg-runtime")
+            .collect()
+    };
+    while working().is_empty() && started.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(!working().is_empty(), "no working folder was seen");
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    // SAFETY: kill sends SIGTERM to the child tetwalk.
+    unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    assert!(working().is_empty(), "left behind: {:?}", working());
+    assert!(!out.with_extension("ele").exists(), "a mesh was written");
+}

@@ -10,6 +10,7 @@ use std::path::Path;
 /// them (reports, renders) and the command line.
 const ALLOWED: &[(&str, &[&str])] = &[
     ("staged", &[]),
+    ("child", &[]),
     ("fpenv", &[]),
     ("tet", &[]),
     ("choice", &[]),
@@ -18,7 +19,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("exact", &["fpenv", "mesh", "octree", "tet"]),
     (
         "scenes",
-        &["choice", "exact", "mesh", "octree", "staged", "tet"],
+        &[
+            "child", "choice", "exact", "mesh", "octree", "staged", "tet",
+        ],
     ),
     ("methods", &["choice", "exact", "fpenv", "octree", "tet"]),
     (
@@ -79,8 +82,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "cli",
         &[
-            "backend", "cases", "choice", "engine", "exact", "family", "gpu", "mesh", "methods",
-            "octree", "registry", "render", "report", "scenes", "staged", "tet", "walk",
+            "backend", "cases", "child", "choice", "engine", "exact", "family", "gpu", "mesh",
+            "methods", "octree", "registry", "render", "report", "scenes", "staged", "tet", "walk",
         ],
     ),
 ];

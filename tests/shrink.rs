@@ -256,3 +256,65 @@ fn shrink_shrinks_for_a_program_outside_tetwalk() {
     assert_eq!(code, 2);
     assert!(err.contains("--in-place"), "{err}");
 }
+
+/// An answerer that never answers is stopped at `--answerer-seconds`, with everything it started (no
+/// process of it is left running), and the shrink fails saying so; SIGTERM to tetwalk ends a running
+/// answerer's processes too.
+#[test]
+fn an_answerer_that_hangs_is_stopped_with_everything_it_started() {
+    let (_, cases, _) = tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "1"]);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("case.jsonl");
+    std::fs::write(&file, &cases).unwrap();
+    let marker = dir.path().join("alive");
+    // The answerer starts a background process that keeps a file fresh, then hangs itself.
+    let hang = format!(
+        "(while true; do touch {0}; sleep 0.05; done) & sleep 1000",
+        marker.display()
+    );
+    let start = std::time::Instant::now();
+    let (code, _, err) = tetwalk(&[
+        "shrink",
+        "--answerer",
+        &hang,
+        "--answerer-seconds",
+        "1",
+        file.to_str().unwrap(),
+    ]);
+    assert!(start.elapsed().as_secs() < 30, "{:?}", start.elapsed());
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("time limit"), "{err}");
+    let still_touched = |m: &std::path::Path| {
+        let before = std::fs::metadata(m).and_then(|x| x.modified()).ok();
+        std::thread::sleep(std::time::Duration::from_millis(400));
+        let after = std::fs::metadata(m).and_then(|x| x.modified()).ok();
+        before != after
+    };
+    assert!(
+        !still_touched(&marker),
+        "the answerer's background process runs on"
+    );
+    // Interrupted while the answerer runs.
+    let marker2 = dir.path().join("alive2");
+    let hang2 = format!(
+        "(while true; do touch {0}; sleep 0.05; done) & sleep 1000",
+        marker2.display()
+    );
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args(["shrink", "--answerer", &hang2, file.to_str().unwrap()])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    while !marker2.exists() {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    // SAFETY: kill sends SIGTERM to the child tetwalk.
+    unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    assert!(
+        !still_touched(&marker2),
+        "SIGTERM left the answerer's processes running"
+    );
+}

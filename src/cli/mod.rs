@@ -213,10 +213,12 @@ fn quiet_on_closed_output() {
     }));
 }
 
-/// Ctrl-C, SIGTERM or SIGHUP: remove the staging files of the outputs being written (nothing
-/// half-written is left behind), say so, and exit with status 130.
+/// Ctrl-C, SIGTERM or SIGHUP: stop the programs tetwalk runs (TetGen, an answerer) with everything
+/// they started, remove the staging files of the outputs being written and the working folders
+/// (nothing half-written is left behind), say so, and exit with status 130.
 fn clean_on_interrupt() {
     let set = ctrlc::set_handler(|| {
+        crate::child::kill_all();
         let n = crate::staged::remove_all();
         eprintln!(
             "tetwalk: interrupted; {} removed, nothing written",

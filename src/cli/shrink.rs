@@ -15,6 +15,7 @@ use std::collections::HashMap;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Duration;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -32,6 +33,10 @@ pub struct Args {
     /// (a leak stays a leak), with the line that reproduces it.
     #[arg(long, value_name = "CMD")]
     answerer: Option<String>,
+    /// Seconds the answerer may take on one case; past them it is stopped, with everything it
+    /// started, and the shrink fails saying so.
+    #[arg(long, value_name = "S", default_value_t = 30.0)]
+    answerer_seconds: f64,
     /// Checks (exact judgements of a candidate case) one shrink may make at most.
     #[arg(long, default_value_t = CHECKS)]
     checks: usize,
@@ -157,29 +162,22 @@ fn shrink_one<F: Family>(
 }
 
 /// `cmd` run on `case` (its line on standard input): its answer, read as `judge` reads answers.
-fn outside<F: Family>(cmd: &str, case: &F::Case) -> Result<F::Answer, FoundError> {
+fn outside<F: Family>(cmd: &str, limit: Duration, case: &F::Case) -> Result<F::Answer, FoundError> {
     let fail = |why: String| FoundError::Field {
         field: "answerer",
         why: format!("{cmd}: {why}"),
     };
-    let mut child = std::process::Command::new("sh")
-        .args(["-c", cmd])
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .spawn()
-        .map_err(|e| fail(e.to_string()))?;
     let line = serde_json::Value::Object(F::case_json(case)).to_string() + "\n";
-    child
-        .stdin
-        .take()
-        .expect("piped")
-        .write_all(line.as_bytes())
-        .map_err(|e| fail(e.to_string()))?;
-    let out = child.wait_with_output().map_err(|e| fail(e.to_string()))?;
-    if !out.status.success() {
-        return Err(fail(format!("exited with {}", out.status)));
+    let (status, stdout) = crate::child::run(
+        std::process::Command::new("sh").args(["-c", cmd]),
+        line.as_bytes(),
+        limit,
+    )
+    .map_err(|e| fail(format!("{e} (on the case {})", line.trim())))?;
+    if !status.success() {
+        return Err(fail(format!("exited with {status}")));
     }
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = String::from_utf8_lossy(&stdout);
     let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
     let answer: serde_json::Value = serde_json::from_str(first)
         .map_err(|e| fail(format!("answered '{first}', not a JSON line ({e})")))?;
@@ -195,8 +193,9 @@ fn shrink_outside<F: Family>(
     cmd: &str,
     at: &Place,
     checks: usize,
+    limit: Duration,
 ) -> Result<Result<Done, String>, FoundError> {
-    let answerer = |c: &F::Case| outside::<F>(cmd, c);
+    let answerer = |c: &F::Case| outside::<F>(cmd, limit, c);
     let s = match crate::engine::shrink::shrink_with::<F>(&answerer, cmd, &found.case, &[], checks)
     {
         Ok(s) => s,
@@ -245,6 +244,14 @@ pub fn run(a: Args) -> Status {
     if a.checks == 0 {
         return Err("--checks 0 would shrink nothing".into());
     }
+    if !(a.answerer_seconds > 0.0 && a.answerer_seconds <= 1e6) {
+        return Err(format!(
+            "--answerer-seconds {} is not in (0, 1e6]",
+            a.answerer_seconds
+        )
+        .into());
+    }
+    let limit = Duration::from_secs_f64(a.answerer_seconds);
     if a.answerer.is_some() && a.in_place {
         return Err("--answerer prints the shrunk cases; a user's file is not rewritten (leave out --in-place)".into());
     }
@@ -283,7 +290,7 @@ pub fn run(a: Args) -> Status {
                     .into());
                 }
                 crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
-                    .and_then(|found| shrink_outside::<F>(&found, cmd, &at, a.checks)))
+                    .and_then(|found| shrink_outside::<F>(&found, cmd, &at, a.checks, limit)))
             } else if dump {
                 match from_dump(obj) {
                     Ok(found) => shrink_one::<ExitFace>(&found, &at, &mut backends, a.checks),

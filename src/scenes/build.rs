@@ -3,12 +3,13 @@
 
 use super::SceneError;
 use super::model::Model;
+use crate::child::ChildError;
 use crate::mesh::{Mesh, load_tetgen};
 use glam::Vec3;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// TetGen switches: a pure CDT keeping every input triangle as one face (`-pzAnYQ`), or a quality CDT
 /// (`-pzAnYq1.414Q`).
@@ -102,39 +103,27 @@ fn tetgen(
     let log = dir.join("tetgen.log");
     let file = std::fs::File::create(&log).map_err(SceneError::io(&log))?;
     let err = file.try_clone().map_err(SceneError::io(&log))?;
-    let mut child = Command::new("tetgen")
-        .arg(args)
-        .arg("scene.smesh")
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(file)
-        .stderr(err)
-        .spawn()
-        .map_err(|e| {
-            if e.kind() == std::io::ErrorKind::NotFound {
-                SceneError::NoTetgen
-            } else {
-                SceneError::io(Path::new("tetgen"))(e)
-            }
-        })?;
-    let start = Instant::now();
-    let status = loop {
-        if let Some(st) = child
-            .try_wait()
-            .map_err(SceneError::io(Path::new("tetgen")))?
-        {
-            break st;
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let _ = child.wait();
-            return Err(SceneError::TetgenTimeout {
-                args: args.to_string(),
-                seconds: limit.as_secs_f64(),
-            });
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let mut child = crate::child::spawn(
+        Command::new("tetgen")
+            .arg(args)
+            .arg("scene.smesh")
+            .current_dir(dir)
+            .stdin(Stdio::null())
+            .stdout(file)
+            .stderr(err),
+    )
+    .map_err(|e| match e {
+        ChildError::Spawn(e) if e.kind() == std::io::ErrorKind::NotFound => SceneError::NoTetgen,
+        ChildError::Spawn(e) | ChildError::Io(e) => SceneError::io(Path::new("tetgen"))(e),
+        ChildError::TimedOut(_) => unreachable!("spawning has no time limit"),
+    })?;
+    let status = crate::child::wait(&mut child, limit).map_err(|e| match e {
+        ChildError::TimedOut(_) => SceneError::TetgenTimeout {
+            args: args.to_string(),
+            seconds: limit.as_secs_f64(),
+        },
+        ChildError::Spawn(e) | ChildError::Io(e) => SceneError::io(Path::new("tetgen"))(e),
+    })?;
     let text = std::fs::read(&log).map_err(SceneError::io(&log))?;
     Ok((status, String::from_utf8_lossy(&text).to_string()))
 }
@@ -198,7 +187,9 @@ pub fn build_scene(
 ) -> Result<Mesh, SceneError> {
     model.check_closed()?;
     let m = boxed(model, offset)?;
-    let dir = tempfile::tempdir().map_err(SceneError::io(Path::new("temporary directory")))?;
+    // Removed when done, and by an interrupt (Ctrl-C, SIGTERM) too.
+    let dir =
+        crate::staged::WorkDir::new().map_err(SceneError::io(Path::new("temporary directory")))?;
     let smesh_path = dir.path().join("scene.smesh");
     std::fs::write(&smesh_path, smesh(&m)).map_err(SceneError::io(&smesh_path))?;
     run_tetgen(dir.path(), switches(quality), limit)?;

@@ -1,0 +1,111 @@
+//! Programs tetwalk runs (TetGen, a user's answerer): each in a process group of its own, held to a
+//! time limit, and ended with tetwalk — its whole group is killed when it runs past the limit, when it
+//! is done (nothing it started is left running), and when tetwalk is interrupted ([`kill_all`]).
+
+use std::io::{Read, Write};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// The process groups alive now.
+static LIVE: Mutex<Vec<u32>> = Mutex::new(Vec::new());
+
+/// Why a program did not run to its end.
+#[derive(Debug, thiserror::Error)]
+pub enum ChildError {
+    /// It could not be started (not installed, not executable).
+    #[error("cannot start it: {0}")]
+    Spawn(std::io::Error),
+    /// It ran past its time limit and was killed, with everything it started.
+    #[error("it ran past its time limit of {0:?} and was stopped, with everything it started")]
+    TimedOut(Duration),
+    /// Talking to it failed.
+    #[error("{0}")]
+    Io(std::io::Error),
+}
+
+/// Start `cmd` in a process group of its own, known to [`kill_all`].
+pub fn spawn(cmd: &mut Command) -> Result<Child, ChildError> {
+    #[cfg(unix)]
+    std::os::unix::process::CommandExt::process_group(cmd, 0);
+    let child = cmd.spawn().map_err(ChildError::Spawn)?;
+    if let Ok(mut live) = LIVE.lock() {
+        live.push(child.id());
+    }
+    Ok(child)
+}
+
+/// Kill the process group `group` (the child and everything it started).
+fn kill_group(group: u32) {
+    #[cfg(unix)]
+    // SAFETY: killpg only sends a signal; a group that is gone gives ESRCH, which is ignored.
+    unsafe {
+        libc::killpg(group as libc::pid_t, libc::SIGKILL);
+    }
+}
+
+/// Wait for `child` at most `limit`; its group is killed then, or once it has ended (what it left
+/// running goes with it).
+pub fn wait(child: &mut Child, limit: Duration) -> Result<ExitStatus, ChildError> {
+    let start = Instant::now();
+    let mut pause = Duration::from_micros(200);
+    let outcome = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Ok(status),
+            Ok(None) if start.elapsed() > limit => {
+                kill_group(child.id());
+                let _ = child.wait();
+                break Err(ChildError::TimedOut(limit));
+            }
+            Ok(None) => {
+                std::thread::sleep(pause);
+                pause = (pause * 2).min(Duration::from_millis(20));
+            }
+            Err(e) => break Err(ChildError::Io(e)),
+        }
+    };
+    kill_group(child.id());
+    if let Ok(mut live) = LIVE.lock() {
+        live.retain(|&g| g != child.id());
+    }
+    outcome
+}
+
+/// Run `cmd` with `input` on its standard input and its standard output read whole, within `limit`.
+pub fn run(
+    cmd: &mut Command,
+    input: &[u8],
+    limit: Duration,
+) -> Result<(ExitStatus, Vec<u8>), ChildError> {
+    let mut child = spawn(cmd.stdin(Stdio::piped()).stdout(Stdio::piped()))?;
+    let mut out = child.stdout.take().expect("piped");
+    let reader = std::thread::spawn(move || {
+        let mut buf = Vec::new();
+        out.read_to_end(&mut buf).map(|_| buf)
+    });
+    // A program that does not read its input is not waited for here: the write fails or fills the
+    // pipe's buffer (a case line is far smaller), and the time limit still holds.
+    let mut stdin = child.stdin.take().expect("piped");
+    let written = stdin.write_all(input);
+    drop(stdin);
+    let status = wait(&mut child, limit)?;
+    let stdout = reader
+        .join()
+        .map_err(|_| ChildError::Io(std::io::Error::other("the reader stopped")))?
+        .map_err(ChildError::Io)?;
+    if let Err(e) = written
+        && e.kind() != std::io::ErrorKind::BrokenPipe
+    {
+        return Err(ChildError::Io(e));
+    }
+    Ok((status, stdout))
+}
+
+/// Kill every program still running (an interrupted run's), with everything it started.
+pub fn kill_all() {
+    if let Ok(mut live) = LIVE.lock() {
+        for g in live.drain(..) {
+            kill_group(g);
+        }
+    }
+}
