@@ -435,10 +435,7 @@ impl FailArg {
     }
 }
 
-/// The bound on a hit's `t` when `--t-ulps` gives none, in ulps of the exact `t`: 2^12, a relative
-/// error of 2^-11 (about 0.05%). On the stress rows' slivers and needles the seeds' methods go beyond
-/// it, up to 180,002 ulps where `t` is ill-conditioned (`corpora/results/hit-t.md`).
-pub const T_ULPS: f64 = 4096.0;
+use crate::exact::hit::T_ULPS;
 
 /// `--t-ulps`: a number of ulps (0 or more, finite), or [`T_ULPS`].
 fn t_ulps(given: Option<f64>) -> Result<f64, Error> {

@@ -330,6 +330,23 @@ pub fn ulps_from(t: f32, exact: &rug::Rational) -> f64 {
     })
 }
 
+/// How far, in ulps of the exact `t`, a hit's `t` may lie from it and still be right, unless a
+/// command is given another bound (`--t-ulps`): 2^12, a relative error of 2^-11 (about 0.05%). On the
+/// stress rows' slivers and needles the seeds' methods go beyond it, up to 180,002 ulps where `t` is
+/// ill-conditioned (`corpora/results/hit-t.md`).
+pub const T_ULPS: f64 = 4096.0;
+
+/// An answer to a ray–triangle case judged ([`HitTruth::judge`]): its triangle, its `t`, and both.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HitJudged {
+    /// The nearest hit is on a right triangle, or the miss is right ([`HitTruth::right`]).
+    pub triangle: bool,
+    /// A hit's `t` judged; `None` for a miss.
+    pub t: Option<TJudged>,
+    /// Right: the triangle, and a hit's `t` too.
+    pub right: bool,
+}
+
 /// A hit's `t` judged: the rule of docs/triangles.md (a hit has `0 < t < ∞`) and its distance from the exact
 /// `t` of the point the answer names, within `bound` ulps ([`ulps_from`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -360,6 +377,20 @@ impl HitTruth {
             .iter()
             .find(|p| p.holding.contains(&tri))
             .map(|p| &p.t)
+    }
+
+    /// The one rule every command, the kit and found cases judge a ray–triangle answer by: its
+    /// nearest hit (a triangle and its `t`, or none) is right when its triangle is and, for a hit,
+    /// its `t` lies within `bound` ulps of the exact one ([`T_ULPS`] unless a command is told
+    /// otherwise).
+    pub fn judge(&self, answer: Option<(u32, f32)>, bound: f64) -> HitJudged {
+        let triangle = self.right(answer.map(|(i, _)| i));
+        let t = answer.map(|(i, t)| self.judge_t(i, t, bound));
+        HitJudged {
+            triangle,
+            t,
+            right: triangle && t.is_none_or(|t| t.right),
+        }
     }
 
     /// A hit on `tri` at `t` judged for its `t` ([`TJudged`]).

@@ -8,7 +8,7 @@ use super::{Family, Summed, Verdict, given_fields};
 use crate::backend::{Backend, BackendError};
 use crate::cases::{CaseError, HitCase, MAX_TRIS, field_error, number, vec3};
 use crate::choice::{BackendKind, Choice};
-use crate::exact::hit::{HitTruth, Missed, first_crossing, judge_hit};
+use crate::exact::hit::{HitTruth, Missed, T_ULPS, first_crossing, judge_hit};
 use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
 use crate::methods::triangle::nearest_of;
 use crate::methods::triangle::{Among, MAX_PACKET, SideError};
@@ -113,8 +113,12 @@ pub struct HitTally {
     /// Rays with a hit on a triangle holding the first crossing point and another on a triangle the
     /// exact ray misses (near a shared edge, both neighbours report it).
     pub double_hits: u64,
-    /// Rays whose nearest hit is wrong ([`HitTruth::right`]).
+    /// Rays whose nearest hit is on a wrong triangle, or a miss where the ray crosses
+    /// ([`HitTruth::right`]).
     pub wrong_first_hits: u64,
+    /// Rays whose nearest hit is on a right triangle at a `t` beyond [`T_ULPS`] ulps of the exact one
+    /// (or not in `0 < t < ∞`): wrong by [`HitTruth::judge`] for the `t` alone.
+    pub wrong_t: u64,
 }
 
 impl Summed for HitTally {
@@ -123,6 +127,7 @@ impl Summed for HitTally {
         self.misses_beside += o.misses_beside;
         self.double_hits += o.double_hits;
         self.wrong_first_hits += o.wrong_first_hits;
+        self.wrong_t += o.wrong_t;
     }
 }
 
@@ -308,9 +313,10 @@ impl Family for Triangle {
         Ok(judge_hit(h.tris(), h.closed, &h.ray())?)
     }
 
-    /// Right when the nearest hit is ([`HitTruth::right`]); its `t` is judged by `hit` and `judge`.
+    /// Right when the nearest hit's triangle and, for a hit, its `t` are ([`HitTruth::judge`] with
+    /// [`T_ULPS`]): the rule `hit`, `judge`, stress rows, the kit and found cases share.
     fn verdict(_: &HitCase, truth: &HitTruth, hits: &Hits) -> Verdict {
-        match truth.right(hits.nearest().map(|(i, _)| i)) {
+        match truth.judge(hits.nearest(), T_ULPS).right {
             true => Verdict::Right,
             false => Verdict::Wrong(Self::kind(hits)),
         }
@@ -471,15 +477,18 @@ impl Family for Triangle {
         let all = hits.all();
         let false_hit = all.iter().any(|&(i, _)| !truth.each[i as usize].hit);
         t.double_hits += (false_hit && all.iter().any(|&(i, _)| holding.contains(&i))) as u64;
-        t.wrong_first_hits += !truth.right(hits.nearest().map(|(i, _)| i)) as u64;
+        let judged = truth.judge(hits.nearest(), T_ULPS);
+        t.wrong_first_hits += !judged.triangle as u64;
+        t.wrong_t += (judged.triangle && !judged.right) as u64;
     }
 
     fn judged(facts: &TriFacts, _: &HitTally) -> u64 {
         facts.rays
     }
 
+    /// Wrong by [`Triangle::verdict`]'s rule: a wrong first hit, or a right triangle at a wrong `t`.
     fn wrong(t: &HitTally) -> u64 {
-        t.wrong_first_hits
+        t.wrong_first_hits + t.wrong_t
     }
 
     fn refuted(t: &HitTally) -> u64 {

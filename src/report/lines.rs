@@ -104,9 +104,8 @@ fn ratio(q: &rug::Rational) -> String {
 }
 
 impl Lines for Triangle {
-    /// Right when the triangle is ([`HitTruth::right`]) and, for a hit, its `t` is
-    /// ([`HitTruth::judge_t`]); on a closed mesh, every triangle the method reports says whether the
-    /// ray leaks.
+    /// Judged by the family's one rule ([`HitTruth::judge`]: the triangle and, for a hit, its `t`);
+    /// on a closed mesh, every triangle the method reports says whether the ray leaks.
     fn verdict_line(
         case: &crate::cases::HitCase,
         truth: &HitTruth,
@@ -114,9 +113,8 @@ impl Lines for Triangle {
         t_ulps: f64,
     ) -> (Map<String, Value>, Said) {
         let g = hits.nearest();
-        let t = g.map(|(i, t)| truth.judge_t(i, t, t_ulps));
-        let triangle_right = truth.right(g.map(|(i, _)| i));
-        let ok = triangle_right && t.is_none_or(|t| t.right);
+        let judged = truth.judge(g, t_ulps);
+        let (t, triangle_right, ok) = (judged.t, judged.triangle, judged.right);
         let first = truth.first();
         let mut o = fields(json!({
             "hit": g.is_some(), "t": g.map(|(_, t)| t), "t_ulps": t.and_then(|t| t.ulps),

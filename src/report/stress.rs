@@ -156,8 +156,8 @@ impl Formats for OctreeCells {
 }
 
 impl Formats for Triangle {
-    /// Per method, leaks, misses beside, double hits and wrong first hits per million rays, by aim, by
-    /// place and by shape.
+    /// Per method, leaks, misses beside, double hits, wrong first hits and wrong `t`s per million rays,
+    /// by aim, by place and by shape.
     fn stress_table(r: &StressReport<Self>) -> String {
         let s = &r.settings;
         let mut out = format!(
@@ -170,14 +170,16 @@ impl Formats for Triangle {
              shorter than 2^-10 of the way, or, inside a triangle, no hit on the mesh at all). A double hit: a \
              triangle holding it and one the exact ray misses both report hits. A wrong first hit: the \
              nearest reported hit is on no triangle holding the first crossing point (or a point before \
-             it the ray only touches), or a miss where the ray crosses. Per million rays.\n",
+             it the ray only touches), or a miss where the ray crosses. A wrong t: the right triangle at a \
+             t beyond {} ulps of the exact one (the rule hit and judge apply). Per million rays.\n",
             s.cases,
             rounds(r),
             r.rows.len(),
             seeds(r),
             s.backend,
             s.rows.flatness,
-            s.rows.ulps
+            s.rows.ulps,
+            crate::exact::hit::T_ULPS
         );
         out += &by(r, |x| x.row.aim.name(), "rays aimed");
         out += &by(r, |x| x.row.place.name(), "place");
@@ -202,7 +204,7 @@ fn by(
         }
     }
     let mut s = format!(
-        "\n| method | {what} | rays | crossing | leaks /M | misses beside /M | double hits /M | wrong first hits /M |\n|---|---|---|---|---|---|---|---|\n"
+        "\n| method | {what} | rays | crossing | leaks /M | misses beside /M | double hits /M | wrong first hits /M | wrong t /M |\n|---|---|---|---|---|---|---|---|---|\n"
     );
     for (mi, m) in r.methods.iter().enumerate() {
         for &k in &keys {
@@ -214,11 +216,12 @@ fn by(
             };
             let pm = |n: u64| per_million(n, rays);
             s += &format!(
-                "| {m} | {k} | {rays} | {crossing} | {} | {} | {} | {} |\n",
+                "| {m} | {k} | {rays} | {crossing} | {} | {} | {} | {} | {} |\n",
                 pm(sum(|t| t.leaks)),
                 pm(sum(|t| t.misses_beside)),
                 pm(sum(|t| t.double_hits)),
                 pm(sum(|t| t.wrong_first_hits)),
+                pm(sum(|t| t.wrong_t)),
             );
         }
     }
