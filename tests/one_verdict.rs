@@ -32,7 +32,7 @@ fn the_family_verdict_and_the_verdict_lines_agree_on_every_answer() {
                             .collect::<Vec<_>>(),
                     )
                 };
-                for answer in [a.clone(), moved(1.01), moved(1.0 + 2.0 * f32::EPSILON)] {
+                for answer in [*a, moved(1.01), moved(1.0 + 2.0 * f32::EPSILON)] {
                     let verdict = Triangle::verdict(case, truth, &answer);
                     let (line, said) = Triangle::verdict_line(case, truth, &answer, T_ULPS);
                     let right = verdict == Verdict::Right;
