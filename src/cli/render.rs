@@ -3,6 +3,7 @@
 use super::{BackendArg, JsonOut, Status, choice};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::Case;
+use crate::choice::Choice;
 use crate::family::{self, OctreeCells, Triangle, Walks};
 use crate::methods::Model;
 use crate::registry::{Method, Named, TriangleMethod, reference};
@@ -27,9 +28,10 @@ pub enum What {
     OctreeHeat,
     /// Exit faces over a grid of ulp steps of the ray origin, per method beside the exact answer.
     Predicate,
-    /// Ray–triangle methods around a shared edge of a closed mesh: which of its two triangles each
-    /// reports over a grid of ulp steps of the ray origin (one, the other, both, or neither: a leak),
-    /// per method beside the exact answer.
+    /// Ray–triangle methods around a shared edge of a closed mesh (a case of the stress rows' `edge`
+    /// row): which of its two triangles each reports (one, the other, both, or none of the mesh: a
+    /// leak) for rays exactly through the edge at points along it (the middle row) and a few ulps
+    /// beside it, per method beside the exact answer.
     Leak,
 }
 
@@ -57,8 +59,8 @@ pub struct Args {
     /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
     methods: String,
-    /// Where the methods run, for scenes (predicate maps show cpu, cpu-fma and, when there is one,
-    /// gpu side by side).
+    /// Where the methods run, for scenes (predicate and leak maps show every backend side by side,
+    /// and take no other).
     #[command(flatten)]
     backend: BackendArg,
     /// Predicate maps: the tetrahedron's shape (`--family` is an older name for it).
@@ -68,7 +70,7 @@ pub struct Args {
     #[arg(long, value_parser = ["edge", "vertex"], default_value = "edge")]
     through: String,
     /// Leak maps: the closed mesh.
-    #[arg(long, value_parser = choice::<MeshShape>(), default_value = "octahedron")]
+    #[arg(long, value_parser = choice::<MeshShape>(), default_value = "tetrahedron")]
     shape: MeshShape,
     /// Leak maps: where the mesh is placed.
     #[arg(long, value_parser = choice::<TriPlace>(), default_value = "embree")]
@@ -122,6 +124,14 @@ fn beside(out: &Path, suffix: &str) -> PathBuf {
 pub fn run(a: Args) -> Status {
     // The place checked writable before any work (a probe staged there and removed).
     drop(super::Staged::new("--out", &a.out)?);
+    if matches!(a.what, What::Leak | What::Predicate) && a.backend.backend != BackendKind::Cpu {
+        return Err(format!(
+            "--backend {}: a {} map shows every backend side by side (exact | cpu | cpu-fma | gpu when there is one); leave out --backend",
+            a.backend.backend.name(),
+            if a.what == What::Leak { "leak" } else { "predicate" }
+        )
+        .into());
+    }
     if a.what == What::Leak {
         return leak(a);
     }
@@ -347,19 +357,13 @@ fn leak(a: Args) -> Status {
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = super::size(&a.size, true, 4096)?;
     square(&a.size, w, h)?;
-    let (case, pair) = render::leak_case(a.shape, a.place, a.seed)
-        .ok_or("no edge between two triangles facing the ray's origin could be found")?;
+    let (case, pair) = render::leak_case(a.shape, a.place, a.seed, &methods)
+        .ok_or("no ray of the edge row crosses the surface between an edge's two triangles")?;
     let grid = render::LeakGrid::new(&case, pair, w);
     let exact = render::leak_image(grid.exact(), w);
     let (backends, gpu_name) = map_backends();
     let mut drawn = Drawn::default();
-    let heading = |m: &TriangleMethod| {
-        format!(
-            "{}: hits on the edge's two triangles, direction moved {} steps",
-            m.name(),
-            w / 2
-        )
-    };
+    let heading = |m: &TriangleMethod| format!("{}: hits through and beside an edge", m.name());
     let panel = |m: &TriangleMethod, b: &Backend| Ok(render::leak_image(&grid.of(m, b)?, w));
     let key = render::leak_key();
     let maps = Maps {
@@ -370,8 +374,10 @@ fn leak(a: Args) -> Status {
     maps.write(&a.out, &methods, heading, panel, &mut drawn)?;
     drawn.legend = render::leak_legend();
     println!(
-        "each sheet: exact | cpu | cpu-fma{}; direction moved ±{} steps (an ulp of the larger) in its two components other than the largest",
+        "each sheet: exact | cpu | cpu-fma{}; the {} {} edge row's first case a listed method leaks through (else its first): along x, rays exactly through the edge at points of its middle half; along y, the direction moved ±{} ulp steps off it",
         gpu_name.map_or(String::new(), |g| format!(" | {g}")),
+        a.shape.name(),
+        a.place.name(),
         w / 2
     );
     print!("{}", drawn.legend);

@@ -538,11 +538,14 @@ impl EdgeHit {
     }
 }
 
-/// A leak map's grid: the triangle case's direction moved on a `size × size` grid of steps around
-/// itself, in its two components other than the largest (so each step moves the ray across the
-/// surface), a step an ulp of the larger of the two (exact in both); each cell says which of the
-/// triangles `pair` (two sharing an edge) report a hit. The exact cells are judged once, when the grid
-/// is made; every method's are set beside them.
+/// A leak map's grid of `size × size` rays around the triangle case's, which passes exactly through
+/// the edge the triangles `pair` share: across (x) the origin moved parallel to the edge by a power-of-
+/// two fraction of it, so that the middle row's rays cross the edge line at points of its middle half
+/// (exactly, where the moved origins are f32 values: the far places), as the stress rows' exact-edge
+/// rays do; down (y) the direction moved by ulp steps in its component, other than the largest, across
+/// which the edge runs least, so that the other rows pass beside the edge by a few ulps. Each cell
+/// says which of the two triangles report a hit, or a leak. The exact cells are judged once, when the
+/// grid is made; every method's are set beside them.
 pub struct LeakGrid {
     cases: Vec<HitCase>,
     pair: [u32; 2],
@@ -554,16 +557,50 @@ pub struct LeakGrid {
 impl LeakGrid {
     pub fn new(case: &HitCase, pair: [u32; 2], size: u32) -> LeakGrid {
         let half = (size / 2) as i32;
+        // Along x, the origin moves parallel to the edge, so that the middle row's rays pass exactly
+        // through the edge line (where the moved origins are f32 values exactly: the far places);
+        // the stress rows' exact-edge rays, at points from one end of the edge's middle half to the
+        // other.
+        let [t, u] = pair.map(|i| case.tris()[i as usize]);
+        let shared: Vec<glam::Vec3> = t.iter().copied().filter(|p| u.contains(p)).collect();
+        let edge = match shared[..] {
+            [a, b] => b - a,
+            _ => glam::Vec3::ZERO,
+        };
+        // Points from a quarter of the edge before its midpoint to a quarter after, at steps of
+        // edge · 2^-m: the finest that keeps every moved origin an f32 value exactly (so every ray of
+        // the middle row passes exactly through the edge line), at most one point a column.
+        let exact = |m: i32| {
+            let step = edge * 2f32.powi(-m);
+            (-(1i32 << (m - 2))..=1 << (m - 2)).all(|j| {
+                let o = case.org + step * j as f32;
+                (0..3).all(|a| {
+                    o[a] as f64 == case.org[a] as f64 + step[a] as f64 * j as f64
+                        && step[a] as f64 == edge[a] as f64 * 2f64.powi(-m)
+                })
+            })
+        };
+        let finest = (4 * half.max(1) as u32)
+            .next_power_of_two()
+            .trailing_zeros() as i32;
+        let m = (2..=finest).rev().find(|&m| exact(m)).unwrap_or(2);
+        let (step, points) = (edge * 2f32.powi(-m), 1i32 << (m - 2));
+        let along = |x: i32| step * ((x - half) as i64 * points as i64 / half.max(1) as i64) as f32;
+        // Along y, the direction moves by ulp steps in the component (not the largest) across which
+        // the edge runs least.
         let k = case.dir.abs().max_position();
-        let (ax, ay) = ((k + 1) % 3, (k + 2) % 3);
-        // One step: an ulp of the larger of the two components, the same length along both.
-        let ulp = |x: f32| ulps(x.abs(), 1) - x.abs();
-        let step = ulp(case.dir[ax]).max(ulp(case.dir[ay]));
+        let (a1, a2) = ((k + 1) % 3, (k + 2) % 3);
+        let ay = if edge[a1].abs() <= edge[a2].abs() {
+            a1
+        } else {
+            a2
+        };
+        let step = ulps(case.dir[ay].abs(), 1) - case.dir[ay].abs();
         let cases: Vec<HitCase> = (0..size)
             .flat_map(|y| (0..size).map(move |x| (x, y)))
             .map(|(x, y)| {
                 let mut c = *case;
-                c.dir[ax] += (x as i32 - half) as f32 * step;
+                c.org += along(x as i32);
                 c.dir[ay] += (half - y as i32) as f32 * step;
                 c
             })
@@ -626,49 +663,43 @@ impl LeakGrid {
     }
 }
 
-/// A leak map's case: a closed mesh of `shape` at `place` seen from far away, as in Embree's test (from
-/// the coordinate origin for the far places, from `(-2^18, -2^18, -2^18)` near the origin): a ray
-/// exactly through the midpoint of an edge whose two triangles (the pair) both face it. Seeded; `None`
-/// if 1,000 draws found no such edge.
-pub fn leak_case(shape: MeshShape, place: TriPlace, seed: u64) -> Option<(HitCase, [u32; 2])> {
-    let org = if place == TriPlace::Origin {
-        glam::Vec3::splat(-262144.0)
-    } else {
-        glam::Vec3::ZERO
-    };
-    (seed..seed + 1000).find_map(|s| {
-        let mesh: Vec<_> = closed::mesh(shape, 1e-3, &mut crate::scenes::rng(s))
-            .iter()
-            .map(|t| t.map(|p| p + place.offset()))
-            .collect();
-        // Of the edges the ray can cross between two triangles facing it, the one seen most face-on.
-        let facing = |t: &crate::tet::Tri, d: glam::Vec3| {
-            -(t[1] - t[0])
-                .cross(t[2] - t[0])
-                .normalize()
-                .dot(d.normalize())
+/// A leak map's case: a case of the triangle stress rows' `edge` row of `shape` at `place` (the same
+/// generator: a closed mesh, a ray from a lattice point outside it exactly through the midpoint of an
+/// edge) whose ray crosses the surface there, between the edge's two triangles (the pair): the first
+/// under `seed` that one of `leaking` leaks through on the CPU (plain f32), else the first; `None` if
+/// 1,000 draws found none.
+pub fn leak_case(
+    shape: MeshShape,
+    place: TriPlace,
+    seed: u64,
+    leaking: &[&TriangleMethod],
+) -> Option<(HitCase, [u32; 2])> {
+    let candidates = (0..1000u64).filter_map(|i| {
+        let mut rng = crate::scenes::rng(seed.wrapping_mul(1000).wrapping_add(i));
+        let (mesh, ray) = closed::case(shape, closed::TriAim::Edge, place, 1e-3, 4, &mut rng);
+        let case = HitCase::closed(&mesh, ray).ok()?;
+        let truth = crate::exact::hit::judge_hit(case.tris(), case.closed, &case.ray()).ok()?;
+        let first = truth.first()?;
+        let [p, q] = first.holding[..] else {
+            return None;
         };
-        (0..mesh.len())
-            .filter_map(|i| {
-                let (a, b) = (mesh[i][0], mesh[i][1]);
-                let ray = crate::tet::Ray {
-                    org,
-                    dir: (a + b) * 0.5 - org,
-                };
-                let case = HitCase::closed(&mesh, ray).ok()?;
-                let truth =
-                    crate::exact::hit::judge_hit(case.tris(), case.closed, &case.ray()).ok()?;
-                let first = truth.first()?;
-                let [p, q] = first.holding[..] else {
-                    return None;
-                };
-                let seen =
-                    facing(&mesh[p as usize], ray.dir).min(facing(&mesh[q as usize], ray.dir));
-                first.crosses.then_some((seen, case, [p, q]))
-            })
-            .max_by(|x, y| x.0.total_cmp(&y.0))
-            .map(|(_, case, pair)| (case, pair))
-    })
+        first.crosses.then_some((case, [p, q], truth))
+    });
+    let mut fallback = None;
+    for (case, pair, truth) in candidates {
+        let leaks = leaking.iter().any(|m| {
+            Backend::Cpu {
+                model: Model::Plain,
+            }
+            .triangle_hits(m, std::slice::from_ref(&case))
+            .is_ok_and(|h| truth.leaks(&h[0].iter().map(|&(k, _)| k).collect::<Vec<_>>()))
+        });
+        if leaks || leaking.is_empty() {
+            return Some((case, pair));
+        }
+        fallback.get_or_insert((case, pair));
+    }
+    fallback
 }
 
 /// A leak map as an image ([`EdgeHit::colour`]).
