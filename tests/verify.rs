@@ -72,8 +72,8 @@ fn verify_holds_the_register_to_what_it_finds() {
 }
 
 /// The command: PASS / FAIL lines, status 0 when all goes as registered; status 1 when a counterexample
-/// no longer fails (a corpus where it was replaced by a case the method gets right); status 2 for an
-/// unknown name.
+/// no longer fails (a corpus where it was replaced by a case the method gets right, or edited: its
+/// case as found made right, or its recorded answer changed); status 2 for an unknown name.
 #[test]
 fn the_command_says_pass_or_fail_and_its_status_holds_the_register() {
     let (code, out, err) = common::run_tetwalk(
@@ -122,10 +122,65 @@ fn the_command_says_pass_or_fail_and_its_status_holds_the_register() {
         "{out}"
     );
 
+    // Edited, not replaced: the case as found made one the method gets right (the shrunk one still
+    // failing), or the recorded answer changed. Either is against the register.
+    let real = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("corpora/found/maria17/exit_face-wrong_face-50e741ec2f3d.json"),
+    )
+    .unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(real.trim()).unwrap();
+    let mut right_original = v.clone();
+    right_original["original"] = serde_json::json!({"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[0.2,0.2,-1],"dir":[0.01,0.02,1],"entry":3});
+    let recorded = v["answer"].as_u64().unwrap();
+    v["answer"] = serde_json::json!((recorded + 1) % 4);
+    for (edit, says) in [(right_original, "as found, right now"), (v, "records the answer")] {
+        std::fs::write(
+            maria.join("exit_face-wrong_face-50e741ec2f3d.json"),
+            edit.to_string(),
+        )
+        .unwrap();
+        let (code, out, err) = common::run_tetwalk(
+            &["verify", "--run", "maria17@cpu", "--found", dir.path().to_str().unwrap()],
+            b"",
+        );
+        assert_eq!(code, 1, "{out}{err}");
+        assert!(out.contains("AGAINST THE REGISTER") && out.contains(says), "{out}");
+    }
+
     let (code, _, err) = common::run_tetwalk(&["verify", "--run", "nonsense"], b"");
     assert_eq!(code, 2);
     assert!(
         err.contains("no claim 'nonsense'") && err.contains("certified@cpu"),
         "{err}"
+    );
+}
+
+/// A standing claim is checked against the found corpus too: a corpus holding a case that refutes it
+/// (`woop-watertight` leaking where its products underflow, filed by a stress campaign at 2^-70) makes
+/// `verify` report it refuted against the register, status 1; the shipped corpus does not.
+#[test]
+fn a_found_case_refuting_a_standing_claim_fails_verify() {
+    let dir = tempfile::tempdir().unwrap();
+    let corpus = dir.path().join("found");
+    let (code, _, err) = common::run_tetwalk(
+        &[
+            "stress", "--family", "triangle", "--methods", "woop-watertight", "--scale", "-70",
+            "--cases", "200", "--seconds", "1", "--found", corpus.to_str().unwrap(),
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = common::run_tetwalk(
+        &[
+            "verify", "--run", "woop-watertight@cpu", "--cases", "20", "--found",
+            corpus.to_str().unwrap(),
+        ],
+        b"",
+    );
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        out.contains("AGAINST THE REGISTER") && out.contains("refutes it"),
+        "{out}"
     );
 }

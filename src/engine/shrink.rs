@@ -145,7 +145,10 @@ pub fn shrink_with<F: Family>(
     let mut numbers = F::numbers(&best.case);
     for _ in 0..PASSES {
         let mut changed = false;
-        for i in 0..numbers.len() {
+        // A shrink may make two of a case's points one (a closed mesh's corners are its distinct
+        // points), so the numbers can grow fewer as they are walked.
+        let mut i = 0;
+        while i < numbers.len() {
             'value: for v in simpler(numbers[i]) {
                 // The numbers nearly equal to this one (a vertex and the point a ray is aimed at
                 // near it) moved with it first, then it alone.
@@ -184,6 +187,7 @@ pub fn shrink_with<F: Family>(
                     }
                 }
             }
+            i += 1;
         }
         if !changed {
             break;
