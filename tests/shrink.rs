@@ -318,3 +318,37 @@ fn an_answerer_that_hangs_is_stopped_with_everything_it_started() {
         "SIGTERM left the answerer's processes running"
     );
 }
+
+/// An answerer is read as strictly as `judge` reads answers: two lines for one case, an answer for
+/// another line, or one without its line number are refused, naming why, so that the reproducing line
+/// printed for a shrink always works in `judge`.
+#[test]
+fn an_answerer_is_read_as_judge_reads_answers() {
+    let (_, cases, _) = tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "1"]);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("case.jsonl");
+    std::fs::write(&file, &cases).unwrap();
+    for (answerer, says) in [
+        (
+            r#"cat > /dev/null; echo '{"line": 1, "tri": null}'; echo '{"line": 1, "tri": null}'"#,
+            "2 lines",
+        ),
+        (r#"cat > /dev/null; echo '{"line": 2, "tri": null}'"#, "line 2"),
+        (r#"cat > /dev/null; echo '{"tri": null}'"#, "without \"line\""),
+    ] {
+        let (code, _, err) = tetwalk(&["shrink", "--answerer", answerer, file.to_str().unwrap()]);
+        assert_eq!(code, 2, "{answerer}: {err}");
+        assert!(err.contains(says), "{answerer}: {err}");
+        // judge refuses the same answers.
+        let answers = dir.path().join("a.jsonl");
+        let text = std::process::Command::new("sh")
+            .args(["-c", answerer])
+            .stdin(std::process::Stdio::null())
+            .output()
+            .unwrap()
+            .stdout;
+        std::fs::write(&answers, text).unwrap();
+        let (code, _, _) = tetwalk(&["judge", file.to_str().unwrap(), answers.to_str().unwrap()]);
+        assert_ne!(code, 0, "{answerer}: judge accepted it");
+    }
+}

@@ -177,13 +177,33 @@ fn outside<F: Family>(cmd: &str, limit: Duration, case: &F::Case) -> Result<F::A
     if !status.success() {
         return Err(fail(format!("exited with {status}")));
     }
+    // Read as `judge` reads an answers file of one case: one answer line, for line 1.
     let text = String::from_utf8_lossy(&stdout);
-    let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    let [first] = lines[..] else {
+        return Err(fail(format!(
+            "answered {} lines to one case; judge reads one answer per case line",
+            lines.len()
+        )));
+    };
     let answer: serde_json::Value = serde_json::from_str(first)
         .map_err(|e| fail(format!("answered '{first}', not a JSON line ({e})")))?;
     let obj = answer
         .as_object()
         .ok_or_else(|| fail(format!("answered '{first}', not a JSON object")))?;
+    match obj.get("line").and_then(serde_json::Value::as_u64) {
+        Some(1) => {}
+        Some(n) => {
+            return Err(fail(format!(
+                "answered '{first}' for line {n}, which holds no case: the case is line 1"
+            )));
+        }
+        None => {
+            return Err(fail(format!(
+                "answered '{first}' without \"line\": 1, the case's line number, which judge needs"
+            )));
+        }
+    }
     F::given(obj, case).map_err(fail)
 }
 
