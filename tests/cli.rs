@@ -1039,7 +1039,7 @@ fn paper_writes_only_where_asked() {
 }
 
 /// `bench` takes samples (each batch, `--repeat` times) and gives each row's median and range, and
-/// compares them with an earlier run's (`--baseline`), as criterion does.
+/// compares them with an earlier run's of the same settings (`--baseline`), batch by batch.
 #[test]
 fn bench_gives_medians_of_samples_and_compares_with_a_baseline() {
     let dir = tempfile::tempdir().unwrap();
@@ -1091,4 +1091,38 @@ fn bench_gives_medians_of_samples_and_compares_with_a_baseline() {
         ["faster", "slower", "within noise"].contains(&verdict),
         "{verdict}"
     );
+    // Like with like: a baseline whose every batch ran twice as fast reads "slower", batch by batch,
+    // however far apart the views' own speeds lie.
+    let mut fast: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&first).unwrap()).unwrap();
+    for row in fast["rows"].as_array_mut().unwrap() {
+        for x in row["samples"].as_array_mut().unwrap() {
+            *x = serde_json::json!(x.as_f64().unwrap() * 2.0);
+        }
+        for k in ["median", "low", "high"] {
+            row["spread"][k] = serde_json::json!(row["spread"][k].as_f64().unwrap() * 2.0);
+        }
+    }
+    let fast_file = dir.path().join("fast.json");
+    std::fs::write(&fast_file, fast.to_string()).unwrap();
+    let mut a = args(second.to_str().unwrap());
+    a.extend(["--baseline".to_string(), fast_file.display().to_string()]);
+    let (code, _, err) = run(a);
+    assert_eq!(code, 0, "{err}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&second).unwrap()).unwrap();
+    assert_eq!(r["rows"][0]["change"]["verdict"], "slower", "{}", r["rows"][0]);
+    // A baseline of other settings, or without one of this run's rows, is refused.
+    let mut a = args(second.to_str().unwrap());
+    a[6] = "16x16".into();
+    a.extend(["--baseline".to_string(), first.display().to_string()]);
+    let (code, _, err) = run(a);
+    assert_eq!(code, 2);
+    assert!(err.contains("other settings") && err.contains("views"), "{err}");
+    let mut a = args(second.to_str().unwrap());
+    a[10] = "plucker".into();
+    a.extend(["--baseline".to_string(), first.display().to_string()]);
+    let (code, _, err) = run(a);
+    assert_eq!(code, 2);
+    assert!(err.contains("none of its rows"), "{err}");
 }

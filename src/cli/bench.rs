@@ -5,7 +5,7 @@ use crate::backend::Backend;
 use crate::engine::bench;
 use crate::family::{self, Triangle, Walks};
 use crate::scenes::camera::Views;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -118,7 +118,19 @@ pub fn run(a: Args) -> Status {
     bar.finish_and_clear();
     let mut report = report;
     if let Some(b) = &baseline {
-        report.compare(b);
+        let file = a.baseline.as_deref().unwrap_or(Path::new("")).display();
+        if let Some(why) = report.differs_from(b) {
+            return Err(format!(
+                "--baseline {file}: a run of other settings ({why}): its batches are other rays; run the baseline with the same --scene, --views, --size, --seed, --batch and --hilbert"
+            )
+            .into());
+        }
+        if report.compare(b) == 0 {
+            return Err(format!(
+                "--baseline {file}: none of its rows (method, layout, backend) is one of this run's"
+            )
+            .into());
+        }
     }
     print!("{}", report.markdown());
     out.finish(&report)?;

@@ -94,44 +94,100 @@ impl Spread {
     }
 }
 
+fn one() -> usize {
+    1
+}
+
 /// Changes of medians smaller than this are noise whatever the ranges (criterion's default threshold).
 const NOISE: f64 = 0.02;
 
-/// A row against the same row of a baseline run, as criterion compares: the ratio of medians, and
-/// whether the new median lies outside the baseline's range and more than [`NOISE`] from its median
-/// (faster or slower), or not (noise).
+/// A row against the same row of a baseline run of the same settings, like with like: each batch's
+/// speed (the median of its `repeat` timings) over the same batch's there — the same views, so the
+/// spread between views does not hide a change. Faster or slower where every batch's ratio lies on
+/// that side of 1 and their median more than [`NOISE`] from it, else within noise.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Change {
     pub baseline_median: f64,
+    /// The median of the batches' ratios, now over the baseline.
     pub ratio: f64,
+    /// The lowest and highest of the batches' ratios.
+    #[serde(default)]
+    pub ratio_range: (f64, f64),
     pub verdict: String,
 }
 
+/// Each batch's speed: the median of its `repeat` timings.
+fn per_batch(samples: &[f64], repeat: usize) -> Vec<f64> {
+    samples
+        .chunks(repeat.max(1))
+        .filter_map(|c| Spread::of(c).map(|s| s.median))
+        .collect()
+}
+
 impl BenchReport {
-    /// Each row's change against the same method, layout and backend in `baseline` (rows it lacks
-    /// have none).
-    pub fn compare(&mut self, baseline: &BenchReport) {
+    /// Why `baseline` cannot be compared with this run: the settings that make its batches other
+    /// rays (scene, mesh, views, batch, order), each named with both values.
+    pub fn differs_from(&self, baseline: &BenchReport) -> Option<String> {
+        let mut d = Vec::new();
+        let mut differ = |what: &str, now: String, then: String| {
+            if now != then {
+                d.push(format!("{what} {now} here, {then} there"));
+            }
+        };
+        differ("scene", self.scene.clone(), baseline.scene.clone());
+        differ(
+            "tetrahedra",
+            self.tetrahedra_in_mesh.to_string(),
+            baseline.tetrahedra_in_mesh.to_string(),
+        );
+        differ(
+            "views",
+            format!("{:?}", self.views),
+            format!("{:?}", baseline.views),
+        );
+        differ("batch", self.batch.to_string(), baseline.batch.to_string());
+        differ("hilbert", self.hilbert.to_string(), baseline.hilbert.to_string());
+        (!d.is_empty()).then(|| d.join("; "))
+    }
+
+    /// Each row's change against the same method, layout and backend in `baseline` ([`Change`]);
+    /// rows it lacks have none. How many rows were compared.
+    pub fn compare(&mut self, baseline: &BenchReport) -> usize {
+        let mut compared = 0;
         for r in &mut self.rows {
             let same = baseline
                 .rows
                 .iter()
                 .find(|b| b.method == r.method && b.layout == r.layout && b.backend == r.backend);
-            r.change = match (same.and_then(|b| b.spread), r.spread) {
-                (Some(b), Some(now)) => Some(Change {
-                    baseline_median: b.median,
-                    ratio: now.median / b.median,
-                    verdict: if now.median > b.high && now.median > b.median * (1.0 + NOISE) {
-                        "faster"
-                    } else if now.median < b.low && now.median < b.median * (1.0 - NOISE) {
-                        "slower"
-                    } else {
-                        "within noise"
-                    }
-                    .to_string(),
-                }),
-                _ => None,
+            let (Some(b), Some(bs)) = (same, same.and_then(|b| b.spread)) else {
+                r.change = None;
+                continue;
             };
+            let ratios: Vec<f64> = per_batch(&r.samples, self.repeat)
+                .iter()
+                .zip(per_batch(&b.samples, baseline.repeat))
+                .map(|(now, then)| now / then)
+                .collect();
+            let Some(q) = Spread::of(&ratios) else {
+                r.change = None;
+                continue;
+            };
+            compared += 1;
+            r.change = Some(Change {
+                baseline_median: bs.median,
+                ratio: q.median,
+                ratio_range: (q.low, q.high),
+                verdict: if q.low > 1.0 && q.median > 1.0 + NOISE {
+                    "faster"
+                } else if q.high < 1.0 && q.median < 1.0 - NOISE {
+                    "slower"
+                } else {
+                    "within noise"
+                }
+                .to_string(),
+            });
         }
+        compared
     }
 }
 
@@ -148,6 +204,9 @@ pub struct BenchReport {
     pub backends: Vec<Ran>,
     /// Whether the mesh was put in Hilbert order first (seed 003 §3).
     pub hilbert: bool,
+    /// Timings of each batch (`--repeat`): a row's samples are its batches' timings in turn.
+    #[serde(default = "one")]
+    pub repeat: usize,
     /// Whether `cpu-fma` ran on the processor's FMA instruction, or through `f32::mul_add` (no such
     /// instruction, or `TETWALK_NO_FMA=1`): the same answers, not the same speed.
     #[serde(default)]
@@ -307,6 +366,7 @@ pub fn run(
         batch: views_per_batch * per_view,
         backends: backends.iter().map(|b| b.ran()).collect(),
         hilbert,
+        repeat,
         fma_instruction: crate::fpenv::has_fma(),
         avx2: crate::fpenv::has_avx2(),
         rows,

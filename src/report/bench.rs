@@ -62,8 +62,8 @@ impl BenchReport {
             if compared {
                 out += &match &r.change {
                     Some(c) => format!(
-                        " {:.2}× of {:.1}: {} |",
-                        c.ratio, c.baseline_median, c.verdict
+                        " {:.2}× of {:.1} ({:.2}–{:.2}× by batch): {} |",
+                        c.ratio, c.baseline_median, c.ratio_range.0, c.ratio_range.1, c.verdict
                     ),
                     None => " - |".to_string(),
                 };
