@@ -621,3 +621,23 @@ fn an_interrupted_scene_build_leaves_nothing_behind() {
     assert!(working().is_empty(), "left behind: {:?}", working());
     assert!(!out.with_extension("ele").exists(), "a mesh was written");
 }
+
+/// Generated stress-row cases are written as many as `--count` asks, or none with an error (at a
+/// scale where they round); a render of no view is refused with the figure, not a wrapped index.
+#[test]
+fn gen_cases_writes_its_count_or_fails_and_renders_need_a_view() {
+    for args in [
+        &["gen-cases", "--shape", "octahedron", "--count", "5", "--scale", "200"][..],
+        &["gen-cases", "--row", "near-edge", "--count", "5", "--scale", "150"],
+        &["gen-cases", "--cell-aim", "edge", "--count", "5", "--scale", "150"],
+    ] {
+        let (code, out, err) = tetwalk(args, b"");
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(out.is_empty(), "{args:?} wrote {out}");
+        assert!(err.contains("of the row's first 5") && err.contains("nothing was written"), "{err}");
+    }
+    let (code, out, err) = tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "5"], b"");
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 5);
+    refused(&["render", "shaded", "--views", "0"], &["--views 0"]);
+}

@@ -16,6 +16,7 @@ use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
 use crate::scenes::rng;
 use crate::scenes::tets::{self, Target, TetShape};
 use glam::Vec3;
+use rayon::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -121,38 +122,44 @@ struct Generated {
     written: usize,
 }
 
-/// The stress row `row` of family `F` under `rows`: its first `count` cases (those the oracle judges),
-/// each at `scale`, written as `line` makes them.
+/// The stress row `row` of family `F` under `rows`: its first `count` cases (the cases `stress` judges
+/// there), each at `scale`, written as `line` makes them; an error, with nothing written, when some of
+/// them cannot be made (the oracle refuses one, or it rounds at `scale`), since fewer than `--count`
+/// would be written.
 fn row<F: Family>(
     rows: &F::Rows,
     row: F::Row,
     a: &Args,
-    line: impl Fn(&F::Case, &F::Truth) -> Option<serde_json::Map<String, serde_json::Value>>,
+    line: impl Fn(&F::Case, &F::Truth) -> Option<serde_json::Map<String, serde_json::Value>> + Sync,
 ) -> Result<usize, super::Error> {
-    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-    let mut written = 0;
-    for i in 0..a.count {
-        let Some((c, x)) = F::case(rows, row, a.seed, i) else {
-            continue;
-        };
+    let case = |i: usize| -> Option<serde_json::Map<String, serde_json::Value>> {
+        let (c, x) = F::case(rows, row, a.seed, i)?;
         let (c, x) = if a.scale.is_one() {
             (c, x)
         } else {
-            match F::scaled(&c, a.scale)
+            F::scaled(&c, a.scale)
                 .filter(crate::family::readable::<F>)
-                .and_then(|c| Some((c, F::truth(&c).ok()?)))
-            {
-                Some(cx) => cx,
-                None => continue,
-            }
+                .and_then(|c| Some((c, F::truth(&c).ok()?)))?
         };
-        if let Some(obj) = line(&c, &x) {
+        line(&c, &x)
+    };
+    // Every case made once to count them, before a line is written: a short run writes nothing.
+    let made = (0..a.count).into_par_iter().filter(|&i| case(i).is_some()).count();
+    if made < a.count {
+        return Err(format!(
+            "only {made} of the row's first {} cases can be made at scale {} (the others round there, or the oracle refuses them; stress judges the same {made}): nothing was written",
+            a.count, a.scale
+        )
+        .into());
+    }
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    for i in 0..a.count {
+        if let Some(obj) = case(i) {
             writeln!(w, "{}", serde_json::Value::Object(obj))?;
-            written += 1;
         }
     }
     w.flush()?;
-    Ok(written)
+    Ok(a.count)
 }
 
 pub fn run(a: Args) -> Status {

@@ -124,6 +124,12 @@ fn beside(out: &Path, suffix: &str) -> PathBuf {
 pub fn run(a: Args) -> Status {
     // The place checked writable before any work (a probe staged there and removed).
     drop(super::Staged::new("--out", &a.out)?);
+    if matches!(
+        a.what,
+        What::Shaded | What::Failures | What::Heat | What::OctreeHeat
+    ) {
+        super::view_count(a.views, "render")?;
+    }
     if matches!(a.what, What::Leak | What::Predicate) && a.backend.backend != BackendKind::Cpu {
         return Err(format!(
             "--backend {}: a {} map shows every backend side by side (exact | cpu | cpu-fma | gpu when there is one); leave out --backend",
