@@ -319,3 +319,55 @@ impl ExitMethod for Certified {
         .or_else(|| at_tie(tet, &r.ray()))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::{Flushed, Plain};
+
+    /// Why the flushing model's gate exists, and that it holds: two points whose x coordinates are
+    /// normal but differ by a subnormal (their difference flushed to zero), seen along a direction of
+    /// 2^100, make the f32 stage settle a side product with the wrong sign when nothing gates them
+    /// (`f32_stage` with the gate off); with the gate, and through `settles` (what the method
+    /// checks before its f32 stage), that case goes to the exact stage. Points and rays above the
+    /// gate settle; the model that does not flush settles everything.
+    #[test]
+    fn the_flushing_gate_sends_what_the_bound_cannot_cover_to_the_exact_stage() {
+        let x = two_to(-125);
+        let b = Vec3::new(x, 1.0, 0.0);
+        // The ulp of 2^-125 is 2^-148 (a subnormal, made from its bits).
+        let ulp = f32::from_bits(1 << 1);
+        assert_eq!(ulp as f64, 2f64.powi(-148));
+        let a = Vec3::new(x + 3.0 * ulp, 1.0 + f32::EPSILON, 0.0);
+        let ray = Ray {
+            org: Vec3::ZERO,
+            dir: Vec3::new(0.0, 0.0, two_to(100)),
+        };
+        let exact = crate::exact::side(a, b, &ray);
+        assert_eq!(exact, 1, "det = 3·2^-48 - 2^-48 > 0");
+        let ungated = crate::fpenv::flushed((a, b, ray), |(a, b, ray)| {
+            f32_stage(a, b, &ray, FLUSHING, false)
+        });
+        assert_eq!(ungated, Some(-1), "flushed and ungated, the f32 stage settles it wrongly");
+        let gated = crate::fpenv::flushed((a, b, ray), |(a, b, ray)| {
+            f32_stage(a, b, &ray, FLUSHING, true)
+        });
+        assert_eq!(gated, None, "the gate leaves it to the exact stage");
+        let tet = [a, b, Vec3::new(0.0, 2.0, 1.0), Vec3::new(1.0, 2.0, 0.0)];
+        let r = Certified::prepare::<Flushed>(&ray);
+        assert!(!settles::<Flushed>(&tet, &r), "a vertex below TINY is gated");
+        assert!(settles::<Plain>(&tet, &r), "gradual underflow needs no gate");
+        let normal = tet.map(|v| v + Vec3::ONE);
+        assert!(settles::<Flushed>(&normal, &r), "above the gate the f32 stage settles");
+        let subnormal_dir = Certified::prepare::<Flushed>(&Ray {
+            org: Vec3::ONE,
+            dir: Vec3::new(1.0, f32::from_bits(1 << 9), 0.0),
+        });
+        assert!(!settles::<Flushed>(&normal, &subnormal_dir), "a subnormal direction is gated");
+        let tiny_org = Certified::prepare::<Flushed>(&Ray {
+            org: Vec3::new(TINY / 2.0, 1.0, 1.0),
+            dir: Vec3::X,
+        });
+        assert!(!settles::<Flushed>(&normal, &tiny_org), "a tiny origin is gated");
+    }
+}
