@@ -336,10 +336,24 @@ fn sharded_counts_merge_to_the_whole_count() {
         assert!(!out.status.success());
         assert!(String::from_utf8_lossy(&out.stderr).contains("shards"));
         // A shard edited so that its numbers contradict each other is refused, file and field named.
-        let edits: [(&str, Edit); 3] = [
+        let edits: [(&str, Edit); 4] = [
             ("methods[1]", |v| {
                 let n = v["methods"][1]["wrong_total"].as_u64().unwrap();
                 v["methods"][1]["wrong_total"] = (n + 1000).into();
+            }),
+            // A kind edited with its per-image figure, the total left: only the kinds' sum says so.
+            ("kinds add up", |v| {
+                let views = v["views_counted"].as_f64().unwrap();
+                let m = &mut v["methods"][1];
+                match &mut m["wrong"] {
+                    serde_json::Value::Array(k) => k[3] = (k[3].as_u64().unwrap() + 2).into(),
+                    w => {
+                        let n = w["cycle"].as_u64().unwrap();
+                        w["cycle"] = (n + 2).into();
+                        let f = m["per_image"]["by_kind"]["cycle"].as_f64().unwrap();
+                        m["per_image"]["by_kind"]["cycle"] = (f + 2.0 / views).into();
+                    }
+                }
             }),
             ("rays", |v| v["rays"] = 1_000_000_000_000u64.into()),
             ("audited", |v| {

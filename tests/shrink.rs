@@ -69,6 +69,17 @@ fn a_found_case_of_every_family_shrinks_and_still_fails_the_same_way() {
     shrinks::<OctreeCells>(&corpus_case("portalez16", "\"box\""));
 }
 
+/// A shrink keeps the kind of wrong answer: a cell test that finds no exit face is not shrunk into one
+/// that finds a wrong one, nor a walk that misses the hit into one that ends elsewhere.
+#[test]
+fn a_shrink_keeps_the_kind_of_wrong_answer() {
+    shrinks::<OctreeCells>(&corpus_case(
+        "portalez16-direction",
+        "\"kind\":\"no_exit_face\"",
+    ));
+    shrinks::<tetwalk::family::Walks>(&corpus_case("maria17", "\"kind\":\"false_miss\""));
+}
+
 /// The register's counterexample shrinks to integers but where the near-tie is (a vertex within
 /// rounding of the line): 93 significant bits in 18 numbers before.
 #[test]
