@@ -627,14 +627,41 @@ fn an_interrupted_scene_build_leaves_nothing_behind() {
 #[test]
 fn gen_cases_writes_its_count_or_fails_and_renders_need_a_view() {
     for args in [
-        &["gen-cases", "--shape", "octahedron", "--count", "5", "--scale", "200"][..],
-        &["gen-cases", "--row", "near-edge", "--count", "5", "--scale", "150"],
-        &["gen-cases", "--cell-aim", "edge", "--count", "5", "--scale", "150"],
+        &[
+            "gen-cases",
+            "--shape",
+            "octahedron",
+            "--count",
+            "5",
+            "--scale",
+            "200",
+        ][..],
+        &[
+            "gen-cases",
+            "--row",
+            "near-edge",
+            "--count",
+            "5",
+            "--scale",
+            "150",
+        ],
+        &[
+            "gen-cases",
+            "--cell-aim",
+            "edge",
+            "--count",
+            "5",
+            "--scale",
+            "150",
+        ],
     ] {
         let (code, out, err) = tetwalk(args, b"");
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(out.is_empty(), "{args:?} wrote {out}");
-        assert!(err.contains("of the row's first 5") && err.contains("nothing was written"), "{err}");
+        assert!(
+            err.contains("of the row's first 5") && err.contains("nothing was written"),
+            "{err}"
+        );
     }
     let (code, out, err) = tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "5"], b"");
     assert_eq!(code, 0, "{err}");

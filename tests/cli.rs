@@ -1111,14 +1111,21 @@ fn bench_gives_medians_of_samples_and_compares_with_a_baseline() {
     assert_eq!(code, 0, "{err}");
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&second).unwrap()).unwrap();
-    assert_eq!(r["rows"][0]["change"]["verdict"], "slower", "{}", r["rows"][0]);
+    assert_eq!(
+        r["rows"][0]["change"]["verdict"], "slower",
+        "{}",
+        r["rows"][0]
+    );
     // A baseline of other settings, or without one of this run's rows, is refused.
     let mut a = args(second.to_str().unwrap());
     a[6] = "16x16".into();
     a.extend(["--baseline".to_string(), first.display().to_string()]);
     let (code, _, err) = run(a);
     assert_eq!(code, 2);
-    assert!(err.contains("other settings") && err.contains("views"), "{err}");
+    assert!(
+        err.contains("other settings") && err.contains("views"),
+        "{err}"
+    );
     let mut a = args(second.to_str().unwrap());
     a[10] = "plucker".into();
     a.extend(["--baseline".to_string(), first.display().to_string()]);

@@ -344,8 +344,14 @@ fn an_answerer_is_read_as_judge_reads_answers() {
             r#"cat > /dev/null; echo '{"line": 1, "tri": null}'; echo '{"line": 1, "tri": null}'"#,
             "2 lines",
         ),
-        (r#"cat > /dev/null; echo '{"line": 2, "tri": null}'"#, "line 2"),
-        (r#"cat > /dev/null; echo '{"tri": null}'"#, "without \"line\""),
+        (
+            r#"cat > /dev/null; echo '{"line": 2, "tri": null}'"#,
+            "line 2",
+        ),
+        (
+            r#"cat > /dev/null; echo '{"tri": null}'"#,
+            "without \"line\"",
+        ),
     ] {
         let (code, _, err) = tetwalk(&["shrink", "--answerer", answerer, file.to_str().unwrap()]);
         assert_eq!(code, 2, "{answerer}: {err}");

@@ -134,18 +134,30 @@ fn the_command_says_pass_or_fail_and_its_status_holds_the_register() {
     right_original["original"] = serde_json::json!({"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[0.2,0.2,-1],"dir":[0.01,0.02,1],"entry":3});
     let recorded = v["answer"].as_u64().unwrap();
     v["answer"] = serde_json::json!((recorded + 1) % 4);
-    for (edit, says) in [(right_original, "as found, right now"), (v, "records the answer")] {
+    for (edit, says) in [
+        (right_original, "as found, right now"),
+        (v, "records the answer"),
+    ] {
         std::fs::write(
             maria.join("exit_face-wrong_face-50e741ec2f3d.json"),
             edit.to_string(),
         )
         .unwrap();
         let (code, out, err) = common::run_tetwalk(
-            &["verify", "--run", "maria17@cpu", "--found", dir.path().to_str().unwrap()],
+            &[
+                "verify",
+                "--run",
+                "maria17@cpu",
+                "--found",
+                dir.path().to_str().unwrap(),
+            ],
             b"",
         );
         assert_eq!(code, 1, "{out}{err}");
-        assert!(out.contains("AGAINST THE REGISTER") && out.contains(says), "{out}");
+        assert!(
+            out.contains("AGAINST THE REGISTER") && out.contains(says),
+            "{out}"
+        );
     }
 
     let (code, _, err) = common::run_tetwalk(&["verify", "--run", "nonsense"], b"");
@@ -165,15 +177,31 @@ fn a_found_case_refuting_a_standing_claim_fails_verify() {
     let corpus = dir.path().join("found");
     let (code, _, err) = common::run_tetwalk(
         &[
-            "stress", "--family", "triangle", "--methods", "woop-watertight", "--scale", "-70",
-            "--cases", "200", "--seconds", "1", "--found", corpus.to_str().unwrap(),
+            "stress",
+            "--family",
+            "triangle",
+            "--methods",
+            "woop-watertight",
+            "--scale",
+            "-70",
+            "--cases",
+            "200",
+            "--seconds",
+            "1",
+            "--found",
+            corpus.to_str().unwrap(),
         ],
         b"",
     );
     assert_eq!(code, 0, "{err}");
     let (code, out, err) = common::run_tetwalk(
         &[
-            "verify", "--run", "woop-watertight@cpu", "--cases", "20", "--found",
+            "verify",
+            "--run",
+            "woop-watertight@cpu",
+            "--cases",
+            "20",
+            "--found",
             corpus.to_str().unwrap(),
         ],
         b"",

@@ -354,3 +354,99 @@ fn relabelled_meshes_keep_the_exact_results() {
         }
     }
 }
+
+/// The rule every count rests on (`walk::same_result`), as a unit, on walks made up to probe it (the
+/// reference need not be the exact walk here): on the 3³ Kuhn grid whose inner cube's faces are
+/// constrained, a ray along x crosses the cube's near face (interior), diagonal faces inside it, and
+/// its far face. A hit is right only on a face holding the reference's hit point: the same face, the
+/// same triangle from the other side, or another face through the same point; not a face crossed
+/// earlier or later. Where the reference left the mesh, only a face the ray touches at its boundary
+/// (a graze) is right, not one it crosses inside; both leaving is right, and a cycle never is.
+#[test]
+fn same_result_holds_a_hit_to_the_references_point() {
+    use tetwalk::walk::{Outcome, Walk, same_result};
+    let mesh = scenes::generated_mesh(Generated::Kuhn, 3, Vec3::ZERO, 1).unwrap();
+    let ray = Ray {
+        org: Vec3::new(0.5, 1.5, 1.25),
+        dir: Vec3::X,
+    };
+    // Every constrained face the ray crosses, with where (t) and whether on the triangle's boundary.
+    let mut crossed: Vec<(u32, u8, rug::Rational, bool)> = Vec::new();
+    for t in 0..mesh.tets.len() as u32 {
+        for f in 0..4u8 {
+            if !mesh.is_constrained(t, f as usize) {
+                continue;
+            }
+            let p = mesh.face(t, f as usize).map(|i| mesh.points[i as usize]);
+            if let Some(c) = line_triangle(p, &ray).filter(|c| c.t.cmp0().is_ge()) {
+                crossed.push((t, f, c.t, c.on_boundary));
+            }
+        }
+    }
+    let hit = |t: u32, f: u8| Walk {
+        outcome: Outcome::Hit { tet: t, face: f },
+        steps: 1,
+    };
+    let first_t = crossed.iter().map(|c| c.2.clone()).min().unwrap();
+    let last_t = crossed.iter().map(|c| c.2.clone()).max().unwrap();
+    assert!(first_t < last_t);
+    let at = |t: &rug::Rational| crossed.iter().filter(|c| &c.2 == t).collect::<Vec<_>>();
+    let (near, far) = (at(&first_t), at(&last_t));
+    let reference = hit(near[0].0, near[0].1);
+    // The same point, from either side or another face holding it: right.
+    for c in &near {
+        assert!(
+            same_result(&mesh, &ray, &hit(c.0, c.1), &reference),
+            "{c:?}"
+        );
+    }
+    // A later crossing, or an earlier one than a farther reference's: wrong.
+    for c in &far {
+        assert!(
+            !same_result(&mesh, &ray, &hit(c.0, c.1), &reference),
+            "{c:?}"
+        );
+        assert!(
+            !same_result(&mesh, &ray, &reference, &hit(c.0, c.1)),
+            "earlier than {c:?}"
+        );
+    }
+    // Where the reference left the mesh: a face crossed inside is wrong; a graze is right.
+    let left = Walk {
+        outcome: Outcome::LeftMesh { tet: 0, face: 0 },
+        steps: 1,
+    };
+    let inside = crossed
+        .iter()
+        .find(|c| !c.3)
+        .expect("a face crossed inside");
+    assert!(!same_result(&mesh, &ray, &hit(inside.0, inside.1), &left));
+    let graze = Ray {
+        org: Vec3::new(0.5, 1.0, 1.0),
+        dir: Vec3::X,
+    };
+    let touched = (0..mesh.tets.len() as u32)
+        .flat_map(|t| (0..4u8).map(move |f| (t, f)))
+        .find(|&(t, f)| {
+            mesh.is_constrained(t, f as usize)
+                && line_triangle(
+                    mesh.face(t, f as usize).map(|i| mesh.points[i as usize]),
+                    &graze,
+                )
+                .is_some_and(|c| c.on_boundary && c.t.cmp0().is_ge())
+        })
+        .expect("a constrained face the grazing ray touches at its boundary");
+    assert!(same_result(
+        &mesh,
+        &graze,
+        &hit(touched.0, touched.1),
+        &left
+    ));
+    assert!(same_result(&mesh, &ray, &left, &left));
+    let cycle = Walk {
+        outcome: Outcome::Cycle { tet: 0, period: 3 },
+        steps: 9,
+    };
+    assert!(!same_result(&mesh, &ray, &cycle, &cycle));
+    assert!(!same_result(&mesh, &ray, &left, &reference));
+}

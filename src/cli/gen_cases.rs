@@ -123,28 +123,29 @@ struct Generated {
 }
 
 /// The stress row `row` of family `F` under `rows`: its first `count` cases (the cases `stress` judges
-/// there), each at `scale`, written as `line` makes them; an error, with nothing written, when some of
-/// them cannot be made (the oracle refuses one, or it rounds at `scale`), since fewer than `--count`
-/// would be written.
+/// there), each at `scale`, written as `line` makes them (`None`: a case it leaves out, such as a ray
+/// that misses every triangle under `--single`); an error, with nothing written, when some of them
+/// cannot be made (the oracle refuses one, or it rounds at `scale`). The number of lines written.
 fn row<F: Family>(
     rows: &F::Rows,
     row: F::Row,
     a: &Args,
     line: impl Fn(&F::Case, &F::Truth) -> Option<serde_json::Map<String, serde_json::Value>> + Sync,
 ) -> Result<usize, super::Error> {
-    let case = |i: usize| -> Option<serde_json::Map<String, serde_json::Value>> {
+    let case = |i: usize| -> Option<(F::Case, F::Truth)> {
         let (c, x) = F::case(rows, row, a.seed, i)?;
-        let (c, x) = if a.scale.is_one() {
-            (c, x)
-        } else {
-            F::scaled(&c, a.scale)
-                .filter(crate::family::readable::<F>)
-                .and_then(|c| Some((c, F::truth(&c).ok()?)))?
-        };
-        line(&c, &x)
+        if a.scale.is_one() {
+            return Some((c, x));
+        }
+        F::scaled(&c, a.scale)
+            .filter(crate::family::readable::<F>)
+            .and_then(|c| Some((c, F::truth(&c).ok()?)))
     };
     // Every case made once to count them, before a line is written: a short run writes nothing.
-    let made = (0..a.count).into_par_iter().filter(|&i| case(i).is_some()).count();
+    let made = (0..a.count)
+        .into_par_iter()
+        .filter(|&i| case(i).is_some())
+        .count();
     if made < a.count {
         return Err(format!(
             "only {made} of the row's first {} cases can be made at scale {} (the others round there, or the oracle refuses them; stress judges the same {made}): nothing was written",
@@ -153,13 +154,15 @@ fn row<F: Family>(
         .into());
     }
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-    for i in 0..a.count {
-        if let Some(obj) = case(i) {
+    let mut written = 0;
+    for (c, x) in (0..a.count).filter_map(case) {
+        if let Some(obj) = line(&c, &x) {
             writeln!(w, "{}", serde_json::Value::Object(obj))?;
+            written += 1;
         }
     }
     w.flush()?;
-    Ok(a.count)
+    Ok(written)
 }
 
 pub fn run(a: Args) -> Status {

@@ -146,7 +146,11 @@ impl BenchReport {
             format!("{:?}", baseline.views),
         );
         differ("batch", self.batch.to_string(), baseline.batch.to_string());
-        differ("hilbert", self.hilbert.to_string(), baseline.hilbert.to_string());
+        differ(
+            "hilbert",
+            self.hilbert.to_string(),
+            baseline.hilbert.to_string(),
+        );
         (!d.is_empty()).then(|| d.join("; "))
     }
 

@@ -348,26 +348,45 @@ mod tests {
         let ungated = crate::fpenv::flushed((a, b, ray), |(a, b, ray)| {
             f32_stage(a, b, &ray, FLUSHING, false)
         });
-        assert_eq!(ungated, Some(-1), "flushed and ungated, the f32 stage settles it wrongly");
+        assert_eq!(
+            ungated,
+            Some(-1),
+            "flushed and ungated, the f32 stage settles it wrongly"
+        );
         let gated = crate::fpenv::flushed((a, b, ray), |(a, b, ray)| {
             f32_stage(a, b, &ray, FLUSHING, true)
         });
         assert_eq!(gated, None, "the gate leaves it to the exact stage");
         let tet = [a, b, Vec3::new(0.0, 2.0, 1.0), Vec3::new(1.0, 2.0, 0.0)];
         let r = Certified::prepare::<Flushed>(&ray);
-        assert!(!settles::<Flushed>(&tet, &r), "a vertex below TINY is gated");
-        assert!(settles::<Plain>(&tet, &r), "gradual underflow needs no gate");
+        assert!(
+            !settles::<Flushed>(&tet, &r),
+            "a vertex below TINY is gated"
+        );
+        assert!(
+            settles::<Plain>(&tet, &r),
+            "gradual underflow needs no gate"
+        );
         let normal = tet.map(|v| v + Vec3::ONE);
-        assert!(settles::<Flushed>(&normal, &r), "above the gate the f32 stage settles");
+        assert!(
+            settles::<Flushed>(&normal, &r),
+            "above the gate the f32 stage settles"
+        );
         let subnormal_dir = Certified::prepare::<Flushed>(&Ray {
             org: Vec3::ONE,
             dir: Vec3::new(1.0, f32::from_bits(1 << 9), 0.0),
         });
-        assert!(!settles::<Flushed>(&normal, &subnormal_dir), "a subnormal direction is gated");
+        assert!(
+            !settles::<Flushed>(&normal, &subnormal_dir),
+            "a subnormal direction is gated"
+        );
         let tiny_org = Certified::prepare::<Flushed>(&Ray {
             org: Vec3::new(TINY / 2.0, 1.0, 1.0),
             dir: Vec3::X,
         });
-        assert!(!settles::<Flushed>(&normal, &tiny_org), "a tiny origin is gated");
+        assert!(
+            !settles::<Flushed>(&normal, &tiny_org),
+            "a tiny origin is gated"
+        );
     }
 }
