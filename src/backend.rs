@@ -46,6 +46,9 @@ pub enum BackendError {
         "method '{0}' answered UNSETTLED (-2), which asks the CPU to finish, and it has no CPU version"
     )]
     Unsettled(&'static str),
+    /// A program outside tetwalk gave no answers (`crate::engine::answerer`), or none can be opened.
+    #[error("{0}")]
+    Outside(String),
     /// A case the backend cannot place (a walk case's origin outside its mesh).
     #[error("{0}")]
     Case(String),
@@ -124,6 +127,12 @@ impl Backend {
             BackendKind::Gpu => Backend::Gpu(Box::new(gpu::Gpu::new()?)),
             #[cfg(not(feature = "gpu"))]
             BackendKind::Gpu => return Err(BackendError::NoGpu),
+            BackendKind::Outside => {
+                return Err(BackendError::Outside(
+                    "a program outside tetwalk answers there: it is asked with --answerer CMD"
+                        .into(),
+                ));
+            }
             cpu => Backend::Cpu {
                 model: cpu.model().expect("a CPU backend has a model"),
             },

@@ -71,6 +71,15 @@ pub fn wait(child: &mut Child, limit: Duration) -> Result<ExitStatus, ChildError
     outcome
 }
 
+/// Kill `child` and everything it started now, and reap it.
+pub fn kill(child: &mut Child) {
+    kill_group(child.id());
+    let _ = child.wait();
+    if let Ok(mut live) = LIVE.lock() {
+        live.retain(|&g| g != child.id());
+    }
+}
+
 /// Run `cmd` with `input` on its standard input and its standard output read whole, within `limit`.
 pub fn run(
     cmd: &mut Command,

@@ -56,9 +56,12 @@ pub enum BackendKind {
     CpuFtz,
     /// A GPU through wgpu (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME`).
     Gpu,
+    /// A user's program outside tetwalk (`--answerer`): where its found cases were found; nothing
+    /// tetwalk opens.
+    Outside,
 }
 
-crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", CpuFtz => "cpu-ftz", Gpu => "gpu" });
+crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", CpuFtz => "cpu-ftz", Gpu => "gpu", Outside => "outside" });
 
 impl BackendKind {
     /// Whether it computes f32 as written: the plain CPU, and a GPU (whatever its compiler makes of the
@@ -73,7 +76,7 @@ impl BackendKind {
             BackendKind::Cpu => Some(Model::Plain),
             BackendKind::CpuFma => Some(Model::Fused),
             BackendKind::CpuFtz => Some(Model::Flushed),
-            BackendKind::Gpu => None,
+            BackendKind::Gpu | BackendKind::Outside => None,
         }
     }
 }

@@ -30,6 +30,7 @@ fn lenient() -> Settings {
 /// failures; some row fails.
 fn kit_counts_as_stress_does<F: Family>(passed: &Passed, name: &str, s: &Settings) {
     let st = StressSettings::<F> {
+        contract: Default::default(),
         cases: F::kit_row_cases(s.cases),
         rows: Default::default(),
         seed: s.seed,
@@ -37,7 +38,7 @@ fn kit_counts_as_stress_does<F: Family>(passed: &Passed, name: &str, s: &Setting
         scale: Default::default(),
     };
     let m = tetwalk::family::by_name::<F>(name).unwrap();
-    let report = stress::run(&st, &[m], &CPU, &|_| {}, &mut |_| {}).unwrap();
+    let report = stress::run(&st, &[stress::Who::Method(m)], &CPU, &|_| {}, &mut |_| {}).unwrap();
     let mut failed_somewhere = false;
     for row in &report.rows {
         let t = &row.tallies[0].counts;

@@ -277,6 +277,7 @@ fn a_small_stress_table_is_unchanged() {
         model: Model::Plain,
     };
     let s = StressSettings::<ExitFace> {
+        contract: Default::default(),
         cases: 1500,
         rows: Default::default(),
         seed: 5,
@@ -284,7 +285,14 @@ fn a_small_stress_table_is_unchanged() {
         scale: Default::default(),
     };
     let methods: Vec<_> = METHODS.iter().collect();
-    let report = stress::run(&s, &methods, &cpu, &|_| {}, &mut |_| {}).unwrap();
+    let report = stress::run(
+        &s,
+        &stress::Who::methods(&methods),
+        &cpu,
+        &|_| {},
+        &mut |_| {},
+    )
+    .unwrap();
     let all = report.rows.iter().flat_map(|r| &r.tallies);
     assert!(all.clone().any(|t| t.counts.wrong_face > 0));
     assert!(all.clone().any(|t| t.counts.no_exit_face > 0));

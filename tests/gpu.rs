@@ -405,6 +405,7 @@ const DIVIDE: [&str; 6] = [
 /// case as the CPU does but for the ones that divide, which must still agree on 95% of the cases.
 fn gpu_agrees_with_the_cpu<F: Family>(g: &Backend, per_row: usize) {
     let s = tetwalk::engine::stress::StressSettings::<F> {
+        contract: Default::default(),
         cases: per_row,
         rows: F::Rows::default(),
         seed: 7,

@@ -55,8 +55,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "engine",
         &[
-            "backend", "cases", "choice", "exact", "family", "fpenv", "mesh", "methods", "octree",
-            "registry", "scenes", "tet", "walk",
+            "backend", "cases", "child", "choice", "exact", "family", "fpenv", "mesh", "methods",
+            "octree", "registry", "scenes", "tet", "walk",
         ],
     ),
     (

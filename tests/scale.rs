@@ -11,6 +11,7 @@ use tetwalk::family::{self, ExitFace, Family, OctreeCells, Scale, Triangle, Walk
 
 fn stress<F: Family>(cases: usize, scale: Scale, methods: &[&str]) -> StressReport<F> {
     let s = StressSettings::<F> {
+        contract: Default::default(),
         cases,
         rows: F::Rows::default(),
         seed: 3,
@@ -21,7 +22,14 @@ fn stress<F: Family>(cases: usize, scale: Scale, methods: &[&str]) -> StressRepo
         .iter()
         .map(|m| family::by_name::<F>(m).unwrap())
         .collect();
-    run(&s, &methods, &CPU, &|_| {}, &mut |_| {}).unwrap()
+    run(
+        &s,
+        &tetwalk::engine::stress::Who::methods(&methods),
+        &CPU,
+        &|_| {},
+        &mut |_| {},
+    )
+    .unwrap()
 }
 
 /// Each method's wrong answers, row by row.

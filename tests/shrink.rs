@@ -220,6 +220,22 @@ fn shrink_takes_a_counts_dump_but_never_rewrites_it() {
     assert_eq!(std::fs::read_to_string(dump).unwrap(), lines);
 }
 
+/// An answerer speaking the protocol (docs/answerers.md) in a shell loop: for each case line, `say`
+/// run with `$n` its line number.
+fn answering_with(say: &str) -> String {
+    format!(
+        r#"while IFS= read -r l; do [ -z "$l" ] && continue; n=${{l##*\"line\":}}; n=${{n%%[!0-9]*}}; {say}; done"#
+    )
+}
+
+/// An answerer answering every case with `fields` (JSON), by its line number.
+fn answering(fields: &str) -> String {
+    answering_with(&format!(
+        r#"echo "{{\"line\": $n, {}}}""#,
+        fields.replace('"', "\\\"")
+    ))
+}
+
 /// `shrink --answerer CMD` shrinks for a program outside tetwalk: here one that answers every case
 /// with a miss; the shrunk case is still one it answers wrongly the same way, and the printed line
 /// reproduces it through `tetwalk judge`.
@@ -229,7 +245,7 @@ fn shrink_shrinks_for_a_program_outside_tetwalk() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("case.jsonl");
     std::fs::write(&file, &cases).unwrap();
-    let miss = r#"cat > /dev/null; echo '{"line": 1, "tri": null}'"#;
+    let miss = &answering(r#""tri": null"#);
     let (code, out, err) = tetwalk(&[
         "shrink",
         "--answerer",
@@ -339,31 +355,35 @@ fn an_answerer_is_read_as_judge_reads_answers() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("case.jsonl");
     std::fs::write(&file, &cases).unwrap();
+    let twice = format!("{0}; {0}", r#"echo "{\"line\": $n, \"tri\": null}""#);
     for (answerer, says) in [
+        (answering_with(&twice), "a second answer for line 1"),
         (
-            r#"cat > /dev/null; echo '{"line": 1, "tri": null}'; echo '{"line": 1, "tri": null}'"#,
-            "2 lines",
+            answering_with(r#"echo "{\"line\": $((n + 1)), \"tri\": null}""#),
+            "for line 2, which is not in the batch",
         ),
         (
-            r#"cat > /dev/null; echo '{"line": 2, "tri": null}'"#,
-            "line 2",
-        ),
-        (
-            r#"cat > /dev/null; echo '{"tri": null}'"#,
+            answering_with(r#"echo '{"tri": null}'"#),
             "without \"line\"",
         ),
     ] {
+        let answerer = answerer.as_str();
         let (code, _, err) = tetwalk(&["shrink", "--answerer", answerer, file.to_str().unwrap()]);
         assert_eq!(code, 2, "{answerer}: {err}");
         assert!(err.contains(says), "{answerer}: {err}");
         // judge refuses the same answers.
         let answers = dir.path().join("a.jsonl");
-        let text = std::process::Command::new("sh")
+        let mut asked: serde_json::Value = serde_json::from_str(cases.trim()).unwrap();
+        asked["line"] = 1.into();
+        let mut run = std::process::Command::new("sh")
             .args(["-c", answerer])
-            .stdin(std::process::Stdio::null())
-            .output()
-            .unwrap()
-            .stdout;
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        use std::io::Write;
+        writeln!(run.stdin.take().unwrap(), "{asked}\n").unwrap();
+        let text = run.wait_with_output().unwrap().stdout;
         std::fs::write(&answers, text).unwrap();
         let (code, _, _) = tetwalk(&["judge", file.to_str().unwrap(), answers.to_str().unwrap()]);
         assert_ne!(code, 0, "{answerer}: judge accepted it");

@@ -275,6 +275,7 @@ impl Family for Segments {
 
 fn settings() -> StressSettings<Segments> {
     StressSettings {
+        contract: Default::default(),
         cases: 500,
         rows: ToyRows,
         seed: 3,
@@ -288,10 +289,16 @@ fn settings() -> StressSettings<Segments> {
 fn a_toy_family_gets_stress_tables_and_campaigns() {
     let methods: Vec<&EndMethod> = METHODS.iter().collect();
     let mut wrong = 0;
-    let report = stress::run(&settings(), &methods, &CPU, &|_| {}, &mut |w| {
-        assert_eq!(w.method.name(), "flushed");
-        wrong += 1;
-    })
+    let report = stress::run(
+        &settings(),
+        &stress::Who::methods(&methods),
+        &CPU,
+        &|_| {},
+        &mut |w| {
+            assert_eq!(w.who.name(), "flushed");
+            wrong += 1;
+        },
+    )
     .unwrap();
     let flushed =
         |r: &stress::StressReport<Segments>, row: usize| r.rows[row].tallies[1].counts.wrong;
@@ -308,8 +315,15 @@ fn a_toy_family_gets_stress_tables_and_campaigns() {
         "by-sign: 0 wrong of 1000 judged; claims robust: holds here"
     );
     assert!(!standings[1].refuted() && standings[1].wrong > 0);
-    let campaign =
-        stress::campaign(&settings(), &methods, &CPU, 0.0, &|_| {}, &mut |_| {}).unwrap();
+    let campaign = stress::campaign(
+        &settings(),
+        &stress::Who::methods(&methods),
+        &CPU,
+        0.0,
+        &|_| {},
+        &mut |_| {},
+    )
+    .unwrap();
     assert_eq!(campaign.rounds, 1);
     let json = serde_json::to_value(&campaign).unwrap();
     assert_eq!(json["rows"][1]["directions"], "subnormal");

@@ -239,6 +239,7 @@ fn exact_rays_meet_their_edge_or_vertex() {
 
 fn stress_settings(cases: usize) -> StressSettings<Triangle> {
     StressSettings {
+        contract: Default::default(),
         cases,
         rows: TriRows::default(),
         seed: 1,
@@ -263,7 +264,14 @@ fn woop_watertight_never_leaks_and_the_others_do() {
             true,
         ),
     ] {
-        let r = run(&s, &methods, backend, &|_| {}, &mut |_| {}).unwrap();
+        let r = run(
+            &s,
+            &tetwalk::engine::stress::Who::methods(&methods),
+            backend,
+            &|_| {},
+            &mut |_| {},
+        )
+        .unwrap();
         for (k, m) in methods.iter().enumerate() {
             let leaks: u64 = r.rows.iter().map(|row| row.tallies[k].counts.leaks).sum();
             if m.info.claim.is_some() && !fma {

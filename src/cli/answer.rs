@@ -155,6 +155,19 @@ pub(super) struct Tally {
     /// rows' classification.
     #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub kinds: std::collections::BTreeMap<&'static str, u64>,
+    /// Tetrahedra: wrong answers that are a face, and that are none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wrong_face: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub no_exit_face: Option<u64>,
+    /// Tetrahedra: answers to ties (more than one face right), and of them wrong.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at_tie: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wrong_at_tie: Option<u64>,
+    /// Tetrahedra: wrong answers on lines that only touch the tetrahedron.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub touch_only: Option<u64>,
     /// Hits wrong for their `t` alone: the triangle right, `t` beyond `--t-ulps`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub t_alone: Option<u64>,
@@ -252,6 +265,16 @@ impl Answering<'_> {
                     })
                     .collect();
                 of_them.push(format!("on closed meshes {}", each.join(", ")));
+            }
+            if let (Some(f), Some(n)) = (t.wrong_face, t.no_exit_face)
+                && f + n > 0
+            {
+                of_them.push(format!(
+                    "{f} a wrong face, {n} no face, {} at a tie (of {} ties), {} on a line that only touches the tetrahedron",
+                    t.wrong_at_tie.unwrap_or(0),
+                    t.at_tie.unwrap_or(0),
+                    t.touch_only.unwrap_or(0)
+                ));
             }
             if let Some(n @ 1..) = t.t_alone {
                 of_them.push(format!(
@@ -470,6 +493,23 @@ impl Tally {
     fn count(&mut self, said: Said) {
         self.right += (said.correct == Some(true)) as u64;
         self.wrong += (said.correct == Some(false)) as u64;
+        // Each family's fields, once a line of it is counted.
+        if said.cell {
+            self.missed.get_or_insert(0);
+        }
+        if said.triangle {
+            self.leaks.get_or_insert(0);
+            self.back_faces.get_or_insert(0);
+            self.t_alone.get_or_insert(0);
+        }
+        if let Some(t) = said.tet {
+            let wrong = said.correct == Some(false);
+            *self.wrong_face.get_or_insert(0) += (t.wrong == Some("wrong_face")) as u64;
+            *self.no_exit_face.get_or_insert(0) += (t.wrong == Some("no_exit_face")) as u64;
+            *self.at_tie.get_or_insert(0) += t.tie as u64;
+            *self.wrong_at_tie.get_or_insert(0) += (t.tie && wrong) as u64;
+            *self.touch_only.get_or_insert(0) += (t.touch_only && wrong) as u64;
+        }
         if let Some(m) = self.missed.as_mut() {
             *m += said.correct.is_none() as u64;
         }

@@ -7,6 +7,7 @@
 use super::{JsonOut, Status, choice};
 use crate::cases::{Case, HitCase};
 use crate::exact::classify;
+use crate::family::contract::cases_within;
 use crate::family::exit_face::{ExitRow, ExitRows, TetRow};
 use crate::family::octree::{CellRow, CellRows};
 use crate::family::triangle::{TriRow, TriRows};
@@ -16,7 +17,6 @@ use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
 use crate::scenes::rng;
 use crate::scenes::tets::{self, Target, TetShape};
 use glam::Vec3;
-use rayon::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -68,7 +68,7 @@ pub struct Args {
     /// Write an exit-face stress row's cases instead (`tet` lines for `tetwalk exit`): with the same
     /// `--flatness` (0.001 by default, as there), `--ulps` and `--seed`, the cases `stress --rows ROW`
     /// judges, in its order.
-    #[arg(long, value_parser = choice::<TetRow>(), conflicts_with_all = ["tet_shape", "rays", "offset", "with_entry"])]
+    #[arg(long, value_parser = choice::<TetRow>(), conflicts_with_all = ["tet_shape", "rays", "with_entry"])]
     row: Option<TetRow>,
     /// Write ray–triangle cases for `tetwalk hit` instead: the stress row of closed meshes of this
     /// shape, `--aim` and `--place` (`tris` lines; with the same `--flatness`, `--ulps` and `--seed`,
@@ -97,6 +97,8 @@ pub struct Args {
     /// With `--shape`: where the mesh is placed.
     #[arg(long, value_parser = choice::<TriPlace>(), default_value = "origin", requires = "shape")]
     place: TriPlace,
+    #[command(flatten)]
+    contract: super::ContractArg,
     /// Also write what was generated (settings and count) as JSON here.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -132,6 +134,7 @@ fn row<F: Family>(
     a: &Args,
     line: impl Fn(&F::Case, &F::Truth) -> Option<serde_json::Map<String, serde_json::Value>> + Sync,
 ) -> Result<usize, super::Error> {
+    let contract = a.contract.contract::<F>()?;
     let case = |i: usize| -> Option<(F::Case, F::Truth)> {
         let (c, x) = F::case(rows, row, a.seed, i)?;
         if a.scale.is_one() {
@@ -141,22 +144,23 @@ fn row<F: Family>(
             .filter(crate::family::readable::<F>)
             .and_then(|c| Some((c, F::truth(&c).ok()?)))
     };
-    // Every case made once to count them, before a line is written: a short run writes nothing.
-    let made = (0..a.count)
-        .into_par_iter()
-        .filter(|&i| case(i).is_some())
-        .count();
-    if made < a.count {
+    // Every case made before a line is written: a short run writes nothing.
+    let made = cases_within::<F>(&contract, a.count, case);
+    if made.len() < a.count {
         return Err(format!(
-            "only {made} of the row's first {} cases can be made at scale {} (the others round there, or the oracle refuses them; stress judges the same {made}): nothing was written",
-            a.count, a.scale
+            "only {} of the row's first {} cases can be made at scale {}{} (the others round there, or the oracle refuses them; stress judges the same {}): nothing was written",
+            made.len(),
+            a.count,
+            a.scale,
+            if contract.is_default() { String::new() } else { format!(" within the contract ({})", contract.describe()) },
+            made.len()
         )
         .into());
     }
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     let mut written = 0;
-    for (c, x) in (0..a.count).filter_map(case) {
-        if let Some(obj) = line(&c, &x) {
+    for (c, x) in &made {
+        if let Some(obj) = line(c, x) {
             writeln!(w, "{}", serde_json::Value::Object(obj))?;
             written += 1;
         }
@@ -181,6 +185,11 @@ pub fn run(a: Args) -> Status {
         return Err(format!("--offset {} is not finite", a.offset).into());
     }
     let out = JsonOut::new(a.json.as_deref())?;
+    let contract = a.contract.contract::<ExitFace>();
+    if a.shape.is_some() || a.cell_aim.is_some() {
+        a.contract.contract::<crate::family::Triangle>()?;
+    }
+    let contract = contract?;
     let mut r = rng(a.seed);
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     if let Some(shape) = a.shape {
@@ -218,13 +227,14 @@ pub fn run(a: Args) -> Status {
             rows: vec![at],
             flatness,
             ulps: a.ulps,
+            offset: a.offset,
             ..ExitRows::default()
         };
         let written = row::<ExitFace>(&rows, ExitRow { row: at }, &a, |c, _| {
             Some(ExitFace::case_json(c))
         })?;
         out.finish(&serde_json::json!({
-            "row": at, "flatness": flatness, "ulps": a.ulps, "seed": a.seed, "scale": a.scale,
+            "row": at, "flatness": flatness, "ulps": a.ulps, "offset": a.offset, "seed": a.seed, "scale": a.scale,
             "written": written,
         }))?;
         return Ok(ExitCode::SUCCESS);
@@ -291,6 +301,17 @@ pub fn run(a: Args) -> Status {
             match ExitFace::scaled(&case, a.scale)
                 .filter(crate::family::readable::<ExitFace>)
                 .filter(|c| ExitFace::truth(c).is_ok())
+            {
+                Some(c) => c,
+                None => continue,
+            }
+        };
+        // Within the contract: made to hold it, kept where it then does.
+        let case = if contract.is_default() {
+            case
+        } else {
+            match ExitFace::contracted(&contract, &case, written as u64)
+                .filter(|c| ExitFace::truth(c).is_ok_and(|x| ExitFace::holds(&contract, c, &x)))
             {
                 Some(c) => c,
                 None => continue,

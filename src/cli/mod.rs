@@ -22,7 +22,8 @@ mod walk;
 
 use crate::backend::{Backend, BackendKind};
 use crate::choice::Choice;
-use crate::family::Family;
+use crate::family::contract::{Contract, EntryGiven, Orientation, Origin};
+use crate::family::{ExitFace, Family};
 use crate::registry::{Gpu, Named};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand};
@@ -489,6 +490,159 @@ fn generator(flatness: f32, ulps: i32) -> Result<(), Error> {
 
 /// Largest WGSL file `--wgsl` reads.
 const MAX_WGSL: u64 = 1 << 20;
+
+/// `--answerer CMD` and its settings: a user's program answering cases over its standard input and
+/// output (docs/answerers.md), shared by `stress` and `shrink`.
+#[derive(clap::Args, Clone)]
+struct AnswererArg {
+    /// A program outside tetwalk that answers cases (a shell command, started once): batches of cases
+    /// on its standard input, one answer per case on its standard output (docs/answerers.md), judged
+    /// in place of --methods.
+    #[arg(long, value_name = "CMD")]
+    answerer: Option<String>,
+    /// The answerer's name in tables and found cases.
+    #[arg(
+        long,
+        value_name = "NAME",
+        default_value = "answerer",
+        requires = "answerer"
+    )]
+    answerer_name: String,
+    /// How cases and answers travel: `json` (JSON Lines, every family) or `binary` (fixed
+    /// little-endian records, exit faces).
+    #[arg(long, value_parser = choice::<crate::engine::answerer::Format>(), default_value = "json", requires = "answerer")]
+    answerer_format: crate::engine::answerer::Format,
+    /// Seconds the answerer may take on one batch; past them it is stopped, with everything it
+    /// started, and the run fails saying so.
+    #[arg(long, value_name = "S", default_value_t = 60.0)]
+    answerer_seconds: f64,
+    /// Cases per batch.
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 10_000,
+        requires = "answerer"
+    )]
+    answerer_batch: usize,
+    /// Exit faces: how the answerer numbers a tetrahedron's faces, `a,b,c,d` (its face i is the
+    /// case's face the i-th), or `auto` (found on well-shaped cases, reported, applied; an error when
+    /// none fits) [default: 0,1,2,3].
+    #[arg(long, value_name = "FACES", requires = "answerer")]
+    faces: Option<String>,
+}
+
+impl AnswererArg {
+    /// The answerer started, if one is given, its face numbering set (found with `well` cases of
+    /// the contract `k` under `auto`).
+    fn start<F: Family>(
+        &self,
+        k: &Contract,
+    ) -> Result<Option<crate::engine::answerer::Answerer>, Error> {
+        use crate::engine::answerer::{Answerer, find_numbering, parse_faces};
+        let Some(cmd) = &self.answerer else {
+            return Ok(None);
+        };
+        if !(self.answerer_seconds > 0.0 && self.answerer_seconds <= 1e6) {
+            return Err(format!(
+                "--answerer-seconds {} is not in (0, 1e6]",
+                self.answerer_seconds
+            )
+            .into());
+        }
+        if self.answerer_batch == 0 || self.answerer_batch > 1_000_000 {
+            return Err(format!(
+                "--answerer-batch {} is not 1 to 1,000,000 cases",
+                self.answerer_batch
+            )
+            .into());
+        }
+        if self.faces.is_some() && F::NAME != ExitFace::NAME {
+            return Err(format!(
+                "--faces numbers a tetrahedron's faces; {} cases have none",
+                F::NAME
+            )
+            .into());
+        }
+        let mut a = Answerer::start(
+            &self.answerer_name,
+            cmd,
+            self.answerer_format,
+            std::time::Duration::from_secs_f64(self.answerer_seconds),
+            self.answerer_batch,
+        )?;
+        match self.faces.as_deref() {
+            None => {}
+            Some("auto") => {
+                let rows = crate::family::exit_face::ExitRows {
+                    rows: vec![crate::family::exit_face::TetRow::Well],
+                    ..Default::default()
+                };
+                let row = crate::family::exit_face::ExitRow {
+                    row: crate::family::exit_face::TetRow::Well,
+                };
+                let cases = crate::family::contract::cases_within::<ExitFace>(k, 2000, |i| {
+                    ExitFace::case(&rows, row, 0x5eed_face, i)
+                });
+                a.faces = find_numbering(&a, &cases)?;
+                eprintln!(
+                    "tetwalk: {}'s face i is the case's face {:?}[i] (found on {} well-shaped cases; give --faces {} to skip the search)",
+                    a.name,
+                    a.faces,
+                    cases.len(),
+                    a.faces.map(|f| f.to_string()).join(",")
+                );
+            }
+            Some(f) => a.faces = parse_faces(f)?,
+        }
+        Ok(Some(a))
+    }
+}
+
+/// What a kernel assumes of its cases (docs/answerers.md, "Contracts"), shared by `stress`,
+/// `gen-cases` and `shrink`: every case made or tried holds it.
+#[derive(clap::Args, Clone, Copy)]
+struct ContractArg {
+    /// Exit faces: where each ray's origin lies — `anywhere` (the rows' own), `before` the entry face,
+    /// on the `entry` face (the entry point rounded to f32), or `inside` the tetrahedron.
+    #[arg(long, value_parser = choice::<Origin>(), default_value = "anywhere")]
+    origin: Origin,
+    /// Directions of length 1 (rounded to f32; each case judged as it then is).
+    #[arg(long)]
+    unit_direction: bool,
+    /// Exit faces: whether cases carry their entry face — `any` (every other case), `given` (all)
+    /// or `none`.
+    #[arg(long, value_parser = choice::<EntryGiven>(), default_value = "any")]
+    entry: EntryGiven,
+    /// Exit faces: `positive` tetrahedra only, or `any` orientation (half the cases mirrored).
+    #[arg(long, value_parser = choice::<Orientation>(), default_value = "positive")]
+    orientation: Orientation,
+    /// Exit faces: lines within this distance of an edge, relative to the longest edge, are outside
+    /// the contract (a kernel's epsilon); 0 for none.
+    #[arg(long, value_name = "REL", default_value_t = 0.0)]
+    tolerance: f64,
+}
+
+impl ContractArg {
+    /// The contract, checked for family `F` (only exit faces hold more than a unit direction).
+    fn contract<F: Family>(&self) -> Result<Contract, Error> {
+        let k = Contract {
+            origin: self.origin,
+            unit_direction: self.unit_direction,
+            entry: self.entry,
+            orientation: self.orientation,
+            tolerance: self.tolerance,
+        };
+        k.check()?;
+        if !F::CONTRACTS && !k.is_general() {
+            return Err(format!(
+                "--origin, --entry, --orientation and --tolerance state what an exit-face kernel assumes; {} cases take --unit-direction only",
+                F::NAME
+            )
+            .into());
+        }
+        Ok(k)
+    }
+}
 
 /// `--wgsl FILE`: a user's exit-face function in WGSL, judged on the GPU as method `user`.
 #[derive(clap::Args)]

@@ -7,6 +7,7 @@ use super::{JsonOut, Status};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::object;
 use crate::choice::Choice;
+use crate::engine::answerer::{Answerer, Format};
 use crate::engine::found::{Failure, Found, FoundError};
 use crate::engine::shrink::{CHECKS, Shrunk, bits, reproduce, shrink_on};
 use crate::family::wrong::WrongRay;
@@ -15,7 +16,6 @@ use std::collections::HashMap;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Duration;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -26,17 +26,14 @@ pub struct Args {
     /// line's `original` (a dump is never rewritten: its shrunk cases are printed).
     #[arg(long)]
     in_place: bool,
-    /// Shrink for a program outside tetwalk instead (a shell command, e.g. `python3
-    /// examples/kernels/embree_answers.py`): each line of FILE is a case (a found case too), the
-    /// command is run on every case tried (its line on standard input) and answers as `judge` reads
-    /// answers (one JSON line); the simplest case it still answers wrongly the same way is printed
-    /// (a leak stays a leak), with the line that reproduces it.
-    #[arg(long, value_name = "CMD")]
-    answerer: Option<String>,
-    /// Seconds the answerer may take on one case; past them it is stopped, with everything it
-    /// started, and the shrink fails saying so.
-    #[arg(long, value_name = "S", default_value_t = 30.0)]
-    answerer_seconds: f64,
+    /// Shrink for a program outside tetwalk instead (--answerer CMD, docs/answerers.md): each line
+    /// of FILE is a case (a found case too), asked of the program as `stress --answerer` asks; the
+    /// simplest case it still answers wrongly the same way, inside its contract, is printed (a leak
+    /// stays a leak, a failure that is no tie does not become one), with the line that reproduces it.
+    #[command(flatten)]
+    answerer: super::AnswererArg,
+    #[command(flatten)]
+    contract: super::ContractArg,
     /// Checks (exact judgements of a candidate case) one shrink may make at most.
     #[arg(long, default_value_t = CHECKS)]
     checks: usize,
@@ -161,78 +158,53 @@ fn shrink_one<F: Family>(
     }))
 }
 
-/// `cmd` run on `case` (its line on standard input): its answer, read as `judge` reads answers.
-fn outside<F: Family>(cmd: &str, limit: Duration, case: &F::Case) -> Result<F::Answer, FoundError> {
-    let fail = |why: String| FoundError::Field {
-        field: "answerer",
-        why: format!("{cmd}: {why}"),
-    };
-    let line = serde_json::Value::Object(F::case_json(case)).to_string() + "\n";
-    let (status, stdout) = crate::child::run(
-        std::process::Command::new("sh").args(["-c", cmd]),
-        line.as_bytes(),
-        limit,
-    )
-    .map_err(|e| fail(format!("{e} (on the case {})", line.trim())))?;
-    if !status.success() {
-        return Err(fail(format!("exited with {status}")));
-    }
-    // Read as `judge` reads an answers file of one case: one answer line, for line 1.
-    let text = String::from_utf8_lossy(&stdout);
-    let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
-    let [first] = lines[..] else {
-        return Err(fail(format!(
-            "answered {} lines to one case; judge reads one answer per case line",
-            lines.len()
-        )));
-    };
-    let answer: serde_json::Value = serde_json::from_str(first)
-        .map_err(|e| fail(format!("answered '{first}', not a JSON line ({e})")))?;
-    let obj = answer
-        .as_object()
-        .ok_or_else(|| fail(format!("answered '{first}', not a JSON object")))?;
-    match obj.get("line").and_then(serde_json::Value::as_u64) {
-        Some(1) => {}
-        Some(n) => {
-            return Err(fail(format!(
-                "answered '{first}' for line {n}, which holds no case: the case is line 1"
-            )));
-        }
-        None => {
-            return Err(fail(format!(
-                "answered '{first}' without \"line\": 1, the case's line number, which judge needs"
-            )));
-        }
-    }
-    F::given(obj, case).map_err(fail)
-}
-
-/// A case shrunk for a program outside tetwalk ([`outside`]).
+/// A case shrunk for a program outside tetwalk, inside its contract.
 fn shrink_outside<F: Family>(
     found: &Found<F>,
-    cmd: &str,
+    a: &Answerer,
+    contract: &super::ContractArg,
     at: &Place,
     checks: usize,
-    limit: Duration,
 ) -> Result<Result<Done, String>, FoundError> {
-    let answerer = |c: &F::Case| outside::<F>(cmd, limit, c);
-    let s = match crate::engine::shrink::shrink_with::<F>(&answerer, cmd, &found.case, &[], checks)
-    {
+    let contract = contract.contract::<F>().map_err(|e| FoundError::Field {
+        field: "contract",
+        why: e.to_string(),
+    })?;
+    let answerer = |c: &F::Case| {
+        Ok(a.answers::<F>(std::slice::from_ref(c))
+            .map_err(|e| FoundError::Field {
+                field: "answerer",
+                why: e.to_string(),
+            })?[0])
+    };
+    let s = match crate::engine::shrink::shrink_with::<F>(
+        &answerer,
+        &a.name,
+        &found.case,
+        &[],
+        checks,
+        &contract,
+    ) {
         Ok(s) => s,
         Err(FoundError::Field { field: "case", why }) => return Ok(Err(why)),
         Err(e) => return Err(e),
     };
-    let line = serde_json::Value::Object(F::case_json(&s.case)).to_string();
+    let mut asked = F::case_json(&s.case);
+    let line = serde_json::Value::Object(asked.clone()).to_string();
+    asked.insert("line".into(), 1.into());
     let quoted = |t: &str| format!("'{}'", t.replace('\'', "'\\''"));
     Ok(Ok(Done {
-        method: cmd.to_string(),
+        method: a.name.clone(),
         backend: "outside".into(),
         shrunk: serde_json::Value::Object(F::case_json(&s.case)),
-        reproduce: Some(format!(
-            "echo {0} | {1} > answer.jsonl && echo {0} | tetwalk judge - answer.jsonl",
-            quoted(&line),
-            cmd
-        )),
+        reproduce: (a.format == Format::Json).then(|| {
+            format!(
+                "printf '%s\\n\\n' {} | {} > answer.jsonl && echo {} | tetwalk judge - answer.jsonl",
+                quoted(&serde_json::Value::Object(asked).to_string()),
+                a.cmd,
+                quoted(&line),
+            )
+        }),
         ..Done::measured(at, &found.case, &s)
     }))
 }
@@ -264,17 +236,15 @@ pub fn run(a: Args) -> Status {
     if a.checks == 0 {
         return Err("--checks 0 would shrink nothing".into());
     }
-    if !(a.answerer_seconds > 0.0 && a.answerer_seconds <= 1e6) {
-        return Err(format!(
-            "--answerer-seconds {} is not in (0, 1e6]",
-            a.answerer_seconds
-        )
-        .into());
-    }
-    let limit = Duration::from_secs_f64(a.answerer_seconds);
-    if a.answerer.is_some() && a.in_place {
+    if a.answerer.answerer.is_some() && a.in_place {
         return Err("--answerer prints the shrunk cases; a user's file is not rewritten (leave out --in-place)".into());
     }
+    if a.answerer.answerer.is_none() && a.contract.contract::<ExitFace>()? != Default::default() {
+        return Err("--origin, --unit-direction, --entry, --orientation and --tolerance state an --answerer's contract; tetwalk's own methods are shrunk as they fail".into());
+    }
+    let answerer = a
+        .answerer
+        .start::<ExitFace>(&a.contract.contract::<ExitFace>()?)?;
     let mut backends = Backends(HashMap::new());
     let mut report = Report::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
@@ -302,7 +272,7 @@ pub fn run(a: Args) -> Status {
                 )
                 .into());
             }
-            let result = if let Some(cmd) = &a.answerer {
+            let result = if let Some(x) = &answerer {
                 if dump {
                     return Err(place(
                         &"--answerer shrinks cases (one per line), not a count's dump",
@@ -310,7 +280,7 @@ pub fn run(a: Args) -> Status {
                     .into());
                 }
                 crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
-                    .and_then(|found| shrink_outside::<F>(&found, cmd, &at, a.checks, limit)))
+                    .and_then(|found| shrink_outside::<F>(&found, x, &a.contract, &at, a.checks)))
             } else if dump {
                 match from_dump(obj) {
                     Ok(found) => shrink_one::<ExitFace>(&found, &at, &mut backends, a.checks),

@@ -1,13 +1,15 @@
 //! `tetwalk stress`: the failure table over a family's stress rows, a campaign over them, or the
 //! backends compared, for every family.
 
-use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg, choice};
+use super::{
+    AnswererArg, BackendArg, ContractArg, Error, FailArg, JsonOut, Status, WgslArg, choice,
+};
 use crate::backend::BackendKind;
 use crate::choice::Choice;
 use crate::engine::found::Found;
 use crate::engine::shrink;
 use crate::engine::standing::Standings;
-use crate::engine::stress::{self, StressSettings, Wrong};
+use crate::engine::stress::{self, StressSettings, Who, Wrong};
 use crate::family::exit_face::{ExitRows, TetRow};
 use crate::family::octree::CellRows;
 use crate::family::triangle::TriRows;
@@ -54,9 +56,9 @@ pub struct Args {
     /// Octree rows: where cells are placed (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<CellPlace>(), value_delimiter = ',')]
     cell_places: Vec<CellPlace>,
-    /// Methods (comma-separated, or all).
-    #[arg(long, default_value = "all")]
-    methods: String,
+    /// Methods (comma-separated, or all) [default: all; none beside an --answerer].
+    #[arg(long)]
+    methods: Option<String>,
     /// Seed of the generated cases.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     seed: u64,
@@ -64,6 +66,10 @@ pub struct Args {
     backend: BackendArg,
     #[command(flatten)]
     wgsl: WgslArg,
+    #[command(flatten)]
+    answerer: AnswererArg,
+    #[command(flatten)]
+    contract: ContractArg,
     #[command(flatten)]
     fail: FailArg,
     /// Instead of judging, count how often cpu, cpu-fma and gpu answer differently (needs a GPU).
@@ -76,6 +82,10 @@ pub struct Args {
     /// coordinate.
     #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
+    /// Exit-face rows: every case moved this far from the origin along (1, 1, 1) (rounded to f32;
+    /// each case judged as it then is).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+    offset: f32,
     /// `all`: run again under each orientation-preserving relabelling of every case's tetrahedron
     /// (exit-face: 12) and give each row's and method's wrong answers with the cases' own labelling
     /// beside their min / median / max.
@@ -86,9 +96,10 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true)]
     seconds: Option<f64>,
     /// Where a campaign files its failures as found cases (one folder per method), replayed by
-    /// `cargo test`.
-    #[arg(long, default_value = "corpora/found")]
-    found: PathBuf,
+    /// `cargo test` [default: corpora/found; with --answerer it must be given: its cases need the
+    /// program to replay].
+    #[arg(long)]
+    found: Option<PathBuf>,
     /// A campaign files at most this many new failures per method, row and kind of wrong answer.
     #[arg(long, default_value_t = 3)]
     keep: usize,
@@ -130,6 +141,7 @@ impl Rows for ExitFace {
             rows: or_all(&a.rows),
             flatness: a.flatness,
             ulps: a.ulps,
+            offset: a.offset,
             ..ExitRows::default()
         }
     }
@@ -168,8 +180,9 @@ impl Rows for OctreeCells {
 /// Each family's own row flags, whether given: one given with another family is refused.
 fn foreign(a: &Args) -> Result<(), Error> {
     use Kind::*;
-    let flags: [(&str, bool, Kind); 7] = [
+    let flags: [(&str, bool, Kind); 8] = [
         ("--rows", !a.rows.is_empty(), ExitFace),
+        ("--offset", a.offset != 0.0, ExitFace),
         ("--scenes", !a.scenes.is_empty(), Walk),
         ("--shapes", !a.shapes.is_empty(), Triangle),
         ("--aims", !a.aims.is_empty(), Triangle),
@@ -194,6 +207,9 @@ fn foreign(a: &Args) -> Result<(), Error> {
 
 pub fn run(a: Args) -> Status {
     super::generator(a.flatness, a.ulps)?;
+    if !a.offset.is_finite() {
+        return Err(format!("--offset {} is not finite", a.offset).into());
+    }
     if let Some(seconds) = a.seconds
         && !(seconds.is_finite() && seconds >= 0.0)
     {
@@ -231,6 +247,18 @@ fn stress<F: Rows>(a: Args) -> Status {
     if a.compare && a.wgsl.wgsl.is_some() {
         return Err("--compare runs every method on cpu and cpu-fma too; a --wgsl function runs on the GPU only".into());
     }
+    let contract = a.contract.contract::<F>()?;
+    if a.answerer.answerer.is_some() {
+        if a.compare || a.wgsl.wgsl.is_some() {
+            return Err(
+                "--answerer judges a program outside tetwalk: leave out --compare and --wgsl"
+                    .into(),
+            );
+        }
+        if a.seconds.is_some() && a.found.is_none() {
+            return Err("a campaign with --answerer files its found cases where --found says (corpora/found holds tetwalk's own methods', replayed by cargo test)".into());
+        }
+    }
     // A row's cases, their truths and one method's answers are held at once.
     super::fits(
         &format!("--cases {cases}"),
@@ -245,11 +273,23 @@ fn stress<F: Rows>(a: Args) -> Status {
             backend: BackendKind::Gpu,
             ..a.backend
         };
-        (gpu.open()?, family::parse_list::<F>(&a.methods)?)
+        (
+            gpu.open()?,
+            family::parse_list::<F>(a.methods.as_deref().unwrap_or("all"))?,
+        )
     } else {
-        a.wgsl.open::<F>(a.backend, &a.methods)?
+        a.wgsl
+            .open::<F>(a.backend, a.methods.as_deref().unwrap_or("all"))?
+    };
+    let answerer = a.answerer.start::<F>(&contract)?;
+    // The answerer first, then the methods asked for beside it.
+    let who: Vec<Who<F>> = match &answerer {
+        Some(x) if a.methods.is_none() => vec![Who::Outside(x)],
+        Some(x) => [vec![Who::Outside(x)], Who::methods(&methods)].concat(),
+        None => Who::methods(&methods),
     };
     let settings = StressSettings::<F> {
+        contract,
         cases,
         rows: F::chosen(&a),
         seed: a.seed,
@@ -265,17 +305,18 @@ fn stress<F: Rows>(a: Args) -> Status {
     let Some(seconds) = a.seconds else {
         let rows = F::rows(&settings.rows).len();
         let bar = super::progress("stress", (settings.cases * rows) as u64, "cases");
-        let mut report = stress::run(&settings, &methods, &backend, &|n| bar.inc(n), &mut |_| {})?;
+        let mut report = stress::run(&settings, &who, &backend, &|n| bar.inc(n), &mut |_| {})?;
         if a.relabel.is_some() {
-            report.relabel_all(&methods, &backend)?;
+            report.relabel_all(&who, &backend)?;
         }
         bar.finish_and_clear();
         print!("{}", F::stress_table(&report));
         out.finish(&report)?;
         return Ok(a.fail.status("stress", &report.standings()));
     };
-    let mut filing = Filing::new(a.found, a.keep);
-    let report = stress::campaign(&settings, &methods, &backend, seconds, &|_| {}, &mut |w| {
+    let found = a.found.unwrap_or_else(|| PathBuf::from("corpora/found"));
+    let mut filing = Filing::new(found, a.keep, answerer.as_ref().map(|x| (x, contract)));
+    let report = stress::campaign(&settings, &who, &backend, seconds, &|_| {}, &mut |w| {
         filing.file::<F>(w)
     })?;
     if let Some(e) = filing.error {
@@ -290,7 +331,12 @@ fn stress<F: Rows>(a: Args) -> Status {
 /// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
 /// kind (each with the same case for the methods that claim and fail it too); the first error stops
 /// filing and is reported.
-struct Filing {
+struct Filing<'a> {
+    /// The answerer judged, where it is one (its found cases are shrunk through it).
+    answerer: Option<(
+        &'a crate::engine::answerer::Answerer,
+        crate::family::contract::Contract,
+    )>,
     dir: PathBuf,
     keep: usize,
     kept: HashMap<(String, String, &'static str), usize>,
@@ -299,9 +345,17 @@ struct Filing {
     error: Option<String>,
 }
 
-impl Filing {
-    fn new(dir: PathBuf, keep: usize) -> Filing {
+impl<'a> Filing<'a> {
+    fn new(
+        dir: PathBuf,
+        keep: usize,
+        answerer: Option<(
+            &'a crate::engine::answerer::Answerer,
+            crate::family::contract::Contract,
+        )>,
+    ) -> Filing<'a> {
         Filing {
+            answerer,
             dir,
             keep,
             kept: HashMap::new(),
@@ -330,26 +384,20 @@ impl Filing {
     fn file<F: Family>(&mut self, w: Wrong<F>) {
         self.seen += 1;
         let row = F::row_name(w.row);
-        let found = Found::<F>::of(
-            *w.case,
-            crate::engine::found::Failure::of(w.method, w.on, *w.answer),
-        );
+        let found = Found::<F>::of(*w.case, w.who.failure(w.on, *w.answer));
         let kind = F::kind(w.answer).wrong_key();
-        let key = (
-            crate::registry::Named::name(w.method).to_string(),
-            row.clone(),
-            kind,
-        );
+        let key = (w.who.name().to_string(), row.clone(), kind);
         let n = self.kept.get(&key).copied().unwrap_or(0);
         if n >= self.keep || self.error.is_some() || self.path(&row, &found).exists() {
             return;
         }
         self.kept.insert(key, n + 1);
         // The same case for every method that claims and fails it too (on the CPU): a failure of a
-        // claim is a finding of its own, as `fuzz-import` files it.
-        let records = match found.with_claim_failures() {
-            Ok(r) => r,
-            Err(e) => {
+        // claim is a finding of its own, as `fuzz-import` files it. An answerer's cases are its own.
+        let records = match (&w.who, found.with_claim_failures()) {
+            (Who::Outside(_), _) => vec![found],
+            (_, Ok(r)) => r,
+            (_, Err(e)) => {
                 self.error = Some(e.to_string());
                 return;
             }
@@ -361,8 +409,19 @@ impl Filing {
             if file.exists() {
                 continue;
             }
-            let shrunk = if i == 0 {
-                shrink::shrink_on(&r, w.method, w.on, shrink::CHECKS).map(|(s, _)| s)
+            let shrunk = if let (Who::Outside(x), Some((_, contract))) = (&w.who, &self.answerer) {
+                let ask = |c: &F::Case| {
+                    Ok(x.answers::<F>(std::slice::from_ref(c)).map_err(|e| {
+                        crate::engine::found::FoundError::Field {
+                            field: "answerer",
+                            why: e.to_string(),
+                        }
+                    })?[0])
+                };
+                shrink::shrink_with::<F>(&ask, &x.name, &r.case, &[], shrink::CHECKS, contract)
+                    .map(|s| shrink::shrunk(&r, &s))
+            } else if let (0, Who::Method(m)) = (i, &w.who) {
+                shrink::shrink_on(&r, m, w.on, shrink::CHECKS).map(|(s, _)| s)
             } else {
                 shrink::shrink_found(&r, shrink::CHECKS).map(|s| s.map_or(r.clone(), |(s, _)| s))
             };

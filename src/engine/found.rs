@@ -154,9 +154,6 @@ impl<F: Family> Found<F> {
         };
         let bad = |field: &'static str, why: String| FoundError::Field { field, why };
         let method = field("method")?;
-        let method = family::by_name::<F>(method.as_str().unwrap_or_default())?
-            .name()
-            .to_string();
         let backend = field("backend")?;
         let backend = backend
             .as_str()
@@ -164,9 +161,20 @@ impl<F: Family> Found<F> {
             .ok_or_else(|| {
                 bad(
                     "backend",
-                    format!("{backend} is not cpu, cpu-fma, cpu-ftz or gpu"),
+                    format!("{backend} is not cpu, cpu-fma, cpu-ftz, gpu or outside"),
                 )
             })?;
+        // A method of tetwalk's by its registered name; a program outside tetwalk by the name it was
+        // judged under.
+        let method = match (backend, method.as_str()) {
+            (BackendKind::Outside, Some(name)) if !name.is_empty() => name.to_string(),
+            (BackendKind::Outside, _) => {
+                return Err(bad("method", format!("{method} is not an answerer's name")));
+            }
+            (_, name) => family::by_name::<F>(name.unwrap_or_default())?
+                .name()
+                .to_string(),
+        };
         let adapter = match adapter {
             None => None,
             Some(Value::String(a)) if backend == BackendKind::Gpu => Some(a),

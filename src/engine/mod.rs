@@ -3,6 +3,7 @@
 //! speed and the seeds' tables — returning plain tallies and records of wrong answers. Reports
 //! (`crate::report`) only format what these return.
 
+pub mod answerer;
 pub mod bench;
 pub mod count;
 pub mod filters;

@@ -8,6 +8,7 @@
 
 use crate::backend::Backend;
 use crate::engine::found::{CPU_BACKENDS, Failure, Found, FoundError, Hold, check};
+use crate::family::contract::Contract;
 use crate::family::{self, Family, Verdict};
 use crate::registry::Named;
 use crate::walk::OutcomeKind;
@@ -88,20 +89,22 @@ pub fn shrink<F: Family>(
     budget: usize,
 ) -> Result<Shrunk<F>, FoundError> {
     let answer = |c: &F::Case| Ok(F::answers(backend, m, std::slice::from_ref(c))?[0]);
-    shrink_with::<F>(&answer, m.name(), case, keep, budget)
+    shrink_with::<F>(&answer, m.name(), case, keep, budget, &Contract::default())
 }
 
-/// [`shrink`] for any answerer, `name` naming it.
+/// [`shrink`] for any answerer, `name` naming it; every case tried holds `contract` (what the
+/// answerer assumes), and a failure that is no tie does not shrink into one.
 pub fn shrink_with<F: Family>(
     answerer: &Answerer<F>,
     name: &str,
     case: &F::Case,
     keep: &[&F::Method],
     budget: usize,
+    contract: &Contract,
 ) -> Result<Shrunk<F>, FoundError> {
     let kept: Vec<(&F::Method, Hold)> = keep.iter().map(|&k| (k, Hold::Claim)).collect();
     let mut checks = 0;
-    let Some((kind, claim, answer)) = failure::<F>(answerer, case)? else {
+    let Some((kind, claim, answer, tie)) = failure::<F>(answerer, case, contract)? else {
         return Err(FoundError::Field {
             field: "case",
             why: format!("{name} answers it rightly: there is no failure to shrink"),
@@ -121,10 +124,10 @@ pub fn shrink_with<F: Family>(
             return Ok(None);
         }
         *checks += 1;
-        let Some(a) = failure::<F>(answerer, c)?
-            .filter(|&(k, refuted, _)| k == kind && (refuted || !claim))
+        let Some(a) = failure::<F>(answerer, c, contract)?
+            .filter(|&(k, refuted, _, t)| k == kind && (refuted || !claim) && (tie || !t))
             .filter(|_| touching || !F::touch_only(c))
-            .map(|(_, _, a)| a)
+            .map(|(_, _, a, _)| a)
         else {
             return Ok(None);
         };
@@ -198,13 +201,19 @@ pub fn shrink_with<F: Family>(
     Ok(best)
 }
 
+/// How a case fails: the kind of wrong ending, whether the claim is refuted, the answer, and whether
+/// the case is a tie.
+type Failing<F> = (OutcomeKind, bool, <F as Family>::Answer, bool);
+
 /// How `answerer` fails `case`, if it does: the kind of wrong ending, whether the answer refutes the
-/// family's claim (a leak, for triangles), and the answer. A case the oracle refuses (a flat
-/// tetrahedron, an origin outside the mesh) fails nothing.
+/// family's claim (a leak, for triangles), the answer, and whether the case is a tie. A case the
+/// oracle refuses (a flat tetrahedron, an origin outside the mesh), or outside `contract`, fails
+/// nothing.
 fn failure<F: Family>(
     answerer: &Answerer<F>,
     case: &F::Case,
-) -> Result<Option<(OutcomeKind, bool, F::Answer)>, FoundError> {
+    contract: &Contract,
+) -> Result<Option<Failing<F>>, FoundError> {
     // A case its own line does not read back as (a zero direction, a number the reader refuses) is
     // not a case.
     if !family::readable::<F>(case) {
@@ -213,9 +222,17 @@ fn failure<F: Family>(
     let Ok(truth) = F::truth(case) else {
         return Ok(None);
     };
+    if !contract.is_default() && !F::holds(contract, case, &truth) {
+        return Ok(None);
+    }
     let answer = answerer(case)?;
     Ok(match F::verdict(case, &truth, &answer) {
-        Verdict::Wrong(kind) => Some((kind, F::refutes_claim(case, &truth, &answer), answer)),
+        Verdict::Wrong(kind) => Some((
+            kind,
+            F::refutes_claim(case, &truth, &answer),
+            answer,
+            F::tie(&truth),
+        )),
         _ => None,
     })
 }

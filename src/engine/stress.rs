@@ -3,10 +3,12 @@
 //! labellings (`--relabel all`), and the backends compared.
 
 use crate::backend::{Backend, BackendError, CPU, CPU_FMA, Ran};
+use crate::engine::answerer::Answerer;
+use crate::engine::found::Failure;
 use crate::exact::Counts;
+use crate::family::contract::{Contract, cases_within};
 use crate::family::{Family, Scale, Summed, Verdict};
 use crate::registry::Named;
-use rayon::prelude::*;
 
 /// Settings of a stress run: cases per row, the seed, where the methods run, and the family's rows.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -20,6 +22,9 @@ pub struct StressSettings<F: Family> {
     /// Every case at this power-of-two scale (`--scale`); 1 unless asked.
     #[serde(skip_serializing_if = "Scale::is_one")]
     pub scale: Scale,
+    /// What the kernel judged assumes: every case holds it ([`crate::family::contract`]).
+    #[serde(skip_serializing_if = "Contract::is_default")]
+    pub contract: Contract,
 }
 
 /// One method's counts on one row.
@@ -76,11 +81,67 @@ fn is_zero(c: &Counts) -> bool {
     *c == Counts::default()
 }
 
-/// A wrong answer a run shows: its row, the method and where it ran, the case, its truth and the
-/// answer.
+/// Who answers a row's cases: a registered method on the run's backend, or a user's program outside
+/// tetwalk ([`Answerer`]).
+pub enum Who<'a, F: Family> {
+    Method(&'a F::Method),
+    Outside(&'a Answerer),
+}
+
+impl<F: Family> Clone for Who<'_, F> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<F: Family> Copy for Who<'_, F> {}
+
+impl<'a, F: Family> Who<'a, F> {
+    /// Every one of `methods`.
+    pub fn methods(methods: &[&'a F::Method]) -> Vec<Who<'a, F>> {
+        methods.iter().map(|&m| Who::Method(m)).collect()
+    }
+
+    /// Its name in reports and found cases.
+    pub fn name(&self) -> &str {
+        match self {
+            Who::Method(m) => m.name(),
+            Who::Outside(a) => &a.name,
+        }
+    }
+
+    /// Its answers to `cases` (a method's on `backend`).
+    pub fn answers(
+        &self,
+        backend: &Backend,
+        cases: &[F::Case],
+    ) -> Result<Vec<F::Answer>, BackendError> {
+        match self {
+            Who::Method(m) => F::answers(backend, m, cases),
+            Who::Outside(a) => a
+                .answers::<F>(cases)
+                .map_err(|e| BackendError::Outside(e.to_string())),
+        }
+    }
+
+    /// A wrong answer of its where it ran, as a found case records it.
+    pub fn failure(&self, backend: &Backend, answer: F::Answer) -> Failure<F> {
+        match self {
+            Who::Method(m) => Failure::<F>::of(m, backend, answer),
+            Who::Outside(a) => Failure {
+                method: a.name.clone(),
+                backend: crate::choice::BackendKind::Outside,
+                adapter: None,
+                answer,
+            },
+        }
+    }
+}
+
+/// A wrong answer a run shows: its row, who answered and where, the case, its truth and the answer.
 pub struct Wrong<'a, F: Family> {
     pub row: &'a F::Row,
-    pub method: &'a F::Method,
+    pub who: Who<'a, F>,
     pub on: &'a Backend,
     pub case: &'a F::Case,
     pub truth: &'a F::Truth,
@@ -103,27 +164,24 @@ pub type Judged<F> = Vec<(<F as Family>::Case, <F as Family>::Truth)>;
 /// A row's cases with their truths, and the oracle's counts making them; case `i` a pure function of
 /// the seed, the row and `i`, generated in parallel.
 pub fn row_cases<F: Family>(s: &StressSettings<F>, row: F::Row) -> (Judged<F>, Counts) {
-    let made: Vec<_> = (0..s.cases)
-        .into_par_iter()
-        .map(|i| {
-            counted(|| {
-                let made = F::case(&s.rows, row, s.seed, i)?;
-                if s.scale.is_one() {
-                    return Some(made);
-                }
-                // At another scale: the case scaled, judged again as it now is, left out where it
-                // no longer reads back (a number overflowed) or the oracle refuses it.
-                let c = F::scaled(&made.0, s.scale).filter(crate::family::readable::<F>)?;
-                Some((c, F::truth(&c).ok()?))
-            })
-        })
-        .collect();
-    let mut counts = Counts::default();
-    let mut cases = Vec::with_capacity(made.len());
-    for (c, k) in made {
-        counts += k;
-        cases.extend(c);
-    }
+    let made = std::sync::Mutex::new(Counts::default());
+    let cases = cases_within::<F>(&s.contract, s.cases, |i| {
+        let (c, k) = counted(|| {
+            let made = F::case(&s.rows, row, s.seed, i)?;
+            if s.scale.is_one() {
+                return Some(made);
+            }
+            // At another scale: the case scaled, judged again as it now is, left out where it
+            // no longer reads back (a number overflowed) or the oracle refuses it.
+            let c = F::scaled(&made.0, s.scale).filter(crate::family::readable::<F>)?;
+            Some((c, F::truth(&c).ok()?))
+        });
+        if let Ok(mut m) = made.lock() {
+            *m += k;
+        }
+        c
+    });
+    let counts = made.into_inner().unwrap_or_default();
     (cases, counts)
 }
 
@@ -131,12 +189,12 @@ pub fn row_cases<F: Family>(s: &StressSettings<F>, row: F::Row) -> (Judged<F>, C
 /// and mapped back.
 fn answered<F: Family>(
     s: &StressSettings<F>,
-    m: &F::Method,
+    m: Who<F>,
     backend: &Backend,
     cases: &[(F::Case, F::Truth)],
 ) -> Result<Vec<F::Answer>, BackendError> {
     let seen: Vec<F::Case> = cases.iter().map(|(c, _)| F::relabel(&s.rows, c)).collect();
-    Ok(F::answers(backend, m, &seen)?
+    Ok(m.answers(backend, &seen)?
         .into_iter()
         .map(|a| F::unrelabel(&s.rows, a))
         .collect())
@@ -146,7 +204,7 @@ fn answered<F: Family>(
 /// verdict. The stress table and the conformance kit judge with this.
 pub fn judge<F: Family>(
     s: &StressSettings<F>,
-    m: &F::Method,
+    m: Who<F>,
     backend: &Backend,
     cases: &[(F::Case, F::Truth)],
     mut each: impl FnMut(&F::Case, &F::Truth, &F::Answer, Verdict),
@@ -163,7 +221,7 @@ pub fn judge<F: Family>(
 /// told how many cases each row held, and `wrong` sees every wrong answer.
 pub fn run<F: Family>(
     s: &StressSettings<F>,
-    methods: &[&F::Method],
+    methods: &[Who<F>],
     backend: &Backend,
     tick: &(dyn Fn(u64) + Sync),
     wrong: &mut OnWrong<F>,
@@ -175,12 +233,16 @@ pub fn run<F: Family>(
         oracle += counts;
         let mut tallies = Vec::new();
         for &m in methods {
+            let on = match m {
+                Who::Method(m) => backend.for_method(m),
+                Who::Outside(_) => backend,
+            };
             let counts = judge(s, m, backend, &cases, |case, truth, answer, v| {
                 if let Verdict::Wrong(_) = v {
                     wrong(Wrong {
                         row: &row,
-                        method: m,
-                        on: backend.for_method(m),
+                        who: m,
+                        on,
                         case,
                         truth,
                         answer,
@@ -226,7 +288,7 @@ impl<F: Family> StressReport<F> {
     /// and keep each row's and method's wrong answers under all of them.
     pub fn relabel_all(
         &mut self,
-        methods: &[&F::Method],
+        methods: &[Who<F>],
         backend: &Backend,
     ) -> Result<(), BackendError> {
         let wrong = |r: &StressReport<F>| -> Vec<u64> {
@@ -266,7 +328,7 @@ impl<F: Family> StressReport<F> {
 /// passed (one round at least); the tallies summed over rounds.
 pub fn campaign<F: Family>(
     s: &StressSettings<F>,
-    methods: &[&F::Method],
+    methods: &[Who<F>],
     backend: &Backend,
     seconds: f64,
     tick: &(dyn Fn(u64) + Sync),

@@ -1,6 +1,7 @@
 //! One tetrahedron's exit face (seeds 000 and 003): a tetrahedron, a ray and the face it entered
 //! through; the answer a face, judged against every exact exit face.
 
+use super::contract::{self, Contract, EntryGiven, Orientation, Origin};
 use super::{Family, Verdict, given_fields};
 use crate::backend::{Backend, BackendError};
 use crate::cases::{CaseError, classify, field_error, vec3};
@@ -37,6 +38,9 @@ pub enum TetRow {
     ThroughEdge,
     /// Exactly through a vertex.
     ThroughVertex,
+    /// Every shape in turn, moved 10 to 1,000 from the origin: where a mesh in millimetres sits (last,
+    /// so that the other rows' cases, seeded by their place, stay as they were).
+    MmOffset,
 }
 
 crate::choice!(TetRow {
@@ -50,6 +54,7 @@ crate::choice!(TetRow {
     NearVertex => "near-vertex",
     ThroughEdge => "through-edge",
     ThroughVertex => "through-vertex",
+    MmOffset => "mm-offset",
 });
 
 /// A stress row of tetrahedron cases, as its report's row writes it.
@@ -66,6 +71,9 @@ pub struct ExitRows {
     pub flatness: f32,
     /// Largest ulp offset of the near-* rows.
     pub ulps: i32,
+    /// Every case moved this far from the origin along (1, 1, 1) (`--offset`; each coordinate rounded
+    /// to f32, the case judged as it then is); 0 for none.
+    pub offset: f32,
     /// How every case's tetrahedron is relabelled before the methods see it (new vertex `i` is old
     /// vertex `relabel[i]`; answers are mapped back): one of [`EVEN_PERMUTATIONS`].
     pub relabel: [usize; 4],
@@ -77,6 +85,7 @@ impl Default for ExitRows {
             rows: <TetRow as crate::choice::Choice>::ALL.to_vec(),
             flatness: 1e-3,
             ulps: 4,
+            offset: 0.0,
             relabel: EVEN_PERMUTATIONS[0],
         }
     }
@@ -89,6 +98,10 @@ pub struct ExitTally {
     pub judged: u64,
     pub wrong_face: u64,
     pub no_exit_face: u64,
+    /// Of the wrong answers: at a tie (the line leaves through an edge or vertex, more than one face
+    /// right), and on a line that only touches the tetrahedron.
+    pub wrong_at_tie: u64,
+    pub wrong_touch_only: u64,
 }
 
 impl super::Summed for ExitTally {
@@ -96,14 +109,25 @@ impl super::Summed for ExitTally {
         self.judged += o.judged;
         self.wrong_face += o.wrong_face;
         self.no_exit_face += o.no_exit_face;
+        self.wrong_at_tie += o.wrong_at_tie;
+        self.wrong_touch_only += o.wrong_touch_only;
     }
 }
 
 /// The face (0..3, in the case's own numbering) a method answers, or none.
 pub type Face = Option<u8>;
 
-/// Case `i` of `row`: a pure function of `(seed, row, i)`.
+/// Case `i` of `row`: a pure function of `(seed, row, i)`, moved by the rows' offset.
 fn generate(rows: &ExitRows, row: TetRow, seed: u64, i: usize) -> Option<(crate::tet::Tet, Ray)> {
+    let (t, ray) = made(rows, row, seed, i)?;
+    if rows.offset == 0.0 {
+        return Some((t, ray));
+    }
+    tets::translated(&t, &ray, Vec3::splat(rows.offset / 3f32.sqrt()))
+}
+
+/// Case `i` of `row` where the row makes it.
+fn made(rows: &ExitRows, row: TetRow, seed: u64, i: usize) -> Option<(crate::tet::Tet, Ray)> {
     let key = seed
         ^ (row as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15)
         ^ (i as u64).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -129,19 +153,33 @@ fn generate(rows: &ExitRows, row: TetRow, seed: u64, i: usize) -> Option<(crate:
         TetRow::Wedge => stab(TetShape::Wedge, &mut r),
         TetRow::FarOffset => {
             let (t, ray) = stab(TetShape::Well, &mut r)?;
-            let d = 10f32.powf(r.random_range(4.0..6.0));
-            let dir = Vec3::new(
-                r.random_range(-1.0..1.0),
-                r.random_range(-1.0..1.0),
-                r.random_range(-1.0..1.0),
-            );
-            tets::translated(&t, &ray, dir.normalize_or(Vec3::X) * d)
+            away(&t, &ray, 4.0..6.0, &mut r)
+        }
+        TetRow::MmOffset => {
+            let (t, ray) = stab(shape, &mut r)?;
+            away(&t, &ray, 1.0..3.0, &mut r)
         }
         TetRow::NearEdge => tets::near(shape, flat(shape), Target::Edge, rows.ulps, &mut r),
         TetRow::NearVertex => tets::near(shape, flat(shape), Target::Vertex, rows.ulps, &mut r),
         TetRow::ThroughEdge => tets::through(shape, flat(shape), Target::Edge, &mut r),
         TetRow::ThroughVertex => tets::through(shape, flat(shape), Target::Vertex, &mut r),
     }
+}
+
+/// The case moved 10^e from the origin (`e` drawn in `powers`) in a random direction.
+fn away(
+    t: &crate::tet::Tet,
+    ray: &Ray,
+    powers: std::ops::Range<f32>,
+    r: &mut crate::scenes::Rng,
+) -> Option<(crate::tet::Tet, Ray)> {
+    let d = 10f32.powf(r.random_range(powers));
+    let dir = Vec3::new(
+        r.random_range(-1.0..1.0),
+        r.random_range(-1.0..1.0),
+        r.random_range(-1.0..1.0),
+    );
+    tets::translated(t, ray, dir.normalize_or(Vec3::X) * d)
 }
 
 /// A face number 0..3, or null.
@@ -270,6 +308,10 @@ impl Family for ExitFace {
         perturbed_exit(&tet, &c.ray()).is_ok_and(|(face, x)| face.is_none() && x.meets())
     }
 
+    fn tie(x: &Classification) -> bool {
+        x.exit.iter().count() > 1
+    }
+
     fn right_answers(_: &Case, x: &Classification) -> String {
         format!(
             "exit faces {:?} (entry faces {:?})",
@@ -362,6 +404,8 @@ impl Family for ExitFace {
                 t.judged += 1;
                 t.wrong_face += face.is_some() as u64;
                 t.no_exit_face += face.is_none() as u64;
+                t.wrong_at_tie += Self::tie(x) as u64;
+                t.wrong_touch_only += Self::touch_only(c) as u64;
             }
         }
     }
@@ -392,4 +436,136 @@ impl Family for ExitFace {
     fn arbitrary(u: &mut arbitrary::Unstructured) -> Option<Case> {
         crate::scenes::from_bytes::exit_case(u).ok().flatten()
     }
+
+    /// 80 bytes: the four vertices, the origin and the direction (18 f32), the entry face (i32, -1
+    /// for none), 4 bytes of zeros.
+    fn case_record(c: &Case) -> Option<Vec<u8>> {
+        let mut b: Vec<u8> = Self::numbers(c)
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        b.extend(c.entry.map_or(-1, |e| e as i32).to_le_bytes());
+        b.extend([0; 4]);
+        Some(b)
+    }
+
+    /// 4 bytes: the exit face (i32, -1 for none).
+    const ANSWER_RECORD: usize = 4;
+
+    fn answer_record(b: &[u8]) -> Result<Face, String> {
+        match i32::from_le_bytes(b.try_into().map_err(|_| "a short record")?) {
+            -1 => Ok(None),
+            f @ 0..=3 => Ok(Some(f as u8)),
+            f => Err(format!("answered face {f}, not 0..3 or -1 (none)")),
+        }
+    }
+
+    fn renumbered(face: Face, faces: &[u8; 4]) -> Face {
+        face.map(|f| faces[f as usize])
+    }
+
+    const CONTRACTS: bool = true;
+
+    /// Mirrored (vertices 0 and 1 swapped) where the contract takes either orientation and `key`'s
+    /// bit 1 is set; the origin kept where it already lies as the contract says, else moved along the
+    /// line (rounded to f32; the case is judged again as it then is); the direction made a unit one;
+    /// the entry face given or left out.
+    fn contracted(k: &Contract, c: &Case, key: u64) -> Option<Case> {
+        let mut c = *c;
+        if k.orientation == Orientation::Any && key & 2 != 0 {
+            c.tet.swap(0, 1);
+            c.entry = c.entry.map(|e| [1, 0, 2, 3][e as usize]);
+        }
+        if k.unit_direction {
+            c.dir = contract::unit(c.dir)?;
+        }
+        let x = classify(&c).ok()?;
+        if (k.origin != Origin::Anywhere || k.entry == EntryGiven::Given) && !x.meets() {
+            return None;
+        }
+        let within = |o: Vec3| origin_holds(k.origin, &c.tet, o, &x);
+        if !within(c.org) {
+            let (t_in, t_out) = span(&c.tet, c.org, c.dir)?;
+            let at = |t: f64| (c.org.as_dvec3() + c.dir.as_dvec3() * t).as_vec3();
+            c.org = match k.origin {
+                Origin::Anywhere => c.org,
+                Origin::Inside => at(0.5 * (t_in + t_out)),
+                Origin::Entry => at(t_in),
+                Origin::Before => at(t_in - 0.5 * (t_out - t_in)),
+            };
+        }
+        let x = classify(&c).ok()?;
+        c.entry = match k.entry {
+            EntryGiven::Any => c.entry.filter(|&e| x.entry.contains(e as usize)),
+            EntryGiven::Given => Some(x.entry.first()? as u8),
+            EntryGiven::None => None,
+        };
+        Some(c)
+    }
+
+    fn holds(k: &Contract, c: &Case, x: &Classification) -> bool {
+        let meets = x.meets() || (k.origin == Origin::Anywhere && k.entry != EntryGiven::Given);
+        let entry = match (k.entry, c.entry) {
+            (EntryGiven::None, e) => e.is_none(),
+            (EntryGiven::Given, None) => false,
+            (_, e) => e.is_none_or(|e| x.entry.contains(e as usize)),
+        };
+        meets
+            && entry
+            && (k.orientation == Orientation::Any || crate::tet::orientation(&c.tet) > 0)
+            && (!k.unit_direction || contract::is_unit(c.dir))
+            && origin_holds(k.origin, &c.tet, c.org, x)
+            && (k.tolerance == 0.0 || contract::edge_distance(&c.tet, c.org, c.dir) >= k.tolerance)
+    }
+}
+
+/// Whether `o` lies where `origin` says, for a line whose exact faces are `x`: strictly inside
+/// (exact); strictly outside the plane of every entry face (exact: before the line enters); on the
+/// entry face (within 2^-21 of the case's largest coordinate or edge from its plane, in f64: an entry
+/// point rounded to f32).
+fn origin_holds(origin: Origin, tet: &crate::tet::Tet, o: Vec3, x: &Classification) -> bool {
+    match origin {
+        Origin::Anywhere => true,
+        Origin::Inside => contract::strictly_inside(tet, o),
+        Origin::Before => {
+            !x.entry.is_empty() && x.entry.iter().all(|f| contract::face_side(tet, f, o) < 0)
+        }
+        Origin::Entry => {
+            let size = tets::scale_of(tet.iter().chain([&o])) as f64;
+            x.entry.iter().any(|f| {
+                let [a, b, c] = crate::tet::FACE_VERTICES[f].map(|i| tet[i].as_dvec3());
+                let n = (b - a).cross(c - a);
+                (n.dot(o.as_dvec3() - a) / n.length()).abs() <= size * 2f64.powi(-21)
+            })
+        }
+    }
+}
+
+/// The parameters where the line `o + t·d` enters and leaves the tetrahedron, in f64; `None` where
+/// it misses it there.
+fn span(tet: &crate::tet::Tet, o: Vec3, d: Vec3) -> Option<(f64, f64)> {
+    let (o, d) = (o.as_dvec3(), d.as_dvec3());
+    let (mut t_in, mut t_out) = (f64::NEG_INFINITY, f64::INFINITY);
+    for (f, v) in crate::tet::FACE_VERTICES.iter().enumerate() {
+        let [a, b, c] = v.map(|i| tet[i].as_dvec3());
+        let mut n = (b - a).cross(c - a);
+        // Outward: away from the opposite vertex.
+        if n.dot(tet[f].as_dvec3() - a) > 0.0 {
+            n = -n;
+        }
+        let (num, den) = (n.dot(a - o), n.dot(d));
+        if den == 0.0 {
+            if num < 0.0 {
+                return None;
+            }
+            continue;
+        }
+        let t = num / den;
+        if den < 0.0 {
+            t_in = t_in.max(t);
+        } else {
+            t_out = t_out.min(t);
+        }
+    }
+    (t_in.is_finite() && t_out.is_finite() && t_in <= t_out).then_some((t_in, t_out))
 }

@@ -9,6 +9,7 @@
 //! rows (`src/cli/stress.rs`).
 
 pub mod bins;
+pub mod contract;
 pub mod count;
 pub mod exit_face;
 pub mod octree;
@@ -169,6 +170,10 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     fn touch_only(_case: &Self::Case) -> bool {
         false
     }
+    /// Whether the case is an exact tie: more than one answer is right.
+    fn tie(_truth: &Self::Truth) -> bool {
+        false
+    }
     /// The right answers, in words.
     fn right_answers(case: &Self::Case, truth: &Self::Truth) -> String;
 
@@ -280,6 +285,51 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
         let mut r = Self::ray(&c);
         r.dir = Self::ray(case).dir.map(|x| Scale::times(x, s.direction));
         Some(Self::with_ray(&c, r))
+    }
+
+    // ---- Answerers (`crate::engine::answerer`) ----
+
+    /// A case as a binary record (docs/answerers.md), `None` where the family has none.
+    fn case_record(_case: &Self::Case) -> Option<Vec<u8>> {
+        None
+    }
+    /// Bytes of one binary answer record.
+    const ANSWER_RECORD: usize = 0;
+    /// A binary answer record read.
+    fn answer_record(_bytes: &[u8]) -> Result<Self::Answer, String> {
+        Err(format!(
+            "the {} family has no binary answer record",
+            Self::NAME
+        ))
+    }
+    /// An answer given in another numbering of a tetrahedron's faces read in the case's own (answered
+    /// face `i` is the case's `faces[i]`); other families' answers are as they are.
+    fn renumbered(answer: Self::Answer, _faces: &[u8; 4]) -> Self::Answer {
+        answer
+    }
+
+    // ---- Contracts (`contract`) ----
+
+    /// Whether its cases can hold every [`contract::Contract`] (origin, entry face, orientation,
+    /// tolerance); the others' hold a unit direction only.
+    const CONTRACTS: bool = false;
+    /// The case made to hold `contract` (`key` a pure choice per case, such as which cases are
+    /// mirrored); `None` where it cannot be. By default only the direction is made a unit one.
+    fn contracted(
+        contract: &contract::Contract,
+        case: &Self::Case,
+        _key: u64,
+    ) -> Option<Self::Case> {
+        if !contract.unit_direction {
+            return Some(*case);
+        }
+        let mut r = Self::ray(case);
+        r.dir = contract::unit(r.dir)?;
+        Some(Self::with_ray(case, r))
+    }
+    /// Whether the case, whose exact truth is `truth`, holds `contract`.
+    fn holds(contract: &contract::Contract, case: &Self::Case, _truth: &Self::Truth) -> bool {
+        !contract.unit_direction || contract::is_unit(Self::ray(case).dir)
     }
 
     // ---- Fuzzing and the kit ----

@@ -6,7 +6,7 @@ use super::{Failed, Group, Passed, Settings, per_million};
 use crate::backend::{Backend, CPU, CPU_FMA};
 use crate::engine::found::Found;
 use crate::engine::shrink;
-use crate::engine::stress::{StressSettings, judge, row_cases};
+use crate::engine::stress::{StressSettings, Who, judge, row_cases};
 use crate::family::{self, Family, Verdict};
 use crate::registry::Named;
 use rand::RngExt;
@@ -135,6 +135,7 @@ fn backend(s: &Settings) -> &'static Backend {
 pub fn check<F: Family>(m: &F::Method, s: &Settings) -> Result<Passed, Box<Failed>> {
     let on = backend(s);
     let st = StressSettings::<F> {
+        contract: Default::default(),
         cases: F::kit_row_cases(s.cases),
         rows: F::Rows::default(),
         seed: s.seed,
@@ -145,7 +146,7 @@ pub fn check<F: Family>(m: &F::Method, s: &Settings) -> Result<Passed, Box<Faile
     for row in F::rows(&st.rows) {
         let mut t = Tally::<F>::new(format!("stress row {}", F::row_name(&row)));
         let cases = row_cases(&st, row).0;
-        judge(&st, m, on, &cases, |c, x, a, v| {
+        judge(&st, Who::Method(m), on, &cases, |c, x, a, v| {
             t.add(s, (m, on), (c, x, a), v)
         })
         .expect("the CPU answers every case");

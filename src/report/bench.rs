@@ -21,13 +21,13 @@ impl BenchReport {
             self.batch
         );
         for b in &self.backends {
-            use crate::choice::BackendKind::{Cpu, CpuFma, CpuFtz, Gpu};
+            use crate::choice::BackendKind::{Cpu, CpuFma, CpuFtz, Gpu, Outside};
             let how = match b.kind {
                 CpuFma if self.fma_instruction => " (on the FMA instruction)",
                 CpuFma => " (through f32::mul_add: no FMA instruction here, or TETWALK_NO_FMA=1)",
                 Cpu | CpuFtz if self.avx2 => " (compiled for AVX2)",
                 Cpu | CpuFtz => " (compiled for SSE2: no AVX2 here, or TETWALK_NO_AVX2=1)",
-                Gpu => "",
+                Gpu | Outside => "",
             };
             out += &format!("- {b}{how}\n");
         }

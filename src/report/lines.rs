@@ -19,11 +19,28 @@ use serde_json::{Map, Value, json};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Said {
     pub correct: Option<bool>,
+    /// A cell's case (a tetrahedron's or an octree cell's), whose line may miss the cell.
+    pub cell: bool,
+    /// A triangle case (leaks, back faces and `t` are counted).
+    pub triangle: bool,
+    /// A tetrahedron's case: how it was answered.
+    pub tet: Option<TetSaid>,
     pub leak: bool,
     pub back_face: bool,
     pub t_alone: bool,
     /// What a wrong closed-mesh answer is ([`HitTruth::wrong_kind`]).
     pub kind: Option<&'static str>,
+}
+
+/// What a tetrahedron case's verdict line says besides right or wrong.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TetSaid {
+    /// Wrong with a face (`wrong_face`) or with none (`no_exit_face`).
+    pub wrong: Option<&'static str>,
+    /// More than one face is right: the line leaves through an edge or vertex.
+    pub tie: bool,
+    /// The line only touches the tetrahedron (an edge, a vertex, along a face).
+    pub touch_only: bool,
 }
 
 /// How a family's verdict lines read.
@@ -62,15 +79,32 @@ impl Lines for ExitFace {
         face: &Face,
         _: f64,
     ) -> (Map<String, Value>, Said) {
-        let ok = correct(Self::verdict(c, x, face));
+        let v = Self::verdict(c, x, face);
+        let ok = correct(v);
+        let said = TetSaid {
+            wrong: match v {
+                Verdict::Wrong(_) if face.is_some() => Some("wrong_face"),
+                Verdict::Wrong(_) => Some("no_exit_face"),
+                _ => None,
+            },
+            tie: Self::tie(x),
+            touch_only: x.meets() && Self::touch_only(c),
+        };
+        let verdict = match v {
+            Verdict::Right => "right",
+            Verdict::NotJudged => "not_judged",
+            Verdict::Wrong(_) => said.wrong.unwrap_or_default(),
+        };
         let line = json!({
             "face": face, "exact_exit": x.exit.to_vec(), "exact_entry": x.entry.to_vec(),
-            "correct": ok,
+            "correct": ok, "verdict": verdict, "tie": said.tie, "touch_only": said.touch_only,
         });
         (
             fields(line),
             Said {
                 correct: ok,
+                cell: true,
+                tet: Some(said),
                 ..Said::default()
             },
         )
@@ -150,10 +184,12 @@ impl Lines for Triangle {
             o,
             Said {
                 correct: Some(ok),
+                triangle: true,
                 leak,
                 back_face: truth.back_face(),
                 t_alone: triangle_right && !ok,
                 kind,
+                ..Said::default()
             },
         )
     }
@@ -182,6 +218,7 @@ impl Lines for OctreeCells {
             fields(line),
             Said {
                 correct: ok,
+                cell: true,
                 ..Said::default()
             },
         )

@@ -82,8 +82,16 @@ impl Formats for ExitFace {
     /// Per row and method, wrong exit faces / "no exit face", per million judged cases.
     fn stress_table(r: &StressReport<Self>) -> String {
         let s = &r.settings;
+        let offset = match s.rows.offset {
+            0.0 => String::new(),
+            d => format!(", every case moved {d} along (1, 1, 1)"),
+        };
+        let contract = match s.contract.is_default() {
+            true => String::new(),
+            false => format!(", within the contract: {}", s.contract.describe()),
+        };
         let mut out = format!(
-            "{} cases per row{}, {}, {}, flatness {}, near-* within {} ulps of each case's largest coordinate; cells: wrong face / no exit face per million judged cases\n\n",
+            "{} cases per row{}, {}, {}, flatness {}, near-* within {} ulps of each case's largest coordinate{offset}{contract}; cells: wrong face / no exit face per million judged cases\n\n",
             s.cases,
             rounds(r),
             seeds(r),

@@ -1,0 +1,466 @@
+//! The answerer protocol (docs/answerers.md): programs outside tetwalk — the C and numpy kernels of
+//! `examples/kernels/`, and small shell and Python ones here — stressed, campaigned and shrunk through
+//! it, within their contracts.
+
+mod common;
+
+use common::run_tetwalk;
+use serde_json::Value;
+use tetwalk::cases::classify;
+use tetwalk::tet::{Case, FACE_VERTICES, orientation};
+
+fn tetwalk(args: &[&str]) -> (i32, String, String) {
+    run_tetwalk(args, b"")
+}
+
+/// The stress report `args` writes with `--json`.
+fn stress(args: &[&str]) -> (Value, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("r.json");
+    let mut all = vec!["stress"];
+    all.extend(args);
+    all.extend(["--json", json.to_str().unwrap()]);
+    let (code, _, err) = tetwalk(&all);
+    assert_eq!(code, 0, "{args:?}: {err}");
+    (
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap(),
+        err,
+    )
+}
+
+/// Every row's tally of the `k`-th judged (answerer or method), as written.
+fn tallies(r: &Value, k: usize) -> Vec<Value> {
+    r["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| {
+            let mut t = row["tallies"][k].clone();
+            t.as_object_mut().unwrap().remove("method");
+            t
+        })
+        .collect()
+}
+
+/// `judge`'s summary of `answers` (one line each) to `cases`, written in `dir`.
+fn judged(dir: &std::path::Path, cases: &str, answers: &str) -> Value {
+    let (c, a, j) = (dir.join("c.jsonl"), dir.join("a.jsonl"), dir.join("j.json"));
+    std::fs::write(&c, cases).unwrap();
+    std::fs::write(&a, answers).unwrap();
+    tetwalk(&[
+        "judge",
+        c.to_str().unwrap(),
+        a.to_str().unwrap(),
+        "--json",
+        j.to_str().unwrap(),
+    ]);
+    serde_json::from_str(&std::fs::read_to_string(&j).unwrap()).unwrap()
+}
+
+/// The C kernel (examples/kernels/c/plucker_eps.c) built here.
+fn c_kernel(dir: &std::path::Path) -> String {
+    let exe = dir.join("plucker_eps");
+    let built = std::process::Command::new("cc")
+        .args(["-O2", "-o"])
+        .arg(&exe)
+        .arg(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/examples/kernels/c/plucker_eps.c"
+        ))
+        .status()
+        .expect("a C compiler, cc (.ci/setup installs it)");
+    assert!(built.success());
+    exe.to_str().unwrap().to_string()
+}
+
+/// A C kernel in binary records, numbering faces its own way: `--faces auto` finds its numbering
+/// (face j opposite vertex j + 3), and the table is then the one the numbering given by hand makes;
+/// the identity numbering makes nearly every well-shaped case wrong.
+#[test]
+fn a_c_kernel_in_binary_records_is_judged_with_its_numbering_found() {
+    let dir = tempfile::tempdir().unwrap();
+    let exe = c_kernel(dir.path());
+    let base = [
+        "--answerer",
+        &exe,
+        "--answerer-format",
+        "binary",
+        "--rows",
+        "well,near-edge,near-vertex",
+        "--cases",
+        "3000",
+    ];
+    let with = |faces: &str| {
+        let mut a = base.to_vec();
+        a.extend(["--faces", faces]);
+        stress(&a)
+    };
+    let (auto, err) = with("auto");
+    assert!(err.contains("[3, 0, 1, 2]"), "{err}");
+    let (given, _) = with("3,0,1,2");
+    assert_eq!(tallies(&auto, 0), tallies(&given, 0));
+    // Found on its well-shaped cases: right there, and wrong near edges (its epsilon).
+    let wrong = |r: &Value, row: usize| {
+        let t = &r["rows"][row]["tallies"][0];
+        t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap()
+    };
+    assert_eq!(wrong(&auto, 0), 0);
+    assert!(wrong(&auto, 1) > 100, "{auto}");
+    let (identity, _) = with("0,1,2,3");
+    assert!(wrong(&identity, 0) > 2000, "{identity}");
+}
+
+/// A Python kernel in numpy, reading binary records with one `frombuffer` a batch, answers as
+/// tetwalk's own `ray-plane` does, case for case: the same table row for row. Needs numpy (`apt
+/// install python3-numpy`; CI, with TETWALK_REQUIRE_NUMPY=1, fails without it).
+#[test]
+fn the_numpy_kernel_answers_as_tetwalks_ray_plane_does() {
+    let has = std::process::Command::new("python3")
+        .args(["-c", "import numpy"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !has {
+        assert!(
+            std::env::var_os("TETWALK_REQUIRE_NUMPY").is_none(),
+            "numpy is required here (TETWALK_REQUIRE_NUMPY) and is not installed"
+        );
+        eprintln!("SKIPPED the numpy kernel: python3 has no numpy here");
+        return;
+    }
+    let py = concat!(
+        "python3 ",
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/kernels/python/ray_plane.py"
+    );
+    let (r, _) = stress(&[
+        "--answerer",
+        py,
+        "--answerer-format",
+        "binary",
+        "--answerer-batch",
+        "777",
+        "--methods",
+        "ray-plane",
+        "--cases",
+        "3000",
+    ]);
+    assert_eq!(r["methods"], serde_json::json!(["answerer", "ray-plane"]));
+    assert_eq!(tallies(&r, 0), tallies(&r, 1));
+    let wrong: u64 = tallies(&r, 0)
+        .iter()
+        .map(|t| t["wrong_face"].as_u64().unwrap())
+        .sum();
+    assert!(wrong > 0);
+}
+
+/// An answerer that answers `face` to every case, in JSON Lines (Python, standard library only).
+const FACE_ZERO: &str = r#"python3 -c '
+import json, sys
+for line in sys.stdin:
+    if line.strip():
+        print(json.dumps({"line": json.loads(line)["line"], "face": 0}))
+    else:
+        sys.stdout.flush()
+'"#;
+
+/// In JSON Lines, a stress row's verdicts are the ones `judge` gives the same answers to the same
+/// cases (`gen-cases --row`); a program that runs past a batch's time limit, one that quits, and one
+/// that answers a face that is none are errors naming why; a campaign must be told where to file.
+#[test]
+fn an_answerer_in_json_lines_gets_the_verdicts_judge_gives() {
+    let (r, _) = stress(&[
+        "--answerer",
+        FACE_ZERO,
+        "--answerer-batch",
+        "64",
+        "--rows",
+        "near-edge",
+        "--cases",
+        "500",
+    ]);
+    let t = &tallies(&r, 0)[0];
+    let (_, cases, _) = tetwalk(&["gen-cases", "--row", "near-edge", "--count", "500"]);
+    let dir = tempfile::tempdir().unwrap();
+    let answers: String = (1..=500)
+        .map(|n| format!("{{\"line\": {n}, \"face\": 0}}\n"))
+        .collect();
+    let judged = judged(dir.path(), &cases, &answers);
+    assert_eq!(
+        judged["methods"][0]["wrong"].as_u64(),
+        Some(t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap())
+    );
+    for (cmd, says) in [
+        ("sleep 100", "time limit"),
+        ("exit 3", "its output ended"),
+        (
+            r#"python3 -c 'import sys, json; [print(json.dumps({"line": json.loads(l)["line"], "face": 7}), flush=True) for l in sys.stdin if l.strip()]'"#,
+            "not 0..3",
+        ),
+    ] {
+        let (code, _, err) = tetwalk(&[
+            "stress",
+            "--answerer",
+            cmd,
+            "--answerer-seconds",
+            "2",
+            "--rows",
+            "well",
+            "--cases",
+            "10",
+        ]);
+        assert_eq!(code, 2, "{cmd}: {err}");
+        assert!(err.contains(says), "{cmd}: {err}");
+    }
+    let (code, _, err) = tetwalk(&["stress", "--answerer", FACE_ZERO, "--seconds", "1"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--found"), "{err}");
+    let (code, _, err) = tetwalk(&[
+        "stress",
+        "--family",
+        "triangle",
+        "--answerer",
+        "cat",
+        "--answerer-format",
+        "binary",
+        "--cases",
+        "5",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("no binary record"), "{err}");
+}
+
+/// The side of face `f`'s plane `p` is on, as vertex `f` is (+1) or not (-1, 0): exactly.
+fn side(t: &[glam::Vec3; 4], f: usize, p: glam::Vec3) -> i8 {
+    let [a, b, c] = FACE_VERTICES[f].map(|i| t[i]);
+    orientation(&[a, b, c, p]) * orientation(&[a, b, c, t[f]])
+}
+
+/// `gen-cases` under a contract writes only cases that hold it, checked here exactly and apart from
+/// the code that made them: origin strictly inside, or strictly before every entry face; a unit
+/// direction; the exact entry face given; both orientations when any is asked for.
+#[test]
+fn every_case_made_holds_its_contract() {
+    for row in ["well", "needle", "near-edge", "through-vertex"] {
+        for origin in ["inside", "before"] {
+            let (code, out, err) = tetwalk(&[
+                "gen-cases",
+                "--row",
+                row,
+                "--count",
+                "300",
+                "--origin",
+                origin,
+                "--unit-direction",
+                "--entry",
+                "given",
+                "--orientation",
+                "any",
+            ]);
+            assert_eq!(code, 0, "{row} {origin}: {err}");
+            let mut signs = [0; 2];
+            for l in out.lines() {
+                let c: Case = tetwalk::engine::found::Found::<tetwalk::family::ExitFace>::parse(l)
+                    .unwrap()
+                    .case;
+                let x = classify(&c).unwrap();
+                let e = c.entry.expect("an entry face given") as usize;
+                assert!(x.entry.contains(e), "{l}");
+                assert!((c.dir.as_dvec3().length() - 1.0).abs() < 1e-6, "{l}");
+                match origin {
+                    "inside" => assert!((0..4).all(|f| side(&c.tet, f, c.org) > 0), "{l}"),
+                    _ => assert!(x.entry.iter().all(|f| side(&c.tet, f, c.org) < 0), "{l}"),
+                }
+                signs[(orientation(&c.tet) > 0) as usize] += 1;
+            }
+            assert_eq!(out.lines().count(), 300);
+            assert!(signs[0] > 50 && signs[1] > 50, "{signs:?}");
+        }
+    }
+}
+
+/// A campaign files the answerer's failures under its name, found on `outside`; `shrink --answerer`
+/// shrinks them inside the contract (the origin stays inside), and `replay` says why it cannot run
+/// them itself.
+#[test]
+fn an_answerers_campaign_files_cases_that_shrink_inside_its_contract() {
+    let dir = tempfile::tempdir().unwrap();
+    let exe = c_kernel(dir.path());
+    let found = dir.path().join("found");
+    let kernel = [
+        "--answerer",
+        &exe,
+        "--answerer-format",
+        "binary",
+        "--answerer-name",
+        "c-plucker",
+        "--faces",
+        "3,0,1,2",
+        "--origin",
+        "inside",
+    ];
+    let mut args = vec!["stress"];
+    args.extend(kernel);
+    args.extend([
+        "--rows",
+        "near-vertex",
+        "--cases",
+        "2000",
+        "--seconds",
+        "0",
+        "--keep",
+        "2",
+        "--found",
+        found.to_str().unwrap(),
+    ]);
+    let (code, _, err) = tetwalk(&args);
+    assert_eq!(code, 0, "{err}");
+    let files: Vec<_> = std::fs::read_dir(found.join("c-plucker"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(!files.is_empty());
+    for f in &files {
+        let line = std::fs::read_to_string(f).unwrap();
+        let v: Value = serde_json::from_str(&line).unwrap();
+        assert_eq!(v["backend"], "outside");
+        assert_eq!(v["method"], "c-plucker");
+        let mut args = vec!["shrink"];
+        args.extend(kernel);
+        args.push(f.to_str().unwrap());
+        let (code, out, err) = tetwalk(&args);
+        assert_eq!(code, 0, "{err}");
+        let shrunk = out.lines().nth(1).unwrap().trim();
+        let c = tetwalk::engine::found::Found::<tetwalk::family::ExitFace>::parse(shrunk)
+            .unwrap()
+            .case;
+        assert!((0..4).all(|k| side(&c.tet, k, c.org) > 0), "{shrunk}");
+    }
+    let (code, out, err) = tetwalk(&["replay", "--found", files[0].to_str().unwrap()]);
+    assert!(
+        (out.clone() + &err).contains("--answerer"),
+        "{code}: {out} {err}"
+    );
+}
+
+/// `judge` tells the kinds of wrong answers to tetrahedra apart: no answer on every line of the
+/// through-vertex row is wrong as no exit face, many of them at ties (the line leaves through a
+/// vertex), each line saying which; a touch-only line is flagged; the summary of tetrahedron lines
+/// carries no triangle fields, and a triangle line brings them.
+#[test]
+fn judge_names_the_kind_of_each_wrong_answer_to_a_tetrahedron() {
+    let dir = tempfile::tempdir().unwrap();
+    let (c, a, j) = (
+        dir.path().join("c.jsonl"),
+        dir.path().join("a.jsonl"),
+        dir.path().join("j.json"),
+    );
+    let (_, cases, _) = tetwalk(&["gen-cases", "--row", "through-vertex", "--count", "200"]);
+    // And a line that only touches an edge (faces 1 and 2 are right, exactly; face 0 is wrong).
+    let touching =
+        r#"{"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[1,1,-1],"dir":[-1,-1,2],"entry":null}"#;
+    std::fs::write(&c, format!("{cases}{touching}\n")).unwrap();
+    let answers: String = (1..=200)
+        .map(|n| format!("{{\"line\": {n}, \"face\": null}}\n"))
+        .chain(["{\"line\": 201, \"face\": 0}\n".to_string()])
+        .collect();
+    std::fs::write(&a, answers).unwrap();
+    let (_, out, err) = tetwalk(&[
+        "judge",
+        c.to_str().unwrap(),
+        a.to_str().unwrap(),
+        "--json",
+        j.to_str().unwrap(),
+    ]);
+    let lines: Vec<Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert!(lines[..200].iter().all(|l| l["verdict"] == "no_exit_face"));
+    let ties = lines[..200].iter().filter(|l| l["tie"] == true).count();
+    assert!(ties > 50, "{ties}");
+    assert_eq!(lines[200]["touch_only"], true, "{}", lines[200]);
+    let t = &serde_json::from_str::<Value>(&std::fs::read_to_string(&j).unwrap()).unwrap()["methods"]
+        [0];
+    assert_eq!(t["no_exit_face"], 200, "{t}");
+    assert_eq!(lines[200]["verdict"], "wrong_face");
+    assert_eq!(t["wrong_at_tie"].as_u64(), Some(ties as u64 + 1));
+    assert_eq!(t["touch_only"], 1, "{t}");
+    assert!(
+        t.get("leaks").is_none() && t.get("t_alone").is_none(),
+        "{t}"
+    );
+    assert!(err.contains("no face"), "{err}");
+    let (_, tri, _) = tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "1"]);
+    let answers: String = (1..=200)
+        .map(|n| format!("{{\"line\": {n}, \"face\": null}}\n"))
+        .chain(["{\"line\": 201, \"tri\": null}\n".to_string()])
+        .collect();
+    let t = &judged(dir.path(), &format!("{cases}{tri}"), &answers)["methods"][0];
+    assert!(
+        t.get("leaks").is_some() && t.get("no_exit_face").is_some(),
+        "{t}"
+    );
+}
+
+/// `--offset` moves every case of every exit-face row, in `stress` and `gen-cases` alike: the cases
+/// `gen-cases --row R --offset X` writes, answered by `exit`, are wrong as often as `stress --rows R
+/// --offset X` counts; and the mm-offset row (meshes in millimetres, 10 to 1,000 from the origin)
+/// already shows f32 Plücker failing.
+#[test]
+fn an_offset_moves_every_rows_cases() {
+    for row in ["mm-offset", "near-edge"] {
+        let (code, cases, err) = tetwalk(&[
+            "gen-cases",
+            "--row",
+            row,
+            "--offset",
+            "300",
+            "--count",
+            "400",
+        ]);
+        assert_eq!(code, 0, "{err}");
+        // Each the row's own case, moved 300 along (1, 1, 1).
+        let (_, own, _) = tetwalk(&["gen-cases", "--row", row, "--count", "400"]);
+        let parse = |l: &str| {
+            tetwalk::engine::found::Found::<tetwalk::family::ExitFace>::parse(l)
+                .unwrap()
+                .case
+        };
+        for (l, o) in cases.lines().zip(own.lines()) {
+            let (c, o) = (parse(l), parse(o));
+            for (v, w) in c.tet.iter().zip(&o.tet) {
+                let moved = (*v - *w).as_dvec3() - glam::DVec3::splat(300.0 / 3f64.sqrt());
+                // Each coordinate rounded once, to within half an ulp of the moved one.
+                let ulp = (v.abs().max_element() as f64 * f32::EPSILON as f64).max(1e-4);
+                assert!(moved.abs().max_element() <= ulp, "{l} {moved}");
+            }
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let json = dir.path().join("e.json");
+        let (_, _, _) = run_tetwalk(
+            &[
+                "exit",
+                "--method",
+                "plucker",
+                "--json",
+                json.to_str().unwrap(),
+            ],
+            cases.as_bytes(),
+        );
+        let exit: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let (r, _) = stress(&[
+            "--rows",
+            row,
+            "--offset",
+            "300",
+            "--cases",
+            "400",
+            "--methods",
+            "plucker",
+        ]);
+        let t = &tallies(&r, 0)[0];
+        let wrong = t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap();
+        assert_eq!(exit["methods"][0]["wrong"].as_u64(), Some(wrong), "{row}");
+        assert!(wrong > 0, "{row}");
+    }
+}
