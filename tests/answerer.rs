@@ -464,3 +464,55 @@ fn an_offset_moves_every_rows_cases() {
         assert!(wrong > 0, "{row}");
     }
 }
+
+/// `--tolerance` leaves out the lines a kernel's epsilon allows it: no line exactly through an edge
+/// can be asked within a tolerance, so that row refuses to be written; well-shaped lines can; and the
+/// needle row, refilled to its count with lines farther than 10^-3 from every edge, blames the C
+/// kernel's epsilon far less often.
+#[test]
+fn a_tolerance_leaves_out_the_lines_it_allows() {
+    let (code, _, err) = tetwalk(&[
+        "gen-cases",
+        "--row",
+        "through-edge",
+        "--count",
+        "50",
+        "--tolerance",
+        "0.001",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("within the contract"), "{err}");
+    let (code, out, err) = tetwalk(&[
+        "gen-cases",
+        "--row",
+        "well",
+        "--count",
+        "50",
+        "--tolerance",
+        "0.001",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 50);
+    let dir = tempfile::tempdir().unwrap();
+    let exe = c_kernel(dir.path());
+    let row = |tolerance: &str| {
+        let (r, _) = stress(&[
+            "--answerer",
+            &exe,
+            "--answerer-format",
+            "binary",
+            "--faces",
+            "3,0,1,2",
+            "--rows",
+            "near-edge",
+            "--cases",
+            "2000",
+            "--tolerance",
+            tolerance,
+        ]);
+        let t = tallies(&r, 0)[0].clone();
+        t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap()
+    };
+    assert!(row("0") > 100);
+    assert_eq!(row("0.001"), 0);
+}
