@@ -504,15 +504,24 @@ fn a_tolerance_leaves_out_the_lines_it_allows() {
             "--faces",
             "3,0,1,2",
             "--rows",
-            "near-edge",
+            "cap,wedge,near-edge",
             "--cases",
-            "2000",
+            "4000",
             "--tolerance",
             tolerance,
         ]);
-        let t = tallies(&r, 0)[0].clone();
-        t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap()
+        let t = tallies(&r, 0);
+        let wrong =
+            |t: &Value| t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap();
+        assert_eq!(t[0]["judged"], 4000);
+        assert_eq!(t[1]["judged"], 4000);
+        (
+            wrong(&t[0]) + wrong(&t[1]),
+            t[2]["judged"].as_u64().unwrap(),
+        )
     };
-    assert!(row("0") > 100);
-    assert_eq!(row("0.001"), 0);
+    let (all, near) = row("0");
+    let (within, near_within) = row("0.00001");
+    assert!(all >= 40 && within * 2 < all, "{all} {within}");
+    assert_eq!((near, near_within), (4000, 0));
 }
