@@ -525,3 +525,81 @@ fn a_tolerance_leaves_out_the_lines_it_allows() {
     assert!(all >= 40 && within * 2 < all, "{all} {within}");
     assert_eq!((near, near_within), (4000, 0));
 }
+
+/// `count --answerer` walks the scene step by step through the program, a view's unfinished walks
+/// asked as one batch: the numpy kernel walks as tetwalk's `ray-plane` does (the same tetrahedra
+/// crossed, the same wrong rays); a program that always turns back is caught in cycles of period 2,
+/// and one that never answers a face ends every walk with no exit face. Other families and
+/// `--relabel` are refused.
+#[test]
+fn count_walks_the_scene_through_an_answerer() {
+    let count = |extra: &[&str]| {
+        let dir = tempfile::tempdir().unwrap();
+        let json = dir.path().join("c.json");
+        let mut args = vec!["count", "--views", "2", "--size", "40x40"];
+        args.extend(extra);
+        args.extend(["--json", json.to_str().unwrap()]);
+        let (code, _, err) = tetwalk(&args);
+        assert_eq!(code, 0, "{err}");
+        let r: Value = serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+        r["methods"].as_array().unwrap().clone()
+    };
+    let binary = |cmd: &str| {
+        format!(
+            r#"python3 -c '
+import sys, struct
+inp, out = sys.stdin.buffer, sys.stdout.buffer
+while True:
+    head = inp.read(4)
+    if len(head) < 4: break
+    n = struct.unpack("<I", head)[0]
+    for _ in range(n):
+        entry = struct.unpack_from("<i", inp.read(80), 72)[0]
+        out.write(struct.pack("<i", {cmd}))
+    out.flush()
+'"#
+        )
+    };
+    let has_numpy = std::process::Command::new("python3")
+        .args(["-c", "import numpy"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if has_numpy {
+        let py = concat!(
+            "python3 ",
+            env!("CARGO_MANIFEST_DIR"),
+            "/examples/kernels/python/ray_plane.py"
+        );
+        let rows = count(&[
+            "--answerer",
+            py,
+            "--answerer-format",
+            "binary",
+            "--methods",
+            "ray-plane",
+        ]);
+        let (ours, theirs) = (&rows[1], &rows[2]);
+        assert_eq!(ours["method"], "answerer");
+        for k in ["wrong_total", "wrong", "steps"] {
+            assert_eq!(ours[k], theirs[k], "{k}");
+        }
+        assert!(ours["steps"].as_u64().unwrap() > 3200);
+    }
+    let back = binary("entry if entry >= 0 else 0");
+    let rows = count(&["--answerer", &back, "--answerer-format", "binary"]);
+    assert!(
+        rows[1]["wrong"]["cycle"].as_u64().unwrap() > 1000,
+        "{}",
+        rows[1]
+    );
+    let none = binary("-1");
+    let rows = count(&["--answerer", &none, "--answerer-format", "binary"]);
+    assert_eq!(rows[1]["wrong"]["no_exit_face"], 3200, "{}", rows[1]);
+    assert_eq!(rows[1]["steps"], 3200);
+    for extra in [["--family", "triangle"], ["--relabel", "all"]] {
+        let mut args = vec!["count", "--answerer", "cat"];
+        args.extend(extra);
+        let (code, _, err) = tetwalk(&args);
+        assert_eq!(code, 2, "{err}");
+    }
+}

@@ -3,8 +3,9 @@
 # users would: a C kernel (f32 Plücker with an epsilon and a face numbering of its own, found by
 # `--faces auto`) in binary records, and a numpy one (ray-plane in float32). Each is stressed on every
 # row (its contract stated: the C kernel's default, then origin inside with a unit direction and a
-# given entry face, as photon-transport step functions assume), campaigned, and its found cases shrunk
-# inside the contract; the tables are printed as Markdown.
+# given entry face, as photon-transport step functions assume), walked through the default scene step
+# by step (`count --answerer`), campaigned, and its found cases shrunk inside the contract; the tables
+# are printed as Markdown.
 #
 #   bash examples/kernels/tets.sh [CASES_PER_ROW] [CAMPAIGN_SECONDS]     (default 100000, 5)
 set -euo pipefail
@@ -31,6 +32,11 @@ echo
 echo "## numpy-ray-plane (examples/kernels/python/ray_plane.py) beside tetwalk's ray-plane"
 echo
 "$tetwalk" stress "${numpy_kernel[@]}" --methods ray-plane --cases "$cases"
+echo
+echo "## Walked step by step (count --answerer) through the far Kuhn grid and the default scene, beside tetwalk's own"
+echo
+"$tetwalk" count --scene kuhn-far --views 4 --size 64x64 "${c_kernel[@]}" --faces 3,0,1,2 --methods plucker,ray-plane
+"$tetwalk" count --views 4 --size 64x64 "${numpy_kernel[@]}" --methods ray-plane | tail -n +3
 echo
 echo "## A campaign of c-plucker-eps within that contract, its found cases shrunk inside it"
 echo

@@ -4,7 +4,7 @@ use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg};
 use crate::choice::Choice;
 use crate::engine::count::{self, Answerer, CountReport, CountSettings, Shard, located_views};
 use crate::engine::standing::Standings;
-use crate::family::count::{CountKind, Counted};
+use crate::family::count::{CountError, CountKind, Counted};
 use crate::family::octree::OctreeCountSettings;
 use crate::family::triangle::TriCountSettings;
 use crate::family::wrong::WrongRay;
@@ -62,9 +62,12 @@ pub struct Args {
     /// --preset paper].
     #[arg(long)]
     size: Option<String>,
-    /// Methods to judge (comma-separated, or all); the reference always runs.
-    #[arg(long, default_value = "all")]
-    methods: String,
+    /// Methods to judge (comma-separated, or all); the reference always runs [default: all; none
+    /// beside an --answerer].
+    #[arg(long)]
+    methods: Option<String>,
+    #[command(flatten)]
+    answerer: super::AnswererArg,
     /// The walk every method is judged against: `exact`, or `certified` (proven to end where `exact`
     /// ends, step for step, and several times faster).
     #[arg(long, value_parser = ["exact", "certified"], default_value = "certified")]
@@ -246,7 +249,26 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     let family = F::settings(&a);
     F::check(&family)?;
     let fail = a.fail;
-    let (backend, methods) = a.wgsl.open::<F>(a.backend, &a.methods)?;
+    let asked = a.answerer.answerer.is_some();
+    if asked && F::NAME != <Walks as crate::family::Family>::NAME {
+        return Err(format!(
+            "--answerer walks the tetrahedra step by step (--family walk); {} counts have no exit faces to ask",
+            F::NAME
+        )
+        .into());
+    }
+    if asked && a.relabel.is_some() {
+        return Err("--relabel walks relabelled meshes; an --answerer is asked about the scene's own: leave out --relabel".into());
+    }
+    let list = match (&a.methods, asked) {
+        (Some(m), _) => m.clone(),
+        (None, false) => "all".into(),
+        (None, true) => "none".into(),
+    };
+    let (backend, methods) = a
+        .wgsl
+        .open::<F>(a.backend, if list == "none" { "all" } else { &list })?;
+    let methods = if list == "none" { Vec::new() } else { methods };
     let methods: Vec<_> = methods
         .into_iter()
         .filter(|m| !m.is_reference() && m.name() != a.reference)
@@ -274,7 +296,22 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         (shard.held(views.views) * labellings) as u64,
         "views",
     );
-    let answerers: Vec<Answerer<F>> = methods.iter().map(|m| Answerer::Method(*m)).collect();
+    let outside = a
+        .answerer
+        .start::<crate::family::ExitFace>(&Default::default())?;
+    // Every step of every walk asked of the answerer, a view's unfinished walks in one batch.
+    let asking = |_: usize, rays: &[crate::tet::Ray], start: u32, max: u32| {
+        let x = outside.as_ref().expect("asked only with an answerer");
+        crate::walk::walks_asking(&mesh, rays, start, max, |cases| {
+            x.answers::<crate::family::ExitFace>(cases)
+        })
+        .map_err(|e| CountError::Given(e.to_string()))
+    };
+    let mut answerers: Vec<Answerer<F>> = Vec::new();
+    if let Some(x) = &outside {
+        answerers.push(Answerer::Given(&x.name, &asking));
+    }
+    answerers.extend(methods.iter().map(|m| Answerer::Method(*m)));
     let mut write = |w: &WrongRay| dump.write(w);
     // The mesh's own labelling gives the report and the dump.
     let mut report = count::run(

@@ -365,7 +365,7 @@ fn judge_scene(a: &Args, header: RaysHeader, input: Box<dyn BufRead + Send>) -> 
         }
     })?;
     let width = header.views.width;
-    let lookup = |v: usize, rays: &[crate::tet::Ray]| -> Result<Vec<Walk>, CountError> {
+    let lookup = |v: usize, rays: &[crate::tet::Ray], _, _| -> Result<Vec<Walk>, CountError> {
         (0..rays.len() as u32)
             .map(|i| {
                 let (x, y) = (i % width, i / width);

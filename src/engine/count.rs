@@ -124,8 +124,10 @@ pub enum Answerer<'a, F: Family> {
     Given(&'a str, &'a GivenWalks<'a>),
 }
 
-/// Walks given from outside for one view (its index and its rays).
-pub type GivenWalks<'a> = dyn Fn(usize, &[Ray]) -> Result<Vec<Walk>, CountError> + Sync + 'a;
+/// Walks given from outside for one view: its index, its rays, the tetrahedron they start in and the
+/// steps a walk may take.
+pub type GivenWalks<'a> =
+    dyn Fn(usize, &[Ray], u32, u32) -> Result<Vec<Walk>, CountError> + Sync + 'a;
 
 impl<F: Family> Answerer<'_, F> {
     fn name(&self) -> &str {
@@ -339,7 +341,7 @@ fn count_view<F: Counted>(
                 let w = F::answer_rays(&at, m, &rays)?;
                 (w, t0.elapsed().as_secs_f64())
             }
-            Answerer::Given(_, given) => (given(v, &rays)?, 0.0),
+            Answerer::Given(_, given) => (given(v, &rays, located, max)?, 0.0),
         };
         work.push((walks.iter().map(|w| w.steps as u64).sum(), seconds));
         let seen = Seen {

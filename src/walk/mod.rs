@@ -611,6 +611,84 @@ impl<M: ExitMethod> Walker<M> {
     }
 }
 
+/// Walks of `rays` from `start`, every step's exit face asked of `ask` in batches — each batch every
+/// unfinished walk's next step, as one tetrahedron's case (its cell, the ray, the face it entered
+/// through) — for a program outside tetwalk (`count --answerer`); the walks end as a method's do:
+/// on a constrained face, out of the mesh, without an exit face, in a cycle (Brent, over tetrahedron
+/// and entry face) or at `max_steps`.
+pub fn walks_asking<E>(
+    mesh: &Mesh,
+    rays: &[Ray],
+    start: u32,
+    max_steps: u32,
+    mut ask: impl FnMut(&[crate::tet::Case]) -> Result<Vec<Option<u8>>, E>,
+) -> Result<Vec<Walk>, E> {
+    struct Going {
+        tet: u32,
+        entry: Option<u8>,
+        steps: u32,
+        brent: Brent<(u32, Option<u8>)>,
+    }
+    let mut going: Vec<Going> = rays
+        .iter()
+        .map(|_| Going {
+            tet: start,
+            entry: None,
+            steps: 0,
+            brent: Brent::new((start, None)),
+        })
+        .collect();
+    let mut done: Vec<Option<Walk>> = vec![None; rays.len()];
+    let mut active: Vec<usize> = (0..rays.len()).collect();
+    while !active.is_empty() {
+        let cases: Vec<crate::tet::Case> = active
+            .iter()
+            .map(|&i| crate::tet::Case {
+                tet: mesh.cells[going[i].tet as usize].v,
+                org: rays[i].org,
+                dir: rays[i].dir,
+                entry: going[i].entry,
+            })
+            .collect();
+        let faces = ask(&cases)?;
+        let mut next = Vec::with_capacity(active.len());
+        for (&i, face) in active.iter().zip(faces) {
+            let g = &mut going[i];
+            let tet = g.tet;
+            g.steps += 1;
+            let end = |outcome| {
+                Some(Walk {
+                    outcome,
+                    steps: g.steps,
+                })
+            };
+            let link = face.map(|f| mesh.cells[tet as usize].links[f as usize]);
+            let ended = match (face, link) {
+                (Some(f), Some(link)) if link.constrained() => end(Outcome::Hit { tet, face: f }),
+                (Some(f), Some(link)) => match link.neighbor() {
+                    None => end(Outcome::LeftMesh { tet, face: f }),
+                    Some(n) => {
+                        g.tet = n;
+                        g.entry = Some(link.mirror() as u8);
+                        match g.brent.step((g.tet, g.entry)) {
+                            Some(period) => end(Outcome::Cycle { tet: g.tet, period }),
+                            None if g.steps >= max_steps => end(Outcome::StepLimit { tet: g.tet }),
+                            None => None,
+                        }
+                    }
+                },
+                _ => end(Outcome::NoExitFace { tet }),
+            };
+            match ended {
+                Some(w) => done[i] = Some(w),
+                None => next.push(i),
+            }
+        }
+        active = next;
+    }
+    Ok(done.into_iter().flatten().collect())
+}
+
 /// Whether walk `w` ends rightly, `reference` being the `exact` walk of the same ray: both leave the
 /// mesh, or `w` stops on a constrained face that contains the exact point where the ray first meets the
 /// constrained faces — the reference's hit point (a point on a shared edge or vertex may be claimed by
