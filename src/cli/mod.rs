@@ -509,7 +509,7 @@ struct AnswererArg {
     )]
     answerer_name: String,
     /// How cases and answers travel: `json` (JSON Lines, every family) or `binary` (fixed
-    /// little-endian records, exit faces).
+    /// little-endian records: exit faces, triangles, octree cells).
     #[arg(long, value_parser = choice::<crate::engine::answerer::Format>(), default_value = "json", requires = "answerer")]
     answerer_format: crate::engine::answerer::Format,
     /// Seconds the answerer may take on one batch; past them it is stopped, with everything it

@@ -249,6 +249,9 @@ fn stress<F: Rows>(a: Args) -> Status {
     }
     let contract = a.contract.contract::<F>()?;
     if a.answerer.answerer.is_some() {
+        if F::NAME == <Walks as Family>::NAME {
+            return Err("--answerer answers one cell's cases here; a program's walks are judged by count --answerer (every step asked) or judge (whole walks given)".into());
+        }
         if a.compare || a.wgsl.wgsl.is_some() {
             return Err(
                 "--answerer judges a program outside tetwalk: leave out --compare and --wgsl"

@@ -323,7 +323,7 @@ impl Answerer {
                     let size = F::ANSWER_RECORD;
                     while got < n && r.pending.len() >= size {
                         let rec: Vec<u8> = r.pending.drain(..size).collect();
-                        answers[got] = Some(F::answer_record(&rec).map_err(|e| {
+                        answers[got] = Some(F::answer_record(&rec, &batch[got]).map_err(|e| {
                             format!("case {} (line {}): {e}", got + 1, first + got as u64)
                         })?);
                         got += 1;

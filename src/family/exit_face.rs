@@ -452,7 +452,7 @@ impl Family for ExitFace {
     /// 4 bytes: the exit face (i32, -1 for none).
     const ANSWER_RECORD: usize = 4;
 
-    fn answer_record(b: &[u8]) -> Result<Face, String> {
+    fn answer_record(b: &[u8], _: &Case) -> Result<Face, String> {
         match i32::from_le_bytes(b.try_into().map_err(|_| "a short record")?) {
             -1 => Ok(None),
             f @ 0..=3 => Ok(Some(f as u8)),

@@ -295,8 +295,8 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     }
     /// Bytes of one binary answer record.
     const ANSWER_RECORD: usize = 0;
-    /// A binary answer record read.
-    fn answer_record(_bytes: &[u8]) -> Result<Self::Answer, String> {
+    /// A binary answer record read, for `case`.
+    fn answer_record(_bytes: &[u8], _case: &Self::Case) -> Result<Self::Answer, String> {
         Err(format!(
             "the {} family has no binary answer record",
             Self::NAME

@@ -255,6 +255,33 @@ impl Family for OctreeCells {
         }
     }
 
+    /// 48 bytes: the lower and upper corners, the origin and the direction (12 f32).
+    fn case_record(c: &BoxCase) -> Option<Vec<u8>> {
+        Some(
+            [c.lo, c.hi, c.org, c.dir]
+                .iter()
+                .flat_map(|v| v.to_array())
+                .flat_map(f32::to_le_bytes)
+                .collect(),
+        )
+    }
+
+    /// 12 bytes: the exit face (i32: 0..5 for +y, +x, -y, -x, +z, -z, or -1 for none) and the
+    /// quarter (two i32, each -1 or 1; anything for none).
+    const ANSWER_RECORD: usize = 12;
+
+    fn answer_record(b: &[u8], _: &BoxCase) -> Result<CellExit, String> {
+        let i = |k: usize| i32::from_le_bytes([b[4 * k], b[4 * k + 1], b[4 * k + 2], b[4 * k + 3]]);
+        match (i(0), i(1), i(2)) {
+            (-1, _, _) => Ok(None),
+            (f @ 0..=5, u @ (-1 | 1), v @ (-1 | 1)) => Ok(Some((f as u8, [u as i8, v as i8]))),
+            (f @ 0..=5, u, v) => Err(format!(
+                "answered face {f} with quarter [{u}, {v}], not each -1 or 1"
+            )),
+            (f, _, _) => Err(format!("answered face {f}, not 0..5 or -1 (none)")),
+        }
+    }
+
     fn describe(a: &CellExit) -> String {
         match a {
             Some((f, q)) => format!("exit face {} quarter {q:?}", FACE_NAMES[*f as usize]),

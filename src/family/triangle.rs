@@ -425,6 +425,37 @@ impl Family for Triangle {
         Ok(Hits::of(g.as_slice()))
     }
 
+    /// 752 bytes: the number of triangles n and whether they close a mesh (two u32), the origin and
+    /// the direction (6 f32), then 20 triangles' corners (180 f32), the first n used, the rest zero.
+    fn case_record(h: &HitCase) -> Option<Vec<u8>> {
+        let tris = h.tris();
+        let mut b = Vec::with_capacity(752);
+        b.extend((tris.len() as u32).to_le_bytes());
+        b.extend((h.closed as u32).to_le_bytes());
+        let mut numbers: Vec<f32> = [h.org, h.dir].iter().flat_map(|v| v.to_array()).collect();
+        numbers.extend(tris.iter().flatten().flat_map(|v| v.to_array()));
+        numbers.resize(6 + 9 * MAX_TRIS, 0.0);
+        b.extend(numbers.iter().flat_map(|x| x.to_le_bytes()));
+        Some(b)
+    }
+
+    /// 8 bytes: the triangle hit first (i32: its index, -1 for none; 0 for a one-triangle case's hit)
+    /// and its `t` (f32; anything for none).
+    const ANSWER_RECORD: usize = 8;
+
+    fn answer_record(b: &[u8], h: &HitCase) -> Result<Hits, String> {
+        let tri = i32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+        let t = f32::from_le_bytes([b[4], b[5], b[6], b[7]]);
+        let len = h.tris().len() as i32;
+        match tri {
+            -1 => Ok(Hits::of(&[])),
+            i if (0..len).contains(&i) => Ok(Hits::of(&[(i as u32, t)])),
+            _ => Err(format!(
+                "answered triangle {tri}, not one of the case's (0..{len}) or -1 (none)"
+            )),
+        }
+    }
+
     fn describe(hits: &Hits) -> String {
         match hits.nearest() {
             Some((tri, t)) => format!("triangle {tri} at t = {t:e}"),
