@@ -680,3 +680,47 @@ fn triangles_and_octree_cells_travel_in_binary_records_too() {
     assert_eq!(code, 2);
     assert!(err.contains("answered triangle 25"), "{err}");
 }
+
+/// `--answerer-claims`: the program claims what the family's methods claim, and `--fail-on claims`
+/// fails the run that refutes it (status 1) and passes one that does not; an answerer may not take
+/// the name of one of tetwalk's methods.
+#[test]
+fn an_answerer_that_claims_is_held_to_its_claim() {
+    let dir = tempfile::tempdir().unwrap();
+    let exe = c_kernel(dir.path());
+    let run = |rows: &str| {
+        tetwalk(&[
+            "stress",
+            "--answerer",
+            &exe,
+            "--answerer-format",
+            "binary",
+            "--faces",
+            "3,0,1,2",
+            "--answerer-claims",
+            "--fail-on",
+            "claims",
+            "--rows",
+            rows,
+            "--cases",
+            "500",
+        ])
+    };
+    let (code, _, err) = run("near-edge");
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("claims robust: REFUTED"), "{err}");
+    let (code, _, err) = run("well");
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("claims robust: holds here"), "{err}");
+    let (code, _, err) = tetwalk(&[
+        "stress",
+        "--answerer",
+        &exe,
+        "--answerer-name",
+        "certified",
+        "--cases",
+        "5",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("tetwalk's own"), "{err}");
+}

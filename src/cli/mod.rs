@@ -524,6 +524,10 @@ struct AnswererArg {
         requires = "answerer"
     )]
     answerer_batch: usize,
+    /// The answerer claims what its family's methods claim when they claim: never a wrong answer
+    /// (exit faces, octree cells), no leak (triangles); `--fail-on claims` holds it to that.
+    #[arg(long, requires = "answerer")]
+    answerer_claims: bool,
     /// Exit faces: how the answerer numbers a tetrahedron's faces, `a,b,c,d` (its face i is the
     /// case's face the i-th), or `auto` (found on well-shaped cases, reported, applied; an error when
     /// none fits) [default: 0,1,2,3].
@@ -556,6 +560,13 @@ impl AnswererArg {
             )
             .into());
         }
+        if crate::family::by_name::<F>(&self.answerer_name).is_ok() || self.answerer_name == "all" {
+            return Err(format!(
+                "--answerer-name {}: that names tetwalk's own; name the answerer otherwise",
+                self.answerer_name
+            )
+            .into());
+        }
         if self.faces.is_some() && F::NAME != ExitFace::NAME {
             return Err(format!(
                 "--faces numbers a tetrahedron's faces; {} cases have none",
@@ -570,6 +581,7 @@ impl AnswererArg {
             std::time::Duration::from_secs_f64(self.answerer_seconds),
             self.answerer_batch,
         )?;
+        a.claims = self.answerer_claims;
         match self.faces.as_deref() {
             None => {}
             Some("auto") => {

@@ -315,7 +315,9 @@ fn stress<F: Rows>(a: Args) -> Status {
         bar.finish_and_clear();
         print!("{}", F::stress_table(&report));
         out.finish(&report)?;
-        return Ok(a.fail.status("stress", &report.standings()));
+        return Ok(a
+            .fail
+            .status("stress", &standings(&report, answerer.as_ref())));
     };
     let found = a.found.unwrap_or_else(|| PathBuf::from("corpora/found"));
     let mut filing = Filing::new(found, a.keep, answerer.as_ref().map(|x| (x, contract)));
@@ -328,7 +330,27 @@ fn stress<F: Rows>(a: Args) -> Status {
     print!("{}", F::stress_table(&report));
     filing.print(report.rounds);
     out.finish(&report)?;
-    Ok(a.fail.status("stress", &report.standings()))
+    Ok(a.fail
+        .status("stress", &standings(&report, answerer.as_ref())))
+}
+
+/// Each judged's standing, the answerer's with the claim it makes (`--answerer-claims`).
+fn standings<F: Family>(
+    r: &stress::StressReport<F>,
+    x: Option<&crate::engine::answerer::Answerer>,
+) -> Vec<crate::engine::standing::Standing> {
+    let mut s = r.standings();
+    if let Some(x) = x {
+        let refuted = r
+            .rows
+            .iter()
+            .flat_map(|row| &row.tallies)
+            .filter(|t| t.method == x.name)
+            .map(|t| F::refuted(&t.counts))
+            .sum();
+        x.claim::<F>(&mut s, refuted);
+    }
+    s
 }
 
 /// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and

@@ -71,6 +71,9 @@ pub struct Answerer {
     pub limit: Duration,
     /// Cases per batch.
     pub batch: usize,
+    /// Whether it claims what its family's claim is ([`Family::CLAIM`]): `--fail-on claims` then
+    /// holds it to that.
+    pub claims: bool,
     /// Answered face `i` is the case's face `faces[i]` (exit faces; the identity unless a numbering
     /// was found or given, [`find_numbering`]).
     pub faces: [u8; 4],
@@ -147,6 +150,7 @@ impl Answerer {
             format,
             limit,
             batch: batch.max(1),
+            claims: false,
             faces: [0, 1, 2, 3],
             running: Mutex::new(Running {
                 child,
@@ -338,6 +342,26 @@ impl Answerer {
             }
         }
         Ok(answers.into_iter().flatten().collect())
+    }
+}
+
+impl Answerer {
+    /// Its standing in `standings` given the claim it makes, if it makes one: `refuted` answers of this
+    /// run refute it.
+    pub fn claim<F: Family>(
+        &self,
+        standings: &mut [crate::engine::standing::Standing],
+        refuted: u64,
+    ) {
+        if !self.claims {
+            return;
+        }
+        for s in standings.iter_mut().filter(|s| s.method == self.name) {
+            s.claim = Some(crate::engine::standing::Held {
+                claim: F::CLAIM.name(),
+                refuted: Some(refuted),
+            });
+        }
     }
 }
 

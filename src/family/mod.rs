@@ -160,6 +160,9 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     /// The oracle's answer; an error names what is wrong with the case.
     fn truth(case: &Self::Case) -> Result<Self::Truth, CaseError>;
     fn verdict(case: &Self::Case, truth: &Self::Truth, answer: &Self::Answer) -> Verdict;
+    /// What a method of the family claims when it makes a claim: never a wrong answer, or (ray–triangle
+    /// tests) no leak; a user's answerer claims it with `--answerer-claims`.
+    const CLAIM: crate::registry::Claim = crate::registry::Claim::Robust;
     /// Whether `answer` refutes what the family's claim promises ([`crate::registry::Claim`]): by
     /// default any wrong answer (robust); a ray–triangle test's claim is refuted only by a leak.
     fn refutes_claim(case: &Self::Case, truth: &Self::Truth, answer: &Self::Answer) -> bool {

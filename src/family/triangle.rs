@@ -178,6 +178,7 @@ fn distinct_corners(h: &HitCase) -> Vec<Vec3> {
 }
 
 impl Family for Triangle {
+    const CLAIM: crate::registry::Claim = crate::registry::Claim::NoLeak;
     const NAME: &'static str = "triangle";
     const FUZZ_TARGET: &'static str = "triangle_hit";
     const STRESS_CASES: usize = 2_000;
