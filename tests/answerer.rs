@@ -724,3 +724,62 @@ fn an_answerer_that_claims_is_held_to_its_claim() {
     assert_eq!(code, 2);
     assert!(err.contains("tetwalk's own"), "{err}");
 }
+
+/// `exit --answerer` and `hit --answerer` judge a file of cases through the program, line by line: on
+/// a stress row's cases (`gen-cases --row`) the C kernel is wrong exactly as often as `stress` counts;
+/// walk cases are refused, naming `count --answerer`.
+#[test]
+fn exit_and_hit_judge_a_file_through_an_answerer() {
+    let dir = tempfile::tempdir().unwrap();
+    let exe = c_kernel(dir.path());
+    let kernel = [
+        "--answerer",
+        exe.as_str(),
+        "--answerer-format",
+        "binary",
+        "--faces",
+        "3,0,1,2",
+    ];
+    let (_, cases, _) = tetwalk(&["gen-cases", "--row", "near-vertex", "--count", "400"]);
+    let json = dir.path().join("e.json");
+    let mut args = vec!["exit", "--json", json.to_str().unwrap()];
+    args.extend(kernel);
+    let (code, out, err) = run_tetwalk(&args, cases.as_bytes());
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 400);
+    assert!(out.lines().all(|l| l.contains("\"backend\":\"outside\"")));
+    let e: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    // Claiming robustness there fails the run.
+    let mut args = vec!["exit", "--answerer-claims", "--fail-on", "claims"];
+    args.extend(kernel);
+    let (code, _, err) = run_tetwalk(&args, cases.as_bytes());
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("REFUTED"), "{err}");
+    let mut args = vec!["--rows", "near-vertex", "--cases", "400"];
+    args.extend(kernel);
+    let (r, _) = stress(&args);
+    let t = &tallies(&r, 0)[0];
+    assert_eq!(
+        e["methods"][0]["wrong"].as_u64(),
+        Some(t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap())
+    );
+    let (_, tri, _) = tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "30"]);
+    let (code, out, err) = run_tetwalk(
+        &[
+            "hit",
+            "--answerer",
+            &constant("json", r#"{"tri": None}"#, "", 0),
+        ],
+        tri.as_bytes(),
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(out.lines().any(|l| l.contains("\"leak\":true")), "{out}");
+    let walk = r#"{"mesh":"kuhn","org":[0.5,0.5,0.5],"dir":[1,0,0]}"#;
+    let mut args = vec!["exit"];
+    args.extend(kernel);
+    let (_, out, _) = run_tetwalk(&args, format!("{walk}\n").as_bytes());
+    assert!(
+        out.contains("count --answerer") || out.contains("error"),
+        "{out}"
+    );
+}

@@ -36,6 +36,8 @@ pub struct Common {
     pub(super) json: Option<PathBuf>,
     /// JSON Lines file of cases (found cases too); standard input when absent or `-`.
     pub(super) file: Option<PathBuf>,
+    #[command(flatten)]
+    pub(super) answerer: super::AnswererArg,
 }
 
 impl Common {
@@ -203,7 +205,7 @@ pub(super) struct Answering<'a> {
     pub input: Option<Box<dyn BufRead + Send>>,
     pub json: Option<&'a std::path::Path>,
     pub fail: FailArg,
-    pub standing: fn(&Tally) -> Standing,
+    pub standing: &'a dyn Fn(&Tally) -> Standing,
 }
 
 impl Answering<'_> {
@@ -313,7 +315,7 @@ impl Answering<'_> {
                 }
             );
         }
-        let standings: Vec<Standing> = summary.methods.iter().map(self.standing).collect();
+        let standings: Vec<Standing> = summary.methods.iter().map(|t| (self.standing)(t)).collect();
         let status = self.fail.status(self.command, &standings);
         let differ: u64 = summary.methods.iter().filter_map(|t| t.wide_differs).sum();
         if differ > 0 {
@@ -342,6 +344,8 @@ impl Answering<'_> {
 pub(super) enum Answered<'a, F: Family> {
     Methods(&'a [&'static F::Method], &'a Backend),
     Given(&'a str),
+    /// A program outside tetwalk, asked each batch (`--answerer`).
+    Outside(&'a crate::engine::answerer::Answerer),
 }
 
 /// A case line taken: its number, the case, its truth, and the answer given for it (`judge`).
@@ -439,6 +443,15 @@ impl<F: Lines> Takes for Part<'_, F> {
                     out.push((*n, line(*n, name, "given", fields)));
                 }
             }
+            Answered::Outside(x) => {
+                let cases: Vec<F::Case> = taken.iter().map(|(_, c, ..)| *c).collect();
+                let answers = x.answers::<F>(&cases)?;
+                for ((n, case, truth, _), a) in taken.iter().zip(&answers) {
+                    let (fields, said) = F::verdict_line(case, truth, a, self.t_ulps);
+                    summary.methods[0].count(said);
+                    out.push((*n, line(*n, &x.name, "outside", fields)));
+                }
+            }
             Answered::Methods(methods, backend) => {
                 let cases: Vec<F::Case> = taken.iter().map(|(_, c, ..)| *c).collect();
                 let mut answers = Vec::new();
@@ -476,6 +489,46 @@ impl<F: Lines> Takes for Part<'_, F> {
         }
         Ok(out)
     }
+}
+
+/// `exit` or `hit` with `--answerer`: each batch of family `F`'s lines asked of the program, its
+/// answers judged (the other families' lines refused as `refuse` says).
+pub(super) fn outside<F: Lines>(
+    command: &'static str,
+    x: &crate::engine::answerer::Answerer,
+    a: &Common,
+    refuse: fn(Kind) -> String,
+    t_ulps: f64,
+) -> Status {
+    Answering {
+        command,
+        names: vec![x.name.clone()],
+        missed: false,
+        leaks: false,
+        backend: "outside".into(),
+        file: a.file.as_deref(),
+        input: None,
+        json: a.json.as_deref(),
+        fail: a.fail,
+        standing: &|t| {
+            // The claim it makes, if it makes one: robust refuted by every wrong answer, no leak by leaks.
+            let mut s = vec![standing::<F>(t)];
+            let refuted = match F::CLAIM {
+                crate::registry::Claim::Robust => t.wrong,
+                crate::registry::Claim::NoLeak => t.leaks.unwrap_or(0),
+            };
+            x.claim::<F>(&mut s, refuted);
+            s.remove(0)
+        },
+    }
+    .run(
+        |batch, summary| {
+            let mut parts: [Box<dyn Takes>; 1] =
+                [Box::new(Part::<F>::new(Answered::Outside(x), t_ulps))];
+            answer(batch, &mut parts, refuse, None, summary)
+        },
+        || Ok(()),
+    )
 }
 
 /// A verdict line: `line`, `method`, `backend`, then the family's fields.

@@ -46,7 +46,7 @@ pub fn run(a: Args) -> Status {
         input: None,
         json: a.json.as_deref(),
         fail: a.fail,
-        standing: standing::<OctreeCells>,
+        standing: &standing::<OctreeCells>,
     }
     .run(
         |batch, summary| {

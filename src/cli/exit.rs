@@ -23,6 +23,10 @@ impl super::Io for Args {
 
 pub fn run(Args { common: a, wgsl }: Args) -> Status {
     let (backend, methods) = wgsl.open::<ExitFace>(a.backend, &a.method)?;
+    let outside = a.answerer.start::<ExitFace>(&Default::default())?;
+    if let Some(x) = &outside {
+        return super::answer::outside::<ExitFace>("exit", x, &a, refuse_walks, 0.0);
+    }
     Answering {
         command: "exit",
         names: methods.iter().map(|m| m.name().to_string()).collect(),
@@ -33,7 +37,7 @@ pub fn run(Args { common: a, wgsl }: Args) -> Status {
         input: None,
         json: a.json.as_deref(),
         fail: a.fail,
-        standing: standing::<ExitFace>,
+        standing: &standing::<ExitFace>,
     }
     .run(
         |batch, summary| {
@@ -51,6 +55,14 @@ pub fn run(Args { common: a, wgsl }: Args) -> Status {
         },
         || Ok(()),
     )
+}
+
+/// Why `exit --answerer` answers no case of family `k`.
+fn refuse_walks(k: Kind) -> String {
+    match k {
+        Kind::Walk => "a walk case: an answerer answers one tetrahedron's cases (count --answerer walks a scene through it)".into(),
+        k => refuse(k),
+    }
 }
 
 /// Why `exit` answers no case of family `k`.

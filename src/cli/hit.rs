@@ -60,6 +60,13 @@ pub fn run(
             .into());
         }
     }
+    let outside = a.answerer.start::<Triangle>(&Default::default())?;
+    if let Some(x) = &outside {
+        if wide {
+            return Err("--wide compares tetwalk's 4-wide versions; an --answerer has none".into());
+        }
+        return super::answer::outside::<Triangle>("hit", x, &a, refuse, t_ulps);
+    }
     let backend = a.backend.open()?;
     Answering {
         command: "hit",
@@ -71,7 +78,7 @@ pub fn run(
         input: None,
         json: a.json.as_deref(),
         fail: a.fail,
-        standing: standing::<Triangle>,
+        standing: &standing::<Triangle>,
     }
     .run(
         |batch, summary| {

@@ -178,7 +178,7 @@ pub fn run(a: Args) -> Status {
         input: Some(input),
         json: a.json.as_deref(),
         fail: a.fail,
-        standing: |t| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong),
+        standing: &|t| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong),
     }
     .run(
         |batch, summary| {
