@@ -73,6 +73,18 @@ fn c_kernel(dir: &std::path::Path) -> String {
     exe.to_str().unwrap().to_string()
 }
 
+/// The arguments that ask the C kernel `exe`, its face numbering given.
+fn c_args(exe: &str) -> [&str; 6] {
+    [
+        "--answerer",
+        exe,
+        "--answerer-format",
+        "binary",
+        "--faces",
+        "3,0,1,2",
+    ]
+}
+
 /// A C kernel in binary records, numbering faces its own way: `--faces auto` finds its numbering
 /// (face j opposite vertex j + 3), and the table is then the one the numbering given by hand makes;
 /// the identity numbering makes nearly every well-shaped case wrong.
@@ -276,20 +288,10 @@ fn an_answerers_campaign_files_cases_that_shrink_inside_its_contract() {
     let dir = tempfile::tempdir().unwrap();
     let exe = c_kernel(dir.path());
     let found = dir.path().join("found");
-    let kernel = [
-        "--answerer",
-        &exe,
-        "--answerer-format",
-        "binary",
-        "--answerer-name",
-        "c-plucker",
-        "--faces",
-        "3,0,1,2",
-        "--origin",
-        "inside",
-    ];
+    let mut kernel = c_args(&exe).to_vec();
+    kernel.extend(["--answerer-name", "c-plucker", "--origin", "inside"]);
     let mut args = vec!["stress"];
-    args.extend(kernel);
+    args.extend(&kernel);
     args.extend([
         "--rows",
         "near-vertex",
@@ -315,7 +317,7 @@ fn an_answerers_campaign_files_cases_that_shrink_inside_its_contract() {
         assert_eq!(v["backend"], "outside");
         assert_eq!(v["method"], "c-plucker");
         let mut args = vec!["shrink"];
-        args.extend(kernel);
+        args.extend(&kernel);
         args.push(f.to_str().unwrap());
         let (code, out, err) = tetwalk(&args);
         assert_eq!(code, 0, "{err}");
@@ -486,13 +488,8 @@ fn a_tolerance_leaves_out_the_lines_it_allows() {
     let dir = tempfile::tempdir().unwrap();
     let exe = c_kernel(dir.path());
     let row = |tolerance: &str| {
-        let (r, _) = stress(&[
-            "--answerer",
-            &exe,
-            "--answerer-format",
-            "binary",
-            "--faces",
-            "3,0,1,2",
+        let mut args = c_args(&exe).to_vec();
+        args.extend([
             "--rows",
             "cap,wedge,near-edge",
             "--cases",
@@ -500,6 +497,7 @@ fn a_tolerance_leaves_out_the_lines_it_allows() {
             "--tolerance",
             tolerance,
         ]);
+        let (r, _) = stress(&args);
         let t = tallies(&r, 0);
         let wrong =
             |t: &Value| t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap();
@@ -689,14 +687,9 @@ fn an_answerer_that_claims_is_held_to_its_claim() {
     let dir = tempfile::tempdir().unwrap();
     let exe = c_kernel(dir.path());
     let run = |rows: &str| {
-        tetwalk(&[
-            "stress",
-            "--answerer",
-            &exe,
-            "--answerer-format",
-            "binary",
-            "--faces",
-            "3,0,1,2",
+        let mut args = vec!["stress"];
+        args.extend(c_args(&exe));
+        args.extend([
             "--answerer-claims",
             "--fail-on",
             "claims",
@@ -704,7 +697,8 @@ fn an_answerer_that_claims_is_held_to_its_claim() {
             rows,
             "--cases",
             "500",
-        ])
+        ]);
+        tetwalk(&args)
     };
     let (code, _, err) = run("near-edge");
     assert_eq!(code, 1, "{err}");
@@ -732,14 +726,7 @@ fn an_answerer_that_claims_is_held_to_its_claim() {
 fn exit_and_hit_judge_a_file_through_an_answerer() {
     let dir = tempfile::tempdir().unwrap();
     let exe = c_kernel(dir.path());
-    let kernel = [
-        "--answerer",
-        exe.as_str(),
-        "--answerer-format",
-        "binary",
-        "--faces",
-        "3,0,1,2",
-    ];
+    let kernel = c_args(&exe);
     let (_, cases, _) = tetwalk(&["gen-cases", "--row", "near-vertex", "--count", "400"]);
     let json = dir.path().join("e.json");
     let mut args = vec!["exit", "--json", json.to_str().unwrap()];
