@@ -63,6 +63,9 @@ pub(super) fn open_lines(p: &std::path::Path) -> Result<Box<dyn BufRead + Send>,
     )))
 }
 
+/// The key under which an answer line that is not JSON keeps why, for its case line (`judge`).
+pub(super) const NOT_JSON: &str = "not JSON";
+
 /// Longest line read, in bytes; a longer one is an error for that line.
 pub(super) const MAX_LINE: u64 = 1 << 20;
 /// Most lines answered as one batch.
@@ -419,7 +422,7 @@ impl<F: Lines> Takes for Part<'_, F> {
             None => None,
             Some(a) => {
                 let o = a.as_object().ok_or("an answer is a JSON object")?;
-                if let Some(why) = o.get(super::judge::NOT_JSON).and_then(Value::as_str) {
+                if let Some(why) = o.get(NOT_JSON).and_then(Value::as_str) {
                     return Err(why.to_string());
                 }
                 Some(F::given(o, &case)?)

@@ -1,7 +1,7 @@
 //! `tetwalk judge`: answers computed anywhere (a C++ or CUDA kernel's, dumped as JSON Lines) judged
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
-use super::answer::{Answered, Answering, MAX_LINE, Part, Takes, answer, reader};
+use super::answer::{Answered, Answering, MAX_LINE, NOT_JSON, Part, Takes, answer, reader};
 use super::count::{Dump, RaysHeader};
 use super::{JsonOut, Status};
 use crate::cases::number;
@@ -105,9 +105,6 @@ fn each_answer(
     }
     Ok(())
 }
-
-/// The key under which an answer line that is not JSON keeps why, for its case line.
-pub(super) const NOT_JSON: &str = "not JSON";
 
 /// Why an answer line is not JSON, naming the forms that are (Python's `json.dumps` writes NaN and
 /// Infinity, which JSON has not).
