@@ -56,6 +56,7 @@ use run::check;
 /// What a user's crate names: the method traits, the geometry their signatures use, the kit.
 pub mod prelude {
     pub use super::{Accept, Failed, Passed, Settings, cells, exit_faces, triangles};
+    pub use crate::family::contract::{Contract, EntryGiven, Orientation, Origin};
     pub use crate::methods::triangle::{HitMethod, SingleRay};
     pub use crate::methods::{Arith, CellMethod, ExitMethod, Plain};
     pub use crate::octree::cell;
@@ -76,6 +77,10 @@ pub struct Settings {
     pub fma: bool,
     /// Which failures pass.
     pub accept: Accept,
+    /// What the method assumes of its cases (docs/answerers.md, "Contracts"): every stress row's and
+    /// campaign's case is made to hold it, and a failure is shrunk inside it. Exit faces take every
+    /// field; the other families a unit direction (the rest is not theirs to hold).
+    pub contract: crate::family::contract::Contract,
 }
 
 impl Default for Settings {
@@ -86,6 +91,7 @@ impl Default for Settings {
             seed: 1,
             fma: false,
             accept: Accept::default(),
+            contract: Default::default(),
         }
     }
 }

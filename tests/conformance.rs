@@ -166,3 +166,36 @@ fn a_registered_method_through_the_kit_is_named_as_registered() {
     let m = tetwalk::family::by_name::<ExitFace>("certified").unwrap();
     assert_eq!(m.name(), "certified");
 }
+
+/// The kit holds a method to its contract: f32 Plücker judged with origins strictly inside the
+/// tetrahedron still fails, and its failure, shrunk, keeps the origin strictly inside (checked here
+/// exactly); the well-shaped row it passes is judged in full.
+#[test]
+fn the_kit_keeps_every_case_and_shrink_inside_the_contract() {
+    use tetwalk::kit::prelude::{Contract, Origin};
+    let s = Settings {
+        cases: 400,
+        properties: 400,
+        contract: Contract {
+            origin: Origin::Inside,
+            unit_direction: true,
+            ..Contract::default()
+        },
+        ..Settings::default()
+    };
+    let failed = tetwalk::kit::run::registered::<ExitFace>("plucker", &s)
+        .unwrap()
+        .expect_err("f32 Plücker fails near edges whatever the origin");
+    for line in [&failed.case, &failed.original] {
+        let c = tetwalk::engine::found::Found::<ExitFace>::parse(line)
+            .unwrap()
+            .case;
+        let side = |f: usize| {
+            let [a, b, d] = tetwalk::tet::FACE_VERTICES[f].map(|i| c.tet[i]);
+            tetwalk::tet::orientation(&[a, b, d, c.org])
+                * tetwalk::tet::orientation(&[a, b, d, c.tet[f]])
+        };
+        assert!((0..4).all(|f| side(f) > 0), "{line}");
+        assert!((c.dir.as_dvec3().length() - 1.0).abs() < 1e-6, "{line}");
+    }
+}

@@ -90,8 +90,17 @@ fn failed<F: Family>(
     found: Found<F>,
 ) -> Failed {
     let original = found.case_line();
-    let found = shrink::shrink(m, backend(s), &found.case, &[], shrink::CHECKS)
-        .map_or(found.clone(), |x| shrink::shrunk(&found, &x));
+    let on = backend(s);
+    let answer = |c: &F::Case| Ok(F::answers(on, m, std::slice::from_ref(c))?[0]);
+    let found = shrink::shrink_with::<F>(
+        &answer,
+        m.name(),
+        &found.case,
+        &[],
+        shrink::CHECKS,
+        &s.contract,
+    )
+    .map_or(found.clone(), |x| shrink::shrunk(&found, &x));
     let f = found
         .failure
         .as_ref()
@@ -135,7 +144,7 @@ fn backend(s: &Settings) -> &'static Backend {
 pub fn check<F: Family>(m: &F::Method, s: &Settings) -> Result<Passed, Box<Failed>> {
     let on = backend(s);
     let st = StressSettings::<F> {
-        contract: Default::default(),
+        contract: s.contract,
         cases: F::kit_row_cases(s.cases),
         rows: F::Rows::default(),
         seed: s.seed,
@@ -158,12 +167,18 @@ pub fn check<F: Family>(m: &F::Method, s: &Settings) -> Result<Passed, Box<Faile
         .fold(0xc0f0_4a11u64, |h, b| h.rotate_left(5) ^ b as u64);
     let mut rng = crate::scenes::rng(s.seed ^ salt);
     let mut cases = Vec::new();
-    for _ in 0..F::kit_properties(s.properties) {
+    for i in 0..F::kit_properties(s.properties) {
         let bytes: Vec<u8> = (0..rng.random_range(16..160))
             .map(|_| rng.random())
             .collect();
-        if let Some(c) = F::arbitrary(&mut arbitrary::Unstructured::new(&bytes))
-            && let Ok(x) = F::truth(&c)
+        // Each input made to hold the contract, and kept where it then does.
+        if let Some(c) = F::arbitrary(&mut arbitrary::Unstructured::new(&bytes)).and_then(|c| {
+            match s.contract.is_default() {
+                true => Some(c),
+                false => F::contracted(&s.contract, &c, i as u64),
+            }
+        }) && let Ok(x) = F::truth(&c)
+            && (s.contract.is_default() || F::holds(&s.contract, &c, &x))
         {
             cases.push((c, x));
         }
