@@ -55,11 +55,14 @@ crate::choice!(Orientation { Positive => "positive", Any => "any" });
 /// What a kernel assumes (module docs); the default is what the rows make.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Contract {
+    /// Where each ray's origin lies.
     pub origin: Origin,
     /// Directions of length 1 (each rounded to f32 from the exact unit vector, the case judged as it
     /// then is).
     pub unit_direction: bool,
+    /// Whether cases carry their entry face.
     pub entry: EntryGiven,
+    /// Which orientations of tetrahedra the method takes.
     pub orientation: Orientation,
     /// Lines passing within this distance of an edge, relative to the longest edge, are outside the
     /// contract (a kernel with an epsilon is allowed its epsilon); 0: none.
