@@ -276,6 +276,23 @@ fn every_case_made_holds_its_contract() {
             }
             assert_eq!(out.lines().count(), 300);
             assert!(signs[0] > 50 && signs[1] > 50, "{signs:?}");
+            // The contract is recorded with what was generated.
+            let dir = tempfile::tempdir().unwrap();
+            let json = dir.path().join("g.json");
+            let (code, _, _) = tetwalk(&[
+                "gen-cases",
+                "--row",
+                row,
+                "--count",
+                "5",
+                "--origin",
+                origin,
+                "--json",
+                json.to_str().unwrap(),
+            ]);
+            assert_eq!(code, 0);
+            let g: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+            assert_eq!(g["contract"]["origin"], origin);
         }
     }
 }

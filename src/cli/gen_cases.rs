@@ -7,7 +7,7 @@
 use super::{JsonOut, Status, choice};
 use crate::cases::{Case, HitCase};
 use crate::exact::classify;
-use crate::family::contract::cases_within;
+use crate::family::contract::{Contract, cases_within};
 use crate::family::exit_face::{ExitRow, ExitRows, TetRow};
 use crate::family::octree::{CellRow, CellRows};
 use crate::family::triangle::{TriRow, TriRows};
@@ -121,6 +121,8 @@ struct Generated {
     with_entry: bool,
     #[serde(skip_serializing_if = "Scale::is_one")]
     scale: Scale,
+    /// What every case holds (`--origin`, `--unit-direction`, …).
+    contract: Contract,
     written: usize,
 }
 
@@ -218,7 +220,7 @@ pub fn run(a: Args) -> Status {
         out.finish(&serde_json::json!({
             "shape": shape, "aim": a.aim, "place": a.place, "flatness": flatness,
             "ulps": a.ulps, "seed": a.seed, "single": a.single, "scale": a.scale,
-            "written": written,
+            "contract": contract, "written": written,
         }))?;
         return Ok(ExitCode::SUCCESS);
     }
@@ -235,7 +237,7 @@ pub fn run(a: Args) -> Status {
         })?;
         out.finish(&serde_json::json!({
             "row": at, "flatness": flatness, "ulps": a.ulps, "offset": a.offset, "seed": a.seed, "scale": a.scale,
-            "written": written,
+            "contract": contract, "written": written,
         }))?;
         return Ok(ExitCode::SUCCESS);
     }
@@ -252,7 +254,7 @@ pub fn run(a: Args) -> Status {
         let written = row::<OctreeCells>(&rows, at, &a, |c, _| Some(OctreeCells::case_json(c)))?;
         out.finish(&serde_json::json!({
             "cell_aim": aim, "cell_place": a.cell_place, "ulps": a.ulps, "seed": a.seed,
-            "scale": a.scale, "written": written,
+            "scale": a.scale, "contract": contract, "written": written,
         }))?;
         return Ok(ExitCode::SUCCESS);
     }
@@ -342,6 +344,7 @@ pub fn run(a: Args) -> Status {
         seed: a.seed,
         with_entry: a.with_entry,
         scale: a.scale,
+        contract,
         written,
     })?;
     Ok(ExitCode::SUCCESS)
