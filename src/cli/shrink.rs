@@ -170,21 +170,7 @@ fn shrink_outside<F: Family>(
         field: "contract",
         why: e.to_string(),
     })?;
-    let answerer = |c: &F::Case| {
-        Ok(a.answers::<F>(std::slice::from_ref(c))
-            .map_err(|e| FoundError::Field {
-                field: "answerer",
-                why: e.to_string(),
-            })?[0])
-    };
-    let s = match crate::engine::shrink::shrink_with::<F>(
-        &answerer,
-        &a.name,
-        &found.case,
-        &[],
-        checks,
-        &contract,
-    ) {
+    let s = match crate::engine::shrink::shrink_outside::<F>(a, &found.case, checks, &contract) {
         Ok(s) => s,
         Err(FoundError::Field { field: "case", why }) => return Ok(Err(why)),
         Err(e) => return Err(e),

@@ -320,7 +320,7 @@ fn stress<F: Rows>(a: Args) -> Status {
             .status("stress", &standings(&report, answerer.as_ref())));
     };
     let found = a.found.unwrap_or_else(|| PathBuf::from("corpora/found"));
-    let mut filing = Filing::new(found, a.keep, answerer.as_ref().map(|x| (x, contract)));
+    let mut filing = Filing::new(found, a.keep, contract);
     let report = stress::campaign(&settings, &who, &backend, seconds, &|_| {}, &mut |w| {
         filing.file::<F>(w)
     })?;
@@ -356,12 +356,9 @@ fn standings<F: Family>(
 /// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
 /// kind (each with the same case for the methods that claim and fail it too); the first error stops
 /// filing and is reported.
-struct Filing<'a> {
-    /// The answerer judged, where it is one (its found cases are shrunk through it).
-    answerer: Option<(
-        &'a crate::engine::answerer::Answerer,
-        crate::family::contract::Contract,
-    )>,
+struct Filing {
+    /// What an answerer's found cases are shrunk inside.
+    contract: crate::family::contract::Contract,
     dir: PathBuf,
     keep: usize,
     kept: HashMap<(String, String, &'static str), usize>,
@@ -370,17 +367,10 @@ struct Filing<'a> {
     error: Option<String>,
 }
 
-impl<'a> Filing<'a> {
-    fn new(
-        dir: PathBuf,
-        keep: usize,
-        answerer: Option<(
-            &'a crate::engine::answerer::Answerer,
-            crate::family::contract::Contract,
-        )>,
-    ) -> Filing<'a> {
+impl Filing {
+    fn new(dir: PathBuf, keep: usize, contract: crate::family::contract::Contract) -> Filing {
         Filing {
-            answerer,
+            contract,
             dir,
             keep,
             kept: HashMap::new(),
@@ -434,16 +424,8 @@ impl<'a> Filing<'a> {
             if file.exists() {
                 continue;
             }
-            let shrunk = if let (Who::Outside(x), Some((_, contract))) = (&w.who, &self.answerer) {
-                let ask = |c: &F::Case| {
-                    Ok(x.answers::<F>(std::slice::from_ref(c)).map_err(|e| {
-                        crate::engine::found::FoundError::Field {
-                            field: "answerer",
-                            why: e.to_string(),
-                        }
-                    })?[0])
-                };
-                shrink::shrink_with::<F>(&ask, &x.name, &r.case, &[], shrink::CHECKS, contract)
+            let shrunk = if let Who::Outside(x) = &w.who {
+                shrink::shrink_outside::<F>(x, &r.case, shrink::CHECKS, &self.contract)
                     .map(|s| shrink::shrunk(&r, &s))
             } else if let (0, Who::Method(m)) = (i, &w.who) {
                 shrink::shrink_on(&r, m, w.on, shrink::CHECKS).map(|(s, _)| s)

@@ -92,6 +92,23 @@ pub fn shrink<F: Family>(
     shrink_with::<F>(&answer, m.name(), case, keep, budget, &Contract::default())
 }
 
+/// [`shrink_with`] for a program outside tetwalk, each case tried asked of it alone, inside `contract`.
+pub fn shrink_outside<F: Family>(
+    x: &crate::engine::answerer::Answerer,
+    case: &F::Case,
+    budget: usize,
+    contract: &Contract,
+) -> Result<Shrunk<F>, FoundError> {
+    let ask = |c: &F::Case| {
+        Ok(x.answers::<F>(std::slice::from_ref(c))
+            .map_err(|e| FoundError::Field {
+                field: "answerer",
+                why: e.to_string(),
+            })?[0])
+    };
+    shrink_with::<F>(&ask, &x.name, case, &[], budget, contract)
+}
+
 /// [`shrink`] for any answerer, `name` naming it; every case tried holds `contract` (what the
 /// answerer assumes), and a failure that is no tie does not shrink into one.
 pub fn shrink_with<F: Family>(
