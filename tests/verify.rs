@@ -100,22 +100,26 @@ fn the_command_says_pass_or_fail_and_its_status_holds_the_register() {
 
     let dir = tempfile::tempdir().unwrap();
     let maria = dir.path().join("maria17");
+    // `verify` of maria17's claim on the CPU against the corpus in `dir`.
+    let verify = || {
+        common::run_tetwalk(
+            &[
+                "verify",
+                "--run",
+                "maria17@cpu",
+                "--found",
+                dir.path().to_str().unwrap(),
+            ],
+            b"",
+        )
+    };
     std::fs::create_dir(&maria).unwrap();
     std::fs::write(
         maria.join("exit_face-wrong_face-50e741ec2f3d.json"),
         r#"{"tet":[[0,0,0],[1,0,0],[0,1,0],[0,0,1]],"org":[0.2,0.2,-1],"dir":[0.01,0.02,1],"method":"maria17","backend":"cpu","kind":"wrong_face","answer":0}"#,
     )
     .unwrap();
-    let (code, out, err) = common::run_tetwalk(
-        &[
-            "verify",
-            "--run",
-            "maria17@cpu",
-            "--found",
-            dir.path().to_str().unwrap(),
-        ],
-        b"",
-    );
+    let (code, out, err) = verify();
     assert_eq!(code, 1, "{out}{err}");
     assert!(
         out.contains("PASS  maria17@cpu") && out.contains("AGAINST THE REGISTER"),
@@ -143,16 +147,7 @@ fn the_command_says_pass_or_fail_and_its_status_holds_the_register() {
             edit.to_string(),
         )
         .unwrap();
-        let (code, out, err) = common::run_tetwalk(
-            &[
-                "verify",
-                "--run",
-                "maria17@cpu",
-                "--found",
-                dir.path().to_str().unwrap(),
-            ],
-            b"",
-        );
+        let (code, out, err) = verify();
         assert_eq!(code, 1, "{out}{err}");
         assert!(
             out.contains("AGAINST THE REGISTER") && out.contains(says),

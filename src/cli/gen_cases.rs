@@ -129,14 +129,15 @@ struct Generated {
 /// The stress row `row` of family `F` under `rows`: its first `count` cases (the cases `stress` judges
 /// there), each at `scale`, written as `line` makes them (`None`: a case it leaves out, such as a ray
 /// that misses every triangle under `--single`); an error, with nothing written, when some of them
-/// cannot be made (the oracle refuses one, or it rounds at `scale`). The number of lines written.
+/// cannot be made (the oracle refuses one, or it rounds at `scale`), each made to hold `contract`.
+/// The number of lines written.
 fn row<F: Family>(
     rows: &F::Rows,
     row: F::Row,
     a: &Args,
+    contract: &Contract,
     line: impl Fn(&F::Case, &F::Truth) -> Option<serde_json::Map<String, serde_json::Value>> + Sync,
 ) -> Result<usize, super::Error> {
-    let contract = a.contract.contract::<F>()?;
     let case = |i: usize| -> Option<(F::Case, F::Truth)> {
         let (c, x) = F::case(rows, row, a.seed, i)?;
         if a.scale.is_one() {
@@ -147,7 +148,7 @@ fn row<F: Family>(
             .and_then(|c| Some((c, F::truth(&c).ok()?)))
     };
     // Every case made before a line is written: a short run writes nothing.
-    let made = cases_within::<F>(&contract, a.count, case);
+    let made = cases_within::<F>(contract, a.count, case);
     if made.len() < a.count {
         return Err(format!(
             "only {} of the row's first {} cases can be made at scale {}{} (the others round there, or the oracle refuses them; stress judges the same {}): nothing was written",
@@ -187,11 +188,14 @@ pub fn run(a: Args) -> Status {
         return Err(format!("--offset {} is not finite", a.offset).into());
     }
     let out = JsonOut::new(a.json.as_deref())?;
-    let contract = a.contract.contract::<ExitFace>();
-    if a.shape.is_some() || a.cell_aim.is_some() {
-        a.contract.contract::<crate::family::Triangle>()?;
-    }
-    let contract = contract?;
+    // The contract, checked for the family of the cases written.
+    let contract = if a.shape.is_some() {
+        a.contract.contract::<Triangle>()?
+    } else if a.cell_aim.is_some() {
+        a.contract.contract::<OctreeCells>()?
+    } else {
+        a.contract.contract::<ExitFace>()?
+    };
     let mut r = rng(a.seed);
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     if let Some(shape) = a.shape {
@@ -207,7 +211,7 @@ pub fn run(a: Args) -> Status {
             aim: a.aim,
             place: a.place,
         };
-        let written = row::<Triangle>(&rows, at, &a, |c, x| {
+        let written = row::<Triangle>(&rows, at, &a, &contract, |c, x| {
             if !a.single {
                 return Some(Triangle::case_json(c));
             }
@@ -232,7 +236,7 @@ pub fn run(a: Args) -> Status {
             offset: a.offset,
             ..ExitRows::default()
         };
-        let written = row::<ExitFace>(&rows, ExitRow { row: at }, &a, |c, _| {
+        let written = row::<ExitFace>(&rows, ExitRow { row: at }, &a, &contract, |c, _| {
             Some(ExitFace::case_json(c))
         })?;
         out.finish(&serde_json::json!({
@@ -251,7 +255,9 @@ pub fn run(a: Args) -> Status {
             aim,
             place: a.cell_place,
         };
-        let written = row::<OctreeCells>(&rows, at, &a, |c, _| Some(OctreeCells::case_json(c)))?;
+        let written = row::<OctreeCells>(&rows, at, &a, &contract, |c, _| {
+            Some(OctreeCells::case_json(c))
+        })?;
         out.finish(&serde_json::json!({
             "cell_aim": aim, "cell_place": a.cell_place, "ulps": a.ulps, "seed": a.seed,
             "scale": a.scale, "contract": contract, "written": written,
