@@ -36,8 +36,8 @@ pub enum BackendError {
         "method '{0}' has no layout walk (seed 003's layouts are walked by the 2-D frame methods)"
     )]
     NoLayoutWalk(&'static str),
-    #[error("cpu-ftz needs a processor whose flush-to-zero mode tetwalk sets (x86-64 or AArch64)")]
-    NoFlush,
+    #[error("{0} needs a processor whose flush-to-zero mode tetwalk sets (x86-64 or AArch64)")]
+    NoFlush(&'static str),
     #[error("{0} run on the CPU so far: use --backend cpu or cpu-fma")]
     CpuOnly(&'static str),
     #[error("method '{0}' runs only on the GPU (a user's WGSL): use --backend gpu")]
@@ -67,17 +67,23 @@ fn map_all<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> 
     }
 }
 
+/// One CPU backend per arithmetic model ([`crate::arithmetic_models!`]), in [`Model::ALL`]'s order.
+macro_rules! cpu_backends {
+    ([] $($(#[$doc:meta])* $model:ident, $backend:ident => $name:literal,
+        ($($arith:ident),*), {$($info:tt)*};)*) => {
+        /// Every CPU backend, one per arithmetic model, in [`Model::ALL`]'s order.
+        pub static CPUS: [Backend; Model::COUNT] = [$(Backend::Cpu { model: Model::$model }),*];
+    };
+}
+crate::arithmetic_models!(cpu_backends);
+
 /// The CPU in plain f32, where the reference runs.
 pub static CPU: Backend = Backend::Cpu {
     model: Model::Plain,
 };
-/// The CPU as a GPU compiles the methods.
+/// The CPU as a GPU compiles the methods (fused multiply-adds).
 pub static CPU_FMA: Backend = Backend::Cpu {
     model: Model::Fused,
-};
-/// The CPU flushing subnormals, as a GPU may.
-pub static CPU_FTZ: Backend = Backend::Cpu {
-    model: Model::Flushed,
 };
 
 /// A backend, opened.
@@ -120,9 +126,6 @@ impl Backend {
     /// Open a backend (a GPU backend opens the adapter).
     pub fn open(kind: BackendKind) -> Result<Backend, BackendError> {
         Ok(match kind {
-            BackendKind::CpuFtz if !crate::fpenv::FLUSH_AVAILABLE => {
-                return Err(BackendError::NoFlush);
-            }
             #[cfg(feature = "gpu")]
             BackendKind::Gpu => Backend::Gpu(Box::new(gpu::Gpu::new()?)),
             #[cfg(not(feature = "gpu"))]
@@ -133,9 +136,13 @@ impl Backend {
                         .into(),
                 ));
             }
-            cpu => Backend::Cpu {
-                model: cpu.model().expect("a CPU backend has a model"),
-            },
+            cpu => {
+                let model = cpu.model().expect("a CPU backend has a model");
+                if crate::registry::flushes(model) && !crate::fpenv::FLUSH_AVAILABLE {
+                    return Err(BackendError::NoFlush(crate::choice::Choice::name(cpu)));
+                }
+                Backend::Cpu { model }
+            }
         })
     }
 
@@ -151,15 +158,7 @@ impl Backend {
 
     pub fn kind(&self) -> BackendKind {
         match self {
-            Backend::Cpu {
-                model: Model::Plain,
-            } => BackendKind::Cpu,
-            Backend::Cpu {
-                model: Model::Fused,
-            } => BackendKind::CpuFma,
-            Backend::Cpu {
-                model: Model::Flushed,
-            } => BackendKind::CpuFtz,
+            Backend::Cpu { model } => model.backend(),
             #[cfg(feature = "gpu")]
             Backend::Gpu(_) => BackendKind::Gpu,
         }

@@ -27,62 +27,135 @@ macro_rules! choice {
     };
 }
 
-/// The arithmetic models a CPU backend computes in, each a `crate::methods::Arith`: as written,
-/// products fused into multiply-adds, subnormals flushed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Model {
-    /// Each operation rounded once, as written, with gradual underflow (`cpu`).
-    Plain,
-    /// `a·b + c` fused into one rounding where a GPU compiler may contract it (`cpu-fma`).
-    Fused,
-    /// As written, with subnormal inputs read as zero and subnormal results flushed (`cpu-ftz`).
-    Flushed,
+/// The arithmetic models, written once (in the spirit of CGAL's interface macros): `$then!` is
+/// called with `[ARGS]` (what follows `$then,` here) and one line per model — its [`Model`] variant, its CPU backend's [`BackendKind`] variant
+/// and name, the `crate::methods::Arith` types that compute it (portable, a twin on an instruction
+/// the processor may have, rounding alike, and the twin the exit-face tables use), its words in
+/// reports and the [`Instruction`] its twin is compiled for. [`Model`], the CPU backends, the registry's per-model tables and every list of CPU
+/// backends expand from it; a new model is a line here and its `Arith` types.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! arithmetic_models {
+    ($then:ident $(, $($args:tt)*)?) => {
+        $then! {
+            [$($($args)*)?]
+            /// Each operation rounded once, as written, with gradual underflow (`cpu`).
+            Plain, Cpu => "cpu", (Plain, Plain, PlainAvx2), { "plain f32", Avx2 };
+            /// `a·b + c` fused into one rounding where a GPU compiler may contract it (`cpu-fma`).
+            Fused, CpuFma => "cpu-fma", (Fused, FusedFma, FusedFma), { "fma", Fma };
+            /// As written, with subnormal inputs read as zero and subnormal results flushed (`cpu-ftz`).
+            Flushed, CpuFtz => "cpu-ftz", (Flushed, Flushed, Flushed),
+                { "f32, subnormals flushed to zero", Avx2 };
+            /// Fused and flushed at once, as an NVIDIA GPU computes a compute shader (an H200 on
+            /// Vulkan fuses multiply-adds and flushes subnormals, `corpora/results/h200/`) (`cpu-gpu`).
+            FusedFlushed, CpuGpu => "cpu-gpu", (FusedFlushed, FusedFlushedFma, FusedFlushedFma),
+                { "fma, subnormals flushed to zero", Fma };
+        }
+    };
 }
 
-impl Model {
-    /// Every model, in the order reports list them.
-    pub const ALL: [Model; 3] = [Model::Plain, Model::Fused, Model::Flushed];
+/// The x86-64 instruction set a model's faster twin is compiled for (used where the processor has it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Instruction {
+    /// AVX2: the same IEEE operations with three-operand encodings, eight lanes in a register.
+    Avx2,
+    /// FMA3: the fused multiply-add in one instruction (else `f32::mul_add`, a library call).
+    Fma,
 }
 
-/// Which backend: the one spelling used by every command (`--backend`), found cases and reports.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum BackendKind {
-    /// The CPU, every product and sum rounded as written.
-    Cpu,
-    /// The CPU as a GPU compiler may compile the method: `a·b + c` contracted to fused multiply-adds.
-    CpuFma,
-    /// The CPU as a GPU may compute: subnormal inputs read as zero, subnormal results flushed to zero.
-    CpuFtz,
-    /// A GPU through wgpu (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME`).
-    Gpu,
-    /// A user's program outside tetwalk (`--answerer`): where its found cases were found; nothing
-    /// tetwalk opens.
-    Outside,
+/// [`Model`] and [`BackendKind`] from [`arithmetic_models!`].
+macro_rules! model_and_backends {
+    ([] $($(#[$doc:meta])* $model:ident, $backend:ident => $name:literal, ($($arith:ident),*),
+        { $words:literal, $instruction:ident };)*) => {
+        /// The arithmetic models a CPU backend computes in, each a `crate::methods::Arith`
+        /// ([`arithmetic_models!`]).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum Model {
+            $($(#[$doc])* $model,)*
+        }
+
+        impl Model {
+            /// How many models there are.
+            pub const COUNT: usize = [$(stringify!($model)),*].len();
+            /// Every model, in the order reports list them.
+            pub const ALL: [Model; Model::COUNT] = [$(Model::$model),*];
+
+            /// The CPU backend that computes in it.
+            pub const fn backend(self) -> BackendKind {
+                match self {
+                    $(Model::$model => BackendKind::$backend,)*
+                }
+            }
+
+            /// The instruction set its faster twin is compiled for.
+            pub const fn instruction(self) -> Instruction {
+                match self {
+                    $(Model::$model => Instruction::$instruction,)*
+                }
+            }
+
+            /// What it is, in a few words (`walk`'s heading).
+            pub const fn words(self) -> &'static str {
+                match self {
+                    $(Model::$model => $words,)*
+                }
+            }
+        }
+
+        /// Which backend: the one spelling used by every command (`--backend`), found cases and
+        /// reports. One CPU backend per arithmetic model ([`arithmetic_models!`]), a GPU, and a
+        /// user's program.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+        pub enum BackendKind {
+            $(
+                #[doc = concat!("The CPU computing in [`Model::", stringify!($model), "`].")]
+                #[serde(rename = $name)]
+                $backend,
+            )*
+            /// A GPU through wgpu (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME`).
+            #[serde(rename = "gpu")]
+            Gpu,
+            /// A user's program outside tetwalk (`--answerer`): where its found cases were found;
+            /// nothing tetwalk opens.
+            #[serde(rename = "outside")]
+            Outside,
+        }
+
+        crate::choice!(BackendKind { $($backend => $name,)* Gpu => "gpu", Outside => "outside" });
+
+        impl BackendKind {
+            /// The arithmetic model of a CPU backend (none for a GPU, whose compiler and driver
+            /// choose, or a user's program).
+            pub fn model(self) -> Option<Model> {
+                match self {
+                    $(BackendKind::$backend => Some(Model::$model),)*
+                    BackendKind::Gpu | BackendKind::Outside => None,
+                }
+            }
+        }
+    };
 }
 
-crate::choice!(BackendKind { Cpu => "cpu", CpuFma => "cpu-fma", CpuFtz => "cpu-ftz", Gpu => "gpu", Outside => "outside" });
+arithmetic_models!(model_and_backends);
 
 impl BackendKind {
     /// Whether it computes f32 as written: the plain CPU, and a GPU (whatever its compiler makes of the
     /// WGSL); not with products fused or subnormals flushed.
     pub fn as_written(self) -> bool {
-        matches!(self, BackendKind::Cpu | BackendKind::Gpu)
+        self == Model::Plain.backend() || self == BackendKind::Gpu
     }
 
-    /// The arithmetic model of a CPU backend (none for a GPU, whose compiler and driver choose).
-    pub fn model(self) -> Option<Model> {
-        match self {
-            BackendKind::Cpu => Some(Model::Plain),
-            BackendKind::CpuFma => Some(Model::Fused),
-            BackendKind::CpuFtz => Some(Model::Flushed),
-            BackendKind::Gpu | BackendKind::Outside => None,
-        }
+    /// The backends tetwalk opens, `a|b|…` (for messages).
+    pub fn names() -> String {
+        let opened = BackendKind::ALL
+            .iter()
+            .filter(|k| **k != BackendKind::Outside);
+        opened.map(|k| k.name()).collect::<Vec<_>>().join("|")
     }
 }
 
 /// Where methods ran: a backend's kind, and for a GPU its adapter and driver. Reports write it as
-/// `cpu`, `cpu-fma`, `cpu-ftz` or `gpu: ADAPTER (…, driver …)`.
+/// a CPU backend's name or `gpu: ADAPTER (…, driver …)`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Ran {
     pub kind: BackendKind,
@@ -113,7 +186,8 @@ impl<'de> serde::Deserialize<'de> for Ran {
         };
         let kind = BackendKind::from_name(kind).ok_or_else(|| {
             serde::de::Error::custom(format!(
-                "'{text}' is not cpu, cpu-fma, cpu-ftz or gpu: ADAPTER"
+                "'{text}' is not one of {} (gpu: ADAPTER)",
+                BackendKind::names()
             ))
         })?;
         Ok(Ran { kind, adapter })

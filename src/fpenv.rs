@@ -186,52 +186,60 @@ pub(crate) unsafe fn with_fma<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
     f(input)
 }
 
+/// 200,000 operand triples `(a, b, c)` for `a·b + c` from `seed`: every exponent regime (subnormal to
+/// near overflow, mixed in one operation), signed zeros, infinities and NaN, addends that cancel the
+/// product's leading bits, and sums near 2^-126, where flushing decides.
+#[cfg(test)]
+pub(crate) fn mad_operands(seed: u64) -> Vec<(f32, f32, f32)> {
+    let mut state = seed;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    let special = [
+        0.0,
+        -0.0,
+        f32::MIN_POSITIVE,
+        1e-45,
+        f32::MAX,
+        f32::INFINITY,
+        f32::NAN,
+    ];
+    // Sign and mantissa from `r`, any finite exponent (0: subnormal or zero); or a special.
+    let x = |r: u64| {
+        if r.is_multiple_of(16) {
+            special[(r >> 8) as usize % special.len()]
+        } else {
+            f32::from_bits((r as u32 & 0x807f_ffff) | (((r >> 40) as u32 % 255) << 23))
+        }
+    };
+    (0..200_000)
+        .map(|_| {
+            let (a, b) = (x(next()), x(next()));
+            let c = match next() % 4 {
+                0 => x(next()),
+                1 => -(a * b) * f32::from_bits(0x3f80_0000 + (next() % 64) as u32),
+                2 => f32::from_bits(0x0080_0000 + (next() % 2048) as u32 - 1024) - a * b,
+                _ => -(a * b),
+            };
+            (a, b, c)
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     /// The fused model's two instantiations round alike (`methods::Fused`, `methods::FusedFma`):
     /// the FMA instruction, inline and called, against `f32::mul_add` without it, on operands from
-    /// every exponent regime (subnormal to near overflow, mixed in one operation), signed zeros,
-    /// infinities and NaN, and products that cancel the addend.
+    /// every exponent regime ([`mad_operands`]).
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn hardware_fma_rounds_as_the_library_fma() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        let special = [
-            0.0,
-            -0.0,
-            f32::MIN_POSITIVE,
-            1e-45,
-            f32::MAX,
-            f32::INFINITY,
-            f32::NAN,
-        ];
-        let mut ops = Vec::new();
-        for _ in 0..200_000 {
-            // Sign and mantissa from `r`, any finite exponent (0: subnormal or zero); or a special.
-            let x = |r: u64| {
-                if r.is_multiple_of(16) {
-                    special[(r >> 8) as usize % special.len()]
-                } else {
-                    f32::from_bits((r as u32 & 0x807f_ffff) | (((r >> 40) as u32 % 255) << 23))
-                }
-            };
-            let (a, b) = (x(next()), x(next()));
-            let c = match next() % 3 {
-                0 => x(next()),
-                // An addend that cancels the product's leading bits.
-                1 => -(a * b) * f32::from_bits(0x3f80_0000 + (next() % 64) as u32),
-                _ => -(a * b),
-            };
-            ops.push((a, b, c));
-        }
+        let ops = mad_operands(0x9e37_79b9_7f4a_7c15);
         let library: Vec<u32> = ops
             .iter()
             .map(|&(a, b, c)| std::hint::black_box(a).mul_add(b, c).to_bits())

@@ -9,16 +9,23 @@ use crate::methods::triangle::{
     self, HitMethod, KomatsuPacket, Mt, MtPrecomputed, MtTwoSided, PluckerPacket, Tri,
     WoopWatertight,
 };
+use crate::methods::triangle::{
+    hit as triangle_hit, hits as triangle_hits, trace as triangle_trace,
+};
 use crate::methods::{
-    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Flushed, Fused, FusedFma, HalfSpace,
-    Maria17, Model, MomentFirst, Ms06, OriginFirst, Plain, PlainAvx2, Plucker, Query, RayPlane,
-    Stp, time_queries,
+    Aman20, Aman20Scaled, Arith, Certified, Exact, ExitMethod, Flushed, Fused, FusedFlushed,
+    FusedFlushedFma, FusedFma, HalfSpace, Maria17, Model, MomentFirst, Ms06, OriginFirst, Plain,
+    PlainAvx2, Plucker, Query, RayPlane, Stp, time_queries,
 };
 use crate::octree::Octree;
 use crate::tet::{Ray, Tet};
-use crate::walk::layouts::{self, LayoutWalkFn};
-use crate::walk::octree::{self as walk_octree, OctreeWalk};
-use crate::walk::{self, CheckedWalkFn, WalkFn, WalksFn};
+use crate::walk::layouts::{LayoutWalkFn, walk_layout_unobserved};
+use crate::walk::octree::{
+    self as walk_octree, OctreeWalk, walk as octree_walk, walk_traced as octree_walk_traced,
+};
+use crate::walk::{
+    CheckedWalkFn, WalkFn, WalksFn, walk as walk_one, walk_checked, walks as walks_interleaved,
+};
 use glam::Vec3;
 
 /// A method's GPU identity: its WGSL sources (those it builds on first, as its Rust `use`s), which define `fn IDENT_prepare(o: vec3f, d: vec3f) -> R`
@@ -138,38 +145,82 @@ const AMAN20_SCALED: &str = include_str!("methods/aman20_scaled.wgsl");
 const CERTIFIED: &str = include_str!("methods/certified.wgsl");
 const PORTALEZ16: &str = include_str!("methods/portalez16.wgsl");
 
-/// How many instantiations each method has: one per arithmetic model, the fused model's on the FMA
-/// instruction, and the plain model's compiled for AVX2.
-const MODELS: usize = Model::ALL.len() + 2;
+/// A function instantiated for every arithmetic model ([`crate::arithmetic_models!`]): portable,
+/// and on the model's instruction twin (the same roundings, so the same bits, faster), which runs
+/// where the processor has its instruction.
+#[derive(Clone, Copy)]
+struct ByModel<T: Copy + 'static> {
+    portable: [T; Model::COUNT],
+    twin: [T; Model::COUNT],
+    twin_here: [fn() -> bool; Model::COUNT],
+}
 
-/// `[f::<M, Plain>, f::<M, Fused>, f::<M, Flushed>, f::<M, FusedFma>, f::<M, PlainAvx2>]`: a function
-/// instantiated for every arithmetic model, indexed by [`slot`]; `plain` in place of `PlainAvx2` (the
-/// exit-face methods' tables have it; elsewhere `Plain` is already compiled for AVX2 as far as it gains,
-/// [`crate::fpenv::wide`]).
-macro_rules! by_model {
-    ($($f:ident)::+, $m:ty) => {
-        by_model!($($f)::+, $m, Plain)
+impl<T: Copy + 'static> ByModel<T> {
+    /// One function for every model (the oracle, which computes exactly whatever the model).
+    const fn same(f: T) -> Self {
+        const NEVER: fn() -> bool = || false;
+        ByModel {
+            portable: [f; Model::COUNT],
+            twin: [f; Model::COUNT],
+            twin_here: [NEVER; Model::COUNT],
+        }
+    }
+
+    /// Model `m`'s instantiation: its twin where the processor has the twin's instruction.
+    fn get(&self, m: Model) -> T {
+        let i = m as usize;
+        if (self.twin_here[i])() {
+            self.twin[i]
+        } else {
+            self.portable[i]
+        }
+    }
+}
+
+/// [`ByModel`] of `f::<M, A>` from the list of models: `fast` takes each model's instruction twin,
+/// `wide` the exit-face tables' (the plain model's compiled for AVX2, eight lanes in one register;
+/// elsewhere `Plain` is already compiled for AVX2 as far as it gains, [`crate::fpenv::wide`]).
+macro_rules! instantiated {
+    ([$f:ident, $m:ty, fast] $($(#[$doc:meta])* $model:ident, $backend:ident => $name:literal,
+        ($arith:ident, $fast:ident, $wide:ident), {$($info:tt)*};)*) => {
+        instantiated!(@ $f, $m, $(($arith, $fast))*)
     };
-    ($($f:ident)::+, $m:ty, $wide:ty) => {
-        [
-            $($f)::+::<$m, Plain>,
-            $($f)::+::<$m, Fused>,
-            $($f)::+::<$m, Flushed>,
-            $($f)::+::<$m, FusedFma>,
-            $($f)::+::<$m, $wide>,
-        ]
+    ([$f:ident, $m:ty, wide] $($(#[$doc:meta])* $model:ident, $backend:ident => $name:literal,
+        ($arith:ident, $fast:ident, $wide:ident), {$($info:tt)*};)*) => {
+        instantiated!(@ $f, $m, $(($arith, $wide))*)
+    };
+    (@ $f:ident, $m:ty, $(($arith:ident, $twin:ident))*) => {
+        ByModel {
+            portable: [$($f::<$m, $arith>),*],
+            twin: [$($f::<$m, $twin>),*],
+            twin_here: [$(<$twin as Arith>::available),*],
+        }
     };
 }
 
-/// Where model `m`'s instantiation is in a [`by_model!`] table: the fused model's on the FMA
-/// instruction (the same bits, faster) where the processor has it, the plain model's compiled for
-/// AVX2 where it has that.
-fn slot(m: Model) -> usize {
-    match m {
-        Model::Fused if FusedFma::available() => Model::ALL.len(),
-        Model::Plain if PlainAvx2::available() => Model::ALL.len() + 1,
-        m => m as usize,
-    }
+/// `f::<M, A>` for every model `A` ([`instantiated!`]).
+macro_rules! by_model {
+    ($f:ident, $m:ty) => {
+        crate::arithmetic_models!(instantiated, $f, $m, fast)
+    };
+    ($f:ident, $m:ty, wide) => {
+        crate::arithmetic_models!(instantiated, $f, $m, wide)
+    };
+}
+
+/// Whether model `m` flushes subnormals (its `Arith::FLUSHES`).
+macro_rules! model_flushes {
+    ([$m:expr] $($(#[$doc:meta])* $model:ident, $backend:ident => $name:literal,
+        ($arith:ident, $fast:ident, $wide:ident), {$($info:tt)*};)*) => {
+        match $m {
+            $(Model::$model => <$arith as Arith>::FLUSHES,)*
+        }
+    };
+}
+
+/// Whether model `m` flushes subnormals to zero (so needs a processor whose flushing mode tetwalk sets).
+pub fn flushes(m: Model) -> bool {
+    crate::arithmetic_models!(model_flushes, m)
 }
 
 /// A method's exit function with its arithmetic fixed, for callers that pick methods at run time.
@@ -186,11 +237,11 @@ fn exit_fn<M: ExitMethod, A: Arith>(tet: &Tet, ray: &Ray, entry: Option<usize>) 
 /// A registered exit-face method (seeds 000 and 003): one tetrahedron's exit face, and the walks.
 pub struct Method {
     pub info: Info,
-    exit: [ExitFn; MODELS],
-    walk: [WalkFn; MODELS],
-    walks: [WalksFn; MODELS],
-    checked: [CheckedWalkFn; MODELS],
-    layout_walk: Option<[LayoutWalkFn; MODELS]>,
+    exit: ByModel<ExitFn>,
+    walk: ByModel<WalkFn>,
+    walks: ByModel<WalksFn>,
+    checked: ByModel<CheckedWalkFn>,
+    layout_walk: Option<ByModel<LayoutWalkFn>>,
     time_queries: TimeQueriesFn,
 }
 
@@ -201,10 +252,10 @@ impl Method {
     const fn of<M: ExitMethod>(info: Info) -> Self {
         Method {
             info,
-            exit: by_model!(exit_fn, M, PlainAvx2),
-            walk: by_model!(walk::walk, M, PlainAvx2),
-            walks: by_model!(walk::walks, M, PlainAvx2),
-            checked: by_model!(walk::walk_checked, M),
+            exit: by_model!(exit_fn, M, wide),
+            walk: by_model!(walk_one, M, wide),
+            walks: by_model!(walks_interleaved, M, wide),
+            checked: by_model!(walk_checked, M),
             layout_walk: None,
             time_queries: time_queries::<M, Plain>,
         }
@@ -216,7 +267,7 @@ impl Method {
         M::RayData: Frame,
     {
         Method {
-            layout_walk: Some(by_model!(layouts::walk_layout_unobserved, M)),
+            layout_walk: Some(by_model!(walk_layout_unobserved, M)),
             ..Self::of::<M>(Info::published(name, source, gpu))
         }
     }
@@ -229,22 +280,22 @@ impl Method {
 
     /// The exit function, in an arithmetic model.
     pub fn exit(&self, model: Model) -> ExitFn {
-        self.exit[slot(model)]
+        self.exit.get(model)
     }
 
     /// The walk specialised to this method, in an arithmetic model.
     pub fn walk(&self, model: Model) -> WalkFn {
-        self.walk[slot(model)]
+        self.walk.get(model)
     }
 
     /// The walk of many rays from one start, interleaved on one thread ([`walk::walks`]).
     pub fn walks(&self, model: Model) -> WalksFn {
-        self.walks[slot(model)]
+        self.walks.get(model)
     }
 
     /// The walk over Tet32/Tet20/Tet16, for the methods that have one (seed 003 Algorithms 2-7).
     pub fn layout_walk(&self, model: Model) -> Option<LayoutWalkFn> {
-        self.layout_walk.map(|w| w[slot(model)])
+        self.layout_walk.map(|w| w.get(model))
     }
 
     /// Time this method's exit-face search over a batch of queries (benchmarks; seed 000 Table 5).
@@ -254,7 +305,7 @@ impl Method {
 
     /// The walk that judges every step with the oracle ([`walk::walk_checked`]).
     pub fn walk_checked(&self, model: Model) -> CheckedWalkFn {
-        self.checked[slot(model)]
+        self.checked.get(model)
     }
 }
 
@@ -473,9 +524,9 @@ pub struct TriangleMethod {
     pub side_error: Option<triangle::SideError>,
     /// Its 4-wide version (seed 004's SIMD packets, plain model, the same answers), where it has one.
     pub wide: Option<WideFns>,
-    hit: [HitFn; MODELS],
-    trace: [TraceFn; MODELS],
-    hits: [HitsFn; MODELS],
+    hit: ByModel<HitFn>,
+    trace: ByModel<TraceFn>,
+    hits: ByModel<HitsFn>,
 }
 
 impl TriangleMethod {
@@ -489,9 +540,9 @@ impl TriangleMethod {
             packet,
             side_error,
             wide: None,
-            hit: by_model!(triangle::hit, M),
-            trace: by_model!(triangle::trace, M),
-            hits: by_model!(triangle::hits, M),
+            hit: by_model!(triangle_hit, M),
+            trace: by_model!(triangle_trace, M),
+            hits: by_model!(triangle_hits, M),
         }
     }
 
@@ -526,17 +577,17 @@ impl TriangleMethod {
 
     /// The test of one ray and one triangle, in an arithmetic model.
     pub fn hit(&self, model: Model) -> HitFn {
-        self.hit[slot(model)]
+        self.hit.get(model)
     }
 
     /// The nearest hit among triangles, rays in packets.
     pub fn trace(&self, model: Model) -> TraceFn {
-        self.trace[slot(model)]
+        self.trace.get(model)
     }
 
     /// Every hit of one ray among triangles.
     pub fn hits(&self, model: Model) -> HitsFn {
-        self.hits[slot(model)]
+        self.hits.get(model)
     }
 }
 
@@ -653,9 +704,9 @@ fn exact_octree_traced(
 /// array<f32, 6>` (eq. 1) and uses the shared cell test, `portalez16_cell`.
 pub struct OctreeMethod {
     pub info: Info,
-    exit: [BoxExitFn; MODELS],
-    walk: [OctreeWalkFn; MODELS],
-    traced: [OctreeTracedFn; MODELS],
+    exit: ByModel<BoxExitFn>,
+    walk: ByModel<OctreeWalkFn>,
+    traced: ByModel<OctreeTracedFn>,
 }
 
 impl OctreeMethod {
@@ -663,8 +714,8 @@ impl OctreeMethod {
         OctreeMethod {
             info,
             exit: by_model!(cell_exit, M),
-            walk: by_model!(walk_octree::walk, M),
-            traced: by_model!(walk_octree::walk_traced, M),
+            walk: by_model!(octree_walk, M),
+            traced: by_model!(octree_walk_traced, M),
         }
     }
 
@@ -675,17 +726,17 @@ impl OctreeMethod {
 
     /// The exit face and quarter of one cell, in an arithmetic model.
     pub fn exit(&self, model: Model) -> BoxExitFn {
-        self.exit[slot(model)]
+        self.exit.get(model)
     }
 
     /// The walk through an octree (seed 001 §4.2.3), in an arithmetic model.
     pub fn walk(&self, model: Model) -> OctreeWalkFn {
-        self.walk[slot(model)]
+        self.walk.get(model)
     }
 
     /// The walk, also listing each cell's exit as the method chose it (none for the reference).
     pub fn walk_traced(&self, model: Model) -> OctreeTracedFn {
-        self.traced[slot(model)]
+        self.traced.get(model)
     }
 }
 
@@ -697,9 +748,9 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
             "the exact oracle: the first exact exit face and quarter (reference)",
             "the oracle needs exact rational arithmetic (rug), which WGSL lacks",
         ),
-        exit: [exact_box_exit; MODELS],
-        walk: [exact_octree_walk; MODELS],
-        traced: [exact_octree_traced; MODELS],
+        exit: ByModel::same(exact_box_exit),
+        walk: ByModel::same(exact_octree_walk),
+        traced: ByModel::same(exact_octree_traced),
     },
     OctreeMethod::of::<Portalez16<portalez16::Points>>(Info::published(
         "portalez16",

@@ -7,7 +7,7 @@ mod common;
 use common::{any_case, config, gpu_or_skip, model};
 use glam::Vec3;
 use proptest::prelude::*;
-use tetwalk::backend::{Backend, BackendKind};
+use tetwalk::backend::Backend;
 use tetwalk::cases::classify;
 use tetwalk::engine::found::Found;
 use tetwalk::exact::side;
@@ -58,9 +58,9 @@ fn certified_is_right_on_the_counterexample_on_every_backend() {
     let truth = classify(&c).unwrap();
     assert_eq!(truth.exit.to_vec(), vec![3]);
     let certified = by_name("certified").unwrap();
-    let mut backends: Vec<Backend> = [BackendKind::Cpu, BackendKind::CpuFma, BackendKind::CpuFtz]
+    let mut backends: Vec<Backend> = tetwalk::methods::Model::ALL
         .into_iter()
-        .map(|k| Backend::open(k).unwrap())
+        .map(|m| Backend::open(m.backend()).unwrap())
         .collect();
     backends.extend(gpu_or_skip());
     for b in &backends {

@@ -11,8 +11,8 @@ use glam::Vec3;
 use tetwalk::engine::filters::{Regime, draw};
 use tetwalk::methods::aman20::{Frame, get_exit_face, start_exit_face};
 use tetwalk::methods::{
-    Aman20, Aman20Scaled, Arith, Certified, ExitMethod, Flushed, Fused, HalfSpace, Maria17, Model,
-    MomentFirst, Ms06, OriginFirst, Plain, Plucker, RayPlane, Stp,
+    Aman20, Aman20Scaled, Arith, Certified, ExitMethod, Flushed, Fused, FusedFlushed, HalfSpace,
+    Maria17, Model, MomentFirst, Ms06, OriginFirst, Plain, Plucker, RayPlane, Stp,
 };
 use tetwalk::registry::{METHODS, by_name};
 use tetwalk::tet::{EDGES, FACE_VERTICES, Ray, Tet, edge_index};
@@ -152,6 +152,9 @@ where
         Model::Plain => projected::<M, Plain>(t, r, e),
         Model::Fused => projected::<M, Fused>(t, r, e),
         Model::Flushed => tetwalk::fpenv::flushed((), |_| projected::<M, Flushed>(t, r, e)),
+        Model::FusedFlushed => {
+            tetwalk::fpenv::flushed((), |_| projected::<M, FusedFlushed>(t, r, e))
+        }
     }
 }
 
@@ -220,6 +223,9 @@ fn four_lane_methods_answer_as_their_scalar_formulas() {
                     let want = match model {
                         Model::Flushed => {
                             tetwalk::fpenv::flushed((), |_| scalar(false, &tet, &ray))
+                        }
+                        Model::FusedFlushed => {
+                            tetwalk::fpenv::flushed((), |_| scalar(true, &tet, &ray))
                         }
                         _ => scalar(fused, &tet, &ray),
                     };

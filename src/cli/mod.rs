@@ -343,8 +343,9 @@ fn choice<T: Choice>() -> impl TypedValueParser<Value = T> {
 #[derive(clap::Args, Clone, Copy)]
 struct BackendArg {
     /// Where the methods run: `cpu` (plain f32), `cpu-fma` (as a GPU compiles them: products
-    /// contracted to fused multiply-adds), `cpu-ftz` (as a GPU that flushes subnormals computes them)
-    /// or `gpu` (WGSL through wgpu; the `exact` reference stays on the CPU).
+    /// contracted to fused multiply-adds), `cpu-ftz` (as a GPU that flushes subnormals computes them),
+    /// `cpu-gpu` (both at once, as an NVIDIA GPU computes them) or `gpu` (WGSL through wgpu; the
+    /// `exact` reference stays on the CPU).
     #[arg(long, value_parser = choice::<BackendKind>(), default_value = "cpu")]
     backend: BackendKind,
     /// Not an option: the FMA choice is spelled `--backend cpu-fma`.

@@ -33,7 +33,7 @@ pub struct Args {
     /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
     methods: String,
-    /// Where the walks run: `cpu`, `cpu-fma` or `cpu-ftz` (every step is judged by the oracle on the CPU, so the
+    /// Where the walks run: a CPU backend, `cpu`, `cpu-fma`, `cpu-ftz` or `cpu-gpu` (every step is judged by the oracle on the CPU, so the
     /// GPU has no place here; `count --backend gpu` walks on it).
     #[command(flatten)]
     backend: BackendArg,
@@ -130,7 +130,11 @@ pub fn run(a: Args) -> Status {
             None
         }
         Backend::Gpu(_) => {
-            return Err("walk judges every step with the oracle on the CPU: use --backend cpu, cpu-fma or cpu-ftz (count --backend gpu walks on the GPU; a --wgsl function walks there too)".into());
+            let cpus: Vec<&str> = crate::choice::Model::ALL
+                .iter()
+                .map(|m| crate::choice::Choice::name(m.backend()))
+                .collect();
+            return Err(format!("walk judges every step with the oracle on the CPU: use --backend {} (count --backend gpu walks on the GPU; a --wgsl function walks there too)", cpus.join(", ")).into());
         }
     };
     let offset = Vec3::splat(a.offset);
@@ -166,12 +170,7 @@ pub fn run(a: Args) -> Status {
         mesh.tets.len(),
         rays.len() - outside,
         a.seed,
-        match model {
-            None => backend.describe(),
-            Some(Model::Fused) => "fma".into(),
-            Some(Model::Flushed) => "f32, subnormals flushed to zero".into(),
-            Some(Model::Plain) => "plain f32".into(),
-        },
+        model.map_or_else(|| backend.describe(), |m| m.words().into()),
         if outside > 0 {
             format!(
                 ", {} starting outside skipped",

@@ -3,7 +3,7 @@
 //! `"backend"`, `"kind"` (the wrong ending, [`OutcomeKind::wrong_key`]) and `"answer"` (the method's
 //! wrong answer as its family records it). Also the check that fuzzing, filing and replay share.
 
-use crate::backend::{Backend, BackendError, BackendKind, CPU, CPU_FMA, CPU_FTZ};
+use crate::backend::{Backend, BackendError, BackendKind, CPUS};
 use crate::cases::{CaseError, object};
 use crate::choice::Choice;
 use crate::family::{self, Family, Verdict};
@@ -31,9 +31,11 @@ pub enum FoundError {
     EndlessWalk(String),
 }
 
-/// The backends a finding is checked on when it is filed for the methods that claim (the CPU plain,
-/// as a GPU compiles the methods, and as a GPU that flushes subnormals computes them).
-pub const CPU_BACKENDS: [&Backend; 3] = [&CPU, &CPU_FMA, &CPU_FTZ];
+/// The backends a finding is checked on when it is filed for the methods that claim: the CPU in
+/// every arithmetic model ([`CPUS`]).
+pub fn cpu_backends() -> Vec<&'static Backend> {
+    CPUS.iter().collect()
+}
 
 /// A failure: which method, on which backend, and what it answered.
 #[derive(Clone, Debug, PartialEq)]
@@ -253,7 +255,7 @@ impl<F: Family> Found<F> {
     }
 
     /// This finding, and the same case filed for every method that makes a claim (but the family's
-    /// reference) and fails it there too, on the CPU plain, fused and flushed: a failure of a claim is
+    /// reference) and fails it there too, on the CPU in every arithmetic model: a failure of a claim is
     /// a finding of its own.
     pub fn with_claim_failures(&self) -> Result<Vec<Found<F>>, FoundError> {
         let mut out = vec![self.clone()];
@@ -264,7 +266,7 @@ impl<F: Family> Found<F> {
         {
             let held = [(m, Hold::Claim)];
             if let Some((_, f)) =
-                check::<F>(std::slice::from_ref(&self.case), &held, &CPU_BACKENDS)?
+                check::<F>(std::slice::from_ref(&self.case), &held, &cpu_backends())?
             {
                 out.push(self.with_failure(f));
             }

@@ -2,7 +2,7 @@
 //! on which backends (`TETWALK_FUZZ_BACKEND`), and what it finds on one decoded case. Each cargo-fuzz
 //! target is [`target`] for its family.
 
-use super::found::{CPU_BACKENDS, Found, FoundError, Hold, check};
+use super::found::{Found, FoundError, Hold, check, cpu_backends};
 use crate::backend::{Backend, BackendKind};
 use crate::family::{self, Family, OctreeCells};
 use crate::registry::Named;
@@ -65,7 +65,7 @@ pub fn backends() -> Result<Vec<&'static Backend>, FoundError> {
                 "{FUZZ_WGSL} fuzzes a WGSL function: set TETWALK_FUZZ_BACKEND=gpu"
             )))
         }
-        Err(_) | Ok("cpu") => Ok(CPU_BACKENDS.to_vec()),
+        Err(_) | Ok("cpu") => Ok(cpu_backends()),
         Ok("gpu") => FUZZ_GPU
             .get_or_init(|| match std::env::var(FUZZ_WGSL) {
                 Ok(path) => std::fs::read_to_string(&path)
@@ -198,7 +198,7 @@ pub fn octree_walk_find(tris: &[Tri], ray: &Ray) -> Result<Option<Found<OctreeCe
     let hit = family::by_name::<crate::family::Triangle>("mt")?.hit(crate::methods::Model::Plain);
     let cap = crate::walk::octree::default_max_steps(&o);
     for (m, _) in held::<OctreeCells>()? {
-        for b in CPU_BACKENDS {
+        for b in cpu_backends() {
             let Some(model) = b.kind().model() else {
                 continue;
             };

@@ -3,6 +3,7 @@
 //! walk, on each backend; the report (`crate::report::paper`) sets them beside the papers'.
 
 use crate::backend::{Backend, BackendError, Ran};
+use crate::choice::Instruction;
 use crate::engine::bench::{self, BenchReport, SpeedReport};
 use crate::engine::count::{self, Answerer, CountReport, CountSettings, Shard, Sharded};
 use crate::engine::info::SceneInfo;
@@ -223,11 +224,9 @@ fn timings(
     // The methods of seed 003's structures (maria17 among them, for seed 000 Table 3).
     let names: Vec<&str> = SEED003_STRUCTURES.iter().map(|s| s.1).collect();
     let timed = crate::family::parse_list::<Walks>(&names.join(","))?;
-    // cpu-fma is not timed: in a portable build its fused multiply-adds are library calls.
-    let timed_on: Vec<&Backend> = backends
-        .iter()
-        .filter(|b| b.kind() != crate::backend::BackendKind::CpuFma)
-        .collect();
+    // A fused model is not timed: in a portable build its fused multiply-adds are library calls.
+    let fused = |b: &Backend| b.kind().model().map(|m| m.instruction()) == Some(Instruction::Fma);
+    let timed_on: Vec<&Backend> = backends.iter().filter(|b| !fused(b)).collect();
     let speed = bench::run(
         scene,
         mesh,

@@ -7,7 +7,7 @@
 //! first and then smallest in magnitude, pass after pass until none changes.
 
 use crate::backend::Backend;
-use crate::engine::found::{CPU_BACKENDS, Failure, Found, FoundError, Hold, check};
+use crate::engine::found::{Failure, Found, FoundError, Hold, check, cpu_backends};
 use crate::family::contract::Contract;
 use crate::family::{self, Family, Verdict};
 use crate::registry::Named;
@@ -148,8 +148,8 @@ pub fn shrink_with<F: Family>(
         else {
             return Ok(None);
         };
-        let held =
-            kept.is_empty() || check::<F>(std::slice::from_ref(c), &kept, &CPU_BACKENDS)?.is_none();
+        let held = kept.is_empty()
+            || check::<F>(std::slice::from_ref(c), &kept, &cpu_backends())?.is_none();
         Ok(held.then_some(a))
     };
     'smaller: loop {
@@ -288,7 +288,7 @@ pub fn shrink_on<F: Family>(
         .filter(|k| k.info().claim.is_some() && k.name() != m.name())
     {
         let held = [(k, Hold::Claim)];
-        if check::<F>(std::slice::from_ref(&found.case), &held, &CPU_BACKENDS)?.is_none() {
+        if check::<F>(std::slice::from_ref(&found.case), &held, &cpu_backends())?.is_none() {
             keep.push(k);
         }
     }

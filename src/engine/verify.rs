@@ -138,7 +138,7 @@ pub const REGISTER: &[Entry] = &[
     Entry {
         methods: "`woop-watertight`",
         claim: "Woop, Benthin, Wald 2013, \"Watertight Ray/Triangle Intersection\": no ray passes through the edges and vertices a closed mesh's triangles share",
-        verdict: "**stands** in f32 as written (`cpu`, `cpu-ftz`, and its WGSL on lavapipe) on the stress rows scaled by 2^-62 to 2^44; **stops** beyond, where its products underflow (2^-70) or overflow (2^47); **does not hold** with its 2×2 determinants fused, as a GPU compiler may (`cpu-fma`): 46,033 per million rays through exact edges leak; **does not hold** on an NVIDIA H200 (Vulkan, driver 580.159.04, which fuses and flushes): 1,333 of 90,000 stress answers from 2^-62 to 2^44 leak (`corpora/results/h200/verify-gpu.txt`)",
+        verdict: "**stands** in f32 as written (`cpu`, `cpu-ftz`, and its WGSL on lavapipe) on the stress rows scaled by 2^-62 to 2^44; **stops** beyond, where its products underflow (2^-70) or overflow (2^47); **does not hold** with its 2×2 determinants fused, as a GPU compiler may (`cpu-fma`, and `cpu-gpu`, fused and flushed as the H200 computes): 46,033 per million (`cpu-fma`) rays through exact edges leak; **does not hold** on an NVIDIA H200 (Vulkan, driver 580.159.04, which fuses and flushes): 1,333 of 90,000 stress answers from 2^-62 to 2^44 leak (`corpora/results/h200/verify-gpu.txt`)",
         counterexample: "the closed tetrahedron of `corpora/found/woop-watertight/stress-tetrahedron-edge-origin-wrong_face-15054ba8dc6ab2ef.json` as found: the ray crosses exactly through the edge between triangles 0 and 2 at `t = 1`; fused, Woop's test hits neither and first reports triangle 3, where the ray leaves, at `t = 1.589068`",
         checks: checks! {
             "woop-watertight@cpu": Triangle "woop-watertight" @ Cpu Stands
@@ -148,6 +148,8 @@ pub const REGISTER: &[Entry] = &[
             "woop-watertight@gpu": Triangle "woop-watertight" @ Gpu Stands
                 Domain { holds: WOOP_HOLDS, stops: WOOP_STOPS };
             "woop-watertight@cpu-fma": Triangle "woop-watertight" @ CpuFma Refuted
+                Counterexample("woop-watertight/stress-tetrahedron-edge-origin-wrong_face-15054ba8dc6ab2ef.json");
+            "woop-watertight@cpu-gpu": Triangle "woop-watertight" @ CpuGpu Refuted
                 Counterexample("woop-watertight/stress-tetrahedron-edge-origin-wrong_face-15054ba8dc6ab2ef.json");
         },
     },
@@ -174,6 +176,7 @@ pub const REGISTER: &[Entry] = &[
             "certified@cpu": ExitFace "certified" @ Cpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified@cpu-fma": ExitFace "certified" @ CpuFma Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified@cpu-ftz": ExitFace "certified" @ CpuFtz Stands Domain { holds: EVERY_SCALE, stops: &[] };
+            "certified@cpu-gpu": ExitFace "certified" @ CpuGpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified@gpu": ExitFace "certified" @ Gpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified-walks@cpu": Walk "certified" @ Cpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified-walks@gpu": Walk "certified" @ Gpu Stands Domain { holds: EVERY_SCALE, stops: &[] };

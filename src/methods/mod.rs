@@ -8,7 +8,8 @@
 //! component is fused with the negated second one; in [`Arith::axpy`] each product with its sum; and
 //! wherever a method calls [`Arith::mad`]. Nothing else is contracted. [`Flushed`] rounds as
 //! [`Plain`] does, with the processor set to read subnormal inputs as zero and flush subnormal results
-//! to zero (the crate's `fpenv` module), as a GPU may compute. The plain and flushed models' work runs compiled
+//! to zero (the crate's `fpenv` module), as a GPU may compute; [`FusedFlushed`] does both at once, as
+//! an NVIDIA GPU computes. The models are listed once (`crate::arithmetic_models!`). The plain and flushed models' work runs compiled
 //! for AVX2 where the processor has it (`fpenv::wide`: the same IEEE operations, fewer
 //! register copies; the registry runs the plain model's exit-face methods as `PlainAvx2`, whose
 //! eight lanes are one AVX register).
@@ -41,12 +42,19 @@ use crate::tet::{Ray, Tet};
 use glam::Vec3;
 use lanes::{Eight, F4};
 
-/// Rounding of a method's arithmetic: as written, contracted to fused multiply-add, or flushed.
+/// Rounding of a method's arithmetic: as written, contracted to fused multiply-add, flushed, or both.
 pub trait Arith {
     /// Whether subnormal inputs and results are flushed to zero (what a method's fast path must allow for).
     const FLUSHES: bool = false;
     /// Eight f32 lanes as this model computes them ([`lanes::Eight`]).
     type Eight: lanes::Eight;
+    /// Whether this instantiation can run on this processor: a twin compiled for an instruction
+    /// the processor may lack checks it (`TETWALK_NO_FMA`, `TETWALK_NO_AVX2` turn them off).
+    #[doc(hidden)]
+    #[inline(always)]
+    fn available() -> bool {
+        true
+    }
     /// Run a method's work in this model's floating-point environment (the registry's entry points do).
     #[inline(always)]
     fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
@@ -98,6 +106,13 @@ pub struct Plain;
 pub struct Fused;
 /// Every product and sum rounded separately, subnormal inputs and results flushed to zero.
 pub struct Flushed;
+/// Products contracted into fused multiply-adds and subnormals flushed at once, as an NVIDIA GPU
+/// computes (`cpu-gpu`): each operand of [`Arith::mad`] read as zero if subnormal, its result
+/// flushed if below 2^-126 in magnitude; every other operation rounded as [`Flushed`] rounds it.
+pub struct FusedFlushed;
+/// [`FusedFlushed`] on the processor's FMA instruction, which flushes in the flushing environment;
+/// the registry runs it only where the processor has FMA, as [`FusedFma`].
+pub(crate) struct FusedFlushedFma;
 /// [`Fused`] on the processor's FMA instruction: the same roundings, so the same bits, several times
 /// faster than `f32::mul_add` without it (a library call). The registry runs the fused model in it
 /// only where the processor has FMA ([`crate::fpenv::has_fma`]); nothing else may name it.
@@ -142,6 +157,10 @@ impl Arith for Flushed {
 
 #[cfg(target_arch = "x86_64")]
 impl Arith for FusedFma {
+    #[inline(always)]
+    fn available() -> bool {
+        crate::fpenv::has_fma()
+    }
     type Eight = lanes::F4x2;
     #[inline(always)]
     fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
@@ -160,15 +179,12 @@ impl Arith for FusedFma {
     }
 }
 
-impl FusedFma {
-    /// Whether it can run here ([`crate::fpenv::has_fma`]).
-    pub(crate) fn available() -> bool {
-        crate::fpenv::has_fma()
-    }
-}
-
 #[cfg(target_arch = "x86_64")]
 impl Arith for PlainAvx2 {
+    #[inline(always)]
+    fn available() -> bool {
+        crate::fpenv::has_avx2()
+    }
     type Eight = lanes::F8;
     #[inline(always)]
     fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
@@ -192,6 +208,10 @@ impl Arith for PlainAvx2 {
 /// Off x86-64 the plain model has no second instantiation: [`Plain`]'s.
 #[cfg(not(target_arch = "x86_64"))]
 impl Arith for PlainAvx2 {
+    #[inline(always)]
+    fn available() -> bool {
+        crate::fpenv::has_avx2()
+    }
     type Eight = lanes::F4x2;
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
@@ -199,16 +219,13 @@ impl Arith for PlainAvx2 {
     }
 }
 
-impl PlainAvx2 {
-    /// Whether it can run here ([`crate::fpenv::has_avx2`]).
-    pub(crate) fn available() -> bool {
-        crate::fpenv::has_avx2()
-    }
-}
-
 /// Off x86-64 the fused model has no second instantiation: [`Fused`]'s.
 #[cfg(not(target_arch = "x86_64"))]
 impl Arith for FusedFma {
+    #[inline(always)]
+    fn available() -> bool {
+        crate::fpenv::has_fma()
+    }
     type Eight = lanes::F4x2;
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
@@ -221,6 +238,66 @@ impl Arith for Fused {
     #[inline(always)]
     fn mad(a: f32, b: f32, c: f32) -> f32 {
         a.mul_add(b, c)
+    }
+}
+
+/// `x`, or a zero of its sign where it is subnormal (as a flushing GPU reads and writes it).
+#[inline(always)]
+fn flush(x: f32) -> f32 {
+    if x.abs() < f32::MIN_POSITIVE {
+        0f32.copysign(x)
+    } else {
+        x
+    }
+}
+
+impl Arith for FusedFlushed {
+    const FLUSHES: bool = true;
+    type Eight = lanes::F4x2;
+    #[inline(always)]
+    fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+        crate::fpenv::flushed(input, f)
+    }
+    #[inline(always)]
+    fn mad(a: f32, b: f32, c: f32) -> f32 {
+        flush(flush(a).mul_add(flush(b), flush(c)))
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Arith for FusedFlushedFma {
+    #[inline(always)]
+    fn available() -> bool {
+        FusedFma::available()
+    }
+    const FLUSHES: bool = true;
+    type Eight = lanes::F4x2;
+    #[inline(always)]
+    fn run<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+        crate::fpenv::flushed(input, |input| FusedFma::run(input, f))
+    }
+    #[inline(always)]
+    fn mad(a: f32, b: f32, c: f32) -> f32 {
+        FusedFma::mad(a, b, c)
+    }
+    #[inline(always)]
+    fn mad4(a: F4, b: F4, c: F4) -> F4 {
+        FusedFma::mad4(a, b, c)
+    }
+}
+
+/// Off x86-64 the fused, flushed model has no second instantiation (never available).
+#[cfg(not(target_arch = "x86_64"))]
+impl Arith for FusedFlushedFma {
+    #[inline(always)]
+    fn available() -> bool {
+        false
+    }
+    const FLUSHES: bool = true;
+    type Eight = lanes::F4x2;
+    #[inline(always)]
+    fn mad(a: f32, b: f32, c: f32) -> f32 {
+        FusedFlushed::mad(a, b, c)
     }
 }
 
@@ -301,4 +378,42 @@ pub fn time_queries<M: ExitMethod, A: Arith>(
         best = best.min(t0.elapsed().as_secs_f64());
     }
     (best, std::hint::black_box(sum))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fused, flushed model's two instantiations round alike ([`FusedFlushed`] portable,
+    /// [`FusedFlushedFma`] on the FMA instruction in the flushing environment), and flush, on operands
+    /// from every exponent regime (`fpenv::mad_operands`).
+    #[test]
+    fn fused_flushed_twins_round_alike_and_flush() {
+        if !crate::fpenv::FLUSH_AVAILABLE || !FusedFlushedFma::available() {
+            eprintln!(
+                "SKIPPED: no FMA instruction or flushing mode here; the model has one instantiation"
+            );
+            return;
+        }
+        let ops = crate::fpenv::mad_operands(0x2545_f491_4f6c_dd1d);
+        let portable: Vec<f32> = FusedFlushed::run(&ops, |ops| {
+            ops.iter()
+                .map(|&(a, b, c)| FusedFlushed::mad(a, b, c))
+                .collect()
+        });
+        let twin: Vec<f32> = FusedFlushedFma::run(&ops, |ops| {
+            ops.iter()
+                .map(|&(a, b, c)| FusedFlushedFma::mad(a, b, c))
+                .collect()
+        });
+        for ((op, p), t) in ops.iter().zip(&portable).zip(&twin) {
+            assert!(
+                p.to_bits() == t.to_bits() || (p.is_nan() && t.is_nan()),
+                "{op:?}: portable {p:e} ({:#x}), FMA instruction {t:e} ({:#x})",
+                p.to_bits(),
+                t.to_bits()
+            );
+            assert!(!p.is_subnormal(), "{op:?}: {p:e} is not flushed");
+        }
+    }
 }

@@ -21,13 +21,15 @@ impl BenchReport {
             self.batch
         );
         for b in &self.backends {
-            use crate::choice::BackendKind::{Cpu, CpuFma, CpuFtz, Gpu, Outside};
-            let how = match b.kind {
-                CpuFma if self.fma_instruction => " (on the FMA instruction)",
-                CpuFma => " (through f32::mul_add: no FMA instruction here, or TETWALK_NO_FMA=1)",
-                Cpu | CpuFtz if self.avx2 => " (compiled for AVX2)",
-                Cpu | CpuFtz => " (compiled for SSE2: no AVX2 here, or TETWALK_NO_AVX2=1)",
-                Gpu | Outside => "",
+            use crate::choice::Instruction::{Avx2, Fma};
+            let how = match b.kind.model().map(|m| m.instruction()) {
+                Some(Fma) if self.fma_instruction => " (on the FMA instruction)",
+                Some(Fma) => {
+                    " (through f32::mul_add: no FMA instruction here, or TETWALK_NO_FMA=1)"
+                }
+                Some(Avx2) if self.avx2 => " (compiled for AVX2)",
+                Some(Avx2) => " (compiled for SSE2: no AVX2 here, or TETWALK_NO_AVX2=1)",
+                None => "",
             };
             out += &format!("- {b}{how}\n");
         }

@@ -160,9 +160,9 @@ pub fn judge(case: &Case, c: &Classification, m: &Method, model: Model) -> Judge
     }
 }
 
-/// Every CPU arithmetic model: plain, fused, flushing subnormals.
+/// Every CPU arithmetic model (`Model::ALL`).
 pub fn model() -> impl Strategy<Value = Model> {
-    prop_oneof![Just(Model::Plain), Just(Model::Fused), Just(Model::Flushed)]
+    proptest::sample::select(Model::ALL.to_vec())
 }
 
 /// How long a command may run before the tests call it hung (far beyond any loaded run).
