@@ -2,6 +2,7 @@
 //! each shrunk (`crate::engine::shrink`) with the case as found kept beside it.
 
 use super::{JsonOut, Status};
+use crate::choice::Choice;
 use crate::engine::found::Found;
 use crate::engine::fuzz::{find, held, octree_walk_find};
 use crate::engine::shrink::{CHECKS, shrink_found};
@@ -10,13 +11,21 @@ use crate::registry::Named;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// The fuzz targets: each family's (its [`Family::FUZZ_TARGET`]), and the octree walk's.
+/// The octree walk's fuzz target (each family has its own, [`Family::FUZZ_TARGET`]).
 const OCTREE_WALK: &str = "octree_walk";
+
+/// The fuzz targets: each family's, and the octree walk's.
+fn targets() -> clap::builder::PossibleValuesParser {
+    let families = Kind::ALL
+        .iter()
+        .map(|&k| crate::with_family!(k, F => F::FUZZ_TARGET));
+    families.chain([OCTREE_WALK]).collect::<Vec<_>>().into()
+}
 
 #[derive(clap::Args)]
 pub struct Args {
     /// The fuzz target that found them.
-    #[arg(long, value_parser = ["exit_face", "walk", "triangle_hit", "octree_cell", "octree_walk"])]
+    #[arg(long, value_parser = targets())]
     target: String,
     /// Where found cases go (one folder per method).
     #[arg(long, default_value = "corpora/found")]
@@ -42,10 +51,10 @@ pub fn run(a: Args) -> Status {
     if a.target == OCTREE_WALK {
         import::<OctreeCells>(&a, &mut filed, walk_finding)?;
     } else {
-        let kind = crate::choice::Choice::ALL
+        let kind = Kind::ALL
             .iter()
             .copied()
-            .find(|&k: &Kind| crate::with_family!(k, F => F::FUZZ_TARGET) == a.target)
+            .find(|&k| crate::with_family!(k, F => F::FUZZ_TARGET) == a.target)
             .ok_or_else(|| format!("--target {}: no family's fuzz target", a.target))?;
         crate::with_family!(kind, F => import::<F>(&a, &mut filed, finding::<F>))?;
     }

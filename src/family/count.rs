@@ -333,37 +333,3 @@ pub fn first_difference(
         _ => (a != b).then(|| (String::new(), a.to_string(), b.to_string())),
     }
 }
-
-/// A family that counts a scene, by name: a typed `count --family` choice, and a count report's
-/// `family`. Listed here and in [`with_counted!`], beside each other.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum CountKind {
-    Walk,
-    Triangle,
-    Octree,
-}
-
-crate::choice!(CountKind { Walk => "walk", Triangle => "triangle", Octree => "octree" });
-
-/// Run `$body` with `$F` the counted family a `CountKind` names.
-#[doc(hidden)]
-#[macro_export]
-macro_rules! with_counted {
-    ($kind:expr, $F:ident => $body:expr) => {
-        match $kind {
-            $crate::family::count::CountKind::Walk => {
-                type $F = $crate::family::Walks;
-                $body
-            }
-            $crate::family::count::CountKind::Triangle => {
-                type $F = $crate::family::Triangle;
-                $body
-            }
-            $crate::family::count::CountKind::Octree => {
-                type $F = $crate::family::OctreeCells;
-                $body
-            }
-        }
-    };
-}

@@ -4,9 +4,9 @@
 //! an answer and the exact truth are, how a verdict is reached, how a backend answers a batch, its
 //! stress rows and their seeding, and its claims; stress, campaigns, found cases and replay, the fuzz
 //! targets' policy, the conformance kit, counts and the command line are written once, generic over
-//! [`Family`] (`crate::engine`, `crate::kit`). A new family is a file here, a line in [`Kind`] and
-//! [`with_family!`], its registry rows, its report's formatting and the `stress` flags that choose its
-//! rows (`src/cli/stress.rs`).
+//! [`Family`] (`crate::engine`, `crate::kit`). A new family is a file here, a line in [`families!`],
+//! its registry rows, its report's formatting and the `stress` flags that choose its rows
+//! (`src/cli/stress.rs`).
 
 pub mod bins;
 pub mod contract;
@@ -382,41 +382,145 @@ pub fn reference<F: Family>() -> Option<&'static F::Method> {
     F::methods().iter().find(|m| m.is_reference())
 }
 
-/// A family, by name: a typed `--family` choice. The families are listed here and in
-/// [`with_family!`], beside each other, and nowhere else.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Kind {
-    ExitFace,
-    Walk,
-    Triangle,
-    Octree,
+/// The families, written once (in the spirit of CGAL's interface macros): `$then!` is called with
+/// `[ARGS]` (what follows `$then,` here), each family's line — its [`Kind`] variant, its name, its
+/// type — and the variants of those that count a scene. [`Kind`], [`of`], [`with_family!`],
+/// [`CountKind`] and [`with_counted!`] expand from it; a new family is a line here.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! families {
+    ($then:ident $(, $($args:tt)*)?) => {
+        $crate::$then! {
+            [$($($args)*)?]
+            {
+                /// One tetrahedron's exit face (seeds 000 and 003).
+                ExitFace => "exit-face", $crate::family::ExitFace;
+                /// A walk through a generated mesh, step by step.
+                Walk => "walk", $crate::family::Walks;
+                /// A ray and a closed triangle mesh (seed 004).
+                Triangle => "triangle", $crate::family::Triangle;
+                /// An octree cell's exit (seed 001).
+                Octree => "octree", $crate::family::OctreeCells;
+            }
+            counted { Walk, Triangle, Octree }
+        }
+    };
 }
 
-crate::choice!(Kind { ExitFace => "exit-face", Walk => "walk", Triangle => "triangle", Octree => "octree" });
+/// [`Kind`], [`of`] and [`CountKind`] from [`families!`].
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __family_kinds {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* }) => {
+        /// A family, by name: a typed `--family` choice ([`families!`]).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+        pub enum Kind {
+            $($(#[$doc])* #[serde(rename = $n)] $v,)*
+        }
 
-/// Run `$body` with `$F` the family type a `Kind` names.
+        $crate::choice!(Kind { $($v => $n),* });
+
+        /// Each family's type, by its [`Kind`] variant's name ([`with_family!`] reads them).
+        pub mod of {
+            $(
+                #[doc = concat!("The `", $n, "` family.")]
+                pub type $v = $ty;
+            )*
+        }
+
+        /// The families that count a scene, by name: a typed `count --family` choice, and a count
+        /// report's `family` ([`families!`]).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum CountKind {
+            $(
+                #[doc = concat!("[`Kind::", stringify!($c), "`].")]
+                $c,
+            )*
+        }
+
+        impl CountKind {
+            /// The family it names.
+            pub fn kind(self) -> Kind {
+                match self {
+                    $(CountKind::$c => Kind::$c,)*
+                }
+            }
+        }
+
+        impl $crate::choice::Choice for CountKind {
+            const ALL: &'static [Self] = &[$(CountKind::$c),*];
+            fn name(self) -> &'static str {
+                self.kind().name()
+            }
+        }
+
+        impl serde::Serialize for CountKind {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                s.serialize_str($crate::choice::Choice::name(*self))
+            }
+        }
+
+        impl<'de> serde::Deserialize<'de> for CountKind {
+            fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                let name = String::deserialize(d)?;
+                <CountKind as $crate::choice::Choice>::from_name(&name).ok_or_else(|| {
+                    serde::de::Error::custom(format!("'{name}' is not a family that counts a scene"))
+                })
+            }
+        }
+    };
+}
+
+families!(__family_kinds);
+
+/// Run `$body` with `$F` the family type a [`Kind`] names.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! with_family {
     ($kind:expr, $F:ident => $body:expr) => {
+        $crate::families!(__with_family, $kind, $F, $body)
+    };
+}
+
+/// [`with_family!`]'s match, from [`families!`].
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __with_family {
+    ([$kind:expr, $F:ident, $body:expr] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* }
+        counted { $($c:ident),* }) => {
         match $kind {
-            $crate::family::Kind::ExitFace => {
-                type $F = $crate::family::ExitFace;
-                $body
-            }
-            $crate::family::Kind::Walk => {
-                type $F = $crate::family::Walks;
-                $body
-            }
-            $crate::family::Kind::Triangle => {
-                type $F = $crate::family::Triangle;
-                $body
-            }
-            $crate::family::Kind::Octree => {
-                type $F = $crate::family::OctreeCells;
-                $body
-            }
+            $(
+                $crate::family::Kind::$v => {
+                    type $F = $crate::family::of::$v;
+                    $body
+                }
+            )*
+        }
+    };
+}
+
+/// Run `$body` with `$F` the counted family a [`CountKind`] names.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! with_counted {
+    ($kind:expr, $F:ident => $body:expr) => {
+        $crate::families!(__with_counted, $kind, $F, $body)
+    };
+}
+
+/// [`with_counted!`]'s match, from [`families!`].
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __with_counted {
+    ([$kind:expr, $F:ident, $body:expr] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* }
+        counted { $($c:ident),* }) => {
+        match $kind {
+            $(
+                $crate::family::CountKind::$c => {
+                    type $F = $crate::family::of::$c;
+                    $body
+                }
+            )*
         }
     };
 }
