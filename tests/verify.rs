@@ -36,7 +36,7 @@ fn every_check_names_a_method_and_a_counterexample_that_exist() {
         }
     }
     assert!(names.len() >= 15);
-    assert_eq!(pick(&["woop-watertight".into()], &[]).unwrap().len(), 5);
+    assert_eq!(pick(&["woop-watertight".into()], &[]).unwrap().len(), 6);
     assert!(pick(&["nonsense".into()], &[]).is_err());
 }
 
@@ -61,6 +61,7 @@ fn verify_holds_the_register_to_what_it_finds() {
         family: Kind::ExitFace,
         method: "certified",
         backend: tetwalk::backend::BackendKind::Cpu,
+        adapter: None,
         expect: Expect::Stands,
         evidence: Evidence::Domain {
             holds: ONE,
@@ -206,4 +207,67 @@ fn a_found_case_refuting_a_standing_claim_fails_verify() {
         out.contains("AGAINST THE REGISTER") && out.contains("refutes it"),
         "{out}"
     );
+}
+
+const H200: &str = "gpu: NVIDIA H200 (Vulkan, DiscreteGpu, driver NVIDIA 580.159.04)";
+const LAVAPIPE: &str =
+    "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, Cpu, driver llvmpipe Mesa 22.3.6)";
+
+/// On a GPU the register speaks per adapter: on the H200 the NVIDIA checks run and lavapipe's are
+/// left out, on lavapipe the reverse; on an adapter the register does not know, both run (and say
+/// their word is for another adapter); CPU checks run everywhere.
+#[test]
+fn gpu_checks_are_registered_per_adapter() {
+    let check = |name: &str| checks().find(|c| c.name == name).unwrap();
+    let (lavapipe, nvidia) = (
+        check("woop-watertight@gpu"),
+        check("woop-watertight@gpu-nvidia"),
+    );
+    assert!(nvidia.registered_for(Some(H200)) && !nvidia.elsewhere(Some(H200)));
+    assert!(!lavapipe.registered_for(Some(H200)) && lavapipe.elsewhere(Some(H200)));
+    assert!(lavapipe.registered_for(Some(LAVAPIPE)) && nvidia.elsewhere(Some(LAVAPIPE)));
+    let other = Some("AMD Radeon RX 7900 (Vulkan, DiscreteGpu, driver radv)");
+    for c in [lavapipe, nvidia] {
+        assert!(
+            !c.registered_for(other) && !c.elsewhere(other),
+            "{}",
+            c.name
+        );
+    }
+    let cpu = check("woop-watertight@cpu");
+    assert!(cpu.registered_for(None) && cpu.registered_for(Some(H200)));
+}
+
+/// The NVIDIA checks say what `tetwalk verify` saw on the H200 (`corpora/results/h200/verify-gpu.txt`):
+/// every claim it checked there has an NVIDIA check expecting what it found.
+#[test]
+fn the_nvidia_checks_say_what_the_h200_saw() {
+    let seen = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/corpora/results/h200/verify-gpu.txt"
+    ))
+    .unwrap();
+    let mut n = 0;
+    for l in seen.lines() {
+        let mut words = l.split_whitespace();
+        let (Some(pass), Some(name), Some(word)) = (words.next(), words.next(), words.next())
+        else {
+            continue;
+        };
+        let nvidia = format!("{name}-nvidia");
+        let c = checks()
+            .find(|c| c.name == nvidia)
+            .unwrap_or_else(|| panic!("no check {nvidia} for the H200's line: {l}"));
+        let stood = word.trim_end_matches(',') == "stands";
+        assert_eq!(stood, pass == "PASS", "{l}");
+        let expect = if stood {
+            Expect::Stands
+        } else {
+            Expect::Refuted
+        };
+        assert_eq!(c.expect, expect, "{nvidia}: the H200 saw {l}");
+        assert!(c.registered_for(Some(H200)), "{nvidia}");
+        n += 1;
+    }
+    assert_eq!(n, 4, "the H200's four checks");
 }

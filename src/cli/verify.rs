@@ -77,6 +77,17 @@ pub fn run(a: Args) -> Status {
                 continue;
             }
         };
+        let adapter = b.ran().adapter;
+        if c.elsewhere(adapter.as_deref()) {
+            let here = adapter.unwrap_or_default();
+            let word = c.adapter.unwrap_or_default();
+            println!(
+                "SKIP  {:<26} registered for {word}; {here} has its own check",
+                c.name
+            );
+            skipped.push(c.name);
+            continue;
+        }
         let checked = verify(c, b, a.cases, &a.found)?;
         println!("{}", line(&checked));
         done.push(checked);

@@ -42,6 +42,9 @@ pub struct Check {
     pub family: Kind,
     pub method: &'static str,
     pub backend: BackendKind,
+    /// On a GPU, the adapter the register speaks of: a word of its description (`llvmpipe`,
+    /// `NVIDIA`), matched without regard to case.
+    pub adapter: Option<&'static str>,
     pub expect: Expect,
     pub evidence: Evidence,
 }
@@ -96,13 +99,23 @@ const WOOP_STOPS: &[Scale] = &[Scale::uniform(-70), Scale::uniform(47)];
 
 const MARIA17_A: &str = "maria17/exit_face-wrong_face-50e741ec2f3d.json";
 
+/// The adapter word a check names, if any.
+const fn first(words: &[&'static str]) -> Option<&'static str> {
+    match words {
+        [w, ..] => Some(*w),
+        [] => None,
+    }
+}
+
 macro_rules! checks {
-    ($($name:literal: $family:ident $method:literal @ $backend:ident $expect:ident $evidence:expr;)*) => {
+    ($($name:literal: $family:ident $method:literal @ $backend:ident $(($adapter:literal))? $expect:ident
+        $evidence:expr;)*) => {
         &[$(Check {
             name: $name,
             family: Kind::$family,
             method: $method,
             backend: BackendKind::$backend,
+            adapter: first(&[$($adapter)?]),
             expect: Expect::$expect,
             evidence: $evidence,
         }),*]
@@ -116,11 +129,12 @@ pub const REGISTER: &[Entry] = &[
     Entry {
         methods: "`maria17`, `maria17-translated` (both readings of §3.4)",
         claim: "seed 000, abstract: \"it is robust with 32-bits floats\"; §1: \"It is robust, since it does not cause any error due to numerical instability, either on CPU or on GPU\"; §4.3: \"we did not obtain wrong results using our method\"",
-        verdict: "**does not hold**, on the CPU and on the GPU",
+        verdict: "**does not hold**, on the CPU and on the GPU (lavapipe, and an NVIDIA H200)",
         counterexample: "(a) the tetrahedron below: entering through face 1, leaving through face 3 only, both readings answer face 2; (b) the 8³ Kuhn grid of `tetwalk walk --mesh kuhn`, the ray from (4.875, 5.75, 6.25) along (1, 2, −2): through the vertex (5, 6, 6), then a cycle of period 6 (`maria17`; `tests/walk.rs`); (c) the default count: 12 (`maria17`, each 0.07–6 ulps from an edge) and 8 (`maria17-translated`) wrong rays; (d) on an H100, 6,659 wrong faces per million far-offset cases (`corpora/results/h100-fuzz.md`)",
         checks: checks! {
             "maria17@cpu": ExitFace "maria17" @ Cpu Refuted Counterexample(MARIA17_A);
-            "maria17@gpu": ExitFace "maria17" @ Gpu Refuted Counterexample(MARIA17_A);
+            "maria17@gpu": ExitFace "maria17" @ Gpu("llvmpipe") Refuted Counterexample(MARIA17_A);
+            "maria17@gpu-nvidia": ExitFace "maria17" @ Gpu("NVIDIA") Refuted Counterexample(MARIA17_A);
             "maria17-translated@cpu": ExitFace "maria17-translated" @ Cpu Refuted
                 Counterexample("maria17-translated/aman20-scaled-exit_face-wrong_face-50e741ec2f3d-wrong_face.json");
         },
@@ -138,14 +152,16 @@ pub const REGISTER: &[Entry] = &[
     Entry {
         methods: "`woop-watertight`",
         claim: "Woop, Benthin, Wald 2013, \"Watertight Ray/Triangle Intersection\": no ray passes through the edges and vertices a closed mesh's triangles share",
-        verdict: "**stands** in f32 as written (`cpu`, `cpu-ftz`, and its WGSL on lavapipe) on the stress rows scaled by 2^-62 to 2^44; **stops** beyond, where its products underflow (2^-70) or overflow (2^47); **does not hold** with its 2×2 determinants fused, as a GPU compiler may (`cpu-fma`, and `cpu-gpu`, fused and flushed as the H200 computes): 46,033 per million (`cpu-fma`) rays through exact edges leak; **does not hold** on an NVIDIA H200 (Vulkan, driver 580.159.04, which fuses and flushes): 1,333 of 90,000 stress answers from 2^-62 to 2^44 leak (`corpora/results/h200/verify-gpu.txt`)",
+        verdict: "**stands** in f32 as written (`cpu`, `cpu-ftz`, and its WGSL on lavapipe) on the stress rows scaled by 2^-62 to 2^44; **stops** beyond, where its products underflow (2^-70) or overflow (2^47); **does not hold** with its 2×2 determinants fused, as a GPU compiler may (`cpu-fma`, and `cpu-gpu`, fused and flushed as the H200 computes): 46,033 per million (`cpu-fma`) rays through exact edges leak; **does not hold** on an NVIDIA H200 (Vulkan, driver 580.159.04, which fuses and flushes; `woop-watertight@gpu-nvidia`): 1,333 of 90,000 stress answers from 2^-62 to 2^44 leak (`corpora/results/h200/verify-gpu.txt`)",
         counterexample: "the closed tetrahedron of `corpora/found/woop-watertight/stress-tetrahedron-edge-origin-wrong_face-15054ba8dc6ab2ef.json` as found: the ray crosses exactly through the edge between triangles 0 and 2 at `t = 1`; fused, Woop's test hits neither and first reports triangle 3, where the ray leaves, at `t = 1.589068`",
         checks: checks! {
             "woop-watertight@cpu": Triangle "woop-watertight" @ Cpu Stands
                 Domain { holds: WOOP_HOLDS, stops: WOOP_STOPS };
             "woop-watertight@cpu-ftz": Triangle "woop-watertight" @ CpuFtz Stands
                 Domain { holds: WOOP_HOLDS, stops: WOOP_STOPS };
-            "woop-watertight@gpu": Triangle "woop-watertight" @ Gpu Stands
+            "woop-watertight@gpu": Triangle "woop-watertight" @ Gpu("llvmpipe") Stands
+                Domain { holds: WOOP_HOLDS, stops: WOOP_STOPS };
+            "woop-watertight@gpu-nvidia": Triangle "woop-watertight" @ Gpu("NVIDIA") Refuted
                 Domain { holds: WOOP_HOLDS, stops: WOOP_STOPS };
             "woop-watertight@cpu-fma": Triangle "woop-watertight" @ CpuFma Refuted
                 Counterexample("woop-watertight/stress-tetrahedron-edge-origin-wrong_face-15054ba8dc6ab2ef.json");
@@ -170,16 +186,18 @@ pub const REGISTER: &[Entry] = &[
     Entry {
         methods: "`certified` (ours)",
         claim: "never wrong: every walk ends where the `exact` walk ends",
-        verdict: "**did not hold** where f32 products underflow (issue 24: 166 wrong of 2,970 adversarial cases, on `cpu`, `cpu-fma` and the GPU): the bound's absolute term ignored that `(V_f − o) × d`'s underflow is multiplied by `|V_k − V_f|`. **Stands** again with the bound derived for every finite f32 input (`src/methods/certified.md`, lemmas and constants checked by z3), on every backend and at every scale: the exit-face rows from 2^-140 to 2^110 and with the direction at its own scale, the walks, the found corpus, the filter checker's ten-minute campaign (`corpora/results/filters.md`), and the adversarial underflow cases",
+        verdict: "**did not hold** where f32 products underflow (issue 24: 166 wrong of 2,970 adversarial cases, on `cpu`, `cpu-fma` and the GPU): the bound's absolute term ignored that `(V_f − o) × d`'s underflow is multiplied by `|V_k − V_f|`. **Stands** again with the bound derived for every finite f32 input (`src/methods/certified.md`, lemmas and constants checked by z3), on every backend (the four CPU models, lavapipe, and an NVIDIA H200: 193,898 stress answers, `corpora/results/h200/verify-gpu.txt`) and at every scale: the exit-face rows from 2^-140 to 2^110 and with the direction at its own scale, the walks, the found corpus, the filter checker's ten-minute campaign (`corpora/results/filters.md`), and the adversarial underflow cases",
         counterexample: "every coordinate a power of two (1.5·2^-90 once): the tetrahedron below, entering through face 0, leaving through face 3 only; the old bound settled its first sign wrong and answered face 1 (`tests/certified.rs` replays it on every backend)",
         checks: checks! {
             "certified@cpu": ExitFace "certified" @ Cpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified@cpu-fma": ExitFace "certified" @ CpuFma Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified@cpu-ftz": ExitFace "certified" @ CpuFtz Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified@cpu-gpu": ExitFace "certified" @ CpuGpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
-            "certified@gpu": ExitFace "certified" @ Gpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
+            "certified@gpu": ExitFace "certified" @ Gpu("llvmpipe") Stands Domain { holds: EVERY_SCALE, stops: &[] };
+            "certified@gpu-nvidia": ExitFace "certified" @ Gpu("NVIDIA") Stands Domain { holds: EVERY_SCALE, stops: &[] };
             "certified-walks@cpu": Walk "certified" @ Cpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
-            "certified-walks@gpu": Walk "certified" @ Gpu Stands Domain { holds: EVERY_SCALE, stops: &[] };
+            "certified-walks@gpu": Walk "certified" @ Gpu("llvmpipe") Stands Domain { holds: EVERY_SCALE, stops: &[] };
+            "certified-walks@gpu-nvidia": Walk "certified" @ Gpu("NVIDIA") Stands Domain { holds: EVERY_SCALE, stops: &[] };
         },
     },
     Entry {
@@ -226,10 +244,13 @@ pub struct Checked {
     pub name: &'static str,
     pub backend: String,
     pub expect: Expect,
+    /// On a GPU, the adapter the register speaks of ([`Check::adapter`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub registered_for: Option<&'static str>,
     /// Whether the claim held in every part of the check.
     pub holds: bool,
-    /// Whether that is what the register says; `None` where the register says nothing of this
-    /// backend (a GPU whose compiler contracts multiply-adds: its register is `cpu-fma`'s).
+    /// Whether that is what the register says; `None` where the register speaks of another adapter
+    /// than the GPU checked.
     pub as_registered: Option<bool>,
     /// What was seen, in words.
     pub seen: String,
@@ -378,18 +399,14 @@ fn verify_in<F: Family>(
         Expect::Stands => holds,
         Expect::Refuted => !holds,
     };
-    // On a GPU the register is lavapipe's (llvmpipe does not contract multiply-adds); an adapter that
-    // does compiles the methods as `cpu-fma` runs them.
-    let registered = !(c.backend == BackendKind::Gpu
-        && on
-            .adapter
-            .as_deref()
-            .is_some_and(|a| !a.contains("llvmpipe")));
+    // On a GPU the register speaks of one adapter: another compiles and rounds differently.
+    let registered = c.registered_for(on.adapter.as_deref());
     Ok(Checked {
         name: c.name,
         backend: on.to_string(),
         expect: c.expect,
         holds,
+        registered_for: c.adapter,
         as_registered: registered.then_some(expected),
         seen,
         domain,
@@ -435,6 +452,28 @@ pub fn pick(run: &[String], skip: &[String]) -> Result<Vec<&'static Check>, Stri
 }
 
 impl Check {
+    /// Whether the register's word is for the adapter described so (every CPU check is; a GPU
+    /// check is for the adapters whose description holds its word).
+    pub fn registered_for(&self, adapter: Option<&str>) -> bool {
+        match (self.backend, self.adapter) {
+            (BackendKind::Gpu, Some(word)) => {
+                adapter.is_some_and(|a| a.to_lowercase().contains(&word.to_lowercase()))
+            }
+            _ => true,
+        }
+    }
+
+    /// Whether the same claim has another check registered for this adapter (`verify` runs that
+    /// one there and leaves this one out).
+    pub fn elsewhere(&self, adapter: Option<&str>) -> bool {
+        !self.registered_for(adapter)
+            && checks().any(|o| {
+                o.name != self.name
+                    && (o.family, o.method, o.backend) == (self.family, self.method, self.backend)
+                    && o.registered_for(adapter)
+            })
+    }
+
     /// The method, looked up in its family (a check of a method the registry lacks is a bug of the
     /// register, which a test catches).
     pub fn known(&self) -> bool {

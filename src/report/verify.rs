@@ -36,7 +36,8 @@ pub fn line(c: &Checked) -> String {
             word(e == Expect::Stands)
         ),
         (None, _) => format!(
-            "registered for lavapipe; {} compiles differently",
+            "registered for {}; {} compiles differently",
+            c.registered_for.unwrap_or("another adapter"),
             c.backend
         ),
     };
