@@ -6,7 +6,7 @@
 //! whatever the backend (it has no GPU version), and reports say so.
 
 use crate::cases::{BoxCase, Case, HitCase, normalized};
-pub use crate::choice::{BackendKind, Ran};
+pub use crate::choice::{BackendKind, Ran, Traffic};
 #[cfg(feature = "gpu")]
 use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
@@ -161,6 +161,16 @@ impl Backend {
             Backend::Cpu { model } => model.backend(),
             #[cfg(feature = "gpu")]
             Backend::Gpu(_) => BackendKind::Gpu,
+        }
+    }
+
+    /// What crossed between the CPU and the GPU since it was opened (none on the CPU, or without
+    /// the `gpu` feature).
+    pub fn traffic(&self) -> Option<Traffic> {
+        match self {
+            #[cfg(feature = "gpu")]
+            Backend::Gpu(g) => Some(g.traffic()),
+            Backend::Cpu { .. } => None,
         }
     }
 

@@ -193,3 +193,41 @@ impl<'de> serde::Deserialize<'de> for Ran {
         Ok(Ran { kind, adapter })
     }
 }
+
+/// What crossed between the CPU and a GPU, summed: bytes written to it (uploads, uniforms), bytes
+/// read back (outputs, timestamps), dispatches, and their kernel time where the adapter measures it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Traffic {
+    pub written: u64,
+    pub read: u64,
+    pub dispatches: u64,
+    pub kernel_seconds: Option<f64>,
+}
+
+impl Traffic {
+    /// Both summed (two GPUs', or one's over two spans).
+    pub fn plus(self, o: &Traffic) -> Traffic {
+        Traffic {
+            written: self.written + o.written,
+            read: self.read + o.read,
+            dispatches: self.dispatches + o.dispatches,
+            kernel_seconds: self
+                .kernel_seconds
+                .zip(o.kernel_seconds)
+                .map(|(a, b)| a + b),
+        }
+    }
+
+    /// What crossed since `before` (an earlier reading of the same GPU).
+    pub fn since(self, before: Traffic) -> Traffic {
+        Traffic {
+            written: self.written - before.written,
+            read: self.read - before.read,
+            dispatches: self.dispatches - before.dispatches,
+            kernel_seconds: self
+                .kernel_seconds
+                .zip(before.kernel_seconds)
+                .map(|(a, b)| a - b),
+        }
+    }
+}

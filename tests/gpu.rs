@@ -451,3 +451,64 @@ fn every_family_answers_on_the_gpu_as_on_the_cpu_through_one_differential_check(
     gpu_agrees_with_the_cpu::<tetwalk::family::Triangle>(&g, 100);
     gpu_agrees_with_the_cpu::<tetwalk::family::OctreeCells>(&g, 200);
 }
+
+/// A count on the GPU reports, per row, what crossed between the CPU and the GPU per ray (today each
+/// walk's ray written, 32 bytes, and its ending read back, 16 bytes, with a dispatch's uniform and
+/// timestamps besides), and counts every ray as the CPU does where the adapter does not contract; a
+/// CPU count reports no transfer.
+#[test]
+fn a_gpu_count_reports_its_bytes_per_ray_and_counts_as_the_cpu() {
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
+    let count = |backend: &str| {
+        let dir = tempfile::tempdir().unwrap();
+        let json = dir.path().join("count.json");
+        let (code, _, err) = common::run_tetwalk(
+            &[
+                "count",
+                "--backend",
+                backend,
+                "--views",
+                "2",
+                "--size",
+                "48x48",
+                "--json",
+                json.to_str().unwrap(),
+            ],
+            b"",
+        );
+        assert_eq!(code, 0, "{err}");
+        let r: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        r
+    };
+    let (cpu, gpu) = (count("cpu"), count("gpu"));
+    let rays = gpu["rays"].as_f64().unwrap();
+    assert_eq!(cpu["rays"], gpu["rays"]);
+    for (c, m) in cpu["methods"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(gpu["methods"].as_array().unwrap())
+    {
+        assert!(c.get("transfer").is_none(), "{c}");
+        let t = &m["transfer"];
+        let per = |k: &str| t[k].as_f64().unwrap();
+        assert!((32.0..33.0).contains(&per("bytes_written_per_ray")), "{t}");
+        assert!((16.0..17.0).contains(&per("bytes_read_per_ray")), "{t}");
+        assert_eq!(
+            per("bytes_read"),
+            (per("bytes_read_per_ray") * rays).round(),
+            "{t}"
+        );
+        assert!(t["dispatches"].as_u64().unwrap() >= 2, "{t}");
+        assert_eq!(t.get("kernel_share").is_some(), g.measures_kernels(), "{t}");
+        assert_eq!(c["method"], m["method"]);
+        if !contracts(&g) {
+            for k in ["wrong", "steps"] {
+                assert_eq!(c[k], m[k], "{}: {k} as on the CPU", m["method"]);
+            }
+        }
+    }
+}

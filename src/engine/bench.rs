@@ -56,6 +56,12 @@ pub struct BenchRow {
     pub kernel_seconds: Option<f64>,
     /// Rays the GPU flagged and the CPU walked.
     pub flagged: u64,
+    /// On a GPU, bytes written to it and read back per ray walked (the pipeline measured on any
+    /// adapter).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bytes_written_per_ray: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bytes_read_per_ray: Option<f64>,
     /// Each timed batch's end-to-end speed, Mrays/s (a batch timed `repeat` times gives as many).
     #[serde(default)]
     pub samples: Vec<f64>,
@@ -285,6 +291,8 @@ pub fn run(
                 seconds: 0.0,
                 kernel_seconds: b.for_method(m).measures_kernels().then_some(0.0),
                 flagged: 0,
+                bytes_written_per_ray: None,
+                bytes_read_per_ray: None,
                 samples: Vec::new(),
                 spread: None,
                 change: None,
@@ -326,6 +334,7 @@ pub fn run(
         warm = true;
         for pass in 0..passes {
             for &(row, b, w) in &plan {
+                let before = backends[b].traffic();
                 let t0 = Instant::now();
                 // The clock stops when the walks are back; counting their steps is not timed.
                 let (seconds, steps, kernel, flagged) = match w {
@@ -353,6 +362,16 @@ pub fn run(
                 r.rays += rays.len() as u64;
                 r.tetrahedra += steps;
                 r.flagged += flagged;
+                if let Some(t) = backends[b].traffic().zip(before).map(|(a, b)| a.since(b)) {
+                    // Per ray over the samples so far: the running mean of every timed pass.
+                    let per_ray = |bytes: u64, old: Option<f64>| {
+                        let n = rays.len() as f64;
+                        let done = (r.rays - rays.len() as u64) as f64;
+                        (old.unwrap_or(0.0) * done + bytes as f64) / (done + n)
+                    };
+                    r.bytes_written_per_ray = Some(per_ray(t.written, r.bytes_written_per_ray));
+                    r.bytes_read_per_ray = Some(per_ray(t.read, r.bytes_read_per_ray));
+                }
             }
         }
     }

@@ -5,7 +5,7 @@
 //! exact answer on about 1,000 rays must agree with the reference), each method's answers judged and
 //! each wrong ray described ([`WrongRay`]), shards that add up, the labellings of the tetrahedra.
 
-use crate::backend::{Backend, Ran};
+use crate::backend::{Backend, Ran, Traffic};
 use crate::family::Family;
 use crate::family::count::{
     CountError, CountRow, Counted, Counts, Scene, first_difference, inconsistent,
@@ -157,7 +157,7 @@ const BYTES_PER_RAY: u64 = 128;
 /// One view's tallies: per row (the reference walk's first where it is one), the steps, the seconds
 /// its answers took and its wrong rays, described; and the rays audited.
 struct ViewCount {
-    work: Vec<(u64, f64)>,
+    work: Vec<(u64, f64, Option<Traffic>)>,
     wrong: Vec<Vec<WrongRay>>,
     audits: u64,
     rays: u64,
@@ -245,8 +245,13 @@ pub fn run<F: Counted>(
             views_counted += 1;
             rays_counted += c.rays;
             audits += c.audits;
-            for ((row, (steps, seconds)), wrong) in rows.iter_mut().zip(c.work).zip(c.wrong) {
+            for ((row, (steps, seconds, traffic)), wrong) in
+                rows.iter_mut().zip(c.work).zip(c.wrong)
+            {
                 row.add_work(steps, seconds * scale);
+                if let Some(t) = &traffic {
+                    row.add_traffic(t);
+                }
                 for d in &wrong {
                     row.counts
                         .add_wrong(d.kind().expect("a wrong ray has a kind"), d.class);
@@ -308,12 +313,16 @@ fn count_view<F: Counted>(
     };
     let mut work = Vec::with_capacity(answerers.len() + 1);
     let mut wrong = Vec::with_capacity(answerers.len() + 1);
+    // What the GPU moved since `before`, on a GPU.
+    let moved = |before: Option<Traffic>| backend.traffic().zip(before).map(|(a, b)| a.since(b));
     let t0 = Instant::now();
+    let before = backend.traffic();
     let walked = backend.walks(reference, &scene.on, &rays, located, max)?;
     if F::reference_row() {
         work.push((
             walked.iter().map(|w| w.steps as u64).sum(),
             t0.elapsed().as_secs_f64(),
+            moved(before),
         ));
         wrong.push(Vec::new());
     }
@@ -335,6 +344,7 @@ fn count_view<F: Counted>(
     }
     for a in answerers {
         let t0 = Instant::now();
+        let before = backend.traffic();
         // Given walks were timed elsewhere, if at all: their speed is not measured here.
         let (walks, seconds) = match a {
             Answerer::Method(m) => {
@@ -343,7 +353,11 @@ fn count_view<F: Counted>(
             }
             Answerer::Given(_, given) => (given(v, &rays, located, max)?, 0.0),
         };
-        work.push((walks.iter().map(|w| w.steps as u64).sum(), seconds));
+        work.push((
+            walks.iter().map(|w| w.steps as u64).sum(),
+            seconds,
+            moved(before),
+        ));
         let seen = Seen {
             scene: &s.scene,
             view: v,

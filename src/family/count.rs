@@ -6,7 +6,7 @@
 
 use super::Family;
 use super::wrong::Class;
-use crate::backend::{Backend, BackendError, MeshOn};
+use crate::backend::{Backend, BackendError, MeshOn, Traffic};
 use crate::mesh::Mesh;
 use crate::registry::Method;
 use crate::scenes::camera::{Camera, Views};
@@ -197,9 +197,52 @@ pub struct CountRow<C: Counts> {
     /// (`crate::tet::EVEN_PERMUTATIONS`, the mesh's own labelling first), with `count --relabel all`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub relabelled: Option<Vec<u64>>,
+    /// On a GPU, what its answers moved between the CPU and the GPU.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transfer: Option<Transfer>,
 }
 
 through_value!(CountRow<C: Counts>);
+
+/// What a count row's answers moved between the CPU and a GPU, summed over its views, and per ray: the
+/// pipeline measured on any adapter.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Transfer {
+    pub bytes_written: u64,
+    pub bytes_read: u64,
+    pub dispatches: u64,
+    pub bytes_written_per_ray: f64,
+    pub bytes_read_per_ray: f64,
+    /// The kernels' time, where the adapter measures it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kernel_seconds: Option<f64>,
+    /// The kernels' share of the row's wall time.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kernel_share: Option<f64>,
+}
+
+impl Transfer {
+    /// `t`'s totals (per-ray figures come with [`CountRow::finish`]).
+    fn of(t: &Traffic) -> Transfer {
+        Transfer {
+            bytes_written: t.written,
+            bytes_read: t.read,
+            dispatches: t.dispatches,
+            kernel_seconds: t.kernel_seconds,
+            ..Transfer::default()
+        }
+    }
+
+    /// What crossed, as the GPU's [`Traffic`].
+    fn traffic(&self) -> Traffic {
+        Traffic {
+            written: self.bytes_written,
+            read: self.bytes_read,
+            dispatches: self.dispatches,
+            kernel_seconds: self.kernel_seconds,
+        }
+    }
+}
 
 impl<C: Counts> CountRow<C> {
     pub fn new(method: &str) -> Self {
@@ -209,7 +252,14 @@ impl<C: Counts> CountRow<C> {
             seconds: 0.0,
             mrays_per_second: 0.0,
             relabelled: None,
+            transfer: None,
         }
+    }
+
+    /// Count what a view's answers moved between the CPU and the GPU.
+    pub fn add_traffic(&mut self, t: &Traffic) {
+        let sum = self.transfer.as_ref().map_or(*t, |s| s.traffic().plus(t));
+        self.transfer = Some(Transfer::of(&sum));
     }
 
     /// Count a view's work: steps (tetrahedra or cells visited) and seconds answering.
@@ -222,6 +272,9 @@ impl<C: Counts> CountRow<C> {
     pub fn add(&mut self, o: &Self) {
         self.counts.add(&o.counts);
         self.seconds += o.seconds;
+        if let Some(t) = &o.transfer {
+            self.add_traffic(&t.traffic());
+        }
         self.relabelled = self
             .relabelled
             .take()
@@ -237,6 +290,16 @@ impl<C: Counts> CountRow<C> {
         } else {
             0.0
         };
+        let seconds = self.seconds;
+        if let Some(t) = &mut self.transfer {
+            let per_ray = |bytes: u64| bytes as f64 / rays.max(1) as f64;
+            t.bytes_written_per_ray = per_ray(t.bytes_written);
+            t.bytes_read_per_ray = per_ray(t.bytes_read);
+            t.kernel_share = t
+                .kernel_seconds
+                .filter(|_| seconds > 0.0)
+                .map(|k| k / seconds);
+        }
     }
 
     /// Whether its own numbers agree with each other (beyond the kinds adding up, which the engine

@@ -2,7 +2,7 @@
 //! (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME` respected), headless. The shader and its buffer layouts are
 //! generated from the Rust definitions ([`shader`]).
 
-use crate::choice::Choice;
+use crate::choice::{Choice, Traffic};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::methods::Model;
@@ -155,6 +155,8 @@ pub struct Gpu {
     /// Timestamp queries, where the adapter has them: kernel time apart from transfers.
     timestamps: Option<wgpu::QuerySet>,
     scratch: Mutex<HashMap<&'static str, wgpu::Buffer>>,
+    /// Every byte written to the GPU and read back, and the kernel time measured, since it was opened.
+    traffic: Mutex<Traffic>,
 }
 
 /// An entry point of the module and the override constants its pipeline is compiled with.
@@ -319,6 +321,10 @@ impl Gpu {
             pipelines: Mutex::new(HashMap::new()),
             prefix,
             info,
+            traffic: Mutex::new(Traffic {
+                kernel_seconds: timestamps.is_some().then_some(0.0),
+                ..Traffic::default()
+            }),
             timestamps,
             scratch: Mutex::new(HashMap::new()),
         })
@@ -388,8 +394,17 @@ impl Gpu {
         (self.max_binding / item_bytes as u64).max(1) as usize
     }
 
+    /// What crossed between the CPU and this GPU since it was opened.
+    pub fn traffic(&self) -> Traffic {
+        *self.traffic.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
     /// A buffer made once with `data` (a mesh).
     fn storage(&self, data: &[u8]) -> wgpu::Buffer {
+        self.traffic
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .written += data.len() as u64;
         // Zero-length bindings are not allowed: pad empty inputs.
         let data = if data.is_empty() {
             &[0u8; 16][..]
@@ -580,6 +595,14 @@ impl Gpu {
             )
         };
         read.unmap();
+        let mut traffic = self.traffic.lock().unwrap_or_else(|e| e.into_inner());
+        traffic.written += in_bytes + std::mem::size_of::<Params>() as u64;
+        traffic.read += out_bytes + TIMESTAMP_BYTES;
+        traffic.dispatches += 1;
+        traffic.kernel_seconds = traffic
+            .kernel_seconds
+            .zip(kernel_seconds)
+            .map(|(a, k)| a + k);
         Ok(Dispatched {
             items,
             kernel_seconds,

@@ -36,6 +36,27 @@ fn relabellings<F: Counted>(r: &CountReport<F>) -> String {
     "\nwrong rays under the 12 orientation-preserving relabellings of the tetrahedra\n\n| method | own labelling | min | median | max |\n|---|---|---|---|---|\n".to_string() + &out
 }
 
+/// On a GPU, what each row's answers moved between the CPU and the GPU, per ray, and the kernels'
+/// share of its wall time.
+fn transfers<F: Counted>(r: &CountReport<F>) -> String {
+    let mut out = String::new();
+    for m in &r.methods {
+        if let Some(t) = &m.transfer {
+            let share = t
+                .kernel_share
+                .map_or("-".into(), |k| format!("{:.1}%", 100.0 * k));
+            out += &format!(
+                "| {} | {:.1} | {:.1} | {} | {share} |\n",
+                m.method, t.bytes_written_per_ray, t.bytes_read_per_ray, t.dispatches
+            );
+        }
+    }
+    if out.is_empty() {
+        return out;
+    }
+    "\nbetween the CPU and the GPU, per ray counted\n\n| method | bytes written | bytes read back | dispatches | kernels' share of the wall time |\n|---|---|---|---|---|\n".to_string() + &out
+}
+
 /// `(audited against … on N rays, all agreeing)`, or nothing when no ray was audited.
 fn audited<F: Counted>(r: &CountReport<F>, against: &str) -> String {
     if r.audited > 0 {
@@ -91,7 +112,7 @@ impl CountFormats for Walks {
                 p.tetrahedra,
             );
         }
-        out + &totals(r) + &relabellings(r)
+        out + &totals(r) + &relabellings(r) + &transfers(r)
     }
 }
 
@@ -130,7 +151,7 @@ impl CountFormats for Triangle {
             );
         }
         out += &format!("\ntotals over {} rays\n", r.rays);
-        out + &relabellings(r)
+        out + &relabellings(r) + &transfers(r)
     }
 }
 
@@ -168,6 +189,6 @@ impl CountFormats for OctreeCells {
                 m.mrays_per_second
             );
         }
-        out + &totals(r) + &relabellings(r)
+        out + &totals(r) + &relabellings(r) + &transfers(r)
     }
 }
