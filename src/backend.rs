@@ -501,6 +501,70 @@ impl Backend {
         Ok(self.walks_from(method, mesh, &rays, max_steps)?.walks)
     }
 
+    /// [`Backend::walks`], each ending also kept where it was made when that is a GPU (then `true`):
+    /// the reference walk a count compares its methods' walks with ([`Backend::walks_against`]).
+    pub fn walks_keeping(
+        &self,
+        method: &Method,
+        mesh: &MeshOn,
+        rays: &[Ray],
+        start: u32,
+        max_steps: u32,
+    ) -> Result<(Vec<Walk>, bool), BackendError> {
+        let rays = map_all(rays, |r| (*r, start));
+        let walked = self.walks_from_keeping(method, mesh, &rays, max_steps, true)?;
+        Ok((
+            walked.walks,
+            self.for_method(method).kind() == BackendKind::Gpu,
+        ))
+    }
+
+    /// `method`'s walks of the rays of the last [`Backend::walks_keeping`] that kept its endings,
+    /// compared with them where they are made: on a GPU, the steps summed and only the walks not
+    /// settled there as ending where the reference ends (each to be judged exactly, with the rays
+    /// the GPU flagged walked on the CPU); `None` elsewhere.
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
+    pub fn walks_against(
+        &self,
+        method: &Method,
+        mesh: &MeshOn,
+        rays: &[Ray],
+        start: u32,
+        max_steps: u32,
+    ) -> Result<Option<Against>, BackendError> {
+        match self.for_method(method) {
+            #[cfg(feature = "gpu")]
+            Backend::Gpu(g) => {
+                let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
+                let from = map_all(rays, |r| (*r, start));
+                let done = g.walks_then(method, uploaded, &from, max_steps, gpu::After::Compare)?;
+                let walk = method.walk(Model::Plain);
+                let (mut steps, mut flagged) = (done.steps, 0);
+                // In pixel order (the GPU sends them back in any order).
+                let mut sent = done.sent;
+                sent.sort_unstable_by_key(|s| s.index);
+                let sent: Vec<(usize, Walk)> = sent
+                    .iter()
+                    .map(|s| {
+                        let i = s.index as usize;
+                        let w = s.ending().walk().unwrap_or_else(|| {
+                            flagged += 1;
+                            let w = walk(mesh.mesh, &rays[i], start, max_steps);
+                            steps = steps - u64::from(s.steps) + u64::from(w.steps);
+                            w
+                        });
+                        (i, w)
+                    })
+                    .collect();
+                if flagged > 0 && !method.info.runs_on_cpu {
+                    return Err(BackendError::Unsettled(method.info.name));
+                }
+                Ok(Some(Against { steps, sent }))
+            }
+            _ => Ok(None),
+        }
+    }
+
     /// `method`'s walk of every ray from its own starting tetrahedron, with the GPU's kernel time
     /// where it measures one.
     pub fn walks_from(
@@ -509,6 +573,19 @@ impl Backend {
         mesh: &MeshOn,
         rays: &[(Ray, u32)],
         max_steps: u32,
+    ) -> Result<Walked, BackendError> {
+        self.walks_from_keeping(method, mesh, rays, max_steps, false)
+    }
+
+    /// [`Backend::walks_from`], the endings kept on the GPU when `keep`.
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
+    fn walks_from_keeping(
+        &self,
+        method: &Method,
+        mesh: &MeshOn,
+        rays: &[(Ray, u32)],
+        max_steps: u32,
+        keep: bool,
     ) -> Result<Walked, BackendError> {
         match self.for_method(method) {
             Backend::Cpu { .. } if !method.info.runs_on_cpu => {
@@ -540,7 +617,12 @@ impl Backend {
                 if uploaded.tetrahedra != mesh.mesh.tets.len() {
                     return Err(BackendError::OtherMesh);
                 }
-                let done = g.walks(method, uploaded, rays, max_steps)?;
+                let after = if keep {
+                    gpu::After::Keep
+                } else {
+                    gpu::After::Read
+                };
+                let done = g.walks_then(method, uploaded, rays, max_steps, after)?;
                 let flagged = done.items.par_iter().filter(|e| e.walk().is_none()).count();
                 if flagged > 0 && !method.info.runs_on_cpu {
                     return Err(BackendError::Unsettled(method.info.name));
@@ -563,6 +645,13 @@ impl Backend {
             }
         }
     }
+}
+
+/// Walks compared with the kept reference walk where they were made ([`Backend::walks_against`]):
+/// their steps summed, and each walk not settled there as ending where the reference ends, by index.
+pub struct Against {
+    pub steps: u64,
+    pub sent: Vec<(usize, Walk)>,
 }
 
 /// Walks from a backend: the GPU's kernel time where it measures one, and how many rays the GPU

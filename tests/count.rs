@@ -171,7 +171,8 @@ fn the_count_judges_and_tallies_every_kind_as_it_is() {
         name: "maria17",
         walked: Some((by_name("maria17").unwrap(), BackendKind::Cpu)),
     };
-    let wrong = wrong_rays(&mesh, &seen, 7, &rays, &walks, &reference, start, max);
+    let candidates: Vec<(usize, Walk)> = walks.iter().copied().enumerate().collect();
+    let wrong = wrong_rays(&mesh, &seen, 7, &rays, &candidates, &reference, start, max);
     let kinds: Vec<_> = wrong.iter().map(|w| w.kind().unwrap()).collect();
     use OutcomeKind::*;
     assert_eq!(

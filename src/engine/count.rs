@@ -5,7 +5,7 @@
 //! exact answer on about 1,000 rays must agree with the reference), each method's answers judged and
 //! each wrong ray described ([`WrongRay`]), shards that add up, the labellings of the tetrahedra.
 
-use crate::backend::{Backend, Ran, Traffic};
+use crate::backend::{Against, Backend, Ran, Traffic};
 use crate::family::Family;
 use crate::family::count::{
     CountError, CountRow, Counted, Counts, Scene, first_difference, inconsistent,
@@ -301,6 +301,14 @@ fn count_view<F: Counted>(
     let picked: Vec<usize> = (0..rays.len())
         .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))
         .collect();
+    let mut work = Vec::with_capacity(answerers.len() + 1);
+    let mut wrong = Vec::with_capacity(answerers.len() + 1);
+    // What the GPU moved since `before`, on a GPU.
+    let moved = |before: Option<Traffic>| backend.traffic().zip(before).map(|(a, b)| a.since(b));
+    let t0 = Instant::now();
+    let before = backend.traffic();
+    let (walked, reference_kept) =
+        backend.walks_keeping(reference, &scene.on, &rays, located, max)?;
     let at = Prepared::<F> {
         backend,
         scene,
@@ -310,14 +318,8 @@ fn count_view<F: Counted>(
         view: v,
         camera: cam,
         audited: &picked,
+        reference_kept,
     };
-    let mut work = Vec::with_capacity(answerers.len() + 1);
-    let mut wrong = Vec::with_capacity(answerers.len() + 1);
-    // What the GPU moved since `before`, on a GPU.
-    let moved = |before: Option<Traffic>| backend.traffic().zip(before).map(|(a, b)| a.since(b));
-    let t0 = Instant::now();
-    let before = backend.traffic();
-    let walked = backend.walks(reference, &scene.on, &rays, located, max)?;
     if F::reference_row() {
         work.push((
             walked.iter().map(|w| w.steps as u64).sum(),
@@ -345,19 +347,28 @@ fn count_view<F: Counted>(
     for a in answerers {
         let t0 = Instant::now();
         let before = backend.traffic();
-        // Given walks were timed elsewhere, if at all: their speed is not measured here.
-        let (walks, seconds) = match a {
-            Answerer::Method(m) => {
-                let w = F::answer_rays(&at, m, &rays)?;
-                (w, t0.elapsed().as_secs_f64())
-            }
-            Answerer::Given(_, given) => (given(v, &rays, located, max)?, 0.0),
+        // Given walks were timed elsewhere, if at all: their speed is not measured here. Where the
+        // answers are compared with the reference where they are made, only the rays not settled
+        // there are judged here.
+        let against = match a {
+            Answerer::Method(m) => F::answer_against(&at, m, &rays)?,
+            Answerer::Given(..) => None,
         };
-        work.push((
-            walks.iter().map(|w| w.steps as u64).sum(),
-            seconds,
-            moved(before),
-        ));
+        let (candidates, steps, seconds) = match (a, against) {
+            (_, Some(Against { steps, sent })) => (sent, steps, t0.elapsed().as_secs_f64()),
+            (Answerer::Method(m), None) => {
+                let w = F::answer_rays(&at, m, &rays)?;
+                let seconds = t0.elapsed().as_secs_f64();
+                let steps = w.iter().map(|w| w.steps as u64).sum();
+                (w.into_iter().enumerate().collect(), steps, seconds)
+            }
+            (Answerer::Given(_, given), None) => {
+                let w = given(v, &rays, located, max)?;
+                let steps = w.iter().map(|w| w.steps as u64).sum();
+                (w.into_iter().enumerate().collect(), steps, 0.0)
+            }
+        };
+        work.push((steps, seconds, moved(before)));
         let seen = Seen {
             scene: &s.scene,
             view: v,
@@ -373,7 +384,7 @@ fn count_view<F: Counted>(
             &seen,
             s.views.width,
             &rays,
-            &walks,
+            &candidates,
             &walked,
             located,
             max,
@@ -422,26 +433,29 @@ pub fn relabel_all<F: Counted>(
     Ok(())
 }
 
-/// One view's wrong rays for one method (`walks` beside the `exact` walks `reference`, pixel `i` at
-/// column `i % width`), each described; wrong rays are few, so each is described where it is found.
+/// One view's wrong rays for one method among `candidates` (pixel `i`'s walk, beside the reference
+/// walk `reference[i]`, pixel `i` at column `i % width`: every pixel, or those not settled right
+/// where they were walked), each described; wrong rays are few, so each is described where it is
+/// found.
 #[allow(clippy::too_many_arguments)]
 pub fn wrong_rays(
     mesh: &Mesh,
     seen: &Seen,
     width: u32,
     rays: &[Ray],
-    walks: &[Walk],
+    candidates: &[(usize, Walk)],
     reference: &[Walk],
     start: u32,
     max_steps: u32,
 ) -> Vec<WrongRay> {
-    let wrong: Vec<usize> = (0..rays.len())
-        .into_par_iter()
-        .filter(|&i| judge(mesh, &rays[i], &walks[i], &reference[i]).is_some())
+    let wrong: Vec<(usize, Walk)> = candidates
+        .par_iter()
+        .filter(|(i, w)| judge(mesh, &rays[*i], w, &reference[*i]).is_some())
+        .copied()
         .collect();
     wrong
         .par_iter()
-        .map(|&i| {
+        .map(|&(i, walk)| {
             let seen = Seen {
                 pixel: [i as u32 % width, i as u32 / width],
                 ..*seen
@@ -450,7 +464,7 @@ pub fn wrong_rays(
                 mesh,
                 &seen,
                 &rays[i],
-                &walks[i],
+                &walk,
                 &reference[i],
                 start,
                 max_steps,

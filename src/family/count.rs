@@ -6,7 +6,7 @@
 
 use super::Family;
 use super::wrong::Class;
-use crate::backend::{Backend, BackendError, MeshOn, Traffic};
+use crate::backend::{Against, Backend, BackendError, MeshOn, Traffic};
 use crate::mesh::Mesh;
 use crate::registry::Method;
 use crate::scenes::camera::{Camera, Views};
@@ -102,6 +102,9 @@ pub struct Prepared<'a, C: Counted> {
     pub view: usize,
     pub camera: &'a Camera,
     pub audited: &'a [usize],
+    /// Whether the reference walk's endings are kept where the methods run (a GPU), to be compared
+    /// there ([`Counted::answer_against`]).
+    pub reference_kept: bool,
 }
 
 /// A family whose methods answer a scene's primary rays.
@@ -161,6 +164,18 @@ pub trait Counted: Family {
         m: &Self::Method,
         rays: &[Ray],
     ) -> Result<Vec<Walk>, CountError>;
+
+    /// `m`'s answers compared with the reference walk where they are made, where the backend can
+    /// ([`Backend::walks_against`]: a GPU holding the reference's endings): the steps summed and
+    /// only the rays not settled there, each with its walk; `None` where every answer comes back
+    /// ([`Counted::answer_rays`]). The count is the same either way, ray for ray.
+    fn answer_against(
+        _at: &Prepared<Self>,
+        _m: &Self::Method,
+        _rays: &[Ray],
+    ) -> Result<Option<Against>, CountError> {
+        Ok(None)
+    }
 
     /// The family's exact answer ([`Counted::EXACT`]) to each audited ray of a view, which must agree
     /// with the reference walk ([`Counted::agrees`]).

@@ -5,7 +5,7 @@
 use super::count::{CountError, Counted, Counts, Prepared, Scene, first_difference, inconsistent};
 use super::wrong::Class;
 use super::{Family, Scale, Summed, Verdict};
-use crate::backend::{Backend, BackendError, CPU};
+use crate::backend::{Against, Backend, BackendError, CPU};
 use crate::cases::{CaseError, field_error, number, vec3};
 use crate::exact::hit::first_hit;
 use crate::mesh::Mesh;
@@ -579,6 +579,20 @@ impl Counted for Walks {
         Ok(at
             .backend
             .walks(m, &scene.on, rays, at.located, scene.max_steps)?)
+    }
+
+    fn answer_against(
+        at: &Prepared<Self>,
+        m: &Method,
+        rays: &[Ray],
+    ) -> Result<Option<Against>, CountError> {
+        if !at.reference_kept {
+            return Ok(None);
+        }
+        let scene = at.scene;
+        Ok(at
+            .backend
+            .walks_against(m, &scene.on, rays, at.located, scene.max_steps)?)
     }
 
     /// The full `exact` walk, which the reference (`certified`) follows step for step.

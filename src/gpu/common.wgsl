@@ -72,3 +72,29 @@ fn brent_step(b: ptr<function, Brent>, s: vec2u) -> u32 {
     }
     return 0u;
 }
+
+// Each walk of a dispatch beside the reference walk of the same ray, kept on the GPU: the steps summed
+// (counters 1 and 2, low and high words), and every walk not settled here as ending where the
+// reference ends sent back (counter 0 counts them) for the CPU to judge exactly
+// (tetwalk::walk::same_result). Settled here: both leave the mesh, or both hit the same face of the
+// same tetrahedron; everything else goes back (a walk flagged on either side, a hit on another face,
+// every other ending), so the counts are the CPU's, ray for ray.
+@compute @workgroup_size(GROUP)
+fn compare_endings(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let e = endings[i];
+    let r = reference[params.first + i];
+    let low = atomicAdd(&counters[1], e.steps);
+    if low + e.steps < low {
+        atomicAdd(&counters[2], 1u);
+    }
+    let both_left = e.kind == LEFT_MESH && r.kind == LEFT_MESH;
+    let same_face = e.kind == HIT && r.kind == HIT && e.tet == r.tet && e.x == r.x;
+    if !(both_left || same_face) {
+        let k = atomicAdd(&counters[0], 1u);
+        sent[k] = Sent(params.first + i, e.kind, e.tet, e.x, e.steps);
+    }
+}

@@ -12,8 +12,8 @@ use crate::walk::layouts::{Kind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};
 use rayon::prelude::*;
 use shader::binding::{
-    CASES, CELLS, ENDINGS, FACEINFO, FACES, LAYOUT_RAYS, LAYOUT_WORDS, OCTREE, OCTREE_BOXES,
-    OCTREE_TRIS, PARAMS, POINTS, RAYS,
+    CASES, CELLS, COUNTERS, ENDINGS, FACEINFO, FACES, LAYOUT_RAYS, LAYOUT_WORDS, OCTREE,
+    OCTREE_BOXES, OCTREE_TRIS, PARAMS, POINTS, RAYS, REFERENCE, SENT,
 };
 use shader::{Ending, GROUP, Params};
 use std::collections::HashMap;
@@ -52,6 +52,8 @@ pub enum GpuError {
     Readback(String),
     #[error("the GPU wrote outcome code {0}, which no outcome kind has")]
     BadOutcome(u32),
+    #[error("walks compared on the GPU with no reference walk of the same rays kept there")]
+    NoReference,
 }
 
 /// The module with a user's WGSL spliced in, parsed and validated: an error in their lines is shown
@@ -157,6 +159,9 @@ pub struct Gpu {
     scratch: Mutex<HashMap<&'static str, wgpu::Buffer>>,
     /// Every byte written to the GPU and read back, and the kernel time measured, since it was opened.
     traffic: Mutex<Traffic>,
+    /// The rays whose reference walk is kept on the GPU ([`After::Keep`]): how many, and a
+    /// fingerprint of them, which the walks compared with it must match.
+    kept_rays: Mutex<Option<(usize, u64)>>,
 }
 
 /// An entry point of the module and the override constants its pipeline is compiled with.
@@ -186,6 +191,22 @@ struct Job<'a, I> {
     input: (u32, &'a (dyn Fn(usize) -> I + Sync)),
     bound: &'a [(u32, &'a wgpu::Buffer)],
     out_at: u32,
+    /// What becomes of the output.
+    after: After,
+    /// The index of the dispatch's first item in the batch ([`Gpu::dispatch`] sets it).
+    first: usize,
+}
+
+/// What becomes of a dispatch's output (walk endings, for the last two).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum After {
+    /// Read back.
+    Read,
+    /// Read back, and kept on the GPU as the reference walk's endings (`compare_endings` reads them).
+    Keep,
+    /// Compared there with the kept reference endings: only the walks not settled equal come back,
+    /// with the steps summed.
+    Compare,
 }
 
 impl<I> Clone for Job<'_, I> {
@@ -239,11 +260,17 @@ const UPLOAD_RUN: usize = 1 << 16;
 /// Bytes of the two timestamps of a pass.
 const TIMESTAMP_BYTES: u64 = 2 * 8;
 
-/// What a dispatch returns: its output and, where the adapter measures it, its kernel time.
+/// The comparison's counters read back: walks sent back, steps summed (low and high words), padding.
+const COUNTER_BYTES: u64 = 4 * 4;
+
+/// What a dispatch returns: its output and, where the adapter measures it, its kernel time; for a
+/// walk compared on the GPU, the walks sent back and the steps summed instead of the output.
 #[derive(Debug)]
 pub struct Dispatched<T> {
     pub items: Vec<T>,
     pub kernel_seconds: Option<f64>,
+    pub sent: Vec<shader::Sent>,
+    pub steps: u64,
 }
 
 impl Gpu {
@@ -327,6 +354,7 @@ impl Gpu {
             }),
             timestamps,
             scratch: Mutex::new(HashMap::new()),
+            kept_rays: Mutex::new(None),
         })
     }
 
@@ -457,8 +485,14 @@ impl Gpu {
             input: (input_at, input),
             bound,
             out_at,
+            after,
+            first,
         } = job;
         let pipeline = self.pipeline(entry)?;
+        let compare = match after {
+            After::Compare => Some(self.pipeline(Entry::plain("compare_endings"))?),
+            _ => None,
+        };
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let (in_size, out_size) = (std::mem::size_of::<I>(), std::mem::size_of::<T>());
         let in_bytes = (count * in_size) as u64;
@@ -469,29 +503,41 @@ impl Gpu {
             16,
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-        let input_buf = self.scratch(
-            &mut kept,
-            "input",
-            in_bytes,
-            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        );
+        // Compared walks read the reference walk's rays, kept on the GPU; every other dispatch has
+        // its items uploaded.
+        let upload_items = after != After::Compare;
+        let input_buf = if upload_items {
+            self.scratch(
+                &mut kept,
+                "input",
+                in_bytes,
+                wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+            )
+        } else {
+            kept.get("reference_items")
+                .ok_or(GpuError::NoReference)?
+                .clone()
+        };
         let out = self.scratch(
             &mut kept,
             "output",
             out_bytes,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
+        let sent_bytes = (count * std::mem::size_of::<shader::Sent>()) as u64;
         let read = self.scratch(
             &mut kept,
             "readback",
-            out_bytes + TIMESTAMP_BYTES,
+            out_bytes.max(sent_bytes) + TIMESTAMP_BYTES,
             wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         );
         let params = Params {
             count: count as u32,
             limit,
-            pad0: 0,
-            pad1: 0,
+            first: first as u32,
+            item_first: if upload_items { 0 } else { first as u32 },
         };
         self.queue
             .write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
@@ -504,22 +550,29 @@ impl Gpu {
             wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC,
         );
         let in_span = 0..in_bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
-        self.map(&upload, wgpu::MapMode::Write, in_span.clone())?;
-        (0..count.div_ceil(UPLOAD_RUN))
-            .into_par_iter()
-            .try_for_each(|run| {
-                let first = run * UPLOAD_RUN;
-                let last = count.min(first + UPLOAD_RUN);
-                let items: Vec<I> = (first..last).map(input).collect();
-                let span = (first * in_size) as u64..(last * in_size) as u64;
-                let mut view = upload
-                    .slice(span)
-                    .get_mapped_range_mut()
-                    .map_err(|e| GpuError::Readback(e.to_string()))?;
-                view.copy_from_slice(bytemuck::cast_slice(&items));
-                Ok::<(), GpuError>(())
-            })?;
-        upload.unmap();
+        let runs = if upload_items {
+            count.div_ceil(UPLOAD_RUN)
+        } else {
+            0
+        };
+        if upload_items {
+            self.map(&upload, wgpu::MapMode::Write, in_span.clone())?;
+        }
+        (0..runs).into_par_iter().try_for_each(|run| {
+            let first = run * UPLOAD_RUN;
+            let last = count.min(first + UPLOAD_RUN);
+            let items: Vec<I> = (first..last).map(input).collect();
+            let span = (first * in_size) as u64..(last * in_size) as u64;
+            let mut view = upload
+                .slice(span)
+                .get_mapped_range_mut()
+                .map_err(|e| GpuError::Readback(e.to_string()))?;
+            view.copy_from_slice(bytemuck::cast_slice(&items));
+            Ok::<(), GpuError>(())
+        })?;
+        if upload_items {
+            upload.unmap();
+        }
         let mut entries = vec![
             wgpu::BindGroupEntry {
                 binding: PARAMS,
@@ -547,7 +600,13 @@ impl Gpu {
         let groups = (count as u32).div_ceil(GROUP);
         let x = groups.min(self.max_groups);
         let mut enc = self.device.create_command_encoder(&Default::default());
-        enc.copy_buffer_to_buffer(&upload, 0, &input_buf, 0, in_span.end);
+        if upload_items {
+            enc.copy_buffer_to_buffer(&upload, 0, &input_buf, 0, in_span.end);
+        }
+        if after == After::Keep {
+            let items = kept.get("reference_items").ok_or(GpuError::NoReference)?;
+            enc.copy_buffer_to_buffer(&input_buf, 0, items, (first * in_size) as u64, in_bytes);
+        }
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(entry.name),
@@ -563,6 +622,63 @@ impl Gpu {
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
         }
+        // What is read back: the output, or where the walks are compared on the GPU, the counters.
+        let mut read_bytes = out_bytes;
+        let sent = match (after, &compare) {
+            (After::Keep, _) => {
+                let reference = kept.get("reference").ok_or(GpuError::NoReference)?.clone();
+                let at = (first * out_size) as u64;
+                enc.copy_buffer_to_buffer(&out, 0, &reference, at, out_bytes);
+                None
+            }
+            (After::Compare, Some(compare)) => {
+                let sent = self.scratch(
+                    &mut kept,
+                    "sent",
+                    sent_bytes,
+                    wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                );
+                let counters = self.scratch(
+                    &mut kept,
+                    "counters",
+                    COUNTER_BYTES,
+                    wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_SRC
+                        | wgpu::BufferUsages::COPY_DST,
+                );
+                let reference = kept.get("reference").ok_or(GpuError::NoReference)?.clone();
+                fn bind(binding: u32, buf: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                    wgpu::BindGroupEntry {
+                        binding,
+                        resource: buf.as_entire_binding(),
+                    }
+                }
+                let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: None,
+                    layout: &compare.get_bind_group_layout(0),
+                    entries: &[
+                        bind(PARAMS, &uniform),
+                        bind(ENDINGS, &out),
+                        bind(REFERENCE, &reference),
+                        bind(SENT, &sent),
+                        bind(COUNTERS, &counters),
+                    ],
+                });
+                enc.clear_buffer(&counters, 0, None);
+                {
+                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("compare_endings"),
+                        timestamp_writes: None,
+                    });
+                    pass.set_pipeline(compare);
+                    pass.set_bind_group(0, &group, &[]);
+                    pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
+                }
+                read_bytes = COUNTER_BYTES;
+                Some((sent, counters))
+            }
+            _ => None,
+        };
         if let Some(q) = &self.timestamps {
             let resolved = self.scratch(
                 &mut kept,
@@ -571,10 +687,14 @@ impl Gpu {
                 wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             );
             enc.resolve_query_set(q, 0..2, &resolved, 0);
-            enc.copy_buffer_to_buffer(&resolved, 0, &read, out_bytes, TIMESTAMP_BYTES);
+            enc.copy_buffer_to_buffer(&resolved, 0, &read, read_bytes, TIMESTAMP_BYTES);
         }
-        enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes);
+        match &sent {
+            Some((_, counters)) => enc.copy_buffer_to_buffer(counters, 0, &read, 0, COUNTER_BYTES),
+            None => enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes),
+        }
         self.queue.submit([enc.finish()]);
+        let out_bytes = read_bytes;
         let span = 0..out_bytes + TIMESTAMP_BYTES;
         self.map(&read, wgpu::MapMode::Read, span.clone())?;
         let (items, kernel_seconds) = {
@@ -588,16 +708,45 @@ impl Gpu {
                 items
                     .par_chunks(out_size)
                     .map(bytemuck::pod_read_unaligned)
-                    .collect(),
+                    .collect::<Vec<T>>(),
                 self.timestamps
                     .as_ref()
                     .map(|_| stamps[1].saturating_sub(stamps[0]) as f64 * period * 1e-9),
             )
         };
         read.unmap();
+        let mut read_total = out_bytes + TIMESTAMP_BYTES;
+        let (items, sent, steps) = match sent {
+            None => (items, Vec::new(), 0),
+            Some((sent, _)) => {
+                let [n, low, high, _]: [u32; 4] = bytemuck::cast_slice::<T, u32>(&items)
+                    .try_into()
+                    .map_err(|_| GpuError::Readback("the comparison's counters".into()))?;
+                let bytes = n as u64 * std::mem::size_of::<shader::Sent>() as u64;
+                let records = if n == 0 {
+                    Vec::new()
+                } else {
+                    let mut enc = self.device.create_command_encoder(&Default::default());
+                    enc.copy_buffer_to_buffer(&sent, 0, &read, 0, bytes);
+                    self.queue.submit([enc.finish()]);
+                    self.map(&read, wgpu::MapMode::Read, 0..bytes)?;
+                    let records = {
+                        let view = read
+                            .get_mapped_range(0..bytes)
+                            .map_err(|e| GpuError::Readback(e.to_string()))?;
+                        bytemuck::pod_collect_to_vec(&view)
+                    };
+                    read.unmap();
+                    records
+                };
+                read_total += bytes;
+                (Vec::new(), records, u64::from(low) | u64::from(high) << 32)
+            }
+        };
         let mut traffic = self.traffic.lock().unwrap_or_else(|e| e.into_inner());
-        traffic.written += in_bytes + std::mem::size_of::<Params>() as u64;
-        traffic.read += out_bytes + TIMESTAMP_BYTES;
+        traffic.written +=
+            (if upload_items { in_bytes } else { 0 }) + std::mem::size_of::<Params>() as u64;
+        traffic.read += read_total;
         traffic.dispatches += 1;
         traffic.kernel_seconds = traffic
             .kernel_seconds
@@ -606,6 +755,8 @@ impl Gpu {
         Ok(Dispatched {
             items,
             kernel_seconds,
+            sent,
+            steps,
         })
     }
 
@@ -642,16 +793,32 @@ impl Gpu {
         let mut out = Dispatched {
             items: Vec::new(),
             kernel_seconds: self.measures_kernels().then_some(0.0),
+            sent: Vec::new(),
+            steps: 0,
         };
+        if job.after == After::Keep {
+            // The whole batch's items and endings, kept for the walks compared with them.
+            let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
+            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+            for (name, size) in [
+                ("reference", std::mem::size_of::<T>()),
+                ("reference_items", std::mem::size_of::<I>()),
+            ] {
+                self.scratch(&mut kept, name, (job.count * size) as u64, usage);
+            }
+        }
         let (input_at, input) = job.input;
         for first in (0..job.count).step_by(per) {
             let shifted = |i: usize| input(first + i);
             let d = self.dispatch_once(Job {
                 count: per.min(job.count - first),
                 input: (input_at, &shifted),
+                first,
                 ..job
             })?;
             out.kernel_seconds = out.kernel_seconds.zip(d.kernel_seconds).map(|(a, b)| a + b);
+            out.sent.extend(d.sent);
+            out.steps += d.steps;
             if out.items.is_empty() {
                 out.items = d.items;
             } else {
@@ -676,6 +843,8 @@ impl Gpu {
             input: (CASES, &|i| cases[i]),
             bound: &[],
             out_at: FACES,
+            after: After::Read,
+            first: 0,
         })
     }
 
@@ -698,6 +867,8 @@ impl Gpu {
             input: (CASES, &|i| cases[i]),
             bound: &[],
             out_at: FACES,
+            after: After::Read,
+            first: 0,
         };
         Ok(self.dispatch(job)?.items)
     }
@@ -746,6 +917,8 @@ impl Gpu {
             input: (RAYS, &ray),
             bound: &bound,
             out_at: ENDINGS,
+            after: After::Read,
+            first: 0,
         })?;
         if let Some(bad) = out
             .items
@@ -803,6 +976,31 @@ impl Gpu {
         rays: &[(Ray, u32)],
         max_steps: u32,
     ) -> Result<Dispatched<Ending>, GpuError> {
+        self.walks_then(method, mesh, rays, max_steps, After::Read)
+    }
+
+    /// [`Gpu::walks`], and then: [`After::Keep`] keeps the rays and endings on the GPU as the
+    /// reference walk's; [`After::Compare`] walks the kept rays and compares each ending there with
+    /// the kept one (`compare_endings`): the steps summed, and only the walks not settled as ending
+    /// where the reference ends come back ([`Dispatched::sent`]). Compared rays must be the kept
+    /// ones (refused otherwise).
+    pub fn walks_then(
+        &self,
+        method: &Method,
+        mesh: &GpuMesh,
+        rays: &[(Ray, u32)],
+        max_steps: u32,
+        after: After,
+    ) -> Result<Dispatched<Ending>, GpuError> {
+        if after != After::Read {
+            let these = (rays.len(), fingerprint(rays));
+            let mut kept = self.kept_rays.lock().unwrap_or_else(|e| e.into_inner());
+            match after {
+                After::Keep => *kept = Some(these),
+                _ if *kept != Some(these) => return Err(GpuError::NoReference),
+                _ => {}
+            }
+        }
         let [_, walk] = Self::entry_points(method)?;
         let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
         let mesh = [(CELLS, &mesh.cells), (FACEINFO, &mesh.info)];
@@ -813,12 +1011,14 @@ impl Gpu {
             input: (RAYS, &ray),
             bound: &mesh,
             out_at: ENDINGS,
+            after,
+            first: 0,
         })?;
-        if let Some(bad) = out
-            .items
-            .par_iter()
-            .find_any(|e| e.kind != shader::FLAGGED && OutcomeKind::from_code(e.kind).is_none())
-        {
+        let known = |kind: u32| kind == shader::FLAGGED || OutcomeKind::from_code(kind).is_some();
+        if let Some(bad) = out.items.par_iter().find_any(|e| !known(e.kind)) {
+            return Err(GpuError::BadOutcome(bad.kind));
+        }
+        if let Some(bad) = out.sent.iter().find(|e| !known(e.kind)) {
             return Err(GpuError::BadOutcome(bad.kind));
         }
         Ok(out)
@@ -865,6 +1065,8 @@ impl Gpu {
             input: (RAYS, &ray),
             bound: &[(POINTS, &points)],
             out_at: ENDINGS,
+            after: After::Read,
+            first: 0,
         })?;
         out.items
             .iter()
@@ -889,6 +1091,8 @@ impl Gpu {
             input: (RAYS, &ray),
             bound: &[(POINTS, &points)],
             out_at: ENDINGS,
+            after: After::Read,
+            first: 0,
         })?;
         Ok(Dispatched {
             items: out
@@ -897,6 +1101,8 @@ impl Gpu {
                 .map(Ending::triangle_hit)
                 .collect::<Result<_, _>>()?,
             kernel_seconds: out.kernel_seconds,
+            sent: Vec::new(),
+            steps: 0,
         })
     }
 
@@ -961,6 +1167,8 @@ impl Gpu {
             input: (LAYOUT_RAYS, &ray),
             bound: &mesh,
             out_at: ENDINGS,
+            after: After::Read,
+            first: 0,
         })
     }
 }
@@ -1027,6 +1235,33 @@ impl Ending {
             outcome: Outcome::from_parts(kind, self.tet, self.x),
             steps: self.steps,
         })
+    }
+}
+
+/// A fingerprint of a batch of rays and their starts, in order (to match walks with the reference
+/// walk kept for the same rays).
+fn fingerprint(rays: &[(Ray, u32)]) -> u64 {
+    rays.par_iter()
+        .enumerate()
+        .map(|(i, (r, start))| {
+            let words = [r.org.to_array(), r.dir.to_array()].concat();
+            let h = words.iter().fold(u64::from(*start), |h, x| {
+                (h ^ u64::from(x.to_bits())).wrapping_mul(0x100_0000_01b3)
+            });
+            h.wrapping_mul(i as u64 * 2 + 1)
+        })
+        .reduce(|| 0, |a, b| a ^ b)
+}
+
+impl shader::Sent {
+    /// The walk's ending as the walk kernel wrote it.
+    pub fn ending(&self) -> Ending {
+        Ending {
+            kind: self.kind,
+            tet: self.tet,
+            x: self.x,
+            steps: self.steps,
+        }
     }
 }
 

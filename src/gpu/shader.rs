@@ -55,8 +55,12 @@ shared_struct! {
     Params {
         count: u32 => "u32",
         limit: u32 => "u32",
-        pad0: u32 => "u32",
-        pad1: u32 => "u32",
+        /// The index of the dispatch's first item among a batch's (`compare_endings` reads the
+        /// reference walk's ending of item `first + i`).
+        first: u32 => "u32",
+        /// The index of the dispatch's first item among the items bound: its `first` where a
+        /// compared walk reads the reference walk's rays kept on the GPU, else 0.
+        item_first: u32 => "u32",
     }
 }
 
@@ -126,6 +130,18 @@ shared_struct! {
     }
 }
 
+shared_struct! {
+    /// A walk the GPU sent back because it could not settle that it ends where the reference walk
+    /// ends (`compare_endings`): the ray's index in its batch and its [`Ending`].
+    Sent {
+        index: u32 => "u32",
+        kind: u32 => "u32",
+        tet: u32 => "u32",
+        x: u32 => "u32",
+        steps: u32 => "u32",
+    }
+}
+
 /// The module's bindings: each binding's index, its WGSL declaration and what it holds. The WGSL
 /// lines ([`BINDINGS`]) and the indices the host binds ([`binding`]) come from this one table.
 macro_rules! bindings {
@@ -165,6 +181,11 @@ bindings! {
     OCTREE = 10: "var<storage, read> octree: array<u32>";
     OCTREE_BOXES = 11: "var<storage, read> octree_boxes: array<vec4f>";
     OCTREE_TRIS = 12: "var<storage, read> octree_tris: array<u32>";
+    /// A count's comparison on the GPU: the reference walk's endings kept there, the walks sent
+    /// back, and the counters (walks sent back, steps summed: low and high words).
+    REFERENCE = 13: "var<storage, read> reference: array<Ending>";
+    SENT = 14: "var<storage, read_write> sent: array<Sent>";
+    COUNTERS = 15: "var<storage, read_write> counters: array<atomic<u32>, 4>";
 }
 
 /// A template (`src/gpu/templates/`) with each `{{key}}` replaced by its value.
@@ -301,6 +322,8 @@ fn prelude() -> String {
     s += Case::WGSL;
     s += "\n";
     s += Ending::WGSL;
+    s += "\n";
+    s += Sent::WGSL;
     s += "\n";
     s += BINDINGS;
     s += "\n// Face i's vertices, counterclockwise seen from outside (tetwalk::tet::FACE_VERTICES).\n";

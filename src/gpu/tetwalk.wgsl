@@ -26,8 +26,8 @@ const STEP_LIMIT: u32 = 4u;
 struct Params {
     count: u32,
     limit: u32,
-    pad0: u32,
-    pad1: u32,
+    first: u32,
+    item_first: u32,
 }
 
 struct WalkRay {
@@ -77,6 +77,14 @@ struct Ending {
     steps: u32,
 }
 
+struct Sent {
+    index: u32,
+    kind: u32,
+    tet: u32,
+    x: u32,
+    steps: u32,
+}
+
 // The dispatch's parameters.
 @group(0) @binding(0) var<uniform> params: Params;
 // One-tetrahedron and octree cell cases, and their answers.
@@ -99,6 +107,11 @@ struct Ending {
 @group(0) @binding(10) var<storage, read> octree: array<u32>;
 @group(0) @binding(11) var<storage, read> octree_boxes: array<vec4f>;
 @group(0) @binding(12) var<storage, read> octree_tris: array<u32>;
+// A count's comparison on the GPU: the reference walk's endings kept there, the walks sent
+// back, and the counters (walks sent back, steps summed: low and high words).
+@group(0) @binding(13) var<storage, read> reference: array<Ending>;
+@group(0) @binding(14) var<storage, read_write> sent: array<Sent>;
+@group(0) @binding(15) var<storage, read_write> counters: array<atomic<u32>, 4>;
 
 // Face i's vertices, counterclockwise seen from outside (tetwalk::tet::FACE_VERTICES).
 fn face_vertices(i: u32) -> vec3u {
@@ -235,6 +248,32 @@ fn brent_step(b: ptr<function, Brent>, s: vec2u) -> u32 {
         (*b).lam = 0u;
     }
     return 0u;
+}
+
+// Each walk of a dispatch beside the reference walk of the same ray, kept on the GPU: the steps summed
+// (counters 1 and 2, low and high words), and every walk not settled here as ending where the
+// reference ends sent back (counter 0 counts them) for the CPU to judge exactly
+// (tetwalk::walk::same_result). Settled here: both leave the mesh, or both hit the same face of the
+// same tetrahedron; everything else goes back (a walk flagged on either side, a hit on another face,
+// every other ending), so the counts are the CPU's, ray for ray.
+@compute @workgroup_size(GROUP)
+fn compare_endings(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let e = endings[i];
+    let r = reference[params.first + i];
+    let low = atomicAdd(&counters[1], e.steps);
+    if low + e.steps < low {
+        atomicAdd(&counters[2], 1u);
+    }
+    let both_left = e.kind == LEFT_MESH && r.kind == LEFT_MESH;
+    let same_face = e.kind == HIT && r.kind == HIT && e.tet == r.tet && e.x == r.x;
+    if !(both_left || same_face) {
+        let k = atomicAdd(&counters[0], 1u);
+        sent[k] = Sent(params.first + i, e.kind, e.tet, e.x, e.steps);
+    }
 }
 
 // ray-plane (Lagae & Dutré 2008 after Garrity 1990), as src/methods/ray_plane.rs.
@@ -1045,7 +1084,7 @@ fn walk_ray_plane(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = ray_plane_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1106,7 +1145,7 @@ fn walk_halfspace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = halfspace_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1167,7 +1206,7 @@ fn walk_plucker(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = plucker_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1228,7 +1267,7 @@ fn walk_stp(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) 
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = stp_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1289,7 +1328,7 @@ fn walk_ms06(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups)
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = ms06_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1350,7 +1389,7 @@ fn walk_maria17(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = maria17_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1411,7 +1450,7 @@ fn walk_maria17_translated(@builtin(global_invocation_id) gid: vec3u, @builtin(n
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = maria17_translated_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1472,7 +1511,7 @@ fn walk_aman20(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = aman20_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1707,7 +1746,7 @@ fn walk_aman20_scaled(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wo
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = aman20_scaled_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1942,7 +1981,7 @@ fn walk_certified(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = certified_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;
@@ -1994,7 +2033,7 @@ fn hit_mt(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) gr
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let k = 3u * ray.start;
     let t = mt_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
     if accepts(t) {
@@ -2010,7 +2049,7 @@ fn nearest_mt(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     var best = HULL;
     var best_t = 0.0;
     for (var k = 0u; k < params.limit; k++) {
@@ -2040,7 +2079,7 @@ fn hit_mt_two_sided(@builtin(global_invocation_id) gid: vec3u, @builtin(num_work
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let k = 3u * ray.start;
     let t = mt_two_sided_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
     if accepts(t) {
@@ -2056,7 +2095,7 @@ fn nearest_mt_two_sided(@builtin(global_invocation_id) gid: vec3u, @builtin(num_
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     var best = HULL;
     var best_t = 0.0;
     for (var k = 0u; k < params.limit; k++) {
@@ -2086,7 +2125,7 @@ fn hit_mt_precomputed(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wo
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let k = 3u * ray.start;
     let t = mt_precomputed_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
     if accepts(t) {
@@ -2102,7 +2141,7 @@ fn nearest_mt_precomputed(@builtin(global_invocation_id) gid: vec3u, @builtin(nu
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     var best = HULL;
     var best_t = 0.0;
     for (var k = 0u; k < params.limit; k++) {
@@ -2132,7 +2171,7 @@ fn hit_komatsu_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wo
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let k = 3u * ray.start;
     let t = komatsu_packet_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
     if accepts(t) {
@@ -2148,7 +2187,7 @@ fn nearest_komatsu_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(nu
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     var best = HULL;
     var best_t = 0.0;
     for (var k = 0u; k < params.limit; k++) {
@@ -2178,7 +2217,7 @@ fn hit_plucker_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wo
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let k = 3u * ray.start;
     let t = plucker_packet_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
     if accepts(t) {
@@ -2194,7 +2233,7 @@ fn nearest_plucker_packet(@builtin(global_invocation_id) gid: vec3u, @builtin(nu
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     var best = HULL;
     var best_t = 0.0;
     for (var k = 0u; k < params.limit; k++) {
@@ -2224,7 +2263,7 @@ fn hit_woop_watertight(@builtin(global_invocation_id) gid: vec3u, @builtin(num_w
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let k = 3u * ray.start;
     let t = woop_watertight_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
     if accepts(t) {
@@ -2240,7 +2279,7 @@ fn nearest_woop_watertight(@builtin(global_invocation_id) gid: vec3u, @builtin(n
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     var best = HULL;
     var best_t = 0.0;
     for (var k = 0u; k < params.limit; k++) {
@@ -2311,7 +2350,7 @@ fn octree_walk(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     if ray.start == HULL {
         endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
         return;

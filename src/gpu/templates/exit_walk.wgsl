@@ -18,7 +18,7 @@ fn walk_{{ident}}(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgr
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let r = {{ident}}_prepare(ray.org, ray.dir);
     var tet = ray.start;
     var entry = NONE;

@@ -25,7 +25,7 @@ fn octree_walk(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     if ray.start == HULL {
         endings[i] = Ending(LEFT_MESH, 0u, 0u, 0u);
         return;

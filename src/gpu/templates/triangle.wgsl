@@ -9,7 +9,7 @@ fn hit_{{ident}}(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     let k = 3u * ray.start;
     let t = {{ident}}_hit(points[k].xyz, points[k + 1u].xyz, points[k + 2u].xyz, ray.org, ray.dir);
     if accepts(t) {
@@ -25,7 +25,7 @@ fn nearest_{{ident}}(@builtin(global_invocation_id) gid: vec3u, @builtin(num_wor
     if i >= params.count {
         return;
     }
-    let ray = rays[i];
+    let ray = rays[params.item_first + i];
     var best = HULL;
     var best_t = 0.0;
     for (var k = 0u; k < params.limit; k++) {
