@@ -513,10 +513,12 @@ impl Backend {
     ) -> Result<(Vec<Walk>, bool), BackendError> {
         let rays = map_all(rays, |r| (*r, start));
         let walked = self.walks_from_keeping(method, mesh, &rays, max_steps, true)?;
-        Ok((
-            walked.walks,
-            self.for_method(method).kind() == BackendKind::Gpu,
-        ))
+        let kept = match self.for_method(method) {
+            #[cfg(feature = "gpu")]
+            Backend::Gpu(g) => g.keeps(rays.len()),
+            Backend::Cpu { .. } => false,
+        };
+        Ok((walked.walks, kept))
     }
 
     /// `method`'s walks of the rays of the last [`Backend::walks_keeping`] that kept its endings,

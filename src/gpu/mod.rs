@@ -979,11 +979,17 @@ impl Gpu {
         self.walks_then(method, mesh, rays, max_steps, After::Read)
     }
 
+    /// Whether a batch of `rays` rays can be kept on the GPU as a reference walk (its rays fit one
+    /// binding, which the compared walks read whole).
+    pub fn keeps(&self, rays: usize) -> bool {
+        (rays * std::mem::size_of::<shader::WalkRay>()) as u64 <= self.max_binding
+    }
+
     /// [`Gpu::walks`], and then: [`After::Keep`] keeps the rays and endings on the GPU as the
     /// reference walk's; [`After::Compare`] walks the kept rays and compares each ending there with
     /// the kept one (`compare_endings`): the steps summed, and only the walks not settled as ending
     /// where the reference ends come back ([`Dispatched::sent`]). Compared rays must be the kept
-    /// ones (refused otherwise).
+    /// ones (refused otherwise); a batch too large to keep ([`Gpu::keeps`]) is read back only.
     pub fn walks_then(
         &self,
         method: &Method,
@@ -996,6 +1002,12 @@ impl Gpu {
             let these = (rays.len(), fingerprint(rays));
             let mut kept = self.kept_rays.lock().unwrap_or_else(|e| e.into_inner());
             match after {
+                // Too many rays for one binding: read back, keep nothing.
+                After::Keep if !self.keeps(rays.len()) => {
+                    *kept = None;
+                    drop(kept);
+                    return self.walks_then(method, mesh, rays, max_steps, After::Read);
+                }
                 After::Keep => *kept = Some(these),
                 _ if *kept != Some(these) => return Err(GpuError::NoReference),
                 _ => {}
