@@ -420,7 +420,14 @@ fn gpu_agrees_with_the_cpu<F: Family>(g: &Backend, per_row: usize) {
     assert!(!d.rows.is_empty() && !d.methods.is_empty(), "{}", F::NAME);
     for (i, name) in d.methods.iter().enumerate() {
         let (differ, cases) = d.rows.iter().fold((0, 0), |(n, all), r| {
-            (n + r.methods[i].cpu_vs_gpu, all + r.cases as u64)
+            let vs = &r.methods[i].gpu_vs;
+            assert_eq!(vs.len(), Model::ALL.len());
+            assert!(
+                vs.iter()
+                    .zip(Model::ALL)
+                    .all(|((k, _), m)| *k == m.backend())
+            );
+            (n + vs[0].1, all + r.cases as u64)
         });
         println!(
             "{} {name}: the GPU differs from the CPU on {differ} of {cases}",

@@ -72,7 +72,7 @@ pub struct Args {
     contract: ContractArg,
     #[command(flatten)]
     fail: FailArg,
-    /// Instead of judging, count how often cpu, cpu-fma and gpu answer differently (needs a GPU).
+    /// Instead of judging, count how often the GPU answers otherwise than each CPU backend (needs a GPU).
     #[arg(long)]
     compare: bool,
     /// Exit-face and triangle rows: flatness of the degenerate shapes, in (0, 1].
@@ -270,7 +270,7 @@ fn stress<F: Rows>(a: Args) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let (backend, methods) = if a.compare {
         if a.backend.backend != BackendKind::Cpu {
-            return Err("--compare runs cpu, cpu-fma and gpu itself; leave out --backend".into());
+            return Err("--compare runs the GPU and every CPU backend itself; leave out --backend".into());
         }
         let gpu = BackendArg {
             backend: BackendKind::Gpu,

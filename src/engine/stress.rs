@@ -2,7 +2,7 @@
 //! answers on a backend, judged and tallied; campaigns (rounds of new cases, the tallies summed), the
 //! labellings (`--relabel all`), and the backends compared.
 
-use crate::backend::{Backend, BackendError, CPU, CPU_FMA, Ran};
+use crate::backend::{Backend, BackendError, BackendKind, CPUS, Ran};
 use crate::engine::answerer::Answerer;
 use crate::engine::found::Failure;
 use crate::exact::Counts;
@@ -346,13 +346,24 @@ pub fn campaign<F: Family>(
     Ok(total)
 }
 
-/// Cases one method answers differently on each pair of backends.
+/// Cases one method answers differently on the GPU than on each CPU backend (one per arithmetic
+/// model, in [`crate::methods::Model::ALL`]'s order): which model the GPU computes as.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Pairs {
     pub method: String,
-    pub cpu_vs_cpu_fma: u64,
-    pub cpu_vs_gpu: u64,
-    pub cpu_fma_vs_gpu: u64,
+    /// Per CPU backend, by name: the cases the GPU answers otherwise.
+    #[serde(serialize_with = "by_name")]
+    pub gpu_vs: Vec<(BackendKind, u64)>,
+}
+
+/// `[(kind, n)]` as `{"name": n}`, in order.
+fn by_name<S: serde::Serializer>(pairs: &[(BackendKind, u64)], s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeMap;
+    let mut map = s.serialize_map(Some(pairs.len()))?;
+    for (k, n) in pairs {
+        map.serialize_entry(crate::choice::Choice::name(*k), n)?;
+    }
+    map.end()
 }
 
 /// One row of the comparison: per method, how many of the row's cases each pair of backends answers
@@ -376,8 +387,8 @@ pub struct Disagreements<F: Family> {
     pub gpu: Ran,
 }
 
-/// The same generated cases on the CPU, the CPU as a GPU compiles it, and `gpu`, every method but
-/// the reference.
+/// The same generated cases on the GPU and on the CPU in every arithmetic model, every method but the
+/// reference.
 pub fn compare<F: Family>(
     s: &StressSettings<F>,
     methods: &[&F::Method],
@@ -393,17 +404,18 @@ pub fn compare<F: Family>(
         let cases: Vec<F::Case> = row_cases(s, row).0.into_iter().map(|(c, _)| c).collect();
         let mut per = Vec::new();
         for &m in &judged {
-            let a = F::answers(&CPU, m, &cases)?;
-            let b = F::answers(&CPU_FMA, m, &cases)?;
-            let c = F::answers(gpu, m, &cases)?;
-            let diff = |x: &[F::Answer], y: &[F::Answer]| {
-                x.iter().zip(y).filter(|(p, q)| p != q).count() as u64
-            };
+            let on_gpu = F::answers(gpu, m, &cases)?;
+            let gpu_vs = CPUS
+                .iter()
+                .map(|cpu| {
+                    let a = F::answers(cpu, m, &cases)?;
+                    let differ = a.iter().zip(&on_gpu).filter(|(p, q)| p != q).count() as u64;
+                    Ok((cpu.kind(), differ))
+                })
+                .collect::<Result<_, BackendError>>()?;
             per.push(Pairs {
                 method: m.name().to_string(),
-                cpu_vs_cpu_fma: diff(&a, &b),
-                cpu_vs_gpu: diff(&a, &c),
-                cpu_fma_vs_gpu: diff(&b, &c),
+                gpu_vs,
             });
         }
         rows.push(CompareRow {

@@ -238,9 +238,16 @@ fn by(
 
 /// The comparison's table: per row and method, cases cpu ≠ cpu-fma / cpu ≠ gpu / cpu-fma ≠ gpu.
 pub fn disagreements<F: Family>(d: &Disagreements<F>) -> String {
+    let models: Vec<&str> = d
+        .rows
+        .first()
+        .and_then(|r| r.methods.first())
+        .map(|p| p.gpu_vs.iter().map(|(k, _)| k.name()).collect())
+        .unwrap_or_default();
     let mut out = format!(
-        "GPU {}; cells: cpu≠cpu-fma / cpu≠gpu / cpu-fma≠gpu, cases out of the row's\n\n",
-        d.gpu
+        "GPU {}; cells: the cases it answers otherwise than {}, out of the row's\n\n",
+        d.gpu,
+        models.join(" / ")
     );
     out += &format!(
         "| row | cases | {} |\n|---|---|{}\n",
@@ -252,10 +259,8 @@ pub fn disagreements<F: Family>(d: &Disagreements<F>) -> String {
             .methods
             .iter()
             .map(|p| {
-                format!(
-                    "{} / {} / {}",
-                    p.cpu_vs_cpu_fma, p.cpu_vs_gpu, p.cpu_fma_vs_gpu
-                )
+                let n: Vec<String> = p.gpu_vs.iter().map(|(_, n)| n.to_string()).collect();
+                n.join(" / ")
             })
             .collect();
         out += &format!(
