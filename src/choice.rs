@@ -196,11 +196,14 @@ impl<'de> serde::Deserialize<'de> for Ran {
 
 /// What crossed between the CPU and a GPU, summed: bytes written to it (uploads, uniforms), bytes
 /// read back (outputs, timestamps), dispatches, and their kernel time where the adapter measures it.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Traffic {
+    #[serde(rename = "bytes_written")]
     pub written: u64,
+    #[serde(rename = "bytes_read")]
     pub read: u64,
     pub dispatches: u64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kernel_seconds: Option<f64>,
 }
 

@@ -4,7 +4,7 @@
 //! before the clock starts, in batches of whole views, every backend walking the same batches in one
 //! run — and seed 004 Figure 5's ray–triangle packet speed.
 
-use crate::backend::{Backend, BackendError, BackendKind, Ran};
+use crate::backend::{Backend, BackendError, BackendKind, Ran, Traffic};
 use crate::choice::Choice;
 use crate::engine::count::located_views;
 use crate::family::count::CountError;
@@ -62,6 +62,9 @@ pub struct BenchRow {
     pub bytes_written_per_ray: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bytes_read_per_ray: Option<f64>,
+    /// What the timed passes moved, summed (the figures per ray are made from it).
+    #[serde(skip)]
+    traffic: Option<Traffic>,
     /// Each timed batch's end-to-end speed, Mrays/s (a batch timed `repeat` times gives as many).
     #[serde(default)]
     pub samples: Vec<f64>,
@@ -293,6 +296,7 @@ pub fn run(
                 flagged: 0,
                 bytes_written_per_ray: None,
                 bytes_read_per_ray: None,
+                traffic: None,
                 samples: Vec::new(),
                 spread: None,
                 change: None,
@@ -363,14 +367,7 @@ pub fn run(
                 r.tetrahedra += steps;
                 r.flagged += flagged;
                 if let Some(t) = backends[b].traffic().zip(before).map(|(a, b)| a.since(b)) {
-                    // Per ray over the samples so far: the running mean of every timed pass.
-                    let per_ray = |bytes: u64, old: Option<f64>| {
-                        let n = rays.len() as f64;
-                        let done = (r.rays - rays.len() as u64) as f64;
-                        (old.unwrap_or(0.0) * done + bytes as f64) / (done + n)
-                    };
-                    r.bytes_written_per_ray = Some(per_ray(t.written, r.bytes_written_per_ray));
-                    r.bytes_read_per_ray = Some(per_ray(t.read, r.bytes_read_per_ray));
+                    r.traffic = Some(r.traffic.map_or(t, |s| s.plus(&t)));
                 }
             }
         }
@@ -380,6 +377,9 @@ pub fn run(
     }
     for r in &mut rows {
         r.spread = Spread::of(&r.samples);
+        let per_ray = |bytes: u64| bytes as f64 / r.rays.max(1) as f64;
+        r.bytes_written_per_ray = r.traffic.map(|t| per_ray(t.written));
+        r.bytes_read_per_ray = r.traffic.map(|t| per_ray(t.read));
     }
     Ok(BenchReport {
         scene: scene.to_string(),

@@ -223,40 +223,15 @@ through_value!(CountRow<C: Counts>);
 /// pipeline measured on any adapter.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Transfer {
-    pub bytes_written: u64,
-    pub bytes_read: u64,
-    pub dispatches: u64,
+    /// The totals (`bytes_written`, `bytes_read`, `dispatches`, `kernel_seconds` where measured).
+    #[serde(flatten)]
+    pub total: Traffic,
+    /// Per ray counted ([`CountRow::finish`]).
     pub bytes_written_per_ray: f64,
     pub bytes_read_per_ray: f64,
-    /// The kernels' time, where the adapter measures it.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub kernel_seconds: Option<f64>,
     /// The kernels' share of the row's wall time.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kernel_share: Option<f64>,
-}
-
-impl Transfer {
-    /// `t`'s totals (per-ray figures come with [`CountRow::finish`]).
-    fn of(t: &Traffic) -> Transfer {
-        Transfer {
-            bytes_written: t.written,
-            bytes_read: t.read,
-            dispatches: t.dispatches,
-            kernel_seconds: t.kernel_seconds,
-            ..Transfer::default()
-        }
-    }
-
-    /// What crossed, as the GPU's [`Traffic`].
-    fn traffic(&self) -> Traffic {
-        Traffic {
-            written: self.bytes_written,
-            read: self.bytes_read,
-            dispatches: self.dispatches,
-            kernel_seconds: self.kernel_seconds,
-        }
-    }
 }
 
 impl<C: Counts> CountRow<C> {
@@ -273,8 +248,11 @@ impl<C: Counts> CountRow<C> {
 
     /// Count what a view's answers moved between the CPU and the GPU.
     pub fn add_traffic(&mut self, t: &Traffic) {
-        let sum = self.transfer.as_ref().map_or(*t, |s| s.traffic().plus(t));
-        self.transfer = Some(Transfer::of(&sum));
+        let total = self.transfer.as_ref().map_or(*t, |s| s.total.plus(t));
+        self.transfer = Some(Transfer {
+            total,
+            ..Transfer::default()
+        });
     }
 
     /// Count a view's work: steps (tetrahedra or cells visited) and seconds answering.
@@ -288,7 +266,7 @@ impl<C: Counts> CountRow<C> {
         self.counts.add(&o.counts);
         self.seconds += o.seconds;
         if let Some(t) = &o.transfer {
-            self.add_traffic(&t.traffic());
+            self.add_traffic(&t.total);
         }
         self.relabelled = self
             .relabelled
@@ -308,9 +286,10 @@ impl<C: Counts> CountRow<C> {
         let seconds = self.seconds;
         if let Some(t) = &mut self.transfer {
             let per_ray = |bytes: u64| bytes as f64 / rays.max(1) as f64;
-            t.bytes_written_per_ray = per_ray(t.bytes_written);
-            t.bytes_read_per_ray = per_ray(t.bytes_read);
+            t.bytes_written_per_ray = per_ray(t.total.written);
+            t.bytes_read_per_ray = per_ray(t.total.read);
             t.kernel_share = t
+                .total
                 .kernel_seconds
                 .filter(|_| seconds > 0.0)
                 .map(|k| k / seconds);

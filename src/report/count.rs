@@ -47,7 +47,7 @@ fn transfers<F: Counted>(r: &CountReport<F>) -> String {
                 .map_or("-".into(), |k| format!("{:.1}%", 100.0 * k));
             out += &format!(
                 "| {} | {:.1} | {:.1} | {} | {share} |\n",
-                m.method, t.bytes_written_per_ray, t.bytes_read_per_ray, t.dispatches
+                m.method, t.bytes_written_per_ray, t.bytes_read_per_ray, t.total.dispatches
             );
         }
     }
