@@ -543,36 +543,34 @@ impl Gpu {
             .write_buffer(&uniform, 0, bytemuck::bytes_of(&params));
         // Made in parallel straight into a kept upload buffer mapped for writing, in runs of
         // [`UPLOAD_RUN`] items (each run a mapped range of its own), then copied on the GPU.
-        let upload = self.scratch(
-            &mut kept,
-            "upload",
-            in_bytes,
-            wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC,
-        );
         let in_span = 0..in_bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
-        let runs = if upload_items {
-            count.div_ceil(UPLOAD_RUN)
-        } else {
-            0
-        };
-        if upload_items {
+        let upload = if upload_items {
+            let upload = self.scratch(
+                &mut kept,
+                "upload",
+                in_bytes,
+                wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC,
+            );
             self.map(&upload, wgpu::MapMode::Write, in_span.clone())?;
-        }
-        (0..runs).into_par_iter().try_for_each(|run| {
-            let first = run * UPLOAD_RUN;
-            let last = count.min(first + UPLOAD_RUN);
-            let items: Vec<I> = (first..last).map(input).collect();
-            let span = (first * in_size) as u64..(last * in_size) as u64;
-            let mut view = upload
-                .slice(span)
-                .get_mapped_range_mut()
-                .map_err(|e| GpuError::Readback(e.to_string()))?;
-            view.copy_from_slice(bytemuck::cast_slice(&items));
-            Ok::<(), GpuError>(())
-        })?;
-        if upload_items {
+            (0..count.div_ceil(UPLOAD_RUN))
+                .into_par_iter()
+                .try_for_each(|run| {
+                    let first = run * UPLOAD_RUN;
+                    let last = count.min(first + UPLOAD_RUN);
+                    let items: Vec<I> = (first..last).map(input).collect();
+                    let span = (first * in_size) as u64..(last * in_size) as u64;
+                    let mut view = upload
+                        .slice(span)
+                        .get_mapped_range_mut()
+                        .map_err(|e| GpuError::Readback(e.to_string()))?;
+                    view.copy_from_slice(bytemuck::cast_slice(&items));
+                    Ok::<(), GpuError>(())
+                })?;
             upload.unmap();
-        }
+            Some(upload)
+        } else {
+            None
+        };
         let mut entries = vec![
             wgpu::BindGroupEntry {
                 binding: PARAMS,
@@ -600,8 +598,8 @@ impl Gpu {
         let groups = (count as u32).div_ceil(GROUP);
         let x = groups.min(self.max_groups);
         let mut enc = self.device.create_command_encoder(&Default::default());
-        if upload_items {
-            enc.copy_buffer_to_buffer(&upload, 0, &input_buf, 0, in_span.end);
+        if let Some(upload) = &upload {
+            enc.copy_buffer_to_buffer(upload, 0, &input_buf, 0, in_span.end);
         }
         if after == After::Keep {
             let items = kept.get("reference_items").ok_or(GpuError::NoReference)?;
@@ -694,34 +692,40 @@ impl Gpu {
             None => enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes),
         }
         self.queue.submit([enc.finish()]);
-        let out_bytes = read_bytes;
-        let span = 0..out_bytes + TIMESTAMP_BYTES;
+        let span = 0..read_bytes + TIMESTAMP_BYTES;
         self.map(&read, wgpu::MapMode::Read, span.clone())?;
-        let (items, kernel_seconds) = {
+        // The output's items, or where the walks were compared, the counters.
+        let (items, counters, kernel_seconds) = {
             let bytes = read
                 .get_mapped_range(span)
                 .map_err(|e| GpuError::Readback(e.to_string()))?;
-            let (items, stamps) = bytes.split_at(out_bytes as usize);
+            let (front, stamps) = bytes.split_at(read_bytes as usize);
             let stamps: [u64; 2] = bytemuck::pod_read_unaligned(stamps);
             let period = f64::from(self.queue.get_timestamp_period());
+            let (items, counters): (Vec<T>, [u32; 4]) = match sent {
+                Some(_) => (Vec::new(), bytemuck::pod_read_unaligned(front)),
+                None => (
+                    front
+                        .par_chunks(out_size)
+                        .map(bytemuck::pod_read_unaligned)
+                        .collect(),
+                    [0; 4],
+                ),
+            };
             (
-                items
-                    .par_chunks(out_size)
-                    .map(bytemuck::pod_read_unaligned)
-                    .collect::<Vec<T>>(),
+                items,
+                counters,
                 self.timestamps
                     .as_ref()
                     .map(|_| stamps[1].saturating_sub(stamps[0]) as f64 * period * 1e-9),
             )
         };
         read.unmap();
-        let mut read_total = out_bytes + TIMESTAMP_BYTES;
-        let (items, sent, steps) = match sent {
-            None => (items, Vec::new(), 0),
+        let mut read_total = read_bytes + TIMESTAMP_BYTES;
+        let (sent, steps) = match sent {
+            None => (Vec::new(), 0),
             Some((sent, _)) => {
-                let [n, low, high, _]: [u32; 4] = bytemuck::cast_slice::<T, u32>(&items)
-                    .try_into()
-                    .map_err(|_| GpuError::Readback("the comparison's counters".into()))?;
+                let [n, low, high, _] = counters;
                 let bytes = n as u64 * std::mem::size_of::<shader::Sent>() as u64;
                 let records = if n == 0 {
                     Vec::new()
@@ -740,7 +744,7 @@ impl Gpu {
                     records
                 };
                 read_total += bytes;
-                (Vec::new(), records, u64::from(low) | u64::from(high) << 32)
+                (records, u64::from(low) | u64::from(high) << 32)
             }
         };
         let mut traffic = self.traffic.lock().unwrap_or_else(|e| e.into_inner());
