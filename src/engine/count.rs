@@ -354,18 +354,18 @@ fn count_view<F: Counted>(
             Answerer::Method(m) => F::answer_against(&at, m, &rays)?,
             Answerer::Given(..) => None,
         };
-        let (candidates, steps, seconds) = match (a, against) {
-            (_, Some(Against { steps, sent })) => (sent, steps, t0.elapsed().as_secs_f64()),
-            (Answerer::Method(m), None) => {
-                let w = F::answer_rays(&at, m, &rays)?;
-                let seconds = t0.elapsed().as_secs_f64();
-                let steps = w.iter().map(|w| w.steps as u64).sum();
-                (w.into_iter().enumerate().collect(), steps, seconds)
-            }
-            (Answerer::Given(_, given), None) => {
-                let w = given(v, &rays, located, max)?;
-                let steps = w.iter().map(|w| w.steps as u64).sum();
-                (w.into_iter().enumerate().collect(), steps, 0.0)
+        let (candidates, steps, seconds) = match against {
+            Some(Against { steps, sent }) => (sent, steps, t0.elapsed().as_secs_f64()),
+            None => {
+                let (walks, seconds) = match a {
+                    Answerer::Method(m) => {
+                        let w = F::answer_rays(&at, m, &rays)?;
+                        (w, t0.elapsed().as_secs_f64())
+                    }
+                    Answerer::Given(_, given) => (given(v, &rays, located, max)?, 0.0),
+                };
+                let steps = walks.iter().map(|w| w.steps as u64).sum();
+                (walks.into_iter().enumerate().collect(), steps, seconds)
             }
         };
         work.push((steps, seconds, moved(before)));
