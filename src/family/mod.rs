@@ -478,24 +478,7 @@ families!(__family_kinds);
 #[macro_export]
 macro_rules! with_family {
     ($kind:expr, $F:ident => $body:expr) => {
-        $crate::families!(__with_family, $kind, $F, $body)
-    };
-}
-
-/// [`with_family!`]'s match, from [`families!`].
-#[doc(hidden)]
-#[macro_export]
-macro_rules! __with_family {
-    ([$kind:expr, $F:ident, $body:expr] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* }
-        counted { $($c:ident),* }) => {
-        match $kind {
-            $(
-                $crate::family::Kind::$v => {
-                    type $F = $crate::family::of::$v;
-                    $body
-                }
-            )*
-        }
+        $crate::families!(__kind_match, Kind, $kind, $F, $body)
     };
 }
 
@@ -504,20 +487,28 @@ macro_rules! __with_family {
 #[macro_export]
 macro_rules! with_counted {
     ($kind:expr, $F:ident => $body:expr) => {
-        $crate::families!(__with_counted, $kind, $F, $body)
+        $crate::families!(__kind_match, CountKind, $kind, $F, $body)
     };
 }
 
-/// [`with_counted!`]'s match, from [`families!`].
+/// [`with_family!`]'s and [`with_counted!`]'s match, from [`families!`]: over every family for a
+/// [`Kind`], over the counted ones for a [`CountKind`].
 #[doc(hidden)]
 #[macro_export]
-macro_rules! __with_counted {
-    ([$kind:expr, $F:ident, $body:expr] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* }
-        counted { $($c:ident),* }) => {
+macro_rules! __kind_match {
+    ([Kind, $kind:expr, $F:ident, $body:expr]
+        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* }) => {
+        $crate::__kind_match!(@ Kind, $kind, $F, $body, $($v)*)
+    };
+    ([CountKind, $kind:expr, $F:ident, $body:expr]
+        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* }) => {
+        $crate::__kind_match!(@ CountKind, $kind, $F, $body, $($c)*)
+    };
+    (@ $enum:ident, $kind:expr, $F:ident, $body:expr, $($v:ident)*) => {
         match $kind {
             $(
-                $crate::family::CountKind::$c => {
-                    type $F = $crate::family::of::$c;
+                $crate::family::$enum::$v => {
+                    type $F = $crate::family::of::$v;
                     $body
                 }
             )*
