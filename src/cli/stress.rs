@@ -270,7 +270,9 @@ fn stress<F: Rows>(a: Args) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let (backend, methods) = if a.compare {
         if a.backend.backend != BackendKind::Cpu {
-            return Err("--compare runs the GPU and every CPU backend itself; leave out --backend".into());
+            return Err(
+                "--compare runs the GPU and every CPU backend itself; leave out --backend".into(),
+            );
         }
         let gpu = BackendArg {
             backend: BackendKind::Gpu,
