@@ -519,7 +519,7 @@ pub struct TriangleMethod {
     pub info: Info,
     /// Whether it shares work across a packet of rays with one origin.
     pub packet: bool,
-    /// How its side products' rounding error scales, by the lemma of `family::bins` (every method of
+    /// How its side products' rounding error scales, by the lemma of `family::triangle::bins` (every method of
     /// the registry; `None` for one written outside tetwalk, for which a count tests every triangle).
     pub side_error: Option<triangle::SideError>,
     /// Its 4-wide version (seed 004's SIMD packets, plain model, the same answers), where it has one.

@@ -1,4 +1,4 @@
-//! The triangle count's candidates (`family::bins`): no triangle any registered method could report
+//! The triangle count's candidates (`family::triangle::bins`): no triangle any registered method could report
 //! hit is ever left out of a pixel's tile, in every arithmetic model, on scenes drawn from every
 //! exponent regime (mixed scales in one scene, triangles in a plane through the eye, vertices on the
 //! pixels' rays, slivers, triangles behind and around the camera, subnormal-sized ones, and one beyond
@@ -8,7 +8,7 @@ use glam::Vec3;
 use rand::RngExt;
 use tetwalk::choice::Model;
 use tetwalk::engine::count::located_views;
-use tetwalk::family::bins::{bins, tile_of};
+use tetwalk::family::triangle::bins::{bins, tile_of};
 use tetwalk::mesh::surface::{region_of, scene_triangles};
 use tetwalk::methods::triangle::Among;
 use tetwalk::methods::triangle::SideError::{EdgeScaled, OriginScaled};

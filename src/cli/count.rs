@@ -43,7 +43,7 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8), default_value_t = 2)]
     packet: u32,
     /// `--family triangle`: test every triangle per ray (brute force), not each tile's candidates (the
-    /// counts are the same; the candidates are derived in `src/family/bins.rs` and audited).
+    /// counts are the same; the candidates are derived in `src/family/triangle/bins.rs` and audited).
     #[arg(long)]
     brute_force: bool,
     /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, bunny-paper once built

@@ -397,7 +397,7 @@ pub fn run(
 }
 
 /// Seed 004 Figure 5's measure: each method's intersection time over a view's primary rays against
-/// each tile's candidate triangles ([`crate::family::bins`], as the triangle count tests them), one
+/// each tile's candidate triangles ([`crate::family::triangle::bins`], as the triangle count tests them), one
 /// thread, rays in packets of `p × p`; the 4-wide (SIMD) versions beside the scalar ones.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SpeedRow {
@@ -451,12 +451,12 @@ pub fn speed(
     let mut times = Vec::new();
     let mut tests: Vec<(String, u64)> = Vec::new();
     for p in PACKETS {
-        let tile = p.max(crate::family::bins::MIN_TILE);
+        let tile = p.max(crate::family::triangle::bins::MIN_TILE);
         let rays: Vec<Ray> = packet_order(w, h, p, tile)
             .iter()
             .map(|&i| all[i])
             .collect();
-        let binned = crate::family::bins::bins(&cam, w, h, tile, &tris).among(w, h);
+        let binned = crate::family::triangle::bins::bins(&cam, w, h, tile, &tris).among(w, h);
         for m in methods {
             let scale = m.side_error.unwrap_or(SideError::OriginScaled);
             let among = binned.get(scale);

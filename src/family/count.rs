@@ -64,7 +64,7 @@ pub enum CountError {
         answered: Walk,
     },
     #[error(
-        "audit: {method}'s nearest hit among the binned candidates differs from its brute-force one on view {view} pixel {pixel:?}: {binned:?} against {brute:?} (triangle, t); the bins' derivation (family::bins) does not hold here"
+        "audit: {method}'s nearest hit among the binned candidates differs from its brute-force one on view {view} pixel {pixel:?}: {binned:?} against {brute:?} (triangle, t); the bins' derivation (family::triangle::bins) does not hold here"
     )]
     Bins {
         method: String,

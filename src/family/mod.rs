@@ -4,11 +4,11 @@
 //! an answer and the exact truth are, how a verdict is reached, how a backend answers a batch, its
 //! stress rows and their seeding, and its claims; stress, campaigns, found cases and replay, the fuzz
 //! targets' policy, the conformance kit, counts and the command line are written once, generic over
-//! [`Family`] (`crate::engine`, `crate::kit`). A new family is a file here, a line in [`families!`],
-//! its registry rows, its report's formatting and the `stress` flags that choose its rows
-//! (`src/cli/stress.rs`).
+//! [`Family`] (`crate::engine`, `crate::kit`). A family is a folder here (`exit_face/`, `walk/`,
+//! `triangle/`, `octree/`): its `Family` in `mod.rs`, how it reads in `report.rs` (a file of the report
+//! layer); and a line in [`families!`]. `tests/layering.rs` holds that no file outside the folders and
+//! the list names a family (and lists the files that still do).
 
-pub mod bins;
 pub mod contract;
 pub mod count;
 pub mod exit_face;

@@ -80,7 +80,7 @@ impl SpeedReport {
     pub fn markdown(&self) -> String {
         let mut out = format!(
             "seed 004 Figure 5's measure: scene {} ({} triangles), one view of {}x{} ({} primary rays), \
-             each ray against its tile's candidate triangles (src/family/bins.rs, as the triangle count tests \
+             each ray against its tile's candidate triangles (src/family/triangle/bins.rs, as the triangle count tests \
              them, for the method's error scale; tests per ray in 2x2 packets: {}), one thread, best of {}; \
              speedup = mt-precomputed's time per test (the paper's \"improved Möller\" baseline) in packets \
              of the same size and width over the method's; every method loops over triangles outside and \

@@ -81,7 +81,7 @@ pub trait HitMethod {
     );
 }
 
-/// What a method's rounding error in its side products scales with (`family::bins` derives both):
+/// What a method's rounding error in its side products scales with (`family::triangle::bins` derives both):
 /// its terms are edges from a vertex and the vertex seen from the origin (`|d|·R·L`: Möller–Trumbore
 /// and its packet forms), or every vertex seen from the origin (`|d|·R²`: the Plücker packet test and
 /// Woop's sheared edge functions), `R` the farthest vertex from the origin and `L` the longest edge.
@@ -266,7 +266,7 @@ pub type Groups = [(std::ops::Range<usize>, std::ops::Range<usize>)];
 /// name, ascending, prepared once per group), the rays taken `packet` at a time; a packet ends early
 /// where the origin changes, so each shares one origin. With every triangle named this is the
 /// brute-force answer; with fewer it is the same wherever no triangle left out could be hit
-/// (`family::bins` derives when).
+/// (`family::triangle::bins` derives when).
 pub fn trace<M: HitMethod, A: Arith>(
     tris: &[Tri],
     ids: &[u32],

@@ -1,6 +1,9 @@
 //! One tetrahedron's exit face (seeds 000 and 003): a tetrahedron, a ray and the face it entered
 //! through; the answer a face, judged against every exact exit face.
 
+#[cfg(feature = "internals")]
+mod report;
+
 use super::contract::{self, Contract, EntryGiven, Orientation, Origin};
 use super::{Family, Verdict, given_fields};
 use crate::backend::{Backend, BackendError};

@@ -1,7 +1,9 @@
 //! A ray and triangles (seed 004's question): one triangle, or a closed mesh whose first hit is asked;
 //! the answer every hit the method reports (its nearest judged, its misses judged for leaks).
 
-use super::bins;
+pub mod bins;
+#[cfg(feature = "internals")]
+mod report;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Summed, Verdict, given_fields};
@@ -583,12 +585,12 @@ impl Counts for TriangleCount {
 pub struct TriCountSettings {
     /// Primary rays per packet side: packets of `packet × packet` pixels sharing the camera's origin.
     pub packet: u32,
-    /// Every triangle tested per ray, instead of each tile's candidates ([`super::bins`]).
+    /// Every triangle tested per ray, instead of each tile's candidates ([`bins`]).
     #[serde(default)]
     pub brute_force: bool,
 }
 
-/// Whether a count with `settings` on a backend of `kind` tests each tile's candidates ([`super::bins`])
+/// Whether a count with `settings` on a backend of `kind` tests each tile's candidates ([`bins`])
 /// for the methods that obey the bins' lemma: on a CPU backend, unless `--brute-force`.
 pub fn binned_on(settings: &TriCountSettings, kind: BackendKind) -> bool {
     !settings.brute_force && kind.model().is_some()
@@ -664,7 +666,7 @@ impl Counted for Triangle {
         }
     }
 
-    /// On the CPU, each tile's candidate triangles ([`super::bins`]) tested per ray in ascending order,
+    /// On the CPU, each tile's candidate triangles ([`bins`]) tested per ray in ascending order,
     /// the nearest hit the brute-force one (the audited rays are answered both ways and must agree);
     /// on the GPU, for a method written outside tetwalk, or with `--brute-force`, every triangle. Rays
     /// in packets of `packet × packet` pixels.
@@ -725,7 +727,7 @@ impl Counted for Triangle {
     }
 
     /// The exact first crossing of each audited ray among its tile's edge-scaled candidates (an exact
-    /// crossing has its side products of one sign exactly, inside every bound of [`super::bins`], so
+    /// crossing has its side products of one sign exactly, inside every bound of [`bins`], so
     /// none is left out: were one, the reference walk would disagree and the audit stop the count), or
     /// among every triangle with `--brute-force`.
     fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {

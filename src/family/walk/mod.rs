@@ -2,6 +2,9 @@
 //! from it): an exit-face method steps from tetrahedron to tetrahedron; the answer is how the walk
 //! ended, judged against the exact walk, which is itself checked against the brute-force first hit.
 
+#[cfg(feature = "internals")]
+mod report;
+
 use super::count::{CountError, Counted, Counts, Prepared, Scene, first_difference, inconsistent};
 use super::wrong::Class;
 use super::{Family, Scale, Summed, Verdict};

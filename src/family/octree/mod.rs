@@ -1,6 +1,9 @@
 //! An octree cell's exit (seed 001): a closed axis-aligned box and a ray; the answer the face the ray
 //! leaves through and the quarter of it (the neighbour among four), judged against every exact one.
 
+#[cfg(feature = "internals")]
+mod report;
+
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Summed, Verdict, given_fields};

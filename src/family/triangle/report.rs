@@ -1,0 +1,186 @@
+//! How the ray–triangle family reads: its stress tables (by aim, place and shape), count table and
+//! verdict lines (the report layer: formatting only, as `crate::report` calls it).
+
+use super::{HitTally, Hits, Triangle, binned_on};
+use crate::choice::Choice;
+use crate::engine::count::CountReport;
+use crate::engine::stress::{RowReport, StressReport};
+use crate::exact::hit::HitTruth;
+use crate::report::count::{CountFormats, audited, relabellings as count_relabellings, transfers};
+use crate::report::lines::{Lines, Said, fields};
+use crate::report::stress::{per_million, relabellings, rounds, seeds};
+use crate::report::{Formats, counted};
+use serde_json::{Map, Value, json};
+
+impl Formats for Triangle {
+    /// Per method, leaks, misses beside, double hits, wrong first hits and wrong `t`s per million rays,
+    /// by aim, by place and by shape.
+    fn stress_table(r: &StressReport<Self>) -> String {
+        let s = &r.settings;
+        let mut out = format!(
+            "Ray-triangle stress: {} rays per row{}, {} rows, {}, backend {}, flatness {}, near rows within {} ulps of each case's largest coordinate.\n\
+             Where the ray crosses the closed surface (every triangle holding the point faces one way along \
+             it) and no triangle around the first crossing (sharing a vertex with one holding it) that faces \
+             that way reports a hit: a leak when the crossing is at a shared edge or vertex, or when the \
+             method sees the surface elsewhere along the ray (it passed through); a miss beside when \
+             rounding may have carried the ray off the object (a silhouette within ulps, a chord inside \
+             shorter than 2^-10 of the way, or, inside a triangle, no hit on the mesh at all). A double hit: a \
+             triangle holding it and one the exact ray misses both report hits. A wrong first hit: the \
+             nearest reported hit is on no triangle holding the first crossing point (or a point before \
+             it the ray only touches), or a miss where the ray crosses. A wrong t: the right triangle at a \
+             t beyond {} ulps of the exact one (the rule hit and judge apply). Per million rays.\n",
+            s.cases,
+            rounds(r),
+            r.rows.len(),
+            seeds(r),
+            s.backend,
+            s.rows.flatness,
+            s.rows.ulps,
+            crate::exact::hit::T_ULPS
+        );
+        out += &by(r, |x| x.row.aim.name(), "rays aimed");
+        out += &by(r, |x| x.row.place.name(), "place");
+        out += &by(r, |x| x.row.shape.name(), "shape");
+        out + &relabellings(r, "wrong answers")
+    }
+}
+
+/// Per method, a ray–triangle report's counts per million rays summed over the rows that `key` puts
+/// together.
+fn by(
+    r: &StressReport<Triangle>,
+    key: impl Fn(&RowReport<Triangle>) -> &'static str,
+    what: &str,
+) -> String {
+    let mut keys: Vec<&str> = Vec::new();
+    for row in &r.rows {
+        if !keys.contains(&key(row)) {
+            keys.push(key(row));
+        }
+    }
+    let mut s = format!(
+        "\n| method | {what} | rays | crossing | leaks /M | misses beside /M | double hits /M | wrong first hits /M | wrong t /M |\n|---|---|---|---|---|---|---|---|---|\n"
+    );
+    for (mi, m) in r.methods.iter().enumerate() {
+        for &k in &keys {
+            let rows: Vec<&RowReport<Triangle>> = r.rows.iter().filter(|x| key(x) == k).collect();
+            let rays: u64 = rows.iter().map(|x| x.facts.rays).sum();
+            let crossing: u64 = rows.iter().map(|x| x.facts.crossing).sum();
+            let sum = |f: fn(&HitTally) -> u64| -> u64 {
+                rows.iter().map(|x| f(&x.tallies[mi].counts)).sum()
+            };
+            let pm = |n: u64| per_million(n, rays);
+            s += &format!(
+                "| {m} | {k} | {rays} | {crossing} | {} | {} | {} | {} | {} |\n",
+                pm(sum(|t| t.leaks)),
+                pm(sum(|t| t.misses_beside)),
+                pm(sum(|t| t.double_hits)),
+                pm(sum(|t| t.wrong_first_hits)),
+                pm(sum(|t| t.wrong_t)),
+            );
+        }
+    }
+    s
+}
+
+impl CountFormats for Triangle {
+    fn count_table(r: &CountReport<Self>) -> String {
+        let s = &r.settings;
+        let mut out = format!(
+            "scene {} ({} triangles: its constrained faces, each facing the cameras' side), {} of {}x{}, \
+             packets of {}x{} primary rays, backend {}, seed {}, {}, each nearest hit judged against the {} walk's exact first hit{}\n\n",
+            s.scene,
+            r.scene.triangles,
+            counted(r.views_counted as u64, "view", "views"),
+            s.views.width,
+            s.views.height,
+            s.family.packet,
+            s.family.packet,
+            r.backend,
+            s.views.seed,
+            if binned_on(&s.family, r.backend.kind) {
+                "each tile's candidate triangles tested per ray (src/family/triangle/bins.rs: none a method could hit is left out; on the audited rays every method also tested against every triangle, agreeing)"
+            } else {
+                "every triangle tested per ray (brute force)"
+            },
+            s.reference,
+            audited(r, "the exact first hit among the triangles"),
+        );
+        out += "| method | wrong rays per image | wrong triangle | false miss | Mrays/s |\n|---|---|---|---|---|\n";
+        for m in &r.methods {
+            out += &format!(
+                "| {} | {:.3} | {} | {} | {:.3} |\n",
+                m.method,
+                m.counts.wrong_per_image,
+                m.counts.wrong_triangle,
+                m.counts.false_miss,
+                m.mrays_per_second
+            );
+        }
+        out += &format!("\ntotals over {} rays\n", r.rays);
+        out + &count_relabellings(r) + &transfers(r)
+    }
+}
+
+impl Lines for Triangle {
+    /// Judged by the family's one rule ([`HitTruth::judge`]: the triangle and, for a hit, its `t`);
+    /// on a closed mesh, every triangle the method reports says whether the ray leaks.
+    fn verdict_line(
+        case: &crate::cases::HitCase,
+        truth: &HitTruth,
+        hits: &Hits,
+        t_ulps: f64,
+    ) -> (Map<String, Value>, Said) {
+        let g = hits.nearest();
+        let judged = truth.judge(g, t_ulps);
+        let (t, triangle_right, ok) = (judged.t, judged.triangle, judged.right);
+        let first = truth.first();
+        let mut o = fields(json!({
+            "hit": g.is_some(), "t": g.map(|(_, t)| t), "t_ulps": t.and_then(|t| t.ulps),
+            "exact_hit": first.is_some(), "exact_t": first.map(|p| ratio(&p.t)),
+        }));
+        let mut leak = false;
+        let mut kind = None;
+        if case.closed {
+            leak = truth.leaks(&hits.ids());
+            o.insert("tri".into(), json!(g.map(|(i, _)| i)));
+            let holding = first.map_or(vec![], |p| p.holding.clone());
+            let boundary = holding.iter().any(|&i| truth.each[i as usize].on_boundary);
+            o.insert("exact_tris".into(), json!(holding));
+            o.insert("on_boundary".into(), Value::Bool(boundary));
+            o.insert("crosses".into(), json!(first.map(|p| p.crosses)));
+            o.insert("leak".into(), Value::Bool(leak));
+            kind = truth.wrong_kind(&hits.ids(), g.map(|(i, _)| i));
+            o.insert(
+                "kind".into(),
+                json!(kind.unwrap_or(if ok { "right" } else { "t" })),
+            );
+            if crate::exact::hit::inside_out(case.tris()) {
+                o.insert("inside_out".into(), Value::Bool(true));
+            }
+        } else {
+            o.insert("on_boundary".into(), Value::Bool(truth.each[0].on_boundary));
+        }
+        if truth.back_face() {
+            o.insert("back_face".into(), Value::Bool(true));
+        }
+        o.insert("correct".into(), Value::Bool(ok));
+        (
+            o,
+            Said {
+                correct: Some(ok),
+                triangle: true,
+                leak,
+                back_face: truth.back_face(),
+                t_alone: triangle_right && !ok,
+                kind,
+                ..Said::default()
+            },
+        )
+    }
+}
+
+/// A rational as `p/q`.
+fn ratio(q: &rug::Rational) -> String {
+    format!("{}/{}", q.numer(), q.denom())
+}

@@ -1,0 +1,108 @@
+//! How the walk family reads: its stress table, count table and verdict lines (the report layer:
+//! formatting only, as `crate::report` calls it).
+
+use super::{WalkTruth, Walks};
+use crate::engine::count::CountReport;
+use crate::engine::stress::StressReport;
+use crate::family::Family;
+use crate::report::count::{
+    CountFormats, audited, relabellings as count_relabellings, totals, transfers,
+};
+use crate::report::lines::{Lines, Said, correct, fields};
+use crate::report::stress::{per_million, relabellings, rounds, seeds, table};
+use crate::report::{Formats, counted};
+use crate::walk::{OutcomeKind, Walk};
+use serde_json::{Map, Value, json};
+
+impl Formats for Walks {
+    /// Per scene and method, wrong walks per million (of which endless: cycles and step limits).
+    fn stress_table(r: &StressReport<Self>) -> String {
+        let mut out = format!(
+            "{} rays per row{}, {}, {}; each walk judged against the exact walk (itself checked against the brute-force first hit); cells: wrong walks (endless: cycle or step limit) per million walks\n\n",
+            r.settings.cases,
+            rounds(r),
+            seeds(r),
+            r.settings.backend
+        );
+        out += &table(r, |t| {
+            let endless = [OutcomeKind::Cycle, OutcomeKind::StepLimit]
+                .map(|k| t.wrong.0[k.code() as usize])
+                .iter()
+                .sum();
+            format!(
+                "{} ({})",
+                per_million(Self::wrong(t), t.judged),
+                per_million(endless, t.judged)
+            )
+        });
+        out + &relabellings(r, "wrong answers")
+    }
+}
+
+impl CountFormats for Walks {
+    /// Per method, wrong rays per image by kind (wrong faces also split into adjacent and
+    /// elsewhere), Φ per image, and speed; then the totals.
+    fn count_table(r: &CountReport<Self>) -> String {
+        let s = &r.settings.views;
+        let mut out = format!(
+            "scene {} ({} tetrahedra), {} of {}x{}, backend {}, seed {}, reference {}{}; per image, averaged over views\n\n",
+            r.settings.scene,
+            r.scene.tetrahedra,
+            counted(r.views_counted as u64, "view", "views"),
+            s.width,
+            s.height,
+            r.backend,
+            s.seed,
+            r.settings.reference,
+            audited(r, "exact"),
+        );
+        out += &format!(
+            "| method | wrong rays | {} | wrong face adjacent | wrong face elsewhere | Φ (tetrahedra) | Mrays/s |\n",
+            OutcomeKind::ALL.map(|k| k.wrong()).join(" | ")
+        );
+        out += &format!(
+            "|---|---|{}---|---|---|---|\n",
+            "---|".repeat(OutcomeKind::ALL.len())
+        );
+        for m in &r.methods {
+            let p = &m.counts.per_image;
+            let kinds: Vec<String> = p.by_kind.0.iter().map(|w| format!("{w:.3}")).collect();
+            let speed = if m.seconds > 0.0 {
+                format!("{:.2}", m.mrays_per_second)
+            } else {
+                "-".into()
+            };
+            out += &format!(
+                "| {} | {:.3} | {} | {:.3} | {:.3} | {:.0} | {speed} |\n",
+                m.method,
+                p.wrong,
+                kinds.join(" | "),
+                p.wrong_face_adjacent,
+                p.wrong_face_elsewhere,
+                p.tetrahedra,
+            );
+        }
+        out + &totals(r) + &count_relabellings(r) + &transfers(r)
+    }
+}
+
+impl Lines for Walks {
+    fn verdict_line(
+        c: &crate::cases::WalkCase,
+        t: &WalkTruth,
+        got: &Walk,
+        _: f64,
+    ) -> (Map<String, Value>, Said) {
+        let ok = correct(Self::verdict(c, t, got));
+        let line = json!({
+            "walk": got.outcome, "steps": got.steps, "exact_walk": t.exact.outcome, "correct": ok,
+        });
+        (
+            fields(line),
+            Said {
+                correct: ok,
+                ..Said::default()
+            },
+        )
+    }
+}
