@@ -39,10 +39,6 @@
 //! complete user crate; it builds with `default-features = false`.
 #![warn(missing_docs)]
 
-use crate::family::{ExitFace, OctreeCells, Triangle, Walks};
-use crate::methods::triangle::HitMethod;
-use crate::methods::{CellMethod, ExitMethod};
-use crate::registry::{Method, OctreeMethod, TriangleMethod};
 use std::fmt;
 
 // The run over any family, generic over the crate's `Family` trait: public only with `internals`
@@ -50,8 +46,7 @@ use std::fmt;
 #[cfg(feature = "internals")]
 pub mod run;
 #[cfg(not(feature = "internals"))]
-mod run;
-use run::check;
+pub(crate) mod run;
 
 /// What a user's crate names: the method traits, the geometry their signatures use, the kit.
 pub mod prelude {
@@ -210,32 +205,13 @@ impl fmt::Debug for Failed {
 
 impl std::error::Error for Failed {}
 
-/// Judge exit-face method `M` exactly: every stress row of tetrahedron cases, a property campaign
-/// through the `exit_face` fuzz target's generator, then walks through the lattice-tie scenes (a cycle
-/// or step limit is an endless walk) and a property campaign through the `walk` target's.
-pub fn exit_faces<M: ExitMethod>(s: &Settings) -> Result<Passed, Box<Failed>> {
-    let m = Method::outside::<M>(short_name::<M>());
-    let mut passed = check::<ExitFace>(&m, s)?;
-    passed.groups.extend(check::<Walks>(&m, s)?.groups);
-    Ok(passed)
-}
-
-/// Judge ray–triangle method `M` exactly on closed meshes: every stress row (shapes × aims × places),
-/// then a property campaign through the `triangle_hit` fuzz target's generator. A failure is a wrong
-/// first hit, or with [`Accept::claim_only`] a leak.
-pub fn triangles<M: HitMethod>(s: &Settings) -> Result<Passed, Box<Failed>> {
-    check::<Triangle>(&TriangleMethod::outside::<M>(short_name::<M>()), s)
-}
-
-/// Judge octree cell method `M` exactly: every stress row of octree cells (aims × places), then a
-/// property campaign through the `octree_cell` fuzz target's generator. A failure is an exit face the
-/// line does not leave through, or a quarter (neighbour) the exit point is not in.
-pub fn cells<M: CellMethod>(s: &Settings) -> Result<Passed, Box<Failed>> {
-    check::<OctreeCells>(&OctreeMethod::outside::<M>(short_name::<M>()), s)
-}
+// The entry points, one per family a user's method may belong to (`exit_faces`, `triangles`,
+// `cells`): each written in its family's folder (`src/family/NAME/kit.rs`), re-exported from the
+// families' list.
+crate::families!(__kit_entries);
 
 /// A type's name without its module paths (`Portalez16<Direction>`).
-fn short_name<M>() -> &'static str {
+pub(crate) fn short_name<M>() -> &'static str {
     let full = std::any::type_name::<M>();
     let mut out = String::with_capacity(full.len());
     let mut segment = String::new();

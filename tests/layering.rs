@@ -389,7 +389,6 @@ const NOT_YET_MOVED: &[&str] = &[
     "src/engine/paper.rs",
     "src/family/count.rs",
     "src/family/wrong.rs",
-    "src/kit.rs",
     "src/render/mod.rs",
     "src/report/paper.rs",
 ];

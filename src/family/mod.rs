@@ -384,8 +384,9 @@ pub fn reference<F: Family>() -> Option<&'static F::Method> {
 
 /// The families, written once (in the spirit of CGAL's interface macros): `$then!` is called with
 /// `[ARGS]` (what follows `$then,` here), each family's line — its [`Kind`] variant, its name, its
-/// type — and the variants of those that count a scene. [`Kind`], [`of`], [`with_family!`],
-/// [`CountKind`] and [`with_counted!`] expand from it; a new family is a line here.
+/// type — the variants of those that count a scene, and the conformance kit's entry points (each in its
+/// family's folder). [`Kind`], [`of`], [`with_family!`], [`CountKind`], [`with_counted!`] and the kit's
+/// entry points expand from it; a new family is a line here.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! families {
@@ -403,6 +404,7 @@ macro_rules! families {
                 Octree => "octree", $crate::family::OctreeCells;
             }
             counted { Walk, Triangle, Octree }
+            kit { exit_face::exit_faces, triangle::triangles, octree::cells }
         }
     };
 }
@@ -411,7 +413,7 @@ macro_rules! families {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __family_kinds {
-    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* }) => {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* } kit { $($kit:tt)* }) => {
         /// A family, by name: a typed `--family` choice ([`families!`]).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
         pub enum Kind {
@@ -473,6 +475,16 @@ macro_rules! __family_kinds {
 
 families!(__family_kinds);
 
+/// The conformance kit's entry points (`crate::kit`), re-exported from each family's folder, from
+/// [`families!`].
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __kit_entries {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* } kit { $($km:ident::$kf:ident),* }) => {
+        $(pub use $crate::family::$km::kit::$kf;)*
+    };
+}
+
 /// Run `$body` with `$F` the family type a [`Kind`] names.
 #[doc(hidden)]
 #[macro_export]
@@ -497,11 +509,11 @@ macro_rules! with_counted {
 #[macro_export]
 macro_rules! __kind_match {
     ([Kind, $kind:expr, $F:ident, $body:expr]
-        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* }) => {
+        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* } kit { $($kit:tt)* }) => {
         $crate::__kind_match!(@ Kind, $kind, $F, $body, $($v)*)
     };
     ([CountKind, $kind:expr, $F:ident, $body:expr]
-        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* }) => {
+        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path;)* } counted { $($c:ident),* } kit { $($kit:tt)* }) => {
         $crate::__kind_match!(@ CountKind, $kind, $F, $body, $($c)*)
     };
     (@ $enum:ident, $kind:expr, $F:ident, $body:expr, $($v:ident)*) => {

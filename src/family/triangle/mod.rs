@@ -2,6 +2,7 @@
 //! the answer every hit the method reports (its nearest judged, its misses judged for leaks).
 
 pub mod bins;
+pub mod kit;
 #[cfg(feature = "internals")]
 mod report;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
