@@ -16,7 +16,7 @@ mod render;
 mod replay;
 mod scene;
 mod shrink;
-mod stress;
+pub(crate) mod stress;
 mod verify;
 mod walk;
 
@@ -334,7 +334,7 @@ fn gpu_info(json: Option<PathBuf>) -> Status {
 }
 
 /// A clap value parser for a [`Choice`]: its names are the possible values.
-fn choice<T: Choice>() -> impl TypedValueParser<Value = T> {
+pub(crate) fn choice<T: Choice>() -> impl TypedValueParser<Value = T> {
     PossibleValuesParser::new(T::ALL.iter().map(|v| v.name()))
         .map(|s| T::from_name(&s).expect("clap checked the name"))
 }

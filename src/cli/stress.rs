@@ -10,16 +10,10 @@ use crate::engine::found::Found;
 use crate::engine::shrink;
 use crate::engine::standing::Standings;
 use crate::engine::stress::{self, StressSettings, Who, Wrong};
-use crate::family::exit_face::{ExitRows, TetRow};
-use crate::family::octree::CellRows;
-use crate::family::triangle::TriRows;
-use crate::family::walk::{WalkRows, WalkScene};
-use crate::family::{self, ExitFace, Family, Kind, OctreeCells, Scale, Triangle, Walks};
+use crate::family::{self, Family, Kind, Scale};
 use crate::report::Formats;
 use crate::report::counted;
 use crate::report::stress::disagreements;
-use crate::scenes::cells::{CellAim, CellPlace};
-use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -35,27 +29,8 @@ pub struct Args {
     /// Cases per row [default: 100000, 10000 for walk, 2000 for triangle].
     #[arg(long, allow_negative_numbers = true)]
     cases: Option<i64>,
-    /// Exit-face rows (comma-separated) [default: all].
-    #[arg(long, alias = "families", value_parser = choice::<TetRow>(), value_delimiter = ',')]
-    rows: Vec<TetRow>,
-    /// Walk rows: the scenes walked (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<WalkScene>(), value_delimiter = ',')]
-    scenes: Vec<WalkScene>,
-    /// Triangle rows: closed mesh shapes (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<MeshShape>(), value_delimiter = ',')]
-    shapes: Vec<MeshShape>,
-    /// Triangle rows: where rays are aimed (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<TriAim>(), value_delimiter = ',')]
-    aims: Vec<TriAim>,
-    /// Triangle rows: where meshes are placed (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<TriPlace>(), value_delimiter = ',')]
-    places: Vec<TriPlace>,
-    /// Octree rows: where rays leave the cell (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<CellAim>(), value_delimiter = ',')]
-    cell_aims: Vec<CellAim>,
-    /// Octree rows: where cells are placed (comma-separated) [default: all].
-    #[arg(long, value_parser = choice::<CellPlace>(), value_delimiter = ',')]
-    cell_places: Vec<CellPlace>,
+    #[command(flatten)]
+    rows: RowFlags,
     /// Methods (comma-separated, or all) [default: all; none beside an --answerer].
     #[arg(long)]
     methods: Option<String>,
@@ -82,10 +57,6 @@ pub struct Args {
     /// coordinate.
     #[arg(long, allow_negative_numbers = true, default_value_t = 4)]
     ulps: i32,
-    /// Exit-face rows: every case moved this far from the origin along (1, 1, 1) (rounded to f32;
-    /// each case judged as it then is).
-    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
-    offset: f32,
     /// `all`: run again under each orientation-preserving relabelling of every case's tetrahedron
     /// (exit-face: 12) and give each row's and method's wrong answers with the cases' own labelling
     /// beside their min / median / max.
@@ -121,13 +92,26 @@ impl super::Io for Args {
     }
 }
 
-/// The stress rows a family's flags choose.
-trait Rows: Formats {
-    fn chosen(a: &Args) -> Self::Rows;
+/// The stress rows a family's flags choose (its folder's `cli.rs`).
+pub trait Rows: Formats {
+    /// Its own flags, from among every family's.
+    type Flags;
+    fn own(all: &RowFlags) -> &Self::Flags;
+    /// The flags of its own that were given (a family's flags given with another family are refused).
+    fn given(own: &Self::Flags) -> Vec<&'static str>;
+    /// The rows chosen, with the flags every family's rows share.
+    fn chosen(own: &Self::Flags, shape: Shape) -> Self::Rows;
+}
+
+/// What the rows of several families share: flatness and ulps.
+#[derive(Clone, Copy, Debug)]
+pub struct Shape {
+    pub flatness: f32,
+    pub ulps: i32,
 }
 
 /// `given`, or every value when none is.
-fn or_all<T: Choice>(given: &[T]) -> Vec<T> {
+pub fn or_all<T: Choice>(given: &[T]) -> Vec<T> {
     if given.is_empty() {
         T::ALL.to_vec()
     } else {
@@ -135,66 +119,43 @@ fn or_all<T: Choice>(given: &[T]) -> Vec<T> {
     }
 }
 
-impl Rows for ExitFace {
-    fn chosen(a: &Args) -> ExitRows {
-        ExitRows {
-            rows: or_all(&a.rows),
-            flatness: a.flatness,
-            ulps: a.ulps,
-            offset: a.offset,
-            ..ExitRows::default()
+/// Every family's row flags, each family's from its folder (`src/family/NAME/cli.rs`), from the
+/// families' list.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __stress_row_flags {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident),* } kit { $($kit:tt)* }) => {
+        /// Every family's row flags.
+        #[derive(clap::Args)]
+        pub struct RowFlags {
+            $(
+                #[command(flatten)]
+                pub $m: $crate::family::$m::cli::StressFlags,
+            )*
         }
-    }
-}
 
-impl Rows for Walks {
-    fn chosen(a: &Args) -> WalkRows {
-        WalkRows {
-            scenes: or_all(&a.scenes),
+        impl RowFlags {
+            /// Each family's flags that were given, and the family.
+            fn given(&self) -> Vec<(&'static str, $crate::family::Kind)> {
+                let mut out = Vec::new();
+                $(
+                    out.extend(
+                        <$ty as $crate::cli::stress::Rows>::given(&self.$m)
+                            .into_iter()
+                            .map(|f| (f, $crate::family::Kind::$v)),
+                    );
+                )*
+                out
+            }
         }
-    }
+    };
 }
-
-impl Rows for Triangle {
-    fn chosen(a: &Args) -> TriRows {
-        TriRows {
-            shapes: or_all(&a.shapes),
-            aims: or_all(&a.aims),
-            places: or_all(&a.places),
-            flatness: a.flatness,
-            ulps: a.ulps,
-        }
-    }
-}
-
-impl Rows for OctreeCells {
-    fn chosen(a: &Args) -> CellRows {
-        CellRows {
-            aims: or_all(&a.cell_aims),
-            places: or_all(&a.cell_places),
-            ulps: a.ulps,
-        }
-    }
-}
+crate::families!(__stress_row_flags);
 
 /// Each family's own row flags, whether given: one given with another family is refused.
 fn foreign(a: &Args) -> Result<(), Error> {
-    use Kind::*;
-    let flags: [(&str, bool, Kind); 8] = [
-        ("--rows", !a.rows.is_empty(), ExitFace),
-        ("--offset", a.offset != 0.0, ExitFace),
-        ("--scenes", !a.scenes.is_empty(), Walk),
-        ("--shapes", !a.shapes.is_empty(), Triangle),
-        ("--aims", !a.aims.is_empty(), Triangle),
-        ("--places", !a.places.is_empty(), Triangle),
-        ("--cell-aims", !a.cell_aims.is_empty(), Octree),
-        ("--cell-places", !a.cell_places.is_empty(), Octree),
-    ];
-    match flags
-        .iter()
-        .find(|(_, given, of)| *given && *of != a.family)
-    {
-        Some((flag, _, of)) => Err(format!(
+    match a.rows.given().into_iter().find(|(_, of)| *of != a.family) {
+        Some((flag, of)) => Err(format!(
             "{flag} chooses {} rows; add --family {} (this run is --family {})",
             of.name(),
             of.name(),
@@ -207,9 +168,6 @@ fn foreign(a: &Args) -> Result<(), Error> {
 
 pub fn run(a: Args) -> Status {
     super::generator(a.flatness, a.ulps)?;
-    if !a.offset.is_finite() {
-        return Err(format!("--offset {} is not finite", a.offset).into());
-    }
     if let Some(seconds) = a.seconds
         && !(seconds.is_finite() && seconds >= 0.0)
     {
@@ -249,7 +207,7 @@ fn stress<F: Rows>(a: Args) -> Status {
     }
     let contract = a.contract.contract::<F>()?;
     if a.answerer.answerer.is_some() {
-        if F::NAME == <Walks as Family>::NAME {
+        if F::COMMAND.is_none() {
             return Err("--answerer answers one cell's cases here; a program's walks are judged by count --answerer (every step asked) or judge (whole walks given)".into());
         }
         if a.compare || a.wgsl.wgsl.is_some() {
@@ -296,7 +254,13 @@ fn stress<F: Rows>(a: Args) -> Status {
     let settings = StressSettings::<F> {
         contract,
         cases,
-        rows: F::chosen(&a),
+        rows: F::chosen(
+            F::own(&a.rows),
+            Shape {
+                flatness: a.flatness,
+                ulps: a.ulps,
+            },
+        ),
         seed: a.seed,
         backend: backend.ran(),
         scale: a.scale,

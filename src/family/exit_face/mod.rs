@@ -1,6 +1,8 @@
 //! One tetrahedron's exit face (seeds 000 and 003): a tetrahedron, a ray and the face it entered
 //! through; the answer a face, judged against every exact exit face.
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod kit;
 #[cfg(feature = "internals")]
 mod report;

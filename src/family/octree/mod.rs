@@ -1,6 +1,8 @@
 //! An octree cell's exit (seed 001): a closed axis-aligned box and a ray; the answer the face the ray
 //! leaves through and the quarter of it (the neighbour among four), judged against every exact one.
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod kit;
 #[cfg(feature = "internals")]
 mod report;

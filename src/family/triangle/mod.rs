@@ -2,6 +2,8 @@
 //! the answer every hit the method reports (its nearest judged, its misses judged for leaks).
 
 pub mod bins;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod kit;
 #[cfg(feature = "internals")]
 mod report;

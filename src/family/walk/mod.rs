@@ -2,6 +2,8 @@
 //! from it): an exit-face method steps from tetrahedron to tetrahedron; the answer is how the walk
 //! ended, judged against the exact walk, which is itself checked against the brute-force first hit.
 
+#[cfg(feature = "cli")]
+pub mod cli;
 #[cfg(feature = "internals")]
 mod report;
 
