@@ -372,7 +372,6 @@ const NOT_YET_MOVED: &[&str] = &[
     "src/cli/answer.rs",
     "src/cli/bench.rs",
     "src/cli/box_exit.rs",
-    "src/cli/count.rs",
     "src/cli/exit.rs",
     "src/cli/fuzz_import.rs",
     "src/cli/gen_cases.rs",

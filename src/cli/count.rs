@@ -2,14 +2,11 @@
 
 use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg};
 use crate::choice::Choice;
-use crate::engine::count::{self, Answerer, CountReport, CountSettings, Shard, located_views};
+use crate::engine::count::{self, Answerer, CountReport, CountSettings, Shard};
 use crate::engine::standing::Standings;
 use crate::family::CountKind;
-use crate::family::count::{CountError, Counted};
-use crate::family::octree::OctreeCountSettings;
-use crate::family::triangle::TriCountSettings;
+use crate::family::count::Counted;
 use crate::family::wrong::WrongRay;
-use crate::family::{OctreeCells, Triangle, Walks};
 use crate::registry::Named;
 use crate::report::count::CountFormats;
 use crate::scenes::camera::Views;
@@ -29,32 +26,17 @@ pub struct Args {
     /// exact first hit.
     #[arg(long, value_parser = count_family(), default_value = "walk")]
     family: CountKind,
-    /// `--family octree`: the octree's deepest level (seed 001: 8 for the bunny).
-    #[arg(long, default_value_t = 8)]
-    depth: u32,
-    /// `--family octree`: split a node while it holds more triangles than this.
-    #[arg(long, default_value_t = 6)]
-    capacity: usize,
-    /// `--family octree`: the ray–triangle method testing each leaf's triangles.
-    #[arg(long, default_value = "mt")]
-    triangle_method: String,
-    /// `--family triangle`: primary rays per packet side (1, 2, 4 or 8: packets of 1, 4, 16 or 64
-    /// rays sharing the camera's origin).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8), default_value_t = 2)]
-    packet: u32,
-    /// `--family triangle`: test every triangle per ray (brute force), not each tile's candidates (the
-    /// counts are the same; the candidates are derived in `src/family/triangle/bins.rs` and audited).
-    #[arg(long)]
-    brute_force: bool,
+    #[command(flatten)]
+    own: FamilyFlags,
     /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, bunny-paper once built
     /// by corpora/scenes/bunny-paper.sh, kuhn, jitter, fan and their -far), a TetGen stem, or a Gmsh `.msh` (4.1 or 2.2), VTK `.vtk` / `.vtu` or MEDIT `.mesh`
     /// file (its triangles the constrained faces).
     #[arg(long, default_value = "bunny-quality")]
-    scene: String,
+    pub(crate) scene: String,
     /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
     /// another format): every ray then leaves the mesh.
     #[arg(long)]
-    no_faces: bool,
+    pub(crate) no_faces: bool,
     /// Viewpoints on a sphere around the model [default: 160, 16 with --family triangle or octree, or
     /// 1282 with --preset paper].
     #[arg(long, allow_negative_numbers = true)]
@@ -143,12 +125,27 @@ enum Merge {
     },
 }
 
-/// `count --family`: a counted family's name, `exit-face` an alias of `walk`.
+/// `count --family`: a counted family's name, or one of its [`Counted::COUNT_ALIASES`] (`exit-face`
+/// for `walk`).
 fn count_family() -> impl clap::builder::TypedValueParser<Value = CountKind> {
     use clap::builder::TypedValueParser;
-    let names: Vec<&str> = CountKind::ALL.iter().map(|k| k.name()).collect();
-    clap::builder::PossibleValuesParser::new(names.into_iter().chain(["exit-face"]))
-        .map(|s| CountKind::from_name(&s).unwrap_or(CountKind::Walk))
+    let named: Vec<(&str, CountKind)> = CountKind::ALL
+        .iter()
+        .flat_map(|&k| {
+            let aliases = crate::with_counted!(k, F => F::COUNT_ALIASES);
+            std::iter::once(k.name())
+                .chain(aliases.iter().copied())
+                .map(move |n| (n, k))
+        })
+        .collect();
+    let names: Vec<&'static str> = named.iter().map(|(n, _)| *n).collect();
+    clap::builder::PossibleValuesParser::new(names).map(move |s| {
+        named
+            .iter()
+            .find(|(n, _)| *n == s)
+            .map(|(_, k)| *k)
+            .expect("one of the possible values")
+    })
 }
 
 fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Status {
@@ -203,35 +200,52 @@ pub(super) fn shard(text: &str) -> Result<Shard, Error> {
         .ok_or_else(|| format!("--shard {text} is not I/N with 0 <= I < N").into())
 }
 
-/// What a counted family's flags set.
-trait Flags: CountFormats {
-    fn settings(a: &Args) -> Self::CountSettings;
-}
-
-impl Flags for Walks {
-    fn settings(_: &Args) {}
-}
-
-impl Flags for Triangle {
-    fn settings(a: &Args) -> TriCountSettings {
-        TriCountSettings {
-            packet: a.packet,
-            brute_force: a.brute_force,
-        }
+/// What a counted family's own flags set, and what its count adds (its folder's `cli.rs`).
+pub trait Flags: CountFormats {
+    /// Its own flags, from among every counted family's.
+    type Flags;
+    fn own(all: &FamilyFlags) -> &Self::Flags;
+    fn settings(own: &Self::Flags) -> Self::CountSettings;
+    /// Whether its count can ask an `--answerer` every step of every walk.
+    const ASKS: bool = false;
+    /// The `--answerer` started, asked as [`Flags::asking`] says (only where [`Flags::ASKS`]).
+    fn start(_a: &super::AnswererArg) -> Result<Option<crate::engine::answerer::Answerer>, Error> {
+        Ok(None)
+    }
+    /// The walks an answerer gives, asked step by step through `mesh` (`None` unless [`Flags::ASKS`]).
+    fn asking<'a>(
+        _x: &'a crate::engine::answerer::Answerer,
+        _mesh: &'a crate::mesh::Mesh,
+    ) -> Option<Box<count::GivenWalks<'a>>> {
+        None
+    }
+    /// `--rays-out`: the exact inputs of every ray the count would walk, for another program's kernel;
+    /// refused where the family has none to write.
+    fn rays_out(_a: &Args, _shard: Shard, _path: &std::path::Path) -> Status {
+        Err(RAYS_OUT_ALONE.into())
     }
 }
 
-impl Flags for OctreeCells {
-    fn settings(a: &Args) -> OctreeCountSettings {
-        OctreeCountSettings {
-            octree: crate::octree::Settings {
-                depth: a.depth,
-                capacity: a.capacity,
-            },
-            triangle_method: a.triangle_method.clone(),
+/// Why `--rays-out` is refused with other flags or families.
+pub(crate) const RAYS_OUT_ALONE: &str = "--rays-out writes the inputs of a walk count and judges nothing: leave out --family triangle or octree, --wgsl, --relabel, --dump and --fail-on";
+
+/// Every counted family's own flags, each from its folder (`src/family/NAME/cli.rs`), from the
+/// families' list.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __count_flags {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
+        /// Every counted family's own flags.
+        #[derive(clap::Args)]
+        pub struct FamilyFlags {
+            $(
+                #[command(flatten)]
+                pub $cm: $crate::family::$cm::cli::CountFlags,
+            )*
         }
-    }
+    };
 }
+crate::families!(__count_flags);
 
 pub fn run(a: Args) -> Status {
     if let Some(Merge::Merge { reports, json }) = &a.merge {
@@ -240,18 +254,25 @@ pub fn run(a: Args) -> Status {
     let shard = shard(&a.shard)?;
     crate::registry::by_name(&a.reference)?;
     if let Some(path) = &a.rays_out {
-        return rays_out(&a, shard, path);
+        if a.wgsl.wgsl.is_some()
+            || a.relabel.is_some()
+            || a.dump.is_some()
+            || a.fail.fail_on.is_some()
+        {
+            return Err(RAYS_OUT_ALONE.into());
+        }
+        return crate::with_counted!(a.family, F => F::rays_out(&a, shard, path));
     }
     crate::with_counted!(a.family, F => counted::<F>(a, shard))
 }
 
 /// The count of family `F`.
 fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
-    let family = F::settings(&a);
+    let family = F::settings(F::own(&a.own));
     F::check(&family)?;
     let fail = a.fail;
     let asked = a.answerer.answerer.is_some();
-    if asked && F::NAME != <Walks as crate::family::Family>::NAME {
+    if asked && !F::ASKS {
         return Err(format!(
             "--answerer walks the tetrahedra step by step (--family walk); {} counts have no exit faces to ask",
             F::NAME
@@ -297,20 +318,11 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         (shard.held(views.views) * labellings) as u64,
         "views",
     );
-    let outside = a
-        .answerer
-        .start::<crate::family::ExitFace>(&Default::default())?;
-    // Every step of every walk asked of the answerer, a view's unfinished walks in one batch.
-    let asking = |_: usize, rays: &[crate::tet::Ray], start: u32, max: u32| {
-        let x = outside.as_ref().expect("asked only with an answerer");
-        crate::walk::walks_asking(&mesh, rays, start, max, |cases| {
-            x.answers::<crate::family::ExitFace>(cases)
-        })
-        .map_err(|e| CountError::Given(e.to_string()))
-    };
+    let outside = F::start(&a.answerer)?;
+    let asking = outside.as_ref().and_then(|x| F::asking(x, &mesh));
     let mut answerers: Vec<Answerer<F>> = Vec::new();
-    if let Some(x) = &outside {
-        answerers.push(Answerer::Given(&x.name, &asking));
+    if let (Some(x), Some(asking)) = (&outside, &asking) {
+        answerers.push(Answerer::Given(&x.name, &**asking));
     }
     answerers.extend(methods.iter().map(|m| Answerer::Method(*m)));
     let mut write = |w: &WrongRay| dump.write(w);
@@ -336,22 +348,22 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
             .iter()
             .find(|s| s.method == x.name)
             .map_or(0, |s| s.wrong);
-        x.claim::<crate::family::ExitFace>(&mut standings, wrong);
+        x.claim::<F>(&mut standings, wrong);
     }
     Ok(fail.status("count", &standings))
 }
 
 /// `--dump FILE`: every wrong ray, one JSON line each, the file complete or absent.
-pub(super) struct Dump(Option<super::Staged>);
+pub(crate) struct Dump(Option<super::Staged>);
 
 impl Dump {
-    pub(super) fn new(path: Option<&std::path::Path>) -> Result<Dump, super::Error> {
+    pub(crate) fn new(path: Option<&std::path::Path>) -> Result<Dump, super::Error> {
         Ok(Dump(
             path.map(|p| super::Staged::new("--dump", p)).transpose()?,
         ))
     }
 
-    pub(super) fn write(&mut self, w: &WrongRay) -> std::io::Result<()> {
+    pub(crate) fn write(&mut self, w: &WrongRay) -> std::io::Result<()> {
         let Some(d) = self.0.as_mut() else {
             return Ok(());
         };
@@ -359,94 +371,13 @@ impl Dump {
         d.write_all(b"\n")
     }
 
-    pub(super) fn finish(self) -> Result<(), super::Error> {
+    pub(crate) fn finish(self) -> Result<(), super::Error> {
         self.0.map_or(Ok(()), |d| d.finish())
     }
 }
 
-/// The header line of `count --rays-out`, which `tetwalk judge` reads back.
-#[derive(serde::Serialize, serde::Deserialize)]
-pub(super) struct RaysHeader {
-    pub scene: String,
-    pub views: Views,
-    pub shard: Shard,
-    pub tetrahedra: usize,
-    /// Loaded with `--no-faces`.
-    #[serde(default)]
-    pub no_faces: bool,
-}
-
-/// The lines of `count --rays-out` for view `v` (camera `cam`, starting tetrahedron `start`): each
-/// ray's view, pixel, origin, direction and start.
-pub(super) fn ray_lines(
-    views: &Views,
-    v: usize,
-    cam: &crate::scenes::camera::Camera,
-    start: u32,
-) -> impl Iterator<Item = serde_json::Value> {
-    let width = views.width;
-    views.rays(cam).into_iter().enumerate().map(move |(i, r)| {
-        serde_json::json!({
-            "view": v, "pixel": [i as u32 % width, i as u32 / width],
-            "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
-        })
-    })
-}
-
-/// `count --rays-out FILE`: every ray of the views the shard holds whose camera is inside the mesh,
-/// with its view, pixel and starting tetrahedron.
-fn rays_out(a: &Args, shard: Shard, path: &std::path::Path) -> Status {
-    if a.family != CountKind::Walk
-        || a.wgsl.wgsl.is_some()
-        || a.relabel.is_some()
-        || a.dump.is_some()
-        || a.fail.fail_on.is_some()
-    {
-        return Err("--rays-out writes the inputs of a walk count and judges nothing: leave out --family triangle or octree, --wgsl, --relabel, --dump and --fail-on".into());
-    }
-    let views = views::<Walks>(a)?;
-    held(shard, &views)?;
-    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-    let mut staged = super::Staged::new("--rays-out", path)?;
-    let header = RaysHeader {
-        scene: a.scene.clone(),
-        views,
-        shard,
-        tetrahedra: mesh.tets.len(),
-        no_faces: a.no_faces,
-    };
-    let mut w = std::io::BufWriter::new(&mut staged);
-    serde_json::to_writer(&mut w, &header)?;
-    w.write_all(b"\n")?;
-    let (mut rays, mut counted_views) = (0u64, 0usize);
-    for (v, cam, start) in located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
-        counted_views += 1;
-        for line in ray_lines(&views, v, &cam, start) {
-            serde_json::to_writer(&mut w, &line)?;
-            w.write_all(b"\n")?;
-            rays += 1;
-        }
-    }
-    if counted_views == 0 {
-        return Err(crate::family::count::CountError::NoView(views.views).into());
-    }
-    w.flush()?;
-    drop(w);
-    staged.finish()?;
-    println!(
-        "{}: {} of {} of scene {} (walk them through `tetwalk scene export {}` and judge your answers with `tetwalk judge {} ANSWERS`)",
-        path.display(),
-        crate::report::counted(rays, "ray", "rays"),
-        crate::report::counted(counted_views as u64, "view", "views"),
-        a.scene,
-        a.scene,
-        path.display()
-    );
-    Ok(ExitCode::SUCCESS)
-}
-
 /// A shard that holds at least one of the views (`--shard 5/10` of 3 views holds none).
-pub(super) fn held(shard: Shard, views: &Views) -> Result<(), super::Error> {
+pub(crate) fn held(shard: Shard, views: &Views) -> Result<(), super::Error> {
     if shard.held(views.views) == 0 {
         return Err(format!(
             "--shard {}/{} holds no view of the {} (views v with v % {} == {})",
@@ -459,7 +390,7 @@ pub(super) fn held(shard: Shard, views: &Views) -> Result<(), super::Error> {
 
 /// The views a count asks for: `--views` and `--size`, else seed 000's with `--preset paper`, else the
 /// family's.
-fn views<F: Counted>(a: &Args) -> Result<Views, super::Error> {
+pub(crate) fn views<F: Counted>(a: &Args) -> Result<Views, super::Error> {
     let (views, size) = F::DEFAULT_VIEWS;
     let paper = a.preset.is_some();
     let views = super::view_count(a.views.unwrap_or(if paper { 1282 } else { views }), "count")?;

@@ -2,12 +2,13 @@
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
 use super::answer::{Answered, Answering, MAX_LINE, NOT_JSON, Part, Takes, answer, reader};
-use super::count::{Dump, RaysHeader};
+use super::count::Dump;
 use super::{JsonOut, Status};
 use crate::cases::number;
 use crate::engine::count::{self, Answerer, CountSettings, located_views};
 use crate::engine::standing::{Standing, Standings};
 use crate::family::count::CountError;
+use crate::family::walk::cli::{RaysHeader, ray_lines};
 use crate::family::wrong::WrongRay;
 use crate::family::{ExitFace, Kind, OctreeCells, Triangle, Walks};
 use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
@@ -250,7 +251,7 @@ fn check_rays(
     let shard = header.shard;
     let (mut rays, mut last) = (0u64, 1);
     for (v, cam, start) in located_views(mesh, views, |v| shard.holds(v), &|| ()) {
-        for want in super::count::ray_lines(views, v, &cam, start) {
+        for want in ray_lines(views, v, &cam, start) {
             let Some((n, line)) = lines.next() else {
                 return Err(format!(
                     "{file}: ends after line {last}, {rays} rays, before view {v} pixel {}: cut short? (its header names more)",

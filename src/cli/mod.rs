@@ -5,7 +5,7 @@ mod answer;
 mod bench;
 mod box_exit;
 mod check_filters;
-mod count;
+pub(crate) mod count;
 mod exit;
 mod fuzz_import;
 mod gen_cases;
@@ -34,7 +34,7 @@ use std::process::ExitCode;
 /// Any error a command reports; rendered once, by [`main`].
 pub type Error = Box<dyn std::error::Error + Send + Sync>;
 /// How a command ends: its exit status, or the error that stopped it.
-type Status = Result<ExitCode, Error>;
+pub(crate) type Status = Result<ExitCode, Error>;
 
 #[derive(Parser)]
 #[command(
@@ -495,7 +495,7 @@ const MAX_WGSL: u64 = 1 << 20;
 /// `--answerer CMD` and its settings: a user's program answering cases over its standard input and
 /// output (docs/answerers.md), shared by `stress` and `shrink`.
 #[derive(clap::Args, Clone)]
-struct AnswererArg {
+pub(crate) struct AnswererArg {
     /// A program outside tetwalk that answers cases (a shell command, started once): batches of cases
     /// on its standard input, one answer per case on its standard output (docs/answerers.md), judged
     /// in place of --methods.
@@ -539,7 +539,7 @@ struct AnswererArg {
 impl AnswererArg {
     /// The answerer started, if one is given, its face numbering set (found with `well` cases of
     /// the contract `k` under `auto`).
-    fn start<F: Family>(
+    pub(crate) fn start<F: Family>(
         &self,
         k: &Contract,
     ) -> Result<Option<crate::engine::answerer::Answerer>, Error> {
@@ -784,14 +784,14 @@ trait Io {
 /// A file written under a temporary name beside its target, made when the command starts (so an
 /// unwritable place fails before any work) and renamed onto the target when it is complete (so nothing
 /// half-written is left). Every error writing it names its flag and place.
-struct Staged {
+pub(crate) struct Staged {
     tmp: crate::staged::Staging,
     flag: String,
     path: PathBuf,
 }
 
 impl Staged {
-    fn new(flag: &str, p: &Path) -> Result<Staged, Error> {
+    pub(crate) fn new(flag: &str, p: &Path) -> Result<Staged, Error> {
         let tmp = crate::staged::beside(p)
             .map_err(|e| format!("{flag} {}: cannot write there: {e}", p.display()))?;
         Ok(Staged {
@@ -807,7 +807,7 @@ impl Staged {
         std::io::Error::new(e.kind(), place)
     }
 
-    fn finish(self) -> Result<(), Error> {
+    pub(crate) fn finish(self) -> Result<(), Error> {
         let place = format!("{} {}", self.flag, self.path.display());
         self.tmp.persist().map_err(|e| format!("{place}: {e}"))?;
         Ok(())
@@ -977,7 +977,7 @@ fn backend_list(text: &str) -> Result<Vec<BackendKind>, Error> {
 }
 
 /// Whether a scene must have constrained faces (`--no-faces` says it need not).
-fn faces(no_faces: bool) -> crate::mesh::Faces {
+pub(crate) fn faces(no_faces: bool) -> crate::mesh::Faces {
     if no_faces {
         crate::mesh::Faces::Optional
     } else {

@@ -129,6 +129,9 @@ pub trait Counted: Family {
     const EXACT: &'static str;
     /// Views and image size a count takes by default.
     const DEFAULT_VIEWS: (usize, &'static str);
+    /// Other families' names `count --family` takes for this one (a walk count counts the exit-face
+    /// methods' walks).
+    const COUNT_ALIASES: &'static [&'static str] = &[];
 
     /// Whether the reference walk's row is the family's own (its methods walk the mesh): it comes
     /// first in the report, timed and wrong nowhere.

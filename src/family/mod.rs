@@ -384,7 +384,7 @@ pub fn reference<F: Family>() -> Option<&'static F::Method> {
 
 /// The families, written once (in the spirit of CGAL's interface macros): `$then!` is called with
 /// `[ARGS]` (what follows `$then,` here), each family's line — its [`Kind`] variant, its name, its
-/// type, its folder's module — the variants of those that count a scene, and the conformance kit's entry points (each in its
+/// type, its folder's module — the variants (and modules) of those that count a scene, and the conformance kit's entry points (each in its
 /// family's folder). [`Kind`], [`of`], [`with_family!`], [`CountKind`], [`with_counted!`] and the kit's
 /// entry points expand from it; a new family is a line here.
 #[doc(hidden)]
@@ -403,7 +403,7 @@ macro_rules! families {
                 /// An octree cell's exit (seed 001).
                 Octree => "octree", $crate::family::OctreeCells, octree;
             }
-            counted { Walk, Triangle, Octree }
+            counted { Walk: walk, Triangle: triangle, Octree: octree }
             kit { exit_face::exit_faces, triangle::triangles, octree::cells }
         }
     };
@@ -413,7 +413,7 @@ macro_rules! families {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __family_kinds {
-    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident),* } kit { $($kit:tt)* }) => {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
         /// A family, by name: a typed `--family` choice ([`families!`]).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
         pub enum Kind {
@@ -480,7 +480,7 @@ families!(__family_kinds);
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __kit_entries {
-    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident),* } kit { $($km:ident::$kf:ident),* }) => {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($km:ident::$kf:ident),* }) => {
         $(pub use $crate::family::$km::kit::$kf;)*
     };
 }
@@ -509,11 +509,11 @@ macro_rules! with_counted {
 #[macro_export]
 macro_rules! __kind_match {
     ([Kind, $kind:expr, $F:ident, $body:expr]
-        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident),* } kit { $($kit:tt)* }) => {
+        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
         $crate::__kind_match!(@ Kind, $kind, $F, $body, $($v)*)
     };
     ([CountKind, $kind:expr, $F:ident, $body:expr]
-        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident),* } kit { $($kit:tt)* }) => {
+        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
         $crate::__kind_match!(@ CountKind, $kind, $F, $body, $($c)*)
     };
     (@ $enum:ident, $kind:expr, $F:ident, $body:expr, $($v:ident)*) => {

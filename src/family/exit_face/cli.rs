@@ -1,5 +1,5 @@
-//! The `stress` flags that choose this family's rows (a file of the command line's layer in the
-//! family's folder; `stress` flattens every family's).
+//! The family's flags (a file of the command line's layer in the family's folder): those of `stress`
+//! that choose its rows; the commands flatten every family's.
 
 use super::{ExitFace, ExitRows, TetRow};
 use crate::cli::choice;

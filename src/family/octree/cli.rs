@@ -1,8 +1,9 @@
-//! The `stress` flags that choose this family's rows (a file of the command line's layer in the
-//! family's folder; `stress` flattens every family's).
+//! The family's flags (a file of the command line's layer in the family's folder): those of `stress`
+//! that choose its rows and those of `count`; the commands flatten every family's.
 
-use super::{CellRows, OctreeCells};
+use super::{CellRows, OctreeCells, OctreeCountSettings};
 use crate::cli::choice;
+use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::scenes::cells::{CellAim, CellPlace};
 
@@ -36,6 +37,36 @@ impl Rows for OctreeCells {
             aims: or_all(&f.cell_aims),
             places: or_all(&f.cell_places),
             ulps: s.ulps,
+        }
+    }
+}
+
+/// `count --family octree`'s flags.
+#[derive(clap::Args)]
+pub struct CountFlags {
+    /// `--family octree`: the octree's deepest level (seed 001: 8 for the bunny).
+    #[arg(long, default_value_t = 8)]
+    depth: u32,
+    /// `--family octree`: split a node while it holds more triangles than this.
+    #[arg(long, default_value_t = 6)]
+    capacity: usize,
+    /// `--family octree`: the ray–triangle method testing each leaf's triangles.
+    #[arg(long, default_value = "mt")]
+    triangle_method: String,
+}
+
+impl Flags for OctreeCells {
+    type Flags = CountFlags;
+    fn own(all: &FamilyFlags) -> &CountFlags {
+        &all.octree
+    }
+    fn settings(f: &CountFlags) -> OctreeCountSettings {
+        OctreeCountSettings {
+            octree: crate::octree::Settings {
+                depth: f.depth,
+                capacity: f.capacity,
+            },
+            triangle_method: f.triangle_method.clone(),
         }
     }
 }

@@ -9,7 +9,7 @@ mod report;
 
 use super::count::{CountError, Counted, Counts, Prepared, Scene, first_difference, inconsistent};
 use super::wrong::Class;
-use super::{Family, Scale, Summed, Verdict};
+use super::{ExitFace, Family, Scale, Summed, Verdict};
 use crate::backend::{Against, Backend, BackendError, CPU};
 use crate::cases::{CaseError, field_error, number, vec3};
 use crate::exact::hit::first_hit;
@@ -564,6 +564,7 @@ impl Counted for Walks {
     type Counts = MethodCount;
     const EXACT: &'static str = "the exact walk";
     const DEFAULT_VIEWS: (usize, &'static str) = (160, "256x256");
+    const COUNT_ALIASES: &'static [&'static str] = &[<ExitFace as Family>::NAME];
 
     fn reference_row() -> bool {
         true
