@@ -233,6 +233,21 @@ pub fn vec3(v: &Value) -> Result<Vec3, String> {
     Ok(Vec3::from(out))
 }
 
+/// A tetrahedron's case as its line holds it (`tet`, `org`, `dir`, `entry`): the exit-face family's
+/// fields, and a wrong walk's first wrong step.
+pub fn tet_case_json(c: &Case) -> Map<String, Value> {
+    let v = serde_json::json!({
+        "tet": c.tet.map(|p| p.to_array()),
+        "org": c.org.to_array(),
+        "dir": c.dir.to_array(),
+        "entry": c.entry,
+    });
+    match v {
+        Value::Object(m) => m,
+        _ => Map::new(),
+    }
+}
+
 /// The oracle's answer for a case, checking its entry face; an error names what is wrong with it.
 pub fn classify(case: &Case) -> Result<exact::Classification, CaseError> {
     let c = exact::classify(&case.tet, &case.ray())?;

@@ -379,9 +379,29 @@ impl<'a, F: Lines> Part<'a, F> {
     }
 }
 
+/// A part for each family whose answers given from outside `judge` reads ([`Family::GIVEN`]),
+/// from the families' list: `families!(__given_parts, NAME, T_ULPS)`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __given_parts {
+    ([$name:expr, $t_ulps:expr] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {{
+        let mut parts: Vec<Box<dyn $crate::cli::answer::Takes + '_>> = Vec::new();
+        $(
+            if <$ty as $crate::family::Family>::GIVEN {
+                parts.push(Box::new($crate::cli::answer::Part::<$ty>::new(
+                    $crate::cli::answer::Answered::Given($name),
+                    $t_ulps,
+                )));
+            }
+        )*
+        parts
+    }};
+}
+
 /// A family's part, whatever the family.
 pub(super) trait Takes {
-    fn kind(&self) -> Kind;
+    /// The family's name.
+    fn name(&self) -> &'static str;
     /// Take line `n`'s object (a case of this family), with its answer given from outside where the
     /// command has such answers (`Some(None)`: none given for it): an error for the line, or `Ok` once
     /// taken.
@@ -396,12 +416,8 @@ pub(super) trait Takes {
 }
 
 impl<F: Lines> Takes for Part<'_, F> {
-    fn kind(&self) -> Kind {
-        Kind::ALL
-            .iter()
-            .copied()
-            .find(|k| k.name() == F::NAME)
-            .unwrap_or(Kind::ExitFace)
+    fn name(&self) -> &'static str {
+        F::NAME
     }
 
     fn take(
@@ -605,7 +621,7 @@ pub(super) fn answer(
         let taken = l.clone().and_then(|text| {
             let obj = object(&text).map_err(|e| e.to_string())?;
             let kind = owner(&obj);
-            match parts.iter_mut().find(|p| p.kind() == kind) {
+            match parts.iter_mut().find(|p| p.name() == kind.name()) {
                 Some(p) => p.take(*n, obj, answer),
                 None => Err(refuse(kind)),
             }

@@ -1,7 +1,7 @@
 //! `tetwalk judge`: answers computed anywhere (a C++ or CUDA kernel's, dumped as JSON Lines) judged
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
-use super::answer::{Answered, Answering, MAX_LINE, NOT_JSON, Part, Takes, answer, reader};
+use super::answer::{Answering, MAX_LINE, NOT_JSON, answer, reader};
 use super::count::Dump;
 use super::{JsonOut, Status};
 use crate::cases::number;
@@ -10,7 +10,7 @@ use crate::engine::standing::{Standing, Standings};
 use crate::family::count::CountError;
 use crate::family::walk::cli::{RaysHeader, ray_lines};
 use crate::family::wrong::WrongRay;
-use crate::family::{ExitFace, Kind, OctreeCells, Triangle, Walks};
+use crate::family::{Kind, Walks};
 use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
 use serde_json::Value;
 use std::collections::HashMap;
@@ -180,11 +180,7 @@ pub fn run(a: Args) -> Status {
     }
     .run(
         |batch, summary| {
-            let mut parts: [Box<dyn Takes>; 3] = [
-                Box::new(Part::<ExitFace>::new(Answered::Given(&a.name), t_ulps)),
-                Box::new(Part::<Triangle>::new(Answered::Given(&a.name), t_ulps)),
-                Box::new(Part::<OctreeCells>::new(Answered::Given(&a.name), t_ulps)),
-            ];
+            let mut parts = crate::families!(__given_parts, &a.name, t_ulps);
             let mut given = answers.borrow_mut();
             answer(batch, &mut parts, refuse, Some(&mut given), summary)
         },

@@ -22,8 +22,8 @@ mod walk;
 
 use crate::backend::{Backend, BackendKind};
 use crate::choice::Choice;
+use crate::family::Family;
 use crate::family::contract::{Contract, EntryGiven, Orientation, Origin};
-use crate::family::{ExitFace, Family};
 use crate::registry::{Gpu, Named};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand};
@@ -568,7 +568,7 @@ impl AnswererArg {
             )
             .into());
         }
-        if self.faces.is_some() && F::NAME != ExitFace::NAME {
+        if self.faces.is_some() && !F::FACES {
             return Err(format!(
                 "--faces numbers a tetrahedron's faces; {} cases have none",
                 F::NAME
@@ -586,17 +586,8 @@ impl AnswererArg {
         match self.faces.as_deref() {
             None => {}
             Some("auto") => {
-                let rows = crate::family::exit_face::ExitRows {
-                    rows: vec![crate::family::exit_face::TetRow::Well],
-                    ..Default::default()
-                };
-                let row = crate::family::exit_face::ExitRow {
-                    row: crate::family::exit_face::TetRow::Well,
-                };
-                let cases = crate::family::contract::cases_within::<ExitFace>(k, 2000, |i| {
-                    ExitFace::case(&rows, row, 0x5eed_face, i)
-                });
-                a.faces = find_numbering(&a, &cases)?;
+                let cases = F::numbering_cases(k, 2000);
+                a.faces = find_numbering::<F>(&a, &cases)?;
                 eprintln!(
                     "tetwalk: {}'s face i is the case's face {:?}[i] (found on {} well-shaped cases; give --faces {} to skip the search)",
                     a.name,

@@ -207,7 +207,7 @@ fn stress<F: Rows>(a: Args) -> Status {
     }
     let contract = a.contract.contract::<F>()?;
     if a.answerer.answerer.is_some() {
-        if F::COMMAND.is_none() {
+        if !F::GIVEN {
             return Err("--answerer answers one cell's cases here; a program's walks are judged by count --answerer (every step asked) or judge (whole walks given)".into());
         }
         if a.compare || a.wgsl.wgsl.is_some() {

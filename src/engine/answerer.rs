@@ -4,7 +4,7 @@
 //! program runs in a process group of its own, ended with tetwalk (`crate::child`); its answers are
 //! checked as strictly as `tetwalk judge` checks an answers file.
 
-use crate::family::{ExitFace, Family, Verdict};
+use crate::family::{Family, Verdict};
 use serde_json::Value;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
@@ -375,31 +375,34 @@ impl Drop for Answerer {
     }
 }
 
-/// The face numbering under which `a` answers well-shaped exit-face cases rightly: every
-/// relabelling of the four faces tried on `cases` well-shaped cases (the `well` stress row's,
-/// under the answerer's contract), the one it answers rightly on at least 99% of judged cases,
-/// and no other within 1%; an error saying the best where none fits.
-pub fn find_numbering(
+/// The face numbering under which `a` answers well-shaped cases of family `F` rightly
+/// ([`Family::numbering_cases`]): every relabelling of the four faces tried ([`Family::renumbered`]),
+/// the one it answers rightly on at least 99% of judged cases, and no other within 1%; an error
+/// saying the best where none fits.
+pub fn find_numbering<F: Family>(
     a: &Answerer,
-    cases: &[(crate::tet::Case, crate::exact::Classification)],
+    cases: &[(F::Case, F::Truth)],
 ) -> Result<[u8; 4], AnswererError> {
-    let plain: Vec<crate::tet::Case> = cases.iter().map(|(c, _)| *c).collect();
-    let raw = a.raw_all::<ExitFace>(&plain)?;
+    let plain: Vec<F::Case> = cases.iter().map(|(c, _)| *c).collect();
+    let raw = a.raw_all::<F>(&plain)?;
     let mut scored: Vec<([u8; 4], usize)> = permutations()
         .into_iter()
         .map(|p| {
             let right = cases
                 .iter()
                 .zip(&raw)
-                .filter(|((c, x), f)| {
-                    ExitFace::verdict(c, x, &ExitFace::renumbered(**f, &p)) == Verdict::Right
-                })
+                .filter(|((c, x), f)| F::verdict(c, x, &F::renumbered(**f, &p)) == Verdict::Right)
                 .count();
             (p, right)
         })
         .collect();
     scored.sort_by_key(|&(_, r)| std::cmp::Reverse(r));
-    let judged = cases.iter().filter(|(_, x)| x.meets()).count().max(1);
+    let judged = cases
+        .iter()
+        .zip(&raw)
+        .filter(|((c, x), f)| F::verdict(c, x, f) != Verdict::NotJudged)
+        .count()
+        .max(1);
     let (best, right) = scored[0];
     let second = scored[1].1;
     if right * 100 >= judged * 99 && (right - second) * 100 >= judged {

@@ -201,6 +201,9 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     fn parse_answer(v: &Value, case: &Self::Case) -> Result<Self::Answer, String>;
     /// An answer given from outside (`tetwalk judge`: `{"line": n, …}`), its fields checked strictly.
     fn given(obj: &Map<String, Value>, case: &Self::Case) -> Result<Self::Answer, String>;
+    /// Whether answers given from outside ([`Family::given`]: `judge`'s answers file, an `--answerer`)
+    /// can be read for its cases line by line.
+    const GIVEN: bool = true;
     /// An answer in words.
     fn describe(answer: &Self::Answer) -> String;
     /// A user's WGSL method of this family (`--wgsl`, `TETWALK_FUZZ_WGSL`), where the family has one.
@@ -309,6 +312,17 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     /// face `i` is the case's `faces[i]`); other families' answers are as they are.
     fn renumbered(answer: Self::Answer, _faces: &[u8; 4]) -> Self::Answer {
         answer
+    }
+    /// Whether an answer names a tetrahedron's face, so that an answerer may number the faces its own
+    /// way (`--faces`).
+    const FACES: bool = false;
+    /// `count` well-shaped cases holding `contract`, with their truths, on which an answerer's face
+    /// numbering is found (`--faces auto`); none where answers name no face.
+    fn numbering_cases(
+        _contract: &contract::Contract,
+        _count: usize,
+    ) -> Vec<(Self::Case, Self::Truth)> {
+        Vec::new()
     }
 
     // ---- Contracts (`contract`) ----

@@ -5,7 +5,6 @@
 
 use crate::backend::BackendKind;
 use crate::exact::hit::line_triangle;
-use crate::family::{ExitFace, Family};
 use crate::mesh::Mesh;
 use crate::registry::Method;
 use crate::tet::Case;
@@ -200,7 +199,7 @@ impl WrongRay {
             steps: w.steps,
             exact: Stop::of(mesh, reference),
             case: divergence.as_ref().map(|d| {
-                ExitFace::case_json(&Case {
+                crate::cases::tet_case_json(&Case {
                     tet: mesh.tet(d.tet),
                     org: ray.org,
                     dir: ray.dir,

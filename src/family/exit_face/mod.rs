@@ -254,16 +254,7 @@ impl Family for ExitFace {
     }
 
     fn case_json(c: &Case) -> Map<String, Value> {
-        let v = serde_json::json!({
-            "tet": c.tet.map(|p| p.to_array()),
-            "org": c.org.to_array(),
-            "dir": c.dir.to_array(),
-            "entry": c.entry,
-        });
-        match v {
-            Value::Object(m) => m,
-            _ => Map::new(),
-        }
+        crate::cases::tet_case_json(c)
     }
 
     fn ray(c: &Case) -> Ray {
@@ -466,6 +457,16 @@ impl Family for ExitFace {
         }
     }
 
+    const FACES: bool = true;
+    /// The `well` stress row's cases.
+    fn numbering_cases(k: &Contract, count: usize) -> Vec<(Case, Classification)> {
+        let rows = ExitRows {
+            rows: vec![TetRow::Well],
+            ..Default::default()
+        };
+        let row = ExitRow { row: TetRow::Well };
+        contract::cases_within::<Self>(k, count, |i| Self::case(&rows, row, 0x5eed_face, i))
+    }
     fn renumbered(face: Face, faces: &[u8; 4]) -> Face {
         face.map(|f| faces[f as usize])
     }
