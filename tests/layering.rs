@@ -438,11 +438,8 @@ const DATA_TABLES: &[(&str, &str)] = &[(
 /// that is no longer needed, so the list only shrinks).
 const NOT_YET_MOVED: &[&str] = &[
     "src/cli/bench.rs",
-    "src/cli/box_exit.rs",
-    "src/cli/exit.rs",
     "src/cli/fuzz_import.rs",
     "src/cli/gen_cases.rs",
-    "src/cli/hit.rs",
     "src/cli/judge.rs",
     "src/cli/render.rs",
     "src/cli/shrink.rs",

@@ -25,33 +25,51 @@ use std::sync::mpsc;
 pub struct Common {
     /// A method name, a comma-separated list, or `all`.
     #[arg(long, default_value = "all")]
-    pub(super) method: String,
+    pub(crate) method: String,
     #[command(flatten)]
-    pub(super) backend: BackendArg,
+    pub(crate) backend: BackendArg,
     #[command(flatten)]
-    pub(super) fail: FailArg,
+    pub(crate) fail: FailArg,
     /// Also write a summary (lines, errors, per method right / wrong, and for `exit` lines missing the
     /// tetrahedron) as JSON here.
     #[arg(long)]
-    pub(super) json: Option<PathBuf>,
+    pub(crate) json: Option<PathBuf>,
     /// JSON Lines file of cases (found cases too); standard input when absent or `-`.
-    pub(super) file: Option<PathBuf>,
+    pub(crate) file: Option<PathBuf>,
     #[command(flatten)]
-    pub(super) answerer: super::AnswererArg,
+    pub(crate) answerer: super::AnswererArg,
 }
 
 impl Common {
     /// The cases read and the summary written.
-    pub(super) fn io(&self) -> super::Files {
+    pub(crate) fn io(&self) -> super::Files {
         super::Files::default()
             .input("FILE", self.file.as_deref())
             .output("--json", self.json.as_deref())
     }
+
+    /// Where the cases come from and the summary goes.
+    pub(crate) fn input(&self) -> Input<'_> {
+        Input {
+            file: self.file.as_deref(),
+            json: self.json.as_deref(),
+            fail: self.fail,
+        }
+    }
+}
+
+/// Where a command's cases come from (standard input when `None`) and its summary goes, and how its
+/// tallies stand under `--fail-on`.
+#[derive(Clone, Copy)]
+pub(crate) struct Input<'a> {
+    pub file: Option<&'a std::path::Path>,
+    pub json: Option<&'a std::path::Path>,
+    pub fail: FailArg,
 }
 
 /// A file of JSON lines opened for reading (a pipe too: `/dev/stdin`; `-` is standard input); a
 /// folder is refused.
-pub(super) fn open_lines(p: &std::path::Path) -> Result<Box<dyn BufRead + Send>, super::Error> {
+pub(crate) fn open_lines(p: &std::path::Path) -> Result<Box<dyn BufRead + Send>, super::Error> {
     if p == std::path::Path::new("-") {
         return Ok(Box::new(std::io::BufReader::new(std::io::stdin())));
     }
@@ -64,18 +82,18 @@ pub(super) fn open_lines(p: &std::path::Path) -> Result<Box<dyn BufRead + Send>,
 }
 
 /// The key under which an answer line that is not JSON keeps why, for its case line (`judge`).
-pub(super) const NOT_JSON: &str = "not JSON";
+pub(crate) const NOT_JSON: &str = "not JSON";
 
 /// Longest line read, in bytes; a longer one is an error for that line.
-pub(super) const MAX_LINE: u64 = 1 << 20;
+pub(crate) const MAX_LINE: u64 = 1 << 20;
 /// Most lines answered as one batch.
 const BATCH: usize = 4096;
 
 /// One input line: its number and its text, or why it could not be read.
-pub(super) type Line = (usize, Result<String, String>);
+pub(crate) type Line = (usize, Result<String, String>);
 
 /// Read lines on a thread, each at most [`MAX_LINE`] bytes, invalid UTF-8 an error for its line.
-pub(super) fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
+pub(crate) fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
     let (tx, rx) = mpsc::sync_channel(BATCH);
     std::thread::spawn(move || {
         let mut n = 0;
@@ -112,7 +130,7 @@ pub(super) fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line>
 
 /// Answer the JSON Lines of `file` (standard input when `None`) batch by batch as they arrive: block
 /// for one line, take whatever else has arrived, write `answer`'s text for them to standard output.
-pub(super) fn answer_lines(
+pub(crate) fn answer_lines(
     file: Option<&std::path::Path>,
     open: Option<Box<dyn BufRead + Send>>,
     mut answer: impl FnMut(&[Line]) -> Result<String, super::Error>,
@@ -142,7 +160,7 @@ pub(super) fn answer_lines(
 /// Per method: lines judged right, wrong, (`exit`, `box-exit`) whose line missed the cell, and (`hit`,
 /// `judge` on closed meshes) leaks.
 #[derive(Clone, Default, serde::Serialize)]
-pub(super) struct Tally {
+pub(crate) struct Tally {
     pub method: String,
     pub right: u64,
     pub wrong: u64,
@@ -186,7 +204,7 @@ pub(super) struct Tally {
 
 /// What a command answering JSON Lines writes with `--json`.
 #[derive(serde::Serialize)]
-pub(super) struct Summary {
+pub(crate) struct Summary {
     backend: String,
     pub lines: u64,
     pub errors: u64,
@@ -195,7 +213,7 @@ pub(super) struct Summary {
 
 /// A command answering JSON Lines: its name, its methods' names, what their tallies count, where the
 /// lines come from and the summary goes, and how a tally stands under `--fail-on`.
-pub(super) struct Answering<'a> {
+pub(crate) struct Answering<'a> {
     pub command: &'static str,
     pub names: Vec<String>,
     /// The tallies count lines missing the cell.
@@ -211,12 +229,63 @@ pub(super) struct Answering<'a> {
     pub standing: &'a dyn Fn(&Tally) -> Standing,
 }
 
-impl Answering<'_> {
+impl<'a> Answering<'a> {
+    /// tetwalk's own methods of family `F` on `backend` answering `input` (`exit`, `hit`, `box-exit`),
+    /// standing as `F`'s claim says; the tallies count neither misses nor leaks.
+    pub(crate) fn own<F: Family>(
+        command: &'static str,
+        methods: &[&'static F::Method],
+        backend: &crate::backend::Backend,
+        input: Input<'a>,
+    ) -> Self {
+        Answering {
+            command,
+            names: methods.iter().map(|m| m.name().to_string()).collect(),
+            missed: false,
+            leaks: false,
+            backend: backend.describe(),
+            file: input.file,
+            input: None,
+            json: input.json,
+            fail: input.fail,
+            standing: &standing::<F>,
+        }
+    }
+
+    /// The tallies count lines missing the cell.
+    pub(crate) fn missing(self) -> Self {
+        Answering {
+            missed: true,
+            ..self
+        }
+    }
+
+    /// The tallies count leaks.
+    pub(crate) fn leaking(self) -> Self {
+        Answering {
+            leaks: true,
+            ..self
+        }
+    }
+
+    /// [`Answering::run`] with each batch answered by the parts `parts` makes, lines of a family no
+    /// part takes refused as `refuse` says, and nothing checked after.
+    pub(crate) fn by_parts<'p>(
+        self,
+        mut parts: impl FnMut() -> Vec<Box<dyn Takes + 'p>>,
+        refuse: fn(Kind) -> String,
+    ) -> Status {
+        self.run(
+            |batch, summary| answer(batch, &mut parts(), refuse, None, summary),
+            || Ok(()),
+        )
+    }
+
     /// Answer the lines with `answer` (given each batch and the summary); then `after` checks what
     /// only the whole input tells (an error there writes no summary); then the summary goes to
     /// `--json`, and a line per method to standard error (cases answered, right, wrong, not judged).
     /// Exit status 1 when a line could not be answered, or under `--fail-on`.
-    pub(super) fn run(
+    pub(crate) fn run(
         self,
         mut answer: impl FnMut(&[Line], &mut Summary) -> Result<String, super::Error>,
         after: impl FnOnce() -> Result<(), super::Error>,
@@ -344,7 +413,7 @@ impl Answering<'_> {
 
 /// Who answers a family's lines: methods on a backend, or answers given from outside (`judge`),
 /// named.
-pub(super) enum Answered<'a, F: Family> {
+pub(crate) enum Answered<'a, F: Family> {
     Methods(&'a [&'static F::Method], &'a Backend),
     Given(&'a str),
     /// A program outside tetwalk, asked each batch (`--answerer`).
@@ -361,7 +430,7 @@ type Taken<F> = (
 
 /// One family's part of a command: who answers its cases, whether methods with a 4-wide version are
 /// answered by it too and compared (`hit --wide`), and the cases of a batch taken so far.
-pub(super) struct Part<'a, F: Family> {
+pub(crate) struct Part<'a, F: Family> {
     pub answered: Answered<'a, F>,
     pub t_ulps: f64,
     pub wide: bool,
@@ -384,7 +453,7 @@ impl<'a, F: Lines> Part<'a, F> {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __given_parts {
-    ([$name:expr, $t_ulps:expr] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {{
+    ([$name:expr, $t_ulps:expr] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {{
         let mut parts: Vec<Box<dyn $crate::cli::answer::Takes + '_>> = Vec::new();
         $(
             if <$ty as $crate::family::Family>::GIVEN {
@@ -399,7 +468,7 @@ macro_rules! __given_parts {
 }
 
 /// A family's part, whatever the family.
-pub(super) trait Takes {
+pub(crate) trait Takes {
     /// The family's name.
     fn name(&self) -> &'static str;
     /// Take line `n`'s object (a case of this family), with its answer given from outside where the
@@ -512,7 +581,7 @@ impl<F: Lines> Takes for Part<'_, F> {
 
 /// `exit` or `hit` with `--answerer`: each batch of family `F`'s lines asked of the program, its
 /// answers judged (the other families' lines refused as `refuse` says).
-pub(super) fn outside<F: Lines>(
+pub(crate) fn outside<F: Lines>(
     command: &'static str,
     x: &crate::engine::answerer::Answerer,
     a: &Common,
@@ -540,13 +609,9 @@ pub(super) fn outside<F: Lines>(
             s.remove(0)
         },
     }
-    .run(
-        |batch, summary| {
-            let mut parts: [Box<dyn Takes>; 1] =
-                [Box::new(Part::<F>::new(Answered::Outside(x), t_ulps))];
-            answer(batch, &mut parts, refuse, None, summary)
-        },
-        || Ok(()),
+    .by_parts(
+        || vec![Box::new(Part::<F>::new(Answered::Outside(x), t_ulps))],
+        refuse,
     )
 }
 
@@ -603,7 +668,7 @@ impl Tally {
 /// The output lines for a batch of input lines: each line's family's part takes it (or `refuse`
 /// says why no part answers that family here), with its answer taken out of `given` where the command
 /// judges answers given from outside; then each part answers what it took, the lines in input order.
-pub(super) fn answer(
+pub(crate) fn answer(
     batch: &[Line],
     parts: &mut [Box<dyn Takes + '_>],
     refuse: fn(Kind) -> String,
@@ -645,7 +710,7 @@ pub(super) fn answer(
 
 /// Each method's tally's standing, as `F`'s claims have it: a robust method's claim refuted by every
 /// wrong answer, a watertight one's by its leaks.
-pub(super) fn standing<F: Family>(t: &Tally) -> Standing {
+pub(crate) fn standing<F: Family>(t: &Tally) -> Standing {
     Standing::named::<F>(&t.method, t.right + t.wrong, t.wrong, |c| match c {
         crate::registry::Claim::Robust => Some(t.wrong),
         crate::registry::Claim::NoLeak => t.leaks,

@@ -234,7 +234,7 @@ pub(crate) const RAYS_OUT_ALONE: &str = "--rays-out writes the inputs of a walk 
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __count_flags {
-    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {
         /// Every counted family's own flags.
         #[derive(clap::Args)]
         pub struct FamilyFlags {

@@ -1,15 +1,12 @@
 //! The `tetwalk` command line: every command-line type lives here; each subcommand builds a report
 //! value, prints it, and can write it as JSON (`--json FILE`, checked writable before the run starts).
 
-mod answer;
+pub(crate) mod answer;
 mod bench;
-mod box_exit;
 mod check_filters;
 pub(crate) mod count;
-mod exit;
 mod fuzz_import;
 mod gen_cases;
-mod hit;
 mod judge;
 mod paper;
 mod render;
@@ -55,12 +52,8 @@ enum Command {
         #[arg(long)]
         json: Option<PathBuf>,
     },
-    /// Answer cases (or found cases) from JSON Lines with each method, judged exactly.
-    Exit(exit::Args),
-    /// The exit face and quarter of octree cells (seed 001), each method's beside the exact ones.
-    BoxExit(box_exit::Args),
-    /// Answer ray-triangle cases from JSON Lines with each ray-triangle method, judged exactly.
-    Hit(hit::Args),
+    #[command(flatten)]
+    Answer(FamilyCommand),
     /// Judge answers computed anywhere (one JSON line per case) exactly, as exit and hit judge
     /// tetwalk's own methods.
     Judge(judge::Args),
@@ -104,6 +97,38 @@ enum Command {
     Scene(scene::Scene),
 }
 
+crate::families!(__family_commands);
+
+/// The commands that answer one family's cases with its methods (`exit`, `box-exit`, `hit`), each
+/// its family's `cli::Args` and `cli::run`, from the families' list: `families!(__family_commands)`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __family_commands {
+    ([] { $($line:tt)* } counted { $($c:tt)* } kit { $($k:tt)* } commands { $($m:ident: $v:ident),* }) => {
+        /// The commands that answer a family's cases (each documented in its family's folder).
+        #[derive(Subcommand)]
+        enum FamilyCommand {
+            $($v($crate::family::$m::cli::Args),)*
+        }
+
+        impl Io for FamilyCommand {
+            fn io(&self) -> Files {
+                match self {
+                    $(FamilyCommand::$v(a) => a.io(),)*
+                }
+            }
+        }
+
+        impl FamilyCommand {
+            fn run(self) -> Status {
+                match self {
+                    $(FamilyCommand::$v(a) => $crate::family::$m::cli::run(a),)*
+                }
+            }
+        }
+    };
+}
+
 pub fn main() -> ExitCode {
     quiet_mesa();
     clean_on_interrupt();
@@ -113,10 +138,8 @@ pub fn main() -> ExitCode {
         Command::Methods { json } | Command::GpuInfo { json } => {
             Files::default().output("--json", json.as_deref())
         }
-        Command::Exit(a) => a.io(),
-        Command::Hit(a) => a.io(),
+        Command::Answer(a) => a.io(),
         Command::Judge(a) => a.io(),
-        Command::BoxExit(a) => a.io(),
         Command::GenCases(a) => a.io(),
         Command::Walk(a) => a.io(),
         Command::Stress(a) => a.io(),
@@ -133,10 +156,8 @@ pub fn main() -> ExitCode {
     };
     let result = io.check().and_then(|()| match cli.command {
         Command::Methods { json } => methods(json),
-        Command::Exit(a) => exit::run(a),
-        Command::Hit(a) => hit::run(a),
+        Command::Answer(a) => a.run(),
         Command::Judge(a) => judge::run(a),
-        Command::BoxExit(a) => box_exit::run(a),
         Command::GenCases(a) => gen_cases::run(a),
         Command::Walk(a) => walk::run(a),
         Command::Stress(a) => stress::run(a),
@@ -341,13 +362,13 @@ pub(crate) fn choice<T: Choice>() -> impl TypedValueParser<Value = T> {
 
 /// `--backend`, shared by every command that runs methods.
 #[derive(clap::Args, Clone, Copy)]
-struct BackendArg {
+pub(crate) struct BackendArg {
     /// Where the methods run: `cpu` (plain f32), `cpu-fma` (as a GPU compiles them: products
     /// contracted to fused multiply-adds), `cpu-ftz` (as a GPU that flushes subnormals computes them),
     /// `cpu-gpu` (both at once, as an NVIDIA GPU computes them) or `gpu` (WGSL through wgpu; the
     /// `exact` reference stays on the CPU).
     #[arg(long, value_parser = choice::<BackendKind>(), default_value = "cpu")]
-    backend: BackendKind,
+    pub(crate) backend: BackendKind,
     /// Not an option: the FMA choice is spelled `--backend cpu-fma`.
     #[arg(long, hide = true)]
     fma: bool,
@@ -355,7 +376,7 @@ struct BackendArg {
 
 impl BackendArg {
     /// The backend asked for; the old `--fma` spelling is refused with the right one.
-    fn open(self) -> Result<Backend, Error> {
+    pub(crate) fn open(self) -> Result<Backend, Error> {
         if self.fma {
             return Err(format!(
                 "--fma is spelled --backend cpu-fma (asked for --backend {}; `gpu` runs whatever the GPU's compiler makes of the WGSL)",
@@ -392,7 +413,7 @@ impl FailOn {
 
 /// `--fail-on`, shared by every command that judges methods: an exit status for CI and nightly jobs.
 #[derive(clap::Args, Clone, Copy, Debug)]
-struct FailArg {
+pub(crate) struct FailArg {
     /// Exit with status 1 when a method gave a wrong answer (`wrong`) or when a method's claim was
     /// refuted (`claims`: `exact` or `certified` wrong anywhere, the octree's `exact` too,
     /// `woop-watertight` leaking), after
@@ -440,7 +461,7 @@ impl FailArg {
 use crate::exact::hit::T_ULPS;
 
 /// `--t-ulps`: a number of ulps (0 or more, finite), or [`T_ULPS`].
-fn t_ulps(given: Option<f64>) -> Result<f64, Error> {
+pub(crate) fn t_ulps(given: Option<f64>) -> Result<f64, Error> {
     match given {
         None => Ok(T_ULPS),
         Some(u) if u.is_finite() && u >= 0.0 => Ok(u),
@@ -650,18 +671,18 @@ impl ContractArg {
 
 /// `--wgsl FILE`: a user's exit-face function in WGSL, judged on the GPU as method `user`.
 #[derive(clap::Args)]
-struct WgslArg {
+pub(crate) struct WgslArg {
     /// A WGSL file defining `user_prepare` and `user_exit` (user guide, docs/your-own.md),
     /// spliced into the GPU's shader and judged as method `user` beside the methods listed (needs
     /// --backend gpu).
     #[arg(long, value_name = "FILE")]
-    wgsl: Option<PathBuf>,
+    pub(crate) wgsl: Option<PathBuf>,
 }
 
 impl WgslArg {
     /// The backend `b` asks for and the methods of family `F` `list` names, the user's WGSL method
     /// first when `--wgsl` gives one (the GPU opened with it, after the compiler has checked it).
-    fn open<F: Family>(
+    pub(crate) fn open<F: Family>(
         &self,
         b: BackendArg,
         list: &str,
@@ -709,14 +730,14 @@ impl WgslArg {
 /// file by identity: links followed, hard links and other spellings alike; standard input and output,
 /// devices and pipes aside), so that nothing the user gave is overwritten and no output is lost.
 #[derive(Default)]
-struct Files {
+pub(crate) struct Files {
     inputs: Vec<(String, PathBuf)>,
     outputs: Vec<(String, PathBuf)>,
 }
 
 impl Files {
     /// An input, named as the user gave it (`CASES`, `--wgsl`); `-` is standard input.
-    fn input(mut self, what: &str, p: Option<&Path>) -> Files {
+    pub(crate) fn input(mut self, what: &str, p: Option<&Path>) -> Files {
         if let Some(p) = p.filter(|p| *p != Path::new("-")) {
             self.inputs.push((what.to_string(), p.to_path_buf()));
         }
@@ -734,7 +755,7 @@ impl Files {
     }
 
     /// An output (`--json`, `--dump`, `--out`).
-    fn output(mut self, what: &str, p: Option<&Path>) -> Files {
+    pub(crate) fn output(mut self, what: &str, p: Option<&Path>) -> Files {
         if let Some(p) = p {
             self.outputs.push((what.to_string(), p.to_path_buf()));
         }
@@ -768,7 +789,7 @@ impl Files {
 }
 
 /// A command's arguments declare the files it reads and writes.
-trait Io {
+pub(crate) trait Io {
     fn io(&self) -> Files;
 }
 

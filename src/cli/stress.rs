@@ -124,7 +124,7 @@ pub fn or_all<T: Choice>(given: &[T]) -> Vec<T> {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __stress_row_flags {
-    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {
         /// Every family's row flags.
         #[derive(clap::Args)]
         pub struct RowFlags {

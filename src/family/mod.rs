@@ -399,8 +399,10 @@ pub fn reference<F: Family>() -> Option<&'static F::Method> {
 /// The families, written once (in the spirit of CGAL's interface macros): `$then!` is called with
 /// `[ARGS]` (what follows `$then,` here), each family's line — its [`Kind`] variant, its name, its
 /// type, its folder's module — the variants (and modules) of those that count a scene, and the conformance kit's entry points (each in its
-/// family's folder). [`Kind`], [`of`], [`with_family!`], [`CountKind`], [`with_counted!`] and the kit's
-/// entry points expand from it; a new family is a line here.
+/// family's folder), and the commands that answer a family's cases (each family's `cli::Args` and
+/// `cli::run`, a subcommand named as the variant). [`Kind`], [`of`], [`with_family!`], [`CountKind`],
+/// [`with_counted!`], the kit's entry points and those subcommands expand from it; a new family is a
+/// line here.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! families {
@@ -419,6 +421,7 @@ macro_rules! families {
             }
             counted { Walk: walk, Triangle: triangle, Octree: octree }
             kit { exit_face::exit_faces, triangle::triangles, octree::cells }
+            commands { exit_face: Exit, octree: BoxExit, triangle: Hit }
         }
     };
 }
@@ -427,7 +430,7 @@ macro_rules! families {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __family_kinds {
-    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {
         /// A family, by name: a typed `--family` choice ([`families!`]).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
         pub enum Kind {
@@ -494,7 +497,7 @@ families!(__family_kinds);
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __kit_entries {
-    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($km:ident::$kf:ident),* }) => {
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($km:ident::$kf:ident),* } $($rest:tt)*) => {
         $(pub use $crate::family::$km::kit::$kf;)*
     };
 }
@@ -523,11 +526,11 @@ macro_rules! with_counted {
 #[macro_export]
 macro_rules! __kind_match {
     ([Kind, $kind:expr, $F:ident, $body:expr]
-        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
+        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {
         $crate::__kind_match!(@ Kind, $kind, $F, $body, $($v)*)
     };
     ([CountKind, $kind:expr, $F:ident, $body:expr]
-        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($kit:tt)* }) => {
+        { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {
         $crate::__kind_match!(@ CountKind, $kind, $F, $body, $($c)*)
     };
     (@ $enum:ident, $kind:expr, $F:ident, $body:expr, $($v:ident)*) => {

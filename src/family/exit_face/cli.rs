@@ -1,9 +1,12 @@
-//! The family's flags (a file of the command line's layer in the family's folder): those of `stress`
-//! that choose its rows; the commands flatten every family's.
+//! The family's command line (a file of the command line's layer in the family's folder): `tetwalk
+//! exit`, which answers its cases, and the flags of `stress` that choose its rows; the commands flatten
+//! every family's.
 
 use super::{ExitFace, ExitRows, TetRow};
-use crate::cli::choice;
+use crate::cli::answer::{Answered, Answering, Part};
 use crate::cli::stress::{Rows, Shape, or_all};
+use crate::cli::{Status, WgslArg, choice};
+use crate::family::{Kind, Walks};
 
 /// Exit-face rows.
 #[derive(clap::Args)]
@@ -49,4 +52,62 @@ impl Rows for ExitFace {
             ..ExitRows::default()
         }
     }
+}
+
+/// Answer cases (or found cases) from JSON Lines with each method, judged exactly.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    common: crate::cli::answer::Common,
+    #[command(flatten)]
+    wgsl: WgslArg,
+}
+
+impl crate::cli::Io for Args {
+    fn io(&self) -> crate::cli::Files {
+        self.common.io().input("--wgsl", self.wgsl.wgsl.as_deref())
+    }
+}
+
+/// `tetwalk exit`: the cases read, answered by each method (or `--answerer`) and judged.
+pub fn run(Args { common: a, wgsl }: Args) -> Status {
+    let (backend, methods) = wgsl.open::<ExitFace>(a.backend, &a.method)?;
+    let outside = a.answerer.start::<ExitFace>(&Default::default())?;
+    if let Some(x) = &outside {
+        return crate::cli::answer::outside::<ExitFace>("exit", x, &a, refuse_walks, 0.0);
+    }
+    Answering::own::<ExitFace>("exit", &methods, &backend, a.input())
+        .missing()
+        .by_parts(
+            || {
+                vec![
+                    Box::new(Part::<ExitFace>::new(
+                        Answered::Methods(&methods, &backend),
+                        0.0,
+                    )),
+                    Box::new(Part::<Walks>::new(
+                        Answered::Methods(&methods, &backend),
+                        0.0,
+                    )),
+                ]
+            },
+            refuse,
+        )
+}
+
+/// Why `exit --answerer` answers no case of family `k`.
+fn refuse_walks(k: Kind) -> String {
+    match k {
+        Kind::Walk => "a walk case: an answerer answers one tetrahedron's cases (count --answerer walks a scene through it)".into(),
+        k => refuse(k),
+    }
+}
+
+/// Why `exit` answers no case of family `k`.
+fn refuse(k: Kind) -> String {
+    match k {
+        Kind::Triangle => "a ray-triangle case: tetwalk hit answers it",
+        _ => "an octree cell case: tetwalk box-exit answers it",
+    }
+    .into()
 }

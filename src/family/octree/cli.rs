@@ -1,10 +1,13 @@
-//! The family's flags (a file of the command line's layer in the family's folder): those of `stress`
-//! that choose its rows and those of `count`; the commands flatten every family's.
+//! The family's command line (a file of the command line's layer in the family's folder): `tetwalk
+//! box-exit`, which answers its cases, the flags of `stress` that choose its rows and those of
+//! `count`; the commands flatten every family's.
 
 use super::{CellRows, OctreeCells, OctreeCountSettings};
-use crate::cli::choice;
+use crate::cli::answer::{Answered, Answering, Part};
 use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::stress::{Rows, Shape, or_all};
+use crate::cli::{Status, choice};
+use crate::family::Kind;
 use crate::scenes::cells::{CellAim, CellPlace};
 
 /// Octree rows.
@@ -69,4 +72,62 @@ impl Flags for OctreeCells {
             triangle_method: f.triangle_method.clone(),
         }
     }
+}
+
+/// The exit face and quarter of octree cells (seed 001), each method's beside the exact ones.
+#[derive(clap::Args)]
+pub struct Args {
+    /// A method name, a comma-separated list, or `all`.
+    #[arg(long, default_value = "all")]
+    method: String,
+    #[command(flatten)]
+    backend: crate::cli::BackendArg,
+    #[command(flatten)]
+    fail: crate::cli::FailArg,
+    /// Also write a summary (lines, errors, per method right / wrong / lines not crossing the open
+    /// box) as JSON here.
+    #[arg(long)]
+    json: Option<std::path::PathBuf>,
+    /// JSON Lines file of cases `{"box": [[lx, ly, lz], [hx, hy, hz]], "org", "dir"}` (found cases
+    /// too); standard input when absent.
+    file: Option<std::path::PathBuf>,
+}
+
+impl crate::cli::Io for Args {
+    fn io(&self) -> crate::cli::Files {
+        crate::cli::Files::default()
+            .input("FILE", self.file.as_deref())
+            .output("--json", self.json.as_deref())
+    }
+}
+
+/// `tetwalk box-exit`: the cases read, answered by each method (or `--answerer`) and judged.
+pub fn run(a: Args) -> Status {
+    let methods = crate::family::parse_list::<OctreeCells>(&a.method)?;
+    let backend = a.backend.open()?;
+    Answering::own::<OctreeCells>(
+        "box-exit",
+        &methods,
+        &backend,
+        crate::cli::answer::Input {
+            file: a.file.as_deref(),
+            json: a.json.as_deref(),
+            fail: a.fail,
+        },
+    )
+    .missing()
+    .by_parts(
+        || {
+            vec![Box::new(Part::<OctreeCells>::new(
+                Answered::Methods(&methods, &backend),
+                0.0,
+            ))]
+        },
+        refuse,
+    )
+}
+
+/// `box-exit` answers octree cell cases only.
+fn refuse(_: Kind) -> String {
+    "not an octree cell case: box-exit answers {\"box\", \"org\", \"dir\"}".into()
 }

@@ -1,10 +1,15 @@
-//! The family's flags (a file of the command line's layer in the family's folder): those of `stress`
-//! that choose its rows and those of `count`; the commands flatten every family's.
+//! The family's command line (a file of the command line's layer in the family's folder): `tetwalk
+//! hit`, which answers its cases, the flags of `stress` that choose its rows and those of `count`; the
+//! commands flatten every family's.
 
 use super::{TriCountSettings, TriRows, Triangle};
-use crate::cli::choice;
+use crate::choice::{BackendKind, Choice};
+use crate::cli::answer::{Answered, Answering, Part};
 use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::stress::{Rows, Shape, or_all};
+use crate::cli::{Status, choice};
+use crate::family::Kind;
+use crate::registry::{Named, TRIANGLE_METHODS};
 use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
 
 /// Triangle rows.
@@ -71,4 +76,83 @@ impl Flags for Triangle {
             brute_force: f.brute_force,
         }
     }
+}
+
+/// Answer ray-triangle cases from JSON Lines with each ray-triangle method, judged exactly.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    common: crate::cli::answer::Common,
+    /// A hit's `t` is right within this many ulps of the exact `t` (of the f32 nearest it), and
+    /// always needs `0 < t < ∞` [default: 4096].
+    #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
+    t_ulps: Option<f64>,
+    /// Also answer every case with each method's 4-wide version (seed 004's SIMD packets, where a
+    /// method has one), the ray in every lane, and compare: each line of such a method says
+    /// `"wide_same"`, and any case answered otherwise than by the scalar version, bit for bit, gives
+    /// exit status 1. Plain f32 only (`--backend cpu`).
+    #[arg(long)]
+    wide: bool,
+}
+
+impl crate::cli::Io for Args {
+    fn io(&self) -> crate::cli::Files {
+        self.common.io()
+    }
+}
+
+/// `tetwalk hit`: the cases read, answered by each method (or `--answerer`) and judged.
+pub fn run(
+    Args {
+        common: a,
+        t_ulps,
+        wide,
+    }: Args,
+) -> Status {
+    let methods = crate::family::parse_list::<Triangle>(&a.method)?;
+    let t_ulps = crate::cli::t_ulps(t_ulps)?;
+    if wide {
+        if a.backend.backend != BackendKind::Cpu {
+            return Err(format!(
+                "--wide compares the 4-wide versions with the scalar ones in plain f32, where they answer alike: give --backend cpu, not {}",
+                a.backend.backend.name()
+            )
+            .into());
+        }
+        if methods.iter().all(|m| m.wide.is_none()) {
+            let have: Vec<&str> = TRIANGLE_METHODS
+                .iter()
+                .filter(|m| m.wide.is_some())
+                .map(|m| m.name())
+                .collect();
+            return Err(format!(
+                "--wide: none of the methods asked for has a 4-wide version ({} have)",
+                have.join(", ")
+            )
+            .into());
+        }
+    }
+    let outside = a.answerer.start::<Triangle>(&Default::default())?;
+    if let Some(x) = &outside {
+        if wide {
+            return Err("--wide compares tetwalk's 4-wide versions; an --answerer has none".into());
+        }
+        return crate::cli::answer::outside::<Triangle>("hit", x, &a, refuse, t_ulps);
+    }
+    let backend = a.backend.open()?;
+    Answering::own::<Triangle>("hit", &methods, &backend, a.input())
+        .leaking()
+        .by_parts(
+            || {
+                let mut part = Part::<Triangle>::new(Answered::Methods(&methods, &backend), t_ulps);
+                part.wide = wide;
+                vec![Box::new(part)]
+            },
+            refuse,
+        )
+}
+
+/// `hit` answers ray–triangle cases only.
+fn refuse(_: Kind) -> String {
+    "not a ray-triangle case (tri or tris); tetwalk exit answers it".into()
 }
