@@ -6,19 +6,15 @@
 
 use libfuzzer_sys::fuzz_target;
 use tetwalk::engine::found::FoundError;
-use tetwalk::engine::fuzz::{held, octree_walk_find};
+use tetwalk::engine::fuzz::held;
 use tetwalk::family::OctreeCells;
-use tetwalk::scenes::from_bytes::hit_case;
+use tetwalk::family::octree::engine::octree_walk;
 
 fuzz_target!(|data: &[u8]| {
-    let mut u = arbitrary::Unstructured::new(data);
-    let Ok((mesh, ray)) = hit_case(&mut u) else {
-        return;
-    };
     if let Err(e) = held::<OctreeCells>() {
         panic!("{e}");
     }
-    match octree_walk_find(&mesh, &ray) {
+    match octree_walk(data) {
         Ok(Some(found)) => panic!("{}", found.to_json()),
         Err(e @ FoundError::EndlessWalk(_)) => panic!("{e}"),
         _ => {}

@@ -4,22 +4,49 @@
 use super::{JsonOut, Status};
 use crate::choice::Choice;
 use crate::engine::found::Found;
-use crate::engine::fuzz::{find, held, octree_walk_find};
+use crate::engine::fuzz::{find, held};
 use crate::engine::shrink::{CHECKS, shrink_found};
-use crate::family::{Family, Kind, OctreeCells};
+use crate::family::{Family, Kind};
 use crate::registry::Named;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// The octree walk's fuzz target (each family has its own, [`Family::FUZZ_TARGET`]).
-const OCTREE_WALK: &str = "octree_walk";
+crate::families!(__more_fuzz_targets);
 
-/// The fuzz targets: each family's, and the octree walk's.
+/// The fuzz targets beyond each family's own, from the families' list: `MORE_TARGETS`, their names,
+/// and `import_more`, which files one's artifacts with its finding function.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __more_fuzz_targets {
+    ([] { $($line:tt)* } counted { $($c:tt)* } kit { $($k:tt)* } commands { $($cm:tt)* } fuzz { $($m:ident: $t:ident),* } $($rest:tt)*) => {
+        /// The fuzz targets beyond each family's own ([`Family::FUZZ_TARGET`]).
+        const MORE_TARGETS: &[&str] = &[$(stringify!($t)),*];
+
+        /// `target`'s artifacts filed, if it is one of [`MORE_TARGETS`].
+        fn import_more(
+            target: &str,
+            a: &Args,
+            filed: &mut Vec<String>,
+        ) -> Option<Result<(), super::Error>> {
+            $(
+                if target == stringify!($t) {
+                    return Some(import(a, filed, |_, bytes| Ok($crate::family::$m::engine::$t(bytes)?)));
+                }
+            )*
+            None
+        }
+    };
+}
+
+/// The fuzz targets: each family's, and those beyond them.
 fn targets() -> clap::builder::PossibleValuesParser {
     let families = Kind::ALL
         .iter()
         .map(|&k| crate::with_family!(k, F => F::FUZZ_TARGET));
-    families.chain([OCTREE_WALK]).collect::<Vec<_>>().into()
+    families
+        .chain(MORE_TARGETS.iter().copied())
+        .collect::<Vec<_>>()
+        .into()
 }
 
 #[derive(clap::Args)]
@@ -48,8 +75,8 @@ impl super::Io for Args {
 pub fn run(a: Args) -> Status {
     let json = JsonOut::new(a.json.as_deref())?;
     let mut filed = Vec::new();
-    if a.target == OCTREE_WALK {
-        import::<OctreeCells>(&a, &mut filed, walk_finding)?;
+    if let Some(filing) = import_more(&a.target, &a, &mut filed) {
+        filing?;
     } else {
         let kind = Kind::ALL
             .iter()
@@ -77,15 +104,8 @@ fn finding<F: Family>(path: &Path, bytes: &[u8]) -> Result<Option<Found<F>>, sup
     })
 }
 
-/// An octree walk's finding: the box case of its first wrong cell.
-fn walk_finding(_: &Path, bytes: &[u8]) -> Result<Option<Found<OctreeCells>>, super::Error> {
-    match crate::scenes::from_bytes::hit_case(&mut arbitrary::Unstructured::new(bytes)) {
-        Ok((mesh, ray)) => Ok(octree_walk_find(&mesh, &ray)?),
-        Err(_) => Ok(None),
-    }
-}
-
-/// What a held method fails on one artifact, if anything ([`finding`], [`walk_finding`]).
+/// What a held method fails on one artifact, if anything ([`finding`], or a target's beyond the
+/// families' own).
 type Finding<F> = fn(&Path, &[u8]) -> Result<Option<Found<F>>, super::Error>;
 
 /// File each artifact's finding, and the same case for the methods that claim and fail it too, under

@@ -104,7 +104,7 @@ crate::families!(__family_commands);
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __family_commands {
-    ([] { $($line:tt)* } counted { $($c:tt)* } kit { $($k:tt)* } commands { $($m:ident: $v:ident),* }) => {
+    ([] { $($line:tt)* } counted { $($c:tt)* } kit { $($k:tt)* } commands { $($m:ident: $v:ident),* } $($rest:tt)*) => {
         /// The commands that answer a family's cases (each documented in its family's folder).
         #[derive(Subcommand)]
         enum FamilyCommand {

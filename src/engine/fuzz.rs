@@ -4,9 +4,9 @@
 
 use super::found::{Found, FoundError, Hold, check, cpu_backends};
 use crate::backend::{Backend, BackendKind};
-use crate::family::{self, Family, OctreeCells};
+use crate::family::{self, Family};
 use crate::registry::Named;
-use crate::tet::{Ray, Tri};
+use crate::tet::Ray;
 use glam::Vec3;
 
 /// The variable naming a user's WGSL exit-face function to fuzz (`--wgsl`'s file, on the GPU).
@@ -173,60 +173,4 @@ pub fn neighbourhood<F: Family>(case: &F::Case) -> Vec<F::Case> {
         r.dir != Vec3::ZERO && r.dir.is_finite() && r.org.is_finite()
     });
     out
-}
-
-/// The octree over a fuzz case's closed mesh: deep and fine, so that rays meet many cells.
-pub const FUZZ_OCTREE: crate::octree::Settings = crate::octree::Settings {
-    depth: 6,
-    capacity: 1,
-};
-
-/// What a fuzz run finds walking `ray` through seed 001's octree over `tris` ([`FUZZ_OCTREE`]) with
-/// each octree method [`held`] on the CPU, plain, fused and flushed, each leaf's triangles tested with `mt`: the
-/// first cell whose exit face or quarter the method chose wrongly, filed as that cell's box case (the
-/// exact reference's walk lists no choices). A walk that cycles or reaches the step limit without a
-/// wrong cell (its wrong choice was where the line only touches a cell, which no answer is judged on)
-/// is [`FoundError::EndlessWalk`].
-pub fn octree_walk_find(tris: &[Tri], ray: &Ray) -> Result<Option<Found<OctreeCells>>, FoundError> {
-    use crate::cases::BoxCase;
-    use crate::octree::cell::quarter_signs;
-    use crate::walk::octree::End;
-    let o = crate::octree::Octree::build(tris, FUZZ_OCTREE).map_err(|e| FoundError::Field {
-        field: "tris",
-        why: e.to_string(),
-    })?;
-    let hit = family::by_name::<crate::family::Triangle>("mt")?.hit(crate::methods::Model::Plain);
-    let cap = crate::walk::octree::default_max_steps(&o);
-    for (m, _) in held::<OctreeCells>()? {
-        for b in cpu_backends() {
-            let Some(model) = b.kind().model() else {
-                continue;
-            };
-            let (w, steps) = m.walk_traced(model)(&o, tris, hit, ray, cap);
-            for (cell, exit) in steps {
-                let [lo, hi] = o.boxes[cell as usize];
-                let case = BoxCase {
-                    lo,
-                    hi,
-                    org: ray.org,
-                    dir: ray.dir,
-                };
-                let x = OctreeCells::truth(&case)?;
-                let answer = exit.map(|(f, q)| (f as u8, quarter_signs(q)));
-                if let crate::family::Verdict::Wrong(_) = OctreeCells::verdict(&case, &x, &answer) {
-                    let f = super::found::Failure::of(m, b, answer);
-                    return Ok(Some(Found::of(case, f)));
-                }
-            }
-            if matches!(w.end, End::Cycle { .. } | End::StepLimit { .. }) {
-                return Err(FoundError::EndlessWalk(format!(
-                    "{} on {:?}: {:?}",
-                    m.name(),
-                    b.ran().kind,
-                    w.end
-                )));
-            }
-        }
-    }
-    Ok(None)
 }

@@ -400,9 +400,11 @@ pub fn reference<F: Family>() -> Option<&'static F::Method> {
 /// `[ARGS]` (what follows `$then,` here), each family's line — its [`Kind`] variant, its name, its
 /// type, its folder's module — the variants (and modules) of those that count a scene, and the conformance kit's entry points (each in its
 /// family's folder), and the commands that answer a family's cases (each family's `cli::Args` and
-/// `cli::run`, a subcommand named as the variant). [`Kind`], [`of`], [`with_family!`], [`CountKind`],
-/// [`with_counted!`], the kit's entry points and those subcommands expand from it; a new family is a
-/// line here.
+/// `cli::run`, a subcommand named as the variant), and the fuzz targets beyond each family's own
+/// ([`Family::FUZZ_TARGET`]), each a function of its family's folder's `engine.rs` from the bytes a
+/// target is given to what a held method fails. [`Kind`], [`of`], [`with_family!`], [`CountKind`],
+/// [`with_counted!`], the kit's entry points, those subcommands and `fuzz-import`'s targets expand
+/// from it; a new family is a line here.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! families {
@@ -422,6 +424,7 @@ macro_rules! families {
             counted { Walk: walk, Triangle: triangle, Octree: octree }
             kit { exit_face::exit_faces, triangle::triangles, octree::cells }
             commands { exit_face: Exit, octree: BoxExit, triangle: Hit }
+            fuzz { octree: octree_walk }
         }
     };
 }
