@@ -447,7 +447,6 @@ const NOT_YET_MOVED: &[&str] = &[
     "src/engine/bench.rs",
     "src/engine/paper.rs",
     "src/render/mod.rs",
-    "src/report/paper.rs",
 ];
 
 /// What in a source's code names a concrete family: its type, its `Kind`/`CountKind`/`of` variant,

@@ -186,7 +186,7 @@ fn merged<F: CountFormats>(read: Vec<(String, serde_json::Value)>, out: JsonOut)
         shards.push((file, report));
     }
     let m = count::merge(&shards)?;
-    print!("{}", F::count_table(&m));
+    print!("{}", m.table());
     out.finish(&m)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -340,7 +340,7 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     }
     bar.finish_and_clear();
     dump.finish()?;
-    print!("{}", F::count_table(&report));
+    print!("{}", report.table());
     out.finish(&report)?;
     let mut standings = report.standings();
     if let Some(x) = &outside {

@@ -398,7 +398,7 @@ fn judge_scene(a: &Args, header: RaysHeader, input: Box<dyn BufRead + Send>) -> 
     dump.finish()?;
     print!(
         "{}",
-        <Walks as crate::report::count::CountFormats>::count_table(&report)
+        report.table()
     );
     out.finish(&report)?;
     Ok(a.fail.status("judge", &report.standings()))

@@ -10,6 +10,13 @@ pub trait CountFormats: Counted {
     fn count_table(r: &CountReport<Self>) -> String;
 }
 
+impl<F: CountFormats> CountReport<F> {
+    /// The count's table, as its family reads it ([`CountFormats::count_table`]).
+    pub fn table(&self) -> String {
+        F::count_table(self)
+    }
+}
+
 /// A count's last line: each method's wrong rays over all the rays counted.
 pub fn totals<F: Counted>(r: &CountReport<F>) -> String {
     let each: Vec<String> = r

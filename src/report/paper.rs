@@ -4,9 +4,7 @@
 use crate::choice::Choice;
 use crate::choice::{BackendKind, Ran};
 use crate::engine::paper::{PaperReport, SEED003_STRUCTURES, Timings};
-use crate::family::OctreeCells;
 use crate::mesh::layout::Layout;
-use crate::report::count::CountFormats;
 use crate::report::scene_info::SEED000_TABLE3_BUNNY;
 
 /// Seed 000 Table 4, the BUNNY column: wrong rays per 1024² image on the GPU, averaged over about
@@ -201,7 +199,7 @@ impl PaperReport {
         out += "\nOurs is built over the constrained faces of the scene above (the same decimated bunny), at the paper's depth for the bunny; the paper's bunny has 69k triangles.\n\n";
         out += "## Seed 001: the octree walk, judged exactly\n\nThe paper gives speeds (Table 2, a GTX 980) and no robustness claim; ours counts wrong rays, each judged against the exact first hit.\n\n";
         if let Some(first) = self.octrees.first() {
-            out += &OctreeCells::count_table(first);
+            out += &first.table();
         }
         if self.octrees.len() > 1 {
             out += &self.octree_backends();
