@@ -440,7 +440,6 @@ const DATA_TABLES: &[(&str, &str)] = &[(
 const NOT_YET_MOVED: &[&str] = &[
     "src/cli/bench.rs",
     "src/cli/gen_cases.rs",
-    "src/cli/judge.rs",
     "src/cli/render.rs",
     "src/cli/shrink.rs",
     "src/cli/walk.rs",

@@ -224,6 +224,18 @@ pub trait Flags: CountFormats {
     fn rays_out(_a: &Args, _shard: Shard, _path: &std::path::Path) -> Status {
         Err(RAYS_OUT_ALONE.into())
     }
+    /// Whether it writes `--rays-out` files ([`Flags::rays_out`]), which `judge` judges with
+    /// [`Flags::judge_rays`].
+    const RAYS_OUT: bool = false;
+    /// `judge` on a `--rays-out` file of its count: `header` (the file's first line), then the rays in
+    /// `input`, the walks given for them in `a`'s answers judged as the count judges them.
+    fn judge_rays(
+        _a: &crate::cli::judge::Args,
+        _header: serde_json::Value,
+        _input: Box<dyn std::io::BufRead + Send>,
+    ) -> Status {
+        Err(RAYS_OUT_ALONE.into())
+    }
 }
 
 /// Why `--rays-out` is refused with other flags or families.

@@ -1,17 +1,12 @@
 //! `tetwalk judge`: answers computed anywhere (a C++ or CUDA kernel's, dumped as JSON Lines) judged
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
+use super::Status;
 use super::answer::{Answering, MAX_LINE, NOT_JSON, answer, reader};
-use super::count::Dump;
-use super::{JsonOut, Status};
-use crate::cases::number;
-use crate::engine::count::{self, Answerer, CountSettings, located_views};
-use crate::engine::standing::{Standing, Standings};
-use crate::family::count::CountError;
-use crate::family::walk::cli::{RaysHeader, ray_lines};
-use crate::family::wrong::WrongRay;
-use crate::family::{Kind, Walks};
-use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
+use super::count::Flags;
+use crate::choice::Choice;
+use crate::engine::standing::Standing;
+use crate::family::{CountKind, Kind};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::io::BufRead;
@@ -22,7 +17,7 @@ pub struct Args {
     /// JSON Lines of cases, as `exit` and `hit` read them (exit-face and ray–triangle cases), or the
     /// rays of a scene as `count --rays-out` writes them (its header line first); `-` is standard
     /// input.
-    cases: PathBuf,
+    pub(crate) cases: PathBuf,
     /// JSON Lines of answers, one per case, by the case's line number (1-based): `{"line": n,
     /// "face": 0..3|null}` for a tetrahedron (in the case's own numbering), `{"line": n, "hit":
     /// true|false, "t": number|null}` for one triangle, `{"line": n, "tri": i|null, "t": number|null}`
@@ -32,22 +27,22 @@ pub struct Args {
     /// "pixel": [x, y], "kind": "hit"|"left_mesh"|"no_exit_face"|"cycle"|"step_limit", "tet": t,
     /// "face": f (hit, left_mesh), "period": p (cycle), "steps": n (optional)}`, judged as `count`
     /// judges (the same table; `--json` the same report).
-    answers: PathBuf,
+    pub(crate) answers: PathBuf,
     /// For a scene's rays: write every wrong ray here, as `count --dump` does.
     #[arg(long)]
-    dump: Option<PathBuf>,
+    pub(crate) dump: Option<PathBuf>,
     /// The name the verdict lines give the method that answered.
     #[arg(long, default_value = "yours")]
-    name: String,
+    pub(crate) name: String,
     /// Also write a summary (lines, errors, right / wrong / lines missing the tetrahedron) as JSON here.
     #[arg(long)]
-    json: Option<PathBuf>,
+    pub(crate) json: Option<PathBuf>,
     /// A hit's `t` is right within this many ulps of the exact `t` (of the f32 nearest it), and always
     /// needs `0 < t < ∞` [default: 4096].
     #[arg(long, value_name = "ULPS", allow_negative_numbers = true)]
-    t_ulps: Option<f64>,
+    pub(crate) t_ulps: Option<f64>,
     #[command(flatten)]
-    fail: super::FailArg,
+    pub(crate) fail: super::FailArg,
 }
 
 impl super::Io for Args {
@@ -75,7 +70,7 @@ pub enum JudgeError {
 
 /// Each non-blank line of an answers file as a JSON value, with its line number, handed to `take`,
 /// read through `exit`'s reader (each line at most its length bound); an error names file and line.
-fn each_answer(
+pub(crate) fn each_answer(
     path: &Path,
     mut take: impl FnMut(usize, Value) -> Result<(), String>,
 ) -> Result<(), JudgeError> {
@@ -156,7 +151,7 @@ pub fn run(a: Args) -> Status {
         if a.t_ulps.is_some() {
             return Err("--t-ulps judges a hit's t in triangle cases; a scene's walks end in a tetrahedron's face".into());
         }
-        return judge_scene(&a, header, input);
+        return judge_rays(&a, header, input);
     }
     if a.dump.is_some() {
         return Err(
@@ -207,7 +202,7 @@ fn refuse(_: Kind) -> String {
 
 /// The cases file opened once (a pipe, `/dev/stdin`, cannot be read twice): its first line read to
 /// see whether it is a `count --rays-out` header, then put back in front of the rest.
-fn open_cases(path: &Path) -> Result<(Option<RaysHeader>, Box<dyn BufRead + Send>), super::Error> {
+fn open_cases(path: &Path) -> Result<(Option<Value>, Box<dyn BufRead + Send>), super::Error> {
     let file = path.display().to_string();
     let mut input = super::answer::open_lines(path)?;
     // The first line only, at most a line's length bound (a longer one is no header).
@@ -219,187 +214,20 @@ fn open_cases(path: &Path) -> Result<(Option<RaysHeader>, Box<dyn BufRead + Send
             why: e.to_string(),
         })?;
     let header = match serde_json::from_slice::<Value>(&first) {
-        Ok(v) if v.get("scene").is_some() => {
-            Some(serde_json::from_value(v).map_err(|e| JudgeError::Answer {
-                file,
-                line: 1,
-                why: format!("not a count --rays-out header: {e}"),
-            })?)
-        }
+        Ok(v) if v.get("scene").is_some() => Some(v),
         _ => None,
     };
     let again = std::io::Read::chain(std::io::Cursor::new(first), input);
     Ok((header, Box::new(std::io::BufReader::new(again))))
 }
 
-/// The body of a `count --rays-out` file checked against the rays its header names, line by line (a
-/// file cut short, edited, or of another run is refused, the line named): the answers are judged
-/// for the rays the header rebuilds, so those must be the rays that were walked.
-fn check_rays(
-    path: &Path,
-    input: Box<dyn BufRead + Send>,
-    header: &RaysHeader,
-    mesh: &crate::mesh::Mesh,
-) -> Result<(), super::Error> {
-    let file = path.display().to_string();
-    let mut lines = reader(input).into_iter().skip(1);
-    let views = &header.views;
-    let shard = header.shard;
-    let (mut rays, mut last) = (0u64, 1);
-    for (v, cam, start) in located_views(mesh, views, |v| shard.holds(v), &|| ()) {
-        for want in ray_lines(views, v, &cam, start) {
-            let Some((n, line)) = lines.next() else {
-                return Err(format!(
-                    "{file}: ends after line {last}, {rays} rays, before view {v} pixel {}: cut short? (its header names more)",
-                    want["pixel"]
-                )
-                .into());
-            };
-            let line = line.map_err(|e| format!("{file}:{n}: {e}"))?;
-            let got: Value = serde_json::from_str(&line)
-                .map_err(|e| format!("{file}:{n}: not a whole ray line ({e}): cut short?"))?;
-            if !same_ray(&got, &want) {
-                return Err(format!(
-                    "{file}:{n}: not the ray its header names here, {want} (the body is not this header's run)"
-                )
-                .into());
-            }
-            (rays, last) = (rays + 1, n);
-        }
-    }
-    if let Some((n, _)) = lines.find(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty())) {
-        return Err(format!("{file}:{n}: a line after the {rays} rays its header names").into());
-    }
-    Ok(())
-}
-
-/// Whether a rays line holds the ray `want`: the same keys, integers equal, coordinates the same f32.
-fn same_ray(got: &Value, want: &Value) -> bool {
-    let (Some(g), Some(w)) = (got.as_object(), want.as_object()) else {
-        return false;
-    };
-    let f32s = |v: &Value| -> Option<Vec<u32>> {
-        v.as_array()?
-            .iter()
-            .map(|x| number(x).ok().map(f32::to_bits))
-            .collect()
-    };
-    g.len() == w.len()
-        && w.iter().all(|(k, wv)| match (k.as_str(), g.get(k)) {
-            (_, None) => false,
-            ("org" | "dir", Some(gv)) => f32s(gv).is_some_and(|g| Some(g) == f32s(wv)),
-            (_, Some(gv)) => gv == wv,
-        })
-}
-
-/// Walks given per (view, pixel), read whole from the answers file.
-type GivenMap = HashMap<(usize, u32, u32), Walk>;
-
-/// One walk answer: `view`, `pixel` and steps taken out, the rest an [`Outcome`] in its serde form.
-fn walk_answer(mut v: Value) -> Result<((usize, u32, u32), Walk), String> {
-    let o = v.as_object_mut().ok_or("an answer is a JSON object")?;
-    let view = o
-        .remove("view")
-        .and_then(|x| x.as_u64())
-        .ok_or("needs \"view\", the ray's view")? as usize;
-    let pixel = o
-        .remove("pixel")
-        .and_then(|p| serde_json::from_value::<[u32; 2]>(p).ok())
-        .ok_or("needs \"pixel\": [x, y]")?;
-    let steps = match o.remove("steps") {
-        None => 0,
-        Some(s) => s
-            .as_u64()
-            .and_then(|s| u32::try_from(s).ok())
-            .ok_or("\"steps\" is a count of tetrahedra")?,
-    };
-    let outcome: Ending = serde_json::from_value(v).map_err(|e| e.to_string())?;
-    if let Ending::Cycle { period: 0, .. } = outcome {
-        return Err("a cycle's \"period\" is 1 or more tetrahedra".into());
-    }
-    Ok(((view, pixel[0], pixel[1]), Walk { outcome, steps }))
-}
-
-/// A scene's walks computed elsewhere, judged as `count` judges its methods.
-fn judge_scene(a: &Args, header: RaysHeader, input: Box<dyn BufRead + Send>) -> Status {
-    let out = JsonOut::new(a.json.as_deref())?;
-    let mut dump = Dump::new(a.dump.as_deref())?;
-    let mesh = crate::scenes::load(&header.scene, super::faces(header.no_faces))?;
-    if mesh.tets.len() != header.tetrahedra {
-        return Err(format!(
-            "{}: scene {} has {} tetrahedra here, {} where the rays were written",
-            a.cases.display(),
-            header.scene,
-            mesh.tets.len(),
-            header.tetrahedra
-        )
-        .into());
-    }
-    check_rays(&a.cases, input, &header, &mesh)?;
-    let file = a.answers.display().to_string();
-    let mut given = GivenMap::new();
-    each_answer(&a.answers, |_, v| {
-        let (key, w) = walk_answer(v)?;
-        let (kind, tet, face) = w.outcome.parts();
-        if tet as usize >= mesh.tets.len() {
-            return Err(format!(
-                "tet {tet} is not a tetrahedron of the scene (0..{})",
-                mesh.tets.len()
-            ));
-        }
-        if matches!(kind, OutcomeKind::Hit | OutcomeKind::LeftMesh) && face >= 4 {
-            return Err("face must be 0..3".into());
-        }
-        match given.insert(key, w) {
-            Some(_) => Err(format!(
-                "a second answer for view {} pixel [{}, {}]",
-                key.0, key.1, key.2
-            )),
-            None => Ok(()),
-        }
-    })?;
-    let width = header.views.width;
-    let lookup = |v: usize, rays: &[crate::tet::Ray], _, _| -> Result<Vec<Walk>, CountError> {
-        (0..rays.len() as u32)
-            .map(|i| {
-                let (x, y) = (i % width, i / width);
-                given.get(&(v, x, y)).copied().ok_or_else(|| {
-                    CountError::Given(format!("{file}: no answer for view {v} pixel [{x}, {y}]"))
-                })
-            })
-            .collect()
-    };
-    let settings = CountSettings::<Walks> {
-        scene: header.scene.clone(),
-        views: header.views,
-        reference: "certified".into(),
-        family: (),
-        audit: 1000,
-        shard: header.shard,
-    };
-    let mut write = |w: &WrongRay| dump.write(w);
-    let report = count::run(
-        &mesh,
-        &settings,
-        &[Answerer::Given(&a.name, &lookup)],
-        &crate::backend::CPU,
-        &|| (),
-        Some(&mut write),
-    )?;
-    if report.rays != given.len() as u64 {
-        return Err(format!(
-            "{file}: {} answers for the {} rays of {}",
-            given.len(),
-            report.rays,
-            a.cases.display()
-        )
-        .into());
-    }
-    dump.finish()?;
-    print!(
-        "{}",
-        report.table()
-    );
-    out.finish(&report)?;
-    Ok(a.fail.status("judge", &report.standings()))
+/// Walks given for the rays of a `count --rays-out` file (`header`, its first line, then `input`),
+/// judged by the counted family that writes such files ([`Flags::RAYS_OUT`]), as its count judges them.
+fn judge_rays(a: &Args, header: Value, input: Box<dyn BufRead + Send>) -> Status {
+    let kind = CountKind::ALL
+        .iter()
+        .copied()
+        .find(|&k| crate::with_counted!(k, F => <F as Flags>::RAYS_OUT))
+        .ok_or("no counted family writes rays to judge")?;
+    crate::with_counted!(kind, F => <F as Flags>::judge_rays(a, header, input))
 }

@@ -7,7 +7,7 @@ mod check_filters;
 pub(crate) mod count;
 mod fuzz_import;
 mod gen_cases;
-mod judge;
+pub(crate) mod judge;
 mod paper;
 mod render;
 mod replay;
@@ -426,7 +426,11 @@ pub(crate) struct FailArg {
 impl FailArg {
     /// The exit status `standings` earn under the rule, each method's summary line (and the verdict)
     /// on standard error.
-    fn status(self, command: &str, standings: &[crate::engine::standing::Standing]) -> ExitCode {
+    pub(crate) fn status(
+        self,
+        command: &str,
+        standings: &[crate::engine::standing::Standing],
+    ) -> ExitCode {
         let Some(rule) = self.fail_on else {
             return ExitCode::SUCCESS;
         };
@@ -837,7 +841,7 @@ impl Write for Staged {
 }
 
 /// Where a report's JSON goes (`--json FILE`), staged.
-struct JsonOut(Option<Staged>);
+pub(crate) struct JsonOut(Option<Staged>);
 
 /// The JSON reports in `paths` (`--json` files of the shards of a run), each with its file's name; a
 /// bad one named with its field.
@@ -858,11 +862,11 @@ fn read_reports<T: serde::de::DeserializeOwned>(
 }
 
 impl JsonOut {
-    fn new(path: Option<&Path>) -> Result<JsonOut, Error> {
+    pub(crate) fn new(path: Option<&Path>) -> Result<JsonOut, Error> {
         Ok(JsonOut(path.map(|p| Staged::new("--json", p)).transpose()?))
     }
 
-    fn finish(self, value: &impl serde::Serialize) -> Result<(), Error> {
+    pub(crate) fn finish(self, value: &impl serde::Serialize) -> Result<(), Error> {
         let Some(mut staged) = self.0 else {
             return Ok(());
         };
