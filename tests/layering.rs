@@ -441,7 +441,6 @@ const NOT_YET_MOVED: &[&str] = &[
     "src/cli/bench.rs",
     "src/cli/gen_cases.rs",
     "src/cli/render.rs",
-    "src/cli/shrink.rs",
     "src/cli/walk.rs",
     "src/engine/bench.rs",
     "src/engine/paper.rs",

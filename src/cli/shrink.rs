@@ -11,7 +11,7 @@ use crate::engine::answerer::{Answerer, Format};
 use crate::engine::found::{Failure, Found, FoundError};
 use crate::engine::shrink::{CHECKS, Shrunk, bits, reproduce, shrink_on};
 use crate::family::wrong::WrongRay;
-use crate::family::{self, ExitFace, Family, owner};
+use crate::family::{self, Family, Kind, owner};
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::PathBuf;
@@ -195,26 +195,50 @@ fn shrink_outside<F: Family>(
     }))
 }
 
-/// A dump line's diverging step as a found exit-face case, or why it has none.
-fn from_dump(obj: serde_json::Map<String, serde_json::Value>) -> Result<Found<ExitFace>, String> {
-    let w: WrongRay =
-        serde_json::from_value(serde_json::Value::Object(obj)).map_err(|e| e.to_string())?;
-    let (Some(case), Some(d), Some(backend)) = (w.case, w.divergence, w.backend) else {
-        return Err(
-            "no diverging step was observed (a GPU walk, or walks given from outside)".into(),
-        );
-    };
-    let case = Found::<ExitFace>::from_object(case).map_err(|e| e.to_string())?;
-    let method = family::by_name::<ExitFace>(&w.method).map_err(|e| e.to_string())?;
+/// A dump line's diverging step as a found case (of the family whose case the dump holds: a walk's
+/// step, one tetrahedron), its answer the divergence's in that family's form, or why it has none.
+fn from_dump<F: Family>(
+    w: &WrongRay,
+    case: serde_json::Map<String, serde_json::Value>,
+    answer: &serde_json::Value,
+    backend: BackendKind,
+) -> Result<Found<F>, String> {
+    let case = Found::<F>::from_object(case).map_err(|e| e.to_string())?;
+    let method = family::by_name::<F>(&w.method).map_err(|e| e.to_string())?;
+    let answer = F::parse_answer(answer, &case.case)?;
     Ok(Found::of(
         case.case,
         Failure {
             method: crate::registry::Named::name(method).to_string(),
             backend,
             adapter: None,
-            answer: d.face,
+            answer,
         },
     ))
+}
+
+/// A dump line shrunk: the found case of its diverging step ([`from_dump`]), or why it has none.
+fn shrink_dump(
+    obj: serde_json::Map<String, serde_json::Value>,
+    at: &Place,
+    backends: &mut Backends,
+    checks: usize,
+) -> Result<Result<Done, String>, FoundError> {
+    let w: WrongRay = match serde_json::from_value(serde_json::Value::Object(obj)) {
+        Ok(w) => w,
+        Err(e) => return Ok(Err(e.to_string())),
+    };
+    let (Some(case), Some(d), Some(backend)) = (w.case.clone(), w.divergence.as_ref(), w.backend)
+    else {
+        return Ok(Err(
+            "no diverging step was observed (a GPU walk, or walks given from outside)".into(),
+        ));
+    };
+    let answer = serde_json::json!(d.face);
+    crate::with_family!(owner(&case), F => match from_dump::<F>(&w, case, &answer, backend) {
+        Ok(found) => shrink_one::<F>(&found, at, backends, checks),
+        Err(why) => Ok(Err(why)),
+    })
 }
 
 pub fn run(a: Args) -> Status {
@@ -225,12 +249,18 @@ pub fn run(a: Args) -> Status {
     if a.answerer.answerer.is_some() && a.in_place {
         return Err("--answerer prints the shrunk cases; a user's file is not rewritten (leave out --in-place)".into());
     }
-    if a.answerer.answerer.is_none() && a.contract.contract::<ExitFace>()? != Default::default() {
+    // Started once, before the first line, as the family whose faces it may number starts it (its
+    // numbering found then); each case's family checks the contract again as it is shrunk.
+    let faces = Kind::ALL
+        .iter()
+        .copied()
+        .find(|&k| crate::with_family!(k, F => F::FACES))
+        .ok_or("no family numbers faces")?;
+    let contract = crate::with_family!(faces, F => a.contract.contract::<F>())?;
+    if a.answerer.answerer.is_none() && contract != Default::default() {
         return Err("--origin, --unit-direction, --entry, --orientation and --tolerance state an --answerer's contract; tetwalk's own methods are shrunk as they fail".into());
     }
-    let answerer = a
-        .answerer
-        .start::<ExitFace>(&a.contract.contract::<ExitFace>()?)?;
+    let answerer = crate::with_family!(faces, F => a.answerer.start::<F>(&contract))?;
     let mut backends = Backends(HashMap::new());
     let mut report = Report::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
@@ -268,10 +298,7 @@ pub fn run(a: Args) -> Status {
                 crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
                     .and_then(|found| shrink_outside::<F>(&found, x, &a.contract, &at, a.checks)))
             } else if dump {
-                match from_dump(obj) {
-                    Ok(found) => shrink_one::<ExitFace>(&found, &at, &mut backends, a.checks),
-                    Err(why) => Ok(Err(why)),
-                }
+                shrink_dump(obj, &at, &mut backends, a.checks)
             } else {
                 crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
                     .and_then(|found| shrink_one::<F>(&found, &at, &mut backends, a.checks)))
