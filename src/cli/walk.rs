@@ -90,8 +90,8 @@ struct Row {
 #[derive(serde::Serialize)]
 struct Relabelled {
     method: String,
-    wrong: [u64; 12],
-    cycles: [u64; 12],
+    wrong: Vec<u64>,
+    cycles: Vec<u64>,
 }
 
 #[derive(serde::Serialize)]
@@ -363,26 +363,31 @@ fn relabellings(
     methods: &[&'static crate::registry::Method],
     model: Model,
 ) -> Result<Vec<Relabelled>, super::Error> {
-    let mut out: Vec<Relabelled> = methods
-        .iter()
-        .map(|m| Relabelled {
-            method: m.name().into(),
-            wrong: [0; 12],
-            cycles: [0; 12],
-        })
-        .collect();
-    for (k, p) in EVEN_PERMUTATIONS.iter().enumerate() {
-        let relabelled = mesh.relabelled(*p)?;
+    // Per method its wrong results, then its cycles.
+    let measure = |k: usize| -> Result<Vec<u64>, super::Error> {
+        let relabelled = mesh.relabelled(EVEN_PERMUTATIONS[k])?;
+        let mut n = vec![0; 2 * methods.len()];
         for t in walk_tallies(&relabelled, rays, methods, model, None, false)
             .iter()
             .flatten()
         {
-            for (r, t) in out.iter_mut().zip(t) {
-                r.wrong[k] += t.wrong;
-                r.cycles[k] += t.kinds[OutcomeKind::Cycle.code() as usize];
+            for (i, t) in t.iter().enumerate() {
+                n[2 * i] += t.wrong;
+                n[2 * i + 1] += t.kinds[OutcomeKind::Cycle.code() as usize];
             }
         }
-    }
+        Ok(n)
+    };
+    let all = crate::engine::under_labellings(measure(0)?, EVEN_PERMUTATIONS.len(), measure)?;
+    let out: Vec<Relabelled> = methods
+        .iter()
+        .zip(all.chunks(2))
+        .map(|(m, n)| Relabelled {
+            method: m.name().into(),
+            wrong: n[0].clone(),
+            cycles: n[1].clone(),
+        })
+        .collect();
     println!("\nunder the 12 orientation-preserving relabellings of the tetrahedra\n");
     println!(
         "| method | wrong, own | min | median | max | cycles, own | min | median | max |\n|---|---|---|---|---|---|---|---|---|"

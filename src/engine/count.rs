@@ -408,13 +408,12 @@ pub fn relabel_all<F: Counted>(
     backend: &Backend,
     tick: &(dyn Fn() + Sync),
 ) -> Result<(), CountError> {
-    let mut wrong: Vec<Vec<u64>> = report
-        .methods
-        .iter()
-        .map(|m| vec![m.counts.wrong_total()])
-        .collect();
-    for p in &crate::tet::EVEN_PERMUTATIONS[1..] {
-        let relabelled = mesh.relabelled(*p)?;
+    let wrong_totals = |r: &CountReport<F>| -> Vec<u64> {
+        r.methods.iter().map(|m| m.counts.wrong_total()).collect()
+    };
+    let permutations = &crate::tet::EVEN_PERMUTATIONS;
+    let wrong = super::under_labellings(wrong_totals(report), permutations.len(), |k| {
+        let relabelled = mesh.relabelled(permutations[k])?;
         let r = run(
             &relabelled,
             &report.settings,
@@ -423,10 +422,8 @@ pub fn relabel_all<F: Counted>(
             tick,
             None,
         )?;
-        for (w, m) in wrong.iter_mut().zip(&r.methods) {
-            w.push(m.counts.wrong_total());
-        }
-    }
+        Ok::<_, CountError>(wrong_totals(&r))
+    })?;
     for (m, w) in report.methods.iter_mut().zip(wrong) {
         m.relabelled = Some(w);
     }

@@ -15,3 +15,20 @@ pub mod shrink;
 pub mod standing;
 pub mod stress;
 pub mod verify;
+
+/// Numbers measured under every labelling, written once for `stress`, `count` and `walk`: `own`
+/// (under the cases' or mesh's own labelling, the identity) each beside the same numbers under
+/// labellings `1..n`, which `again(k)` measures in the same order.
+pub fn under_labellings<E>(
+    own: Vec<u64>,
+    n: usize,
+    mut again: impl FnMut(usize) -> Result<Vec<u64>, E>,
+) -> Result<Vec<Vec<u64>>, E> {
+    let mut all: Vec<Vec<u64>> = own.into_iter().map(|w| vec![w]).collect();
+    for k in 1..n {
+        for (a, w) in all.iter_mut().zip(again(k)?) {
+            a.push(w);
+        }
+    }
+    Ok(all)
+}

@@ -297,17 +297,13 @@ impl<F: Family> StressReport<F> {
                 .flat_map(|row| row.tallies.iter().map(|t| F::wrong(&t.counts)))
                 .collect()
         };
-        let mut all: Vec<Vec<u64>> = wrong(self).into_iter().map(|w| vec![w]).collect();
-        for k in 1..F::LABELLINGS {
+        let all = super::under_labellings(wrong(self), F::LABELLINGS, |k| {
             let s = StressSettings {
                 rows: F::relabelled(&self.settings.rows, k),
                 ..self.settings.clone()
             };
-            let r = run(&s, methods, backend, &|_| {}, &mut |_| {})?;
-            for (a, w) in all.iter_mut().zip(wrong(&r)) {
-                a.push(w);
-            }
-        }
+            Ok::<_, BackendError>(wrong(&run(&s, methods, backend, &|_| {}, &mut |_| {})?))
+        })?;
         let mut all = all.into_iter();
         self.relabelled = Some(
             self.rows
