@@ -32,3 +32,21 @@ pub fn under_labellings<E>(
     }
     Ok(all)
 }
+
+#[cfg(test)]
+mod tests {
+    /// Each number keeps its place: the own labelling's first, then labelling 1, 2, … in order; the
+    /// first error stops the runs.
+    #[test]
+    fn under_labellings_puts_each_number_beside_its_own() {
+        let all = super::under_labellings(vec![7, 9], 3, |k| Ok::<_, ()>(vec![10 * k as u64, 100]))
+            .unwrap();
+        assert_eq!(all, vec![vec![7, 10, 20], vec![9, 100, 100]]);
+        let mut ran = Vec::new();
+        let e = super::under_labellings(vec![1], 4, |k| {
+            ran.push(k);
+            if k == 2 { Err("at 2") } else { Ok(vec![0]) }
+        });
+        assert_eq!((e, ran), (Err("at 2"), vec![1, 2]));
+    }
+}
