@@ -442,7 +442,6 @@ const NOT_YET_MOVED: &[&str] = &[
     "src/cli/gen_cases.rs",
     "src/cli/render.rs",
     "src/cli/walk.rs",
-    "src/engine/bench.rs",
     "src/engine/paper.rs",
     "src/render/mod.rs",
 ];

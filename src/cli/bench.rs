@@ -148,7 +148,7 @@ fn run_triangle(a: Args) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let views = views(&a, width, height);
-    let report = bench::speed(&mesh, &a.scene, &views, &methods, 3)?;
+    let report = crate::family::triangle::engine::speed(&mesh, &a.scene, &views, &methods, 3)?;
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)

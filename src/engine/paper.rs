@@ -4,11 +4,12 @@
 
 use crate::backend::{Backend, BackendError, Ran};
 use crate::choice::Instruction;
-use crate::engine::bench::{self, BenchReport, SpeedReport};
+use crate::engine::bench::{self, BenchReport};
 use crate::engine::count::{self, Answerer, CountReport, CountSettings, Shard, Sharded};
 use crate::engine::info::SceneInfo;
 use crate::family::count::{CountError, inconsistent};
 use crate::family::octree::OctreeCountSettings;
+use crate::family::triangle::engine::SpeedReport;
 use crate::family::{OctreeCells, Walks};
 use crate::mesh::Mesh;
 use crate::methods::Query;
@@ -246,7 +247,8 @@ fn timings(
         ..*views
     };
     let triangle_methods: Vec<_> = TRIANGLE_METHODS.iter().collect();
-    let figure5 = bench::speed(mesh, scene, &views, &triangle_methods, 3)?;
+    let figure5 =
+        crate::family::triangle::engine::speed(mesh, scene, &views, &triangle_methods, 3)?;
     Ok(Timings {
         table5,
         table5_gpu,

@@ -4,6 +4,7 @@
 pub mod bins;
 #[cfg(feature = "cli")]
 pub mod cli;
+pub mod engine;
 pub mod kit;
 #[cfg(feature = "internals")]
 mod report;
