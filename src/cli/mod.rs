@@ -2,7 +2,7 @@
 //! value, prints it, and can write it as JSON (`--json FILE`, checked writable before the run starts).
 
 pub(crate) mod answer;
-mod bench;
+pub(crate) mod bench;
 mod check_filters;
 pub(crate) mod count;
 mod fuzz_import;
@@ -477,7 +477,7 @@ pub(crate) fn t_ulps(given: Option<f64>) -> Result<f64, Error> {
 const MAX_VIEWS: usize = 1 << 20;
 
 /// `--views N` of a count or bench (`what`): 1 to [`MAX_VIEWS`].
-fn view_count(views: usize, what: &str) -> Result<usize, Error> {
+pub(crate) fn view_count(views: usize, what: &str) -> Result<usize, Error> {
     match views {
         0 => Err(format!("--views 0: a {what} needs at least one view").into()),
         v if v > MAX_VIEWS => Err(format!(
@@ -845,7 +845,7 @@ pub(crate) struct JsonOut(Option<Staged>);
 
 /// The JSON reports in `paths` (`--json` files of the shards of a run), each with its file's name; a
 /// bad one named with its field.
-fn read_reports<T: serde::de::DeserializeOwned>(
+pub(crate) fn read_reports<T: serde::de::DeserializeOwned>(
     paths: &[PathBuf],
 ) -> Result<Vec<(String, T)>, Error> {
     paths
@@ -879,7 +879,7 @@ impl JsonOut {
 /// Progress of a long run on standard error: a bar where standard error is a terminal; elsewhere (a CI
 /// log, a file) a line every [`PROGRESS_EVERY`] seconds (`TETWALK_PROGRESS_SECONDS` sets another),
 /// so that a run of hours shows it is alive and how far it is.
-struct Progress {
+pub(crate) struct Progress {
     bar: indicatif::ProgressBar,
     log: Option<ProgressLog>,
 }
@@ -900,7 +900,7 @@ const PROGRESS_EVERY: u64 = 30;
 
 impl Progress {
     /// Count `n` more done (from any thread).
-    fn inc(&self, n: u64) {
+    pub(crate) fn inc(&self, n: u64) {
         self.bar.inc(n);
         let Some(log) = &self.log else {
             return;
@@ -926,13 +926,13 @@ impl Progress {
         }
     }
 
-    fn finish_and_clear(&self) {
+    pub(crate) fn finish_and_clear(&self) {
         self.bar.finish_and_clear();
     }
 }
 
 /// Progress of `len` `unit` of `command`'s work ([`Progress`]).
-fn progress(command: &str, len: u64, unit: &str) -> Progress {
+pub(crate) fn progress(command: &str, len: u64, unit: &str) -> Progress {
     use std::io::IsTerminal;
     let bar = indicatif::ProgressBar::with_draw_target(
         Some(len),
@@ -961,7 +961,7 @@ fn progress(command: &str, len: u64, unit: &str) -> Progress {
 const MEMORY_BUDGET: u64 = 8 << 30;
 
 /// Refuse `what` when it would need more than [`MEMORY_BUDGET`] bytes.
-fn fits(what: &str, bytes: u128) -> Result<(), Error> {
+pub(crate) fn fits(what: &str, bytes: u128) -> Result<(), Error> {
     if bytes > MEMORY_BUDGET as u128 {
         return Err(format!(
             "{what} would need about {:.1} GiB of memory; tetwalk plans at most {} GiB at once",
@@ -975,10 +975,10 @@ fn fits(what: &str, bytes: u128) -> Result<(), Error> {
 
 /// Bytes per primary ray of one view while it is walked and judged (ray, reference and method walks,
 /// verdicts).
-const BYTES_PER_PIXEL: u128 = 96;
+pub(crate) const BYTES_PER_PIXEL: u128 = 96;
 
 /// A comma-separated list of backends (`--backend cpu,gpu`), each once, in order.
-fn backend_list(text: &str) -> Result<Vec<BackendKind>, Error> {
+pub(crate) fn backend_list(text: &str) -> Result<Vec<BackendKind>, Error> {
     let mut kinds = Vec::new();
     for name in text.split(',').map(str::trim) {
         let kind = BackendKind::from_name(name).ok_or_else(|| {
@@ -1002,7 +1002,7 @@ pub(crate) fn faces(no_faces: bool) -> crate::mesh::Faces {
 }
 
 /// Parse `WxH` (or `W` for a square when `square` is allowed), each side in 1..=`max`.
-fn size(text: &str, square: bool, max: u32) -> Result<(u32, u32), Error> {
+pub(crate) fn size(text: &str, square: bool, max: u32) -> Result<(u32, u32), Error> {
     let parse = |s: &str| s.trim().parse::<u32>().ok().filter(|&v| v >= 1 && v <= max);
     let wh = match text.split_once('x') {
         Some((w, h)) => parse(w).zip(parse(h)),

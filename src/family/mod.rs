@@ -402,9 +402,10 @@ pub fn reference<F: Family>() -> Option<&'static F::Method> {
 /// family's folder), and the commands that answer a family's cases (each family's `cli::Args` and
 /// `cli::run`, a subcommand named as the variant), and the fuzz targets beyond each family's own
 /// ([`Family::FUZZ_TARGET`]), each a function of its family's folder's `engine.rs` from the bytes a
-/// target is given to what a held method fails. [`Kind`], [`of`], [`with_family!`], [`CountKind`],
-/// [`with_counted!`], the kit's entry points, those subcommands and `fuzz-import`'s targets expand
-/// from it; a new family is a line here.
+/// target is given to what a held method fails, and the families `bench` times (`bench --family
+/// NAME`, each its folder's `cli::bench`). [`Kind`], [`of`], [`with_family!`], [`CountKind`],
+/// [`with_counted!`], the kit's entry points, those subcommands, `fuzz-import`'s targets and
+/// `bench`'s families expand from it; a new family is a line here.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! families {
@@ -425,6 +426,7 @@ macro_rules! families {
             kit { exit_face::exit_faces, triangle::triangles, octree::cells }
             commands { exit_face: Exit, octree: BoxExit, triangle: Hit }
             fuzz { octree: octree_walk }
+            bench { walk: "exit-face", triangle: "triangle" }
         }
     };
 }

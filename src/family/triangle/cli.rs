@@ -5,12 +5,14 @@
 use super::{TriCountSettings, TriRows, Triangle};
 use crate::choice::{BackendKind, Choice};
 use crate::cli::answer::{Answered, Answering, Part};
+use crate::cli::bench::Args as BenchArgs;
 use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::stress::{Rows, Shape, or_all};
-use crate::cli::{Status, choice};
+use crate::cli::{JsonOut, Status, choice};
 use crate::family::Kind;
 use crate::registry::{Named, TRIANGLE_METHODS};
 use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
+use std::process::ExitCode;
 
 /// Triangle rows.
 #[derive(clap::Args)]
@@ -155,4 +157,21 @@ pub fn run(
 /// `hit` answers ray–triangle cases only.
 fn refuse(_: Kind) -> String {
     "not a ray-triangle case (tri or tris); tetwalk exit answers it".into()
+}
+
+/// `bench --family triangle`: seed 004 Figure 5's measure.
+pub fn bench(a: BenchArgs) -> Status {
+    if a.backend != "cpu" || a.layouts || a.hilbert || a.baseline.is_some() || a.repeat != 1 {
+        return Err("--family triangle times the CPU, plain f32, best of 3; leave out --backend, --layouts, --hilbert, --repeat and --baseline".into());
+    }
+    crate::cli::view_count(a.views, "bench")?;
+    let methods = crate::family::parse_list::<Triangle>(&a.methods)?;
+    let (width, height) = crate::cli::size(a.size.as_deref().unwrap_or("256x256"), false, 4096)?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let mesh = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
+    let views = crate::cli::bench::views(&a, width, height);
+    let report = super::engine::speed(&mesh, &a.scene, &views, &methods, 3)?;
+    print!("{}", report.markdown());
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
 }

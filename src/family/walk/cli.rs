@@ -4,9 +4,11 @@
 //! judges them.
 
 use super::{WalkRows, WalkScene, Walks};
+use crate::backend::Backend;
 use crate::cases::number;
 use crate::cli::JsonOut;
 use crate::cli::answer::reader;
+use crate::cli::bench::Args as BenchArgs;
 use crate::cli::choice;
 use crate::cli::count::Dump;
 use crate::cli::count::{Args, FamilyFlags, Flags, held, views};
@@ -329,4 +331,72 @@ fn judge_scene(a: &JudgeArgs, header: RaysHeader, input: Box<dyn BufRead + Send>
     print!("{}", report.table());
     out.finish(&report)?;
     Ok(a.fail.status("judge", &report.standings()))
+}
+
+/// `bench` (`--family exit-face`): walk speed per method and backend.
+pub fn bench(a: BenchArgs) -> Status {
+    let methods = crate::family::parse_list::<Walks>(&a.methods)?;
+    let kinds = crate::cli::backend_list(&a.backend)?;
+    crate::cli::view_count(a.views, "bench")?;
+    if a.batch == 0 {
+        return Err("--batch 0: a batch holds at least one ray".into());
+    }
+    if a.repeat == 0 {
+        return Err("--repeat 0: each batch is timed at least once".into());
+    }
+    let baseline = match &a.baseline {
+        Some(p) => Some(
+            crate::cli::read_reports::<crate::engine::bench::BenchReport>(std::slice::from_ref(p))?
+                .remove(0)
+                .1,
+        ),
+        None => None,
+    };
+    let (width, height) = crate::cli::size(a.size.as_deref().unwrap_or("1024x1024"), false, 65536)?;
+    let per_view = width as u128 * height as u128;
+    crate::cli::fits(
+        &format!("--size {width}x{height} --batch {}", a.batch),
+        per_view.max(a.batch as u128) * crate::cli::BYTES_PER_PIXEL,
+    )?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let backends = kinds
+        .into_iter()
+        .map(Backend::open)
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut mesh = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
+    if a.hilbert {
+        mesh = crate::mesh::reorder::hilbert_sorted(&mesh);
+    }
+    let views = crate::cli::bench::views(&a, width, height);
+    let bar = crate::cli::progress("bench", a.views as u64, "views");
+    let report = crate::engine::bench::run(
+        &a.scene,
+        &mesh,
+        a.hilbert,
+        &views,
+        &methods,
+        &backends.iter().collect::<Vec<_>>(),
+        (a.batch, a.layouts, a.repeat),
+        &|| bar.inc(1),
+    )?;
+    bar.finish_and_clear();
+    let mut report = report;
+    if let Some(b) = &baseline {
+        let file = a.baseline.as_deref().unwrap_or(Path::new("")).display();
+        if let Some(why) = report.differs_from(b) {
+            return Err(format!(
+                "--baseline {file}: a run of other settings ({why}): its batches are other rays; run the baseline with the same --scene, --views, --size, --seed, --batch and --hilbert"
+            )
+            .into());
+        }
+        if report.compare(b) == 0 {
+            return Err(format!(
+                "--baseline {file}: none of its rows (method, layout, backend) is one of this run's"
+            )
+            .into());
+        }
+    }
+    print!("{}", report.markdown());
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
 }
