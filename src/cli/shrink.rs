@@ -198,13 +198,13 @@ fn shrink_outside<F: Family>(
 /// A dump line's diverging step as a found case (of the family whose case the dump holds: a walk's
 /// step, one tetrahedron), its answer the divergence's in that family's form, or why it has none.
 fn from_dump<F: Family>(
-    w: &WrongRay,
+    method: &str,
     case: serde_json::Map<String, serde_json::Value>,
     answer: &serde_json::Value,
     backend: BackendKind,
 ) -> Result<Found<F>, String> {
     let case = Found::<F>::from_object(case).map_err(|e| e.to_string())?;
-    let method = family::by_name::<F>(&w.method).map_err(|e| e.to_string())?;
+    let method = family::by_name::<F>(method).map_err(|e| e.to_string())?;
     let answer = F::parse_answer(answer, &case.case)?;
     Ok(Found::of(
         case.case,
@@ -228,14 +228,20 @@ fn shrink_dump(
         Ok(w) => w,
         Err(e) => return Ok(Err(e.to_string())),
     };
-    let (Some(case), Some(d), Some(backend)) = (w.case.clone(), w.divergence.as_ref(), w.backend)
+    let WrongRay {
+        case: Some(case),
+        divergence: Some(d),
+        backend: Some(backend),
+        method,
+        ..
+    } = w
     else {
         return Ok(Err(
             "no diverging step was observed (a GPU walk, or walks given from outside)".into(),
         ));
     };
     let answer = serde_json::json!(d.face);
-    crate::with_family!(owner(&case), F => match from_dump::<F>(&w, case, &answer, backend) {
+    crate::with_family!(owner(&case), F => match from_dump::<F>(&method, case, &answer, backend) {
         Ok(found) => shrink_one::<F>(&found, at, backends, checks),
         Err(why) => Ok(Err(why)),
     })
@@ -256,11 +262,13 @@ pub fn run(a: Args) -> Status {
         .copied()
         .find(|&k| crate::with_family!(k, F => F::FACES))
         .ok_or("no family numbers faces")?;
-    let contract = crate::with_family!(faces, F => a.contract.contract::<F>())?;
-    if a.answerer.answerer.is_none() && contract != Default::default() {
-        return Err("--origin, --unit-direction, --entry, --orientation and --tolerance state an --answerer's contract; tetwalk's own methods are shrunk as they fail".into());
-    }
-    let answerer = crate::with_family!(faces, F => a.answerer.start::<F>(&contract))?;
+    let answerer = crate::with_family!(faces, F => {
+        let contract = a.contract.contract::<F>()?;
+        if a.answerer.answerer.is_none() && contract != Default::default() {
+            return Err("--origin, --unit-direction, --entry, --orientation and --tolerance state an --answerer's contract; tetwalk's own methods are shrunk as they fail".into());
+        }
+        a.answerer.start::<F>(&contract)?
+    });
     let mut backends = Backends(HashMap::new());
     let mut report = Report::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
