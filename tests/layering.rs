@@ -151,9 +151,9 @@ fn sources(dir: &Path, out: &mut Vec<(String, String)>) {
 
 /// The files of a family's folder (`src/family/<name>/`) that belong to a later layer than the
 /// family itself, by their name: how the family reads (`report.rs`), its command-line flags
-/// (`cli.rs`), its conformance-kit entry point (`kit.rs`), what it runs beyond its `Family` (`engine.rs`:
-/// a fuzz target's finding). The folder keeps a family together; each of
-/// its files still imports only what its layer may.
+/// (`cli.rs`), its conformance-kit entry point (`kit.rs`), what it runs beyond its `Family`
+/// (`engine.rs`: a fuzz target's finding, a benchmark). The folder keeps a family together; each of its
+/// files still imports only what its layer may.
 const FOLDER_LAYERS: &[&str] = &["report", "cli", "kit", "engine"];
 
 /// The layer (top-level module) a source file belongs to: its top-level module, or for a file of a
@@ -193,9 +193,7 @@ fn code(text: &str) -> String {
             }
             // A raw string: r"…", r#"…"#, br"…".
             'r' if (rest(1) == Some('"') || rest(1) == Some('#'))
-                && !c[..i]
-                    .last()
-                    .is_some_and(|p| p.is_alphanumeric() || *p == '_') =>
+                && !ident_before(c[..i].strip_suffix(&['b']).unwrap_or(&c[..i])) =>
             {
                 let mut j = i + 1;
                 while c.get(j) == Some(&'#') {
@@ -244,6 +242,13 @@ fn code(text: &str) -> String {
         }
     }
     out
+}
+
+/// Whether `before` ends in a character of an identifier (so that an `r` after it is no raw string's).
+fn ident_before(before: &[char]) -> bool {
+    before
+        .last()
+        .is_some_and(|p| p.is_alphanumeric() || *p == '_')
 }
 
 /// The module path of a source file: `src/a/b.rs` and `src/a/b/mod.rs` are `[a, b]`.
@@ -553,6 +558,7 @@ fn the_family_rule_sees_what_it_should() {
             .is_empty()
     );
     assert!(names("let s = r#\"a \"quoted\" OctreeCells\"#;").is_empty());
+    assert_eq!(names("let s = br\"\\\"; let t = Triangle;"), ["Triangle"]);
     assert_eq!(names("let c = '\\''; let w: Walks = x;"), ["Walks"]);
     assert_eq!(names("fn f<'a>(x: &'a Triangle) {}"), ["Triangle"]);
     assert!(names("fn run<F: Family>(k: Kind) { with_family!(k, F => go::<F>()) }").is_empty());
