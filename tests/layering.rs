@@ -445,7 +445,6 @@ const DATA_TABLES: &[(&str, &str)] = &[(
 const NOT_YET_MOVED: &[&str] = &[
     "src/cli/gen_cases.rs",
     "src/cli/render.rs",
-    "src/cli/walk.rs",
     "src/engine/paper.rs",
     "src/render/mod.rs",
 ];

@@ -15,7 +15,6 @@ mod scene;
 mod shrink;
 pub(crate) mod stress;
 mod verify;
-mod walk;
 
 use crate::backend::{Backend, BackendKind};
 use crate::choice::Choice;
@@ -59,8 +58,6 @@ enum Command {
     Judge(judge::Args),
     /// Write generated (tetrahedron, ray) cases as JSON Lines.
     GenCases(gen_cases::Args),
-    /// Walk rays through a generated mesh with each method, every step judged exactly.
-    Walk(walk::Args),
     /// Wrong exit faces and "no exit face" per million cases, per method and tetrahedron family.
     Stress(stress::Args),
     /// Wrong rays per image, per method, on a scene (seed 000 Table 4), judged exactly.
@@ -141,7 +138,6 @@ pub fn main() -> ExitCode {
         Command::Answer(a) => a.io(),
         Command::Judge(a) => a.io(),
         Command::GenCases(a) => a.io(),
-        Command::Walk(a) => a.io(),
         Command::Stress(a) => a.io(),
         Command::Scene(s) => s.io(),
         Command::Count(a) => a.io(),
@@ -159,7 +155,6 @@ pub fn main() -> ExitCode {
         Command::Answer(a) => a.run(),
         Command::Judge(a) => judge::run(a),
         Command::GenCases(a) => gen_cases::run(a),
-        Command::Walk(a) => walk::run(a),
         Command::Stress(a) => stress::run(a),
         Command::Scene(s) => scene::run(s),
         Command::Count(a) => count::run(a),

@@ -424,7 +424,7 @@ macro_rules! families {
             }
             counted { Walk: walk, Triangle: triangle, Octree: octree }
             kit { exit_face::exit_faces, triangle::triangles, octree::cells }
-            commands { exit_face: Exit, octree: BoxExit, triangle: Hit }
+            commands { exit_face: Exit, octree: BoxExit, triangle: Hit, walk: Walk }
             fuzz { octree: octree_walk }
             bench { walk: "exit-face", triangle: "triangle" }
         }

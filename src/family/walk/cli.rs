@@ -1,9 +1,10 @@
 //! The walk family on the command line (a file of the command line's layer in the family's folder):
-//! the `stress` flags that choose its rows, what `count` asks of it (an answerer asked step by step,
-//! `--rays-out`), and `judge` on that rays file: the walks given for its rays judged as the count
-//! judges them.
+//! `tetwalk walk`, the `stress` flags that choose its rows, what `count` asks of it (an answerer
+//! asked step by step, `--rays-out`), and `judge` on that rays file: the walks given for its rays
+//! judged as the count judges them.
 
-use super::{WalkRows, WalkScene, Walks};
+use super::engine::{WalkReport, Walker, relabellings, walk_table};
+use super::{WalkRows, WalkScene, Walks, report};
 use crate::backend::Backend;
 use crate::cases::number;
 use crate::cli::JsonOut;
@@ -11,10 +12,10 @@ use crate::cli::answer::reader;
 use crate::cli::bench::Args as BenchArgs;
 use crate::cli::choice;
 use crate::cli::count::Dump;
-use crate::cli::count::{Args, FamilyFlags, Flags, held, views};
+use crate::cli::count::{Args as CountArgs, FamilyFlags, Flags, held, views};
 use crate::cli::judge::{Args as JudgeArgs, JudgeError, each_answer};
 use crate::cli::stress::{Rows, Shape, or_all};
-use crate::cli::{AnswererArg, Error, Status};
+use crate::cli::{AnswererArg, BackendArg, Error, Files, Io, Status, WgslArg, fits};
 use crate::engine::answerer::Answerer;
 use crate::engine::count::{self, CountSettings};
 use crate::engine::count::{GivenWalks, Shard, located_views};
@@ -23,14 +24,147 @@ use crate::family::ExitFace;
 use crate::family::count::CountError;
 use crate::family::wrong::WrongRay;
 use crate::mesh::Mesh;
+use crate::mesh::layout::Layout;
+use crate::mesh::reorder::hilbert_sorted;
 use crate::scenes::camera::Views;
+use crate::scenes::{self, Generated};
 use crate::tet::Ray;
+use crate::walk::layouts::Kind as LayoutKind;
 use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
+use glam::Vec3;
 use serde_json::Value;
 use std::collections::HashMap;
 use std::io::{BufRead, Write};
 use std::path::Path;
+use std::path::PathBuf;
 use std::process::ExitCode;
+
+/// Walk rays through a generated mesh with each method, every step judged exactly.
+#[derive(clap::Args)]
+pub struct Args {
+    /// The generated mesh.
+    #[arg(long, value_parser = choice::<Generated>(), default_value = "fan")]
+    mesh: Generated,
+    /// Grid cells per side, or 16·size tetrahedra in the fan.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 8)]
+    size: u32,
+    /// Move the mesh and rays this far from the origin along (1, 1, 1); exact up to 2^20.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+    offset: f32,
+    /// Rays walked (half aimed exactly through vertices and edges).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10000)]
+    rays: usize,
+    /// Methods (comma-separated, or all).
+    #[arg(long, default_value = "all")]
+    methods: String,
+    /// Where the walks run: a CPU backend, `cpu`, `cpu-fma`, `cpu-ftz` or `cpu-gpu` (every step is judged by the oracle on the CPU, so the
+    /// GPU has no place here; `count --backend gpu` walks on it).
+    #[command(flatten)]
+    backend: BackendArg,
+    #[command(flatten)]
+    wgsl: WgslArg,
+    /// Seed of the rays (and of the jittered grid).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
+    seed: u64,
+    /// Walk the methods that can (aman20, aman20-scaled) over this compact layout instead of the plain
+    /// mesh (their "diverged" column is then not measured).
+    #[arg(long, value_parser = choice::<LayoutKind>())]
+    layout: Option<LayoutKind>,
+    /// Reorder points and tetrahedra along a Hilbert curve, by region, first (seed 003 §5).
+    #[arg(long)]
+    hilbert: bool,
+    /// `all`: also walk under each of the 12 orientation-preserving relabellings of the tetrahedra
+    /// (the same for the whole mesh) and report, per method, wrong results and cycles with the mesh's
+    /// own labelling beside their min / median / max over the 12.
+    #[arg(long, value_parser = ["all"])]
+    relabel: Option<String>,
+    /// Also write the table as JSON here.
+    #[arg(long)]
+    json: Option<PathBuf>,
+}
+
+impl Io for Args {
+    fn io(&self) -> Files {
+        Files::default()
+            .input("--wgsl", self.wgsl.wgsl.as_deref())
+            .output("--json", self.json.as_deref())
+    }
+}
+
+/// `tetwalk walk`: the mesh and rays made, the walks run and judged ([`super::engine`]), the tables
+/// printed ([`super::report`]).
+pub fn run(a: Args) -> Status {
+    let (backend, methods) = a.wgsl.open::<Walks>(a.backend, &a.methods)?;
+    // Every ray keeps one tally per method until the table is made.
+    fits(
+        &format!("--rays {}", a.rays),
+        a.rays as u128 * (32 + 64 * methods.len() as u128),
+    )?;
+    let out = JsonOut::new(a.json.as_deref())?;
+    let walker = match &backend {
+        Backend::Cpu { model } => Walker::Checked(*model),
+        Backend::Gpu(_) if a.wgsl.wgsl.is_some() => {
+            if a.relabel.is_some() || a.layout.is_some() {
+                return Err(
+                    "--wgsl walks the plain mesh on the GPU; leave out --relabel and --layout"
+                        .into(),
+                );
+            }
+            Walker::Gpu(&backend)
+        }
+        Backend::Gpu(_) => {
+            let cpus: Vec<&str> = crate::choice::Model::ALL
+                .iter()
+                .map(|m| crate::choice::Choice::name(m.backend()))
+                .collect();
+            return Err(format!("walk judges every step with the oracle on the CPU: use --backend {} (count --backend gpu walks on the GPU; a --wgsl function walks there too)", cpus.join(", ")).into());
+        }
+    };
+    let offset = Vec3::splat(a.offset);
+    let mesh = scenes::generated_mesh(a.mesh, a.size, offset, a.seed)?;
+    let mesh = if a.hilbert {
+        hilbert_sorted(&mesh)
+    } else {
+        mesh
+    };
+    if a.relabel.is_some() && a.layout.is_some() {
+        return Err("--relabel walks the plain mesh; leave out --layout".into());
+    }
+    let layout = a.layout.map(|_| Layout::build(&mesh));
+    let rays = scenes::rays(a.mesh, &mesh, offset, a.rays, a.seed);
+    let table = walk_table(
+        &mesh,
+        &rays,
+        &methods,
+        walker,
+        a.layout.zip(layout.as_ref()),
+    )?;
+    let mut report = WalkReport {
+        mesh: a.mesh,
+        size: a.size,
+        offset: a.offset,
+        tetrahedra: mesh.tets.len(),
+        rays: rays.len() - table.outside,
+        outside: table.outside,
+        seed: a.seed,
+        backend: a.backend.backend,
+        methods: table.rows,
+        relabellings: None,
+    };
+    let (walked_by, checked) = match walker {
+        Walker::Checked(model) => (model.words().to_string(), true),
+        Walker::Gpu(b) => (b.describe(), false),
+    };
+    println!("{}", report::walk_heading(&report, &walked_by));
+    print!("{}", report::walk_table(&report, checked));
+    if let (Some(_), Walker::Checked(model)) = (&a.relabel, walker) {
+        let r = relabellings(&mesh, &rays, &methods, model)?;
+        print!("{}", report::relabelled_table(&r));
+        report.relabellings = Some(r);
+    }
+    out.finish(&report)?;
+    Ok(ExitCode::SUCCESS)
+}
 
 /// Walk rows.
 #[derive(clap::Args)]
@@ -92,7 +226,7 @@ impl Flags for Walks {
         })?;
         judge_scene(a, header, input)
     }
-    fn rays_out(a: &Args, shard: Shard, path: &std::path::Path) -> Status {
+    fn rays_out(a: &CountArgs, shard: Shard, path: &std::path::Path) -> Status {
         let views = views::<Walks>(a)?;
         held(shard, &views)?;
         let mesh = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;

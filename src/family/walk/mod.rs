@@ -4,6 +4,7 @@
 
 #[cfg(feature = "cli")]
 pub mod cli;
+pub mod engine;
 #[cfg(feature = "internals")]
 mod report;
 

@@ -1,6 +1,7 @@
 //! How the walk family reads: its stress table, count table and verdict lines (the report layer:
 //! formatting only, as `crate::report` calls it).
 
+use super::engine::{Relabelled, WalkReport};
 use super::{WalkTruth, Walks};
 use crate::engine::count::CountReport;
 use crate::engine::stress::StressReport;
@@ -10,7 +11,7 @@ use crate::report::count::{
 };
 use crate::report::lines::{Lines, Said, correct, fields};
 use crate::report::stress::{per_million, relabellings, rounds, seeds, table};
-use crate::report::{Formats, counted};
+use crate::report::{Formats, counted, relabel_spread};
 use crate::walk::{OutcomeKind, Walk};
 use serde_json::{Map, Value, json};
 
@@ -105,4 +106,70 @@ impl Lines for Walks {
             },
         )
     }
+}
+
+/// `tetwalk walk`'s heading: the mesh, the rays and what walked them (`walked_by`).
+pub(super) fn walk_heading(r: &WalkReport, walked_by: &str) -> String {
+    format!(
+        "mesh {:?} size {} offset {} ({} tetrahedra), {} rays, seed {}, {walked_by}{}\n",
+        r.mesh,
+        r.size,
+        r.offset,
+        r.tetrahedra,
+        r.rays,
+        r.seed,
+        if r.outside > 0 {
+            format!(
+                ", {} starting outside skipped",
+                counted(r.outside as u64, "ray", "rays")
+            )
+        } else {
+            String::new()
+        },
+    )
+}
+
+/// `tetwalk walk`'s table: per method how its walks ended, its wrong results, its diverged walks
+/// ("-" where not measured: over a layout, or unless `checked`) and its mean steps.
+pub(super) fn walk_table(r: &WalkReport, checked: bool) -> String {
+    let mut out = "| method | hit | left mesh | no exit face | cycle | step limit | wrong result | diverged | mean steps |\n|---|---|---|---|---|---|---|---|---|\n".to_string();
+    for row in &r.methods {
+        let (s, k) = (&row.tally, row.tally.kinds);
+        let name = row
+            .layout
+            .map_or(row.method.clone(), |k| format!("{} ({k:?})", row.method));
+        let diverged = if row.layout.is_some() || !checked {
+            "-".to_string()
+        } else {
+            s.diverged.to_string()
+        };
+        out += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |\n",
+            name,
+            k[0],
+            k[1],
+            k[2],
+            k[3],
+            k[4],
+            s.wrong,
+            diverged,
+            s.steps as f64 / s.rays.max(1) as f64
+        );
+    }
+    out
+}
+
+/// `tetwalk walk --relabel all`'s table: per method its wrong results and cycles under its own
+/// labelling beside their min / median / max over the 12.
+pub(super) fn relabelled_table(r: &[Relabelled]) -> String {
+    let mut out = "\nunder the 12 orientation-preserving relabellings of the tetrahedra\n\n| method | wrong, own | min | median | max | cycles, own | min | median | max |\n|---|---|---|---|---|---|---|---|---|\n".to_string();
+    for r in r {
+        out += &format!(
+            "| {} | {} | {} |\n",
+            r.method,
+            relabel_spread(&r.wrong),
+            relabel_spread(&r.cycles)
+        );
+    }
+    out
 }
