@@ -5,10 +5,12 @@
 mod common;
 
 use tetwalk::backend::Backend;
+use tetwalk::family::exit_face::engine::predicate_grid;
+use tetwalk::family::walk::engine::frame;
 use tetwalk::methods::Model;
 use tetwalk::registry::Named;
 use tetwalk::registry::{METHODS, reference};
-use tetwalk::render::{self, Image, face_image, predicate_grid};
+use tetwalk::render::{self, Image, face_image};
 use tetwalk::scenes::camera::Views;
 use tetwalk::scenes::tets::{Target, TetShape, through};
 use tetwalk::tet::Case;
@@ -36,7 +38,7 @@ fn bunny_view_is_unchanged() {
         seed: 1,
         fov_deg: Views::FOV_DEG,
     };
-    let f = render::frame(
+    let f = frame(
         &mesh,
         &views,
         3,
@@ -243,7 +245,7 @@ fn a_failure_map_with_every_kind_is_unchanged() {
     for (k, kind) in OutcomeKind::ALL.iter().enumerate() {
         wrong[(10 + 8 * k as u32 + w * (12 + 6 * k as u32)) as usize] = Some(*kind);
     }
-    let f = render::Frame {
+    let f = tetwalk::engine::view::Frame {
         width: w,
         height: h,
         exact: (0..n)
@@ -312,24 +314,24 @@ fn a_small_stress_table_is_unchanged() {
 /// and fused, beside the exact map; as text and as a PNG sheet (exact | cpu | cpu-fma).
 #[test]
 fn leak_maps_are_unchanged() {
-    use tetwalk::render::{LeakGrid, leak_case, leak_image};
+    use tetwalk::family::triangle::engine::{EdgeHit, LeakGrid, leak_case};
+    use tetwalk::render::grid_image;
     use tetwalk::scenes::closed::{MeshShape, TriPlace};
     const SIZE: u32 = 48;
     let (case, pair) = leak_case(MeshShape::Octahedron, TriPlace::Embree, 1, &[]).unwrap();
     let grid = LeakGrid::new(&case, pair, SIZE);
     let exact = grid.exact();
-    let text = |cells: &[tetwalk::render::EdgeHit]| {
-        rows(SIZE, cells.iter().map(|c| c.letter().to_string()))
-    };
+    let image = |cells: &[EdgeHit]| grid_image(SIZE, cells.iter().map(|c| c.colour()));
+    let text = |cells: &[EdgeHit]| rows(SIZE, cells.iter().map(|c| c.letter().to_string()));
     settings().bind(|| {
         insta::assert_snapshot!("leak_exact", text(exact));
         for m in tetwalk::registry::TRIANGLE_METHODS {
-            let mut sheet = vec![leak_image(exact, SIZE)];
+            let mut sheet = vec![image(exact)];
             for model in [Model::Plain, Model::Fused] {
                 let cells = grid.of(m, &Backend::Cpu { model }).unwrap();
                 let tag = if model == Model::Fused { "fma" } else { "cpu" };
                 insta::assert_snapshot!(format!("leak_{}_{tag}", m.name()), text(&cells));
-                sheet.push(leak_image(&cells, SIZE));
+                sheet.push(image(&cells));
             }
             insta::assert_binary_snapshot!(
                 &format!("leak_{}.png", m.name()),
@@ -356,7 +358,7 @@ fn octree_heat_is_unchanged() {
     let hit = tetwalk::family::by_name::<tetwalk::family::Triangle>("mt")
         .unwrap()
         .hit(Model::Plain);
-    let im = render::octree_heat(
+    let cells = tetwalk::family::octree::engine::cells_per_pixel(
         &mesh,
         &views,
         3,
@@ -365,6 +367,7 @@ fn octree_heat_is_unchanged() {
         tetwalk::octree::Settings::PAPER,
     )
     .unwrap();
+    let im = render::octree_heat(96, 96, &cells, method.name());
     settings().bind(|| {
         insta::assert_binary_snapshot!("bunny_view3_octree_heat.png", im.png().unwrap());
     });
@@ -378,8 +381,8 @@ fn octree_heat_is_unchanged() {
 /// mesh, as the stress rows judge it.
 #[test]
 fn a_leak_map_paints_the_leaks_the_stress_rows_count() {
+    use tetwalk::family::triangle::engine::{EdgeHit, LeakGrid, leak_case};
     use tetwalk::family::{Family, Triangle};
-    use tetwalk::render::{EdgeHit, LeakGrid, leak_case};
     use tetwalk::scenes::closed::{MeshShape, TriPlace};
     const SIZE: u32 = 64;
     let mt = tetwalk::family::by_name::<Triangle>("mt").unwrap();

@@ -9,7 +9,7 @@ mod fuzz_import;
 mod gen_cases;
 pub(crate) mod judge;
 mod paper;
-mod render;
+pub(crate) mod render;
 mod replay;
 mod scene;
 mod shrink;

@@ -1,22 +1,23 @@
-//! `tetwalk render`: shaded renders, failure maps, heat maps and predicate maps as PNG.
+//! `tetwalk render`: shaded renders, failure maps, heat maps, predicate and leak maps as PNG — the
+//! arguments, the checks every picture shares and the files written; each picture is drawn by its
+//! family's folder (`cli::render`), as the families' list says.
 
 use super::{BackendArg, JsonOut, Status, choice};
-use crate::backend::{Backend, BackendKind};
-use crate::cases::Case;
+use crate::backend::{Backend, BackendError, BackendKind};
 use crate::choice::Choice;
-use crate::family::{self, OctreeCells, Triangle, Walks};
+use crate::family::{self, Family};
 use crate::methods::Model;
-use crate::registry::{Method, Named, TriangleMethod, reference};
+use crate::registry::Named;
 use crate::render::{self, Image};
 use crate::scenes::camera::Views;
 use crate::scenes::closed::{MeshShape, TriPlace};
-use crate::scenes::tets::{self, Target, TetShape};
+use crate::scenes::tets::TetShape;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum What {
+pub(crate) enum What {
     /// Flat-shaded view of the scene.
     Shaded,
     /// Each method's wrong rays coloured by kind, and a sheet of all methods side by side.
@@ -36,54 +37,54 @@ pub enum What {
 }
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// What to draw.
     #[arg(value_enum)]
-    what: What,
+    pub(crate) what: What,
     /// A built-in scene, a TetGen stem, or a Gmsh, VTK or MEDIT file (not for predicate maps).
     #[arg(long, default_value = "bunny-quality")]
-    scene: String,
+    pub(crate) scene: String,
     /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
     /// another format).
     #[arg(long)]
-    no_faces: bool,
+    pub(crate) no_faces: bool,
     /// Which of `--views` viewpoints, 0-based (placed as `tetwalk count` places them).
     #[arg(long, allow_negative_numbers = true, default_value_t = 0)]
-    view: usize,
+    pub(crate) view: usize,
     /// Viewpoints on the sphere around the model, as in `tetwalk count`.
     #[arg(long, allow_negative_numbers = true, default_value_t = 160)]
-    views: usize,
+    pub(crate) views: usize,
     /// WxH for scenes; W for predicate maps (square).
     #[arg(long, default_value = "512x512")]
-    size: String,
+    pub(crate) size: String,
     /// Methods (comma-separated, or all).
     #[arg(long, default_value = "all")]
-    methods: String,
+    pub(crate) methods: String,
     /// Where the methods run, for scenes (predicate and leak maps show every backend side by side,
     /// and take no other).
     #[command(flatten)]
-    backend: BackendArg,
+    pub(crate) backend: BackendArg,
     /// Predicate maps: the tetrahedron's shape (`--family` is an older name for it).
     #[arg(long, alias = "family", value_parser = choice::<TetShape>(), default_value = "well")]
-    tet_shape: TetShape,
+    pub(crate) tet_shape: TetShape,
     /// Predicate maps: what the ray goes exactly through.
     #[arg(long, value_parser = ["edge", "vertex"], default_value = "edge")]
-    through: String,
+    pub(crate) through: String,
     /// Leak maps: the closed mesh.
     #[arg(long, value_parser = choice::<MeshShape>(), default_value = "tetrahedron")]
-    shape: MeshShape,
+    pub(crate) shape: MeshShape,
     /// Leak maps: where the mesh is placed.
     #[arg(long, value_parser = choice::<TriPlace>(), default_value = "embree")]
-    place: TriPlace,
+    pub(crate) place: TriPlace,
     /// Seed: of the viewpoints (as `tetwalk count --seed`), or of the predicate or leak map's case.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
-    seed: u64,
+    pub(crate) seed: u64,
     /// Output PNG (per-method images are written beside it, suffixed with the method).
     #[arg(long, default_value = "tetwalk.png")]
-    out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Also write what was drawn (files, wrong rays per method) as JSON here.
     #[arg(long)]
-    json: Option<PathBuf>,
+    pub(crate) json: Option<PathBuf>,
 }
 
 impl super::Io for Args {
@@ -95,15 +96,17 @@ impl super::Io for Args {
     }
 }
 
+/// What a render drew, as `--json` writes it.
 #[derive(Default, serde::Serialize)]
-struct Drawn {
-    files: Vec<String>,
+pub(crate) struct Drawn {
+    pub(crate) files: Vec<String>,
     /// Failure maps: wrong rays per method.
-    wrong: Vec<(String, usize)>,
-    legend: String,
+    pub(crate) wrong: Vec<(String, usize)>,
+    pub(crate) legend: String,
 }
 
-fn write(path: &Path, im: &Image, drawn: &mut Drawn) -> Result<(), super::Error> {
+/// `im` written to `path` as PNG (staged), said on standard output and recorded in `drawn`.
+pub(crate) fn write(path: &Path, im: &Image, drawn: &mut Drawn) -> Result<(), super::Error> {
     let png = im.png()?;
     let mut staged = super::Staged::new("--out", path)?;
     staged.write_all(&png)?;
@@ -113,7 +116,8 @@ fn write(path: &Path, im: &Image, drawn: &mut Drawn) -> Result<(), super::Error>
     Ok(())
 }
 
-fn beside(out: &Path, suffix: &str) -> PathBuf {
+/// The path of a per-method image beside `out`, suffixed with `suffix`.
+pub(crate) fn beside(out: &Path, suffix: &str) -> PathBuf {
     let stem = out
         .file_stem()
         .and_then(|s| s.to_str())
@@ -138,13 +142,31 @@ pub fn run(a: Args) -> Status {
         )
         .into());
     }
-    if a.what == What::Leak {
-        return leak(a);
-    }
-    if a.what == What::OctreeHeat {
-        return octree_heat(a);
-    }
-    let methods: Vec<_> = family::parse_list::<Walks>(&a.methods)?
+    draw(a)
+}
+
+crate::families!(__render_families);
+
+/// `render`'s pictures, each drawn by its family's folder (`cli::render`), from the families' list:
+/// `families!(__render_families)`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __render_families {
+    ([] { $($line:tt)* } counted { $($c:tt)* } kit { $($k:tt)* } commands { $($cm:tt)* } fuzz { $($f:tt)* } bench { $($b:tt)* } pictures { $($m:ident: [$($w:ident),*]),* } $($rest:tt)*) => {
+        /// Draw what `a` asks for with the family that draws it.
+        fn draw(a: Args) -> Status {
+            match a.what {
+                $($(What::$w)|* => $crate::family::$m::cli::render(a),)*
+            }
+        }
+    };
+}
+
+/// The methods a picture draws (the reference left out: the others are drawn against it), the
+/// `--json` output, and the picture's size; refused when it would not fit in memory, or when a
+/// failure or predicate map would draw nothing.
+pub(crate) fn drawn_methods<F: Family>(a: &Args) -> Result<Drawing<F>, super::Error> {
+    let methods: Vec<_> = family::parse_list::<F>(&a.methods)?
         .into_iter()
         .filter(|m| !m.is_reference())
         .collect();
@@ -161,96 +183,24 @@ pub fn run(a: Args) -> Status {
         )
         .into());
     }
-    let mut drawn = Drawn::default();
-    match a.what {
-        What::Predicate => {
-            square(&a.size, w, h)?;
-            let target = if a.through == "edge" {
-                Target::Edge
-            } else {
-                Target::Vertex
-            };
-            let (tet, ray) =
-                tets::through(a.tet_shape, 1.0, target, &mut crate::scenes::rng(a.seed))
-                    .ok_or("no case could be generated")?;
-            let case = Case {
-                tet,
-                org: ray.org,
-                dir: ray.dir,
-                entry: None,
-            };
-            let cpu = Backend::Cpu {
-                model: Model::Plain,
-            };
-            let exact =
-                render::face_image(&render::predicate_grid(&case, w, reference(), &cpu)?, w);
-            let (backends, gpu_name) = map_backends();
-            let heading = |m: &Method| {
-                format!(
-                    "{}: exit face, origin moved {} ulps in x and y",
-                    m.name(),
-                    w / 2
-                )
-            };
-            let panel = |m: &Method, b: &Backend| {
-                Ok(render::face_image(
-                    &render::predicate_grid(&case, w, m, b)?,
-                    w,
-                ))
-            };
-            let key = render::predicate_key();
-            let maps = Maps {
-                exact: &exact,
-                backends: &backends,
-                key: &key,
-            };
-            maps.write(&a.out, &methods, heading, panel, &mut drawn)?;
-            drawn.legend = render::predicate_legend();
-            println!(
-                "each sheet: exact | cpu | cpu-fma{}; origin moved ±{} ulps in x (right) and y (up)",
-                gpu_name.map_or(String::new(), |g| format!(" | {g}")),
-                w / 2
-            );
-        }
-        what => {
-            let backend = a.backend.open()?;
-            let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-            let views = views_of(&a, w, h);
-            let f = render::frame(&mesh, &views, a.view, &methods, &backend)?;
-            match what {
-                What::Shaded => write(&a.out, &f.shaded(), &mut drawn)?,
-                What::Heat => {
-                    write(&a.out, &f.heat(), &mut drawn)?;
-                    drawn.legend = render::HEAT_LEGEND.into();
-                }
-                _ => {
-                    let maps: Vec<Image> = (0..methods.len()).map(|i| f.failures(i)).collect();
-                    for ((name, wrong), im) in f.wrong.iter().zip(&maps) {
-                        let n = wrong.iter().flatten().count();
-                        write(&beside(&a.out, name), im, &mut drawn)?;
-                        println!("  {name}: {n} wrong rays");
-                        drawn.wrong.push((name.clone(), n));
-                    }
-                    write(&a.out, &Image::sheet(&maps, 4), &mut drawn)?;
-                    let kinds: Vec<_> = f
-                        .wrong
-                        .iter()
-                        .flat_map(|(_, w)| w.iter().flatten())
-                        .copied()
-                        .collect();
-                    drawn.legend = render::failure_legend(&kinds);
-                    println!(
-                        "sheet order: {}",
-                        methods
-                            .iter()
-                            .map(|m| m.name())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    );
-                }
-            }
-        }
-    }
+    Ok(Drawing {
+        methods,
+        json,
+        width: w,
+        height: h,
+    })
+}
+
+/// What a picture draws: [`drawn_methods`].
+pub(crate) struct Drawing<F: Family> {
+    pub(crate) methods: Vec<&'static F::Method>,
+    pub(crate) json: JsonOut,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+}
+
+/// The legend printed and, with `--json`, what was drawn written.
+pub(crate) fn finish(drawn: Drawn, json: JsonOut) -> Status {
     print!("{}", drawn.legend);
     json.finish(&drawn)?;
     Ok(ExitCode::SUCCESS)
@@ -258,7 +208,7 @@ pub fn run(a: Args) -> Status {
 
 /// The backends a predicate or leak map is drawn on: the CPU plain and fused, and the GPU where there
 /// is one (with its name).
-fn map_backends() -> (Vec<Backend>, Option<String>) {
+pub(crate) fn map_backends() -> (Vec<Backend>, Option<String>) {
     let mut backends = vec![
         Backend::Cpu {
             model: Model::Plain,
@@ -274,21 +224,21 @@ fn map_backends() -> (Vec<Backend>, Option<String>) {
 }
 
 /// Predicate or leak maps: the exact panel, the backends each method is drawn on, the key.
-struct Maps<'a> {
-    exact: &'a Image,
-    backends: &'a [Backend],
-    key: &'a [(&'a str, [u8; 3])],
+pub(crate) struct Maps<'a> {
+    pub(crate) exact: &'a Image,
+    pub(crate) backends: &'a [Backend],
+    pub(crate) key: &'a [(&'a str, [u8; 3])],
 }
 
 impl Maps<'_> {
     /// Each method's sheet (its heading, the exact panel and one per backend, each titled, and the
     /// key) written beside `out`, and all of them into `out`.
-    fn write<M: Named>(
+    pub(crate) fn write<M: Named>(
         &self,
         out: &Path,
         methods: &[&M],
         heading: impl Fn(&M) -> String,
-        panel: impl Fn(&M, &Backend) -> Result<Image, render::RenderError>,
+        panel: impl Fn(&M, &Backend) -> Result<Image, BackendError>,
         drawn: &mut Drawn,
     ) -> Result<(), super::Error> {
         let mut sheets = Vec::new();
@@ -306,7 +256,7 @@ impl Maps<'_> {
 }
 
 /// The views `--views` and `--seed` place, of `w × h` pixels, as `count` places them.
-fn views_of(a: &Args, w: u32, h: u32) -> Views {
+pub(crate) fn views_of(a: &Args, w: u32, h: u32) -> Views {
     Views {
         views: a.views,
         width: w,
@@ -317,76 +267,11 @@ fn views_of(a: &Args, w: u32, h: u32) -> Views {
 }
 
 /// A map that is square (predicate and leak maps) refuses `--size WxH` with `W ≠ H`.
-fn square(text: &str, w: u32, h: u32) -> Result<(), super::Error> {
+pub(crate) fn square(text: &str, w: u32, h: u32) -> Result<(), super::Error> {
     if w != h {
         return Err(
             format!("--size {text}: this map is square, W by W pixels: give --size {w}").into(),
         );
     }
     Ok(())
-}
-
-/// `render octree-heat`: octree cells per pixel.
-fn octree_heat(a: Args) -> Status {
-    let names = if a.methods == "all" {
-        "portalez16-direction"
-    } else {
-        &a.methods
-    };
-    let method = *family::parse_list::<OctreeCells>(names)?
-        .first()
-        .ok_or("--methods names no octree method")?;
-    let json = JsonOut::new(a.json.as_deref())?;
-    let (w, h) = super::size(&a.size, false, 4096)?;
-    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
-    let views = views_of(&a, w, h);
-    let hit = family::by_name::<Triangle>("mt")?.hit(Model::Plain);
-    let im = render::octree_heat(
-        &mesh,
-        &views,
-        a.view,
-        method,
-        hit,
-        crate::octree::Settings::PAPER,
-    )?;
-    let mut drawn = Drawn::default();
-    write(&a.out, &im, &mut drawn)?;
-    drawn.legend = render::OCTREE_HEAT_LEGEND.into();
-    print!("{}", drawn.legend);
-    json.finish(&drawn)?;
-    Ok(ExitCode::SUCCESS)
-}
-
-/// `render leak`: a sheet per ray–triangle method, exact | cpu | cpu-fma (| gpu).
-fn leak(a: Args) -> Status {
-    let methods = family::parse_list::<Triangle>(&a.methods)?;
-    let json = JsonOut::new(a.json.as_deref())?;
-    let (w, h) = super::size(&a.size, true, 4096)?;
-    square(&a.size, w, h)?;
-    let (case, pair) = render::leak_case(a.shape, a.place, a.seed, &methods)
-        .ok_or("no ray of the edge row crosses the surface between an edge's two triangles")?;
-    let grid = render::LeakGrid::new(&case, pair, w);
-    let exact = render::leak_image(grid.exact(), w);
-    let (backends, gpu_name) = map_backends();
-    let mut drawn = Drawn::default();
-    let heading = |m: &TriangleMethod| format!("{}: hits through and beside an edge", m.name());
-    let panel = |m: &TriangleMethod, b: &Backend| Ok(render::leak_image(&grid.of(m, b)?, w));
-    let key = render::leak_key();
-    let maps = Maps {
-        exact: &exact,
-        backends: &backends,
-        key: &key,
-    };
-    maps.write(&a.out, &methods, heading, panel, &mut drawn)?;
-    drawn.legend = render::leak_legend();
-    println!(
-        "each sheet: exact | cpu | cpu-fma{}; the {} {} edge row's first case a listed method leaks through (else its first): along x, rays exactly through the edge at points of its middle half; along y, the direction moved ±{} ulp steps off it",
-        gpu_name.map_or(String::new(), |g| format!(" | {g}")),
-        a.shape.name(),
-        a.place.name(),
-        w / 2
-    );
-    print!("{}", drawn.legend);
-    json.finish(&drawn)?;
-    Ok(ExitCode::SUCCESS)
 }

@@ -15,6 +15,7 @@ pub mod shrink;
 pub mod standing;
 pub mod stress;
 pub mod verify;
+pub mod view;
 
 /// Numbers measured under every labelling, written once for `stress`, `count` and `walk`: `own`
 /// (under the cases' or mesh's own labelling, the identity) each beside the same numbers under

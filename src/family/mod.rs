@@ -427,6 +427,7 @@ macro_rules! families {
             commands { exit_face: Exit, octree: BoxExit, triangle: Hit, walk: Walk }
             fuzz { octree: octree_walk }
             bench { walk: "exit-face", triangle: "triangle" }
+            pictures { walk: [Shaded, Failures, Heat], exit_face: [Predicate], octree: [OctreeHeat], triangle: [Leak] }
         }
     };
 }

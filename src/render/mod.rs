@@ -1,30 +1,16 @@
-//! Pictures: shaded renders, per-method failure maps, traversal heat maps and predicate maps, from
-//! integer per-pixel data (which the golden tests snapshot) to deterministic PNGs.
+//! Pictures: shaded renders, per-method failure maps, traversal heat maps, predicate and leak maps,
+//! from integer per-pixel data that runs returned (which the golden tests snapshot) to deterministic
+//! PNGs. Formatting only: the views are walked and judged by the families' engines.
 
 pub mod text;
 
-use crate::backend::{Backend, BackendError};
-use crate::cases::{Case, HitCase};
-use crate::mesh::{HULL, Mesh, bounds};
-use crate::methods::Model;
-use crate::registry::{Method, Named, OctreeMethod, TriangleMethod, reference};
-use crate::scenes::camera::Views;
-use crate::scenes::closed::{self, MeshShape, TriPlace};
-use crate::scenes::tets::ulps;
-use crate::walk::{LocateError, Outcome, OutcomeKind, Walk, default_max_steps, judge, locate};
-use rayon::prelude::*;
+use crate::backend::Backend;
+use crate::engine::view::Frame;
+use crate::walk::OutcomeKind;
 
 /// Why a picture could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
-    #[error(transparent)]
-    Backend(#[from] BackendError),
-    #[error("view {view}'s camera is not inside the mesh: {why}")]
-    Outside { view: usize, why: LocateError },
-    #[error("view {view} does not exist: views are numbered 0 to {} ({views} in all)", views - 1)]
-    NoSuchView { view: usize, views: usize },
-    #[error("octree: {0}")]
-    Octree(String),
     #[error("an image of {width}x{height} pixels cannot be written as PNG: {why}")]
     Png {
         width: u32,
@@ -214,87 +200,6 @@ pub fn backend_title(b: &Backend) -> String {
 pub const FACE_COLOURS: [[u8; 3]; 4] =
     [[228, 26, 28], [55, 126, 184], [77, 175, 74], [255, 127, 0]];
 
-/// What a view of a scene shows, per pixel (row-major): the exact walk and each method's verdict.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Frame {
-    pub width: u32,
-    pub height: u32,
-    /// The exact walk of every pixel.
-    pub exact: Vec<Walk>,
-    /// Per method, per pixel: the kind of wrong ending, or none.
-    pub wrong: Vec<(String, Vec<Option<OutcomeKind>>)>,
-    /// Shading of the exact hit: `|n · d|` in 0..=255, and whether it is a box (hull) face.
-    pub shade: Vec<(u8, bool)>,
-}
-
-/// View `index`'s camera (placed as `tetwalk count` places it) and the tetrahedron holding it.
-fn view(
-    mesh: &Mesh,
-    views: &Views,
-    index: usize,
-) -> Result<(crate::scenes::camera::Camera, u32), RenderError> {
-    if index >= views.views {
-        return Err(RenderError::NoSuchView {
-            view: index,
-            views: views.views,
-        });
-    }
-    let (lo, hi) = bounds(&mesh.points);
-    let cam = views.camera(lo, hi, index);
-    let start =
-        locate(mesh, cam.eye, 0).map_err(|why| RenderError::Outside { view: index, why })?;
-    Ok((cam, start))
-}
-
-/// Render view `index` of `views` (placed as `tetwalk count` places them) with the exact walk and
-/// `methods` on `backend`.
-pub fn frame(
-    mesh: &Mesh,
-    views: &Views,
-    index: usize,
-    methods: &[&Method],
-    backend: &Backend,
-) -> Result<Frame, RenderError> {
-    let (cam, start) = view(mesh, views, index)?;
-    let max = default_max_steps(mesh);
-    let rays = views.rays(&cam);
-    let on = backend.mesh(mesh);
-    let exact = backend.walks(reference(), &on, &rays, start, max)?;
-    let mut wrong = Vec::new();
-    for m in methods {
-        let walks = backend.walks(m, &on, &rays, start, max)?;
-        let w: Vec<Option<OutcomeKind>> = rays
-            .par_iter()
-            .zip(&walks)
-            .zip(&exact)
-            .map(|((r, w), re)| judge(mesh, r, w, re))
-            .collect();
-        wrong.push((m.name().to_string(), w));
-    }
-    let shade = rays
-        .iter()
-        .zip(&exact)
-        .map(|(r, w)| match w.outcome {
-            Outcome::Hit { tet, face } => {
-                let [a, b, c] = mesh
-                    .face(tet, face as usize)
-                    .map(|i| mesh.points[i as usize]);
-                let n = (b - a).cross(c - a).normalize_or_zero();
-                let s = (n.dot(r.dir.normalize()).abs() * 205.0 + 50.0) as u8;
-                (s, mesh.neighbors[tet as usize][face as usize] == HULL)
-            }
-            _ => (0, false),
-        })
-        .collect();
-    Ok(Frame {
-        width: views.width,
-        height: views.height,
-        exact,
-        wrong,
-        shade,
-    })
-}
-
 impl Frame {
     /// Flat shading: the model in warm grey, the box walls in blue-grey.
     pub fn shaded(&self) -> Image {
@@ -420,303 +325,14 @@ pub fn heat_map(width: u32, height: u32, counts: &[u32], title: &str) -> Image {
     titled(&im, title)
 }
 
-/// Seed 001's octree cells traversed per pixel of view `index` by octree method `method` (each leaf's
-/// triangles tested with `hit`), the octree built as `settings` says over the scene's constrained
-/// faces facing the camera ([`heat_map`]).
-pub fn octree_heat(
-    mesh: &Mesh,
-    views: &Views,
-    index: usize,
-    method: &OctreeMethod,
-    hit: crate::registry::HitFn,
-    settings: crate::octree::Settings,
-) -> Result<Image, RenderError> {
-    let (cam, start) = view(mesh, views, index)?;
-    let region = crate::mesh::surface::region_of(mesh, start);
-    let (tris, _) = crate::mesh::surface::scene_triangles(mesh, &region);
-    let octree = crate::octree::Octree::build(&tris, settings)
-        .map_err(|e| RenderError::Octree(e.to_string()))?;
-    let cap = crate::walk::octree::default_max_steps(&octree);
-    let walk = method.walk(Model::Plain);
-    let cells: Vec<u32> = views
-        .rays(&cam)
-        .par_iter()
-        .map(|r| walk(&octree, &tris, hit, r, cap).cells)
-        .collect();
-    Ok(heat_map(
-        views.width,
-        views.height,
-        &cells,
-        &format!("octree cells per pixel ({})", method.name()),
-    ))
-}
-
-/// A predicate map (after Kettner et al.'s classroom examples): the case's origin moved on a
-/// `size × size` grid of ulp steps in x and y around itself, each pixel the exit face `method` gives on
-/// `backend` (the reference gives the exact one, ties broken as it breaks them).
-pub fn predicate_grid(
-    case: &Case,
-    size: u32,
-    method: &Method,
-    backend: &Backend,
-) -> Result<Vec<Option<usize>>, RenderError> {
-    let half = (size / 2) as i32;
-    let cases: Vec<Case> = (0..size)
-        .flat_map(|y| (0..size).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let mut c = *case;
-            c.org.x = ulps(c.org.x, x as i32 - half);
-            c.org.y = ulps(c.org.y, half - y as i32);
-            c
-        })
-        .collect();
-    Ok(backend.exit_faces(method, &cases)?)
-}
-
-/// Which of the two triangles sharing an edge report a hit: a leak map's cell.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EdgeHit {
-    First,
-    Second,
-    /// Both: a double hit (right where the ray meets the edge itself).
-    Both,
-    /// A leak, judged against every triangle of the mesh: the ray crosses the surface and no triangle
-    /// around the crossing reports it.
-    Neither,
-    /// Neither, as the exact ray: it passes beside both.
-    Beside,
-    /// Neither of the two, but another triangle around the crossing (the ray passes beside the pair
-    /// onto a neighbour): not a leak.
-    Other,
-}
-
-impl EdgeHit {
-    fn of(first: bool, second: bool) -> EdgeHit {
-        match (first, second) {
-            (true, true) => EdgeHit::Both,
-            (true, false) => EdgeHit::First,
-            (false, true) => EdgeHit::Second,
-            (false, false) => EdgeHit::Neither,
-        }
-    }
-
-    pub const ALL: [EdgeHit; 6] = [
-        EdgeHit::First,
-        EdgeHit::Second,
-        EdgeHit::Both,
-        EdgeHit::Neither,
-        EdgeHit::Beside,
-        EdgeHit::Other,
-    ];
-
-    /// Its letter in the golden text and its colour in the PNG.
-    pub fn letter(self) -> char {
-        ['a', 'b', '2', '0', '.', 'o'][self as usize]
-    }
-
-    pub fn colour(self) -> [u8; 3] {
-        [
-            [40, 110, 255],
-            [40, 200, 80],
-            [250, 210, 0],
-            [230, 30, 30],
-            [0, 0, 0],
-            [150, 90, 200],
-        ][self as usize]
-    }
-
-    /// What it means, for the legend.
-    pub fn words(self) -> &'static str {
-        [
-            "the first triangle only",
-            "the second only",
-            "both (a double hit)",
-            "a leak (no triangle of the mesh catches the ray)",
-            "neither, as the exact ray",
-            "a neighbouring triangle (not a leak)",
-        ][self as usize]
-    }
-}
-
-/// A leak map's grid of `size × size` rays around the triangle case's, which passes exactly through
-/// the edge the triangles `pair` share: across (x) the origin moved parallel to the edge by a power-of-
-/// two fraction of it, so that the middle row's rays cross the edge line at points of its middle half
-/// (exactly, where the moved origins are f32 values: the far places), as the stress rows' exact-edge
-/// rays do; down (y) the direction moved by ulp steps in its component, other than the largest, across
-/// which the edge runs least, so that the other rows pass beside the edge by a few ulps. Each cell
-/// says which of the two triangles report a hit, or a leak. The exact cells are judged once, when the
-/// grid is made; every method's are set beside them.
-pub struct LeakGrid {
-    cases: Vec<HitCase>,
-    pair: [u32; 2],
-    exact: Vec<EdgeHit>,
-    /// Each cell's exact first crossings, against which a leak is judged.
-    truths: Vec<Option<crate::exact::hit::HitTruth>>,
-}
-
-impl LeakGrid {
-    pub fn new(case: &HitCase, pair: [u32; 2], size: u32) -> LeakGrid {
-        let half = (size / 2) as i32;
-        // Along x, the origin moves parallel to the edge, so that the middle row's rays pass exactly
-        // through the edge line (where the moved origins are f32 values exactly: the far places);
-        // the stress rows' exact-edge rays, at points from one end of the edge's middle half to the
-        // other.
-        let [t, u] = pair.map(|i| case.tris()[i as usize]);
-        let shared: Vec<glam::Vec3> = t.iter().copied().filter(|p| u.contains(p)).collect();
-        let edge = match shared[..] {
-            [a, b] => b - a,
-            _ => glam::Vec3::ZERO,
-        };
-        // Points from a quarter of the edge before its midpoint to a quarter after, at steps of
-        // edge · 2^-m: the finest that keeps every moved origin an f32 value exactly (so every ray of
-        // the middle row passes exactly through the edge line), at most one point a column.
-        let exact = |m: i32| {
-            let step = edge * 2f32.powi(-m);
-            (-(1i32 << (m - 2))..=1 << (m - 2)).all(|j| {
-                let o = case.org + step * j as f32;
-                (0..3).all(|a| {
-                    o[a] as f64 == case.org[a] as f64 + step[a] as f64 * j as f64
-                        && step[a] as f64 == edge[a] as f64 * 2f64.powi(-m)
-                })
-            })
-        };
-        let finest = (4 * half.max(1) as u32)
-            .next_power_of_two()
-            .trailing_zeros() as i32;
-        let m = (2..=finest).rev().find(|&m| exact(m)).unwrap_or(2);
-        let (step, points) = (edge * 2f32.powi(-m), 1i32 << (m - 2));
-        let along = |x: i32| step * ((x - half) as i64 * points as i64 / half.max(1) as i64) as f32;
-        // Along y, the direction moves by ulp steps in the component (not the largest) across which
-        // the edge runs least.
-        let k = case.dir.abs().max_position();
-        let (a1, a2) = ((k + 1) % 3, (k + 2) % 3);
-        let ay = if edge[a1].abs() <= edge[a2].abs() {
-            a1
-        } else {
-            a2
-        };
-        let step = ulps(case.dir[ay].abs(), 1) - case.dir[ay].abs();
-        let cases: Vec<HitCase> = (0..size)
-            .flat_map(|y| (0..size).map(move |x| (x, y)))
-            .map(|(x, y)| {
-                let mut c = *case;
-                c.org += along(x as i32);
-                c.dir[ay] += (half - y as i32) as f32 * step;
-                c
-            })
-            .collect();
-        let truths = cases
-            .par_iter()
-            .map(|c| crate::exact::hit::judge_hit(c.tris(), c.closed, &c.ray()).ok())
-            .collect();
-        let exact = cases
-            .par_iter()
-            .map(|c| {
-                let ray = c.ray();
-                let hit = |i: u32| {
-                    crate::exact::hit::ray_triangle(c.tris()[i as usize], &ray).is_ok_and(|h| h.hit)
-                };
-                match EdgeHit::of(hit(pair[0]), hit(pair[1])) {
-                    EdgeHit::Neither => EdgeHit::Beside,
-                    e => e,
-                }
-            })
-            .collect();
-        LeakGrid {
-            cases,
-            pair,
-            exact,
-            truths,
-        }
-    }
-
-    /// The exact cells (both on the edge itself).
-    pub fn exact(&self) -> &[EdgeHit] {
-        &self.exact
-    }
-
-    /// `method`'s cells on `backend`: a leak where, judged against every triangle of the mesh, the
-    /// ray crosses the surface and no triangle around the crossing reports it; else which of the two
-    /// it hits, or another around the crossing.
-    pub fn of(
-        &self,
-        method: &TriangleMethod,
-        backend: &Backend,
-    ) -> Result<Vec<EdgeHit>, RenderError> {
-        let [p, q] = self.pair;
-        Ok(backend
-            .triangle_hits(method, &self.cases)?
-            .iter()
-            .zip(self.exact.iter().zip(&self.truths))
-            .map(|(h, (e, truth))| {
-                let ids: Vec<u32> = h.iter().map(|&(k, _)| k).collect();
-                if truth.as_ref().is_some_and(|t| t.leaks(&ids)) {
-                    return EdgeHit::Neither;
-                }
-                match (EdgeHit::of(ids.contains(&p), ids.contains(&q)), e) {
-                    (EdgeHit::Neither, EdgeHit::Beside) => EdgeHit::Beside,
-                    (EdgeHit::Neither, _) => EdgeHit::Other,
-                    (c, _) => c,
-                }
-            })
-            .collect())
-    }
-}
-
-/// A leak map's case: a case of the triangle stress rows' `edge` row of `shape` at `place` (the same
-/// generator: a closed mesh, a ray from a lattice point outside it exactly through the midpoint of an
-/// edge) whose ray crosses the surface there, between the edge's two triangles (the pair): the first
-/// under `seed` that one of `leaking` leaks through on the CPU (plain f32), else the first; `None` if
-/// 1,000 draws found none.
-pub fn leak_case(
-    shape: MeshShape,
-    place: TriPlace,
-    seed: u64,
-    leaking: &[&TriangleMethod],
-) -> Option<(HitCase, [u32; 2])> {
-    let candidates = (0..1000u64).filter_map(|i| {
-        let mut rng = crate::scenes::rng(seed.wrapping_mul(1000).wrapping_add(i));
-        let (mesh, ray) = closed::case(shape, closed::TriAim::Edge, place, 1e-3, 4, &mut rng);
-        let case = HitCase::closed(&mesh, ray).ok()?;
-        let truth = crate::exact::hit::judge_hit(case.tris(), case.closed, &case.ray()).ok()?;
-        let first = truth.first()?;
-        let [p, q] = first.holding[..] else {
-            return None;
-        };
-        first.crosses.then_some((case, [p, q], truth))
-    });
-    let mut fallback = None;
-    for (case, pair, truth) in candidates {
-        let leaks = leaking.iter().any(|m| {
-            Backend::Cpu {
-                model: Model::Plain,
-            }
-            .triangle_hits(m, std::slice::from_ref(&case))
-            .is_ok_and(|h| truth.leaks(&h[0].iter().map(|&(k, _)| k).collect::<Vec<_>>()))
-        });
-        if leaks || leaking.is_empty() {
-            return Some((case, pair));
-        }
-        fallback.get_or_insert((case, pair));
-    }
-    fallback
-}
-
-/// A leak map as an image ([`EdgeHit::colour`]).
-pub fn leak_image(cells: &[EdgeHit], size: u32) -> Image {
-    let mut im = Image::new(size, size);
-    for (i, c) in cells.iter().enumerate() {
-        im.set(i as u32 % size, i as u32 / size, c.colour());
-    }
-    im
-}
-
-/// The leak maps' key: each kind of cell, its words and colour.
-pub fn leak_key() -> Vec<(&'static str, [u8; 3])> {
-    EdgeHit::ALL
-        .iter()
-        .map(|c| (c.words(), c.colour()))
-        .collect()
+/// Seed 001's octree cells visited per pixel by octree method `method` ([`heat_map`]).
+pub fn octree_heat(width: u32, height: u32, cells: &[u32], method: &str) -> Image {
+    heat_map(
+        width,
+        height,
+        cells,
+        &format!("octree cells per pixel ({method})"),
+    )
 }
 
 /// The predicate maps' key: each face's colour, black for none.
@@ -736,23 +352,21 @@ pub fn key_line(name: &str, key: &[(&str, [u8; 3])]) -> String {
     format!("{name}: {}\n", parts.join("; "))
 }
 
-/// The leak maps' legend, in words.
-pub fn leak_legend() -> String {
-    key_line(
-        "leak maps: hits on the two triangles sharing the edge",
-        &leak_key(),
+/// A grid of faces as an image ([`FACE_COLOURS`], black for none).
+pub fn face_image(faces: &[Option<usize>], size: u32) -> Image {
+    grid_image(
+        size,
+        faces
+            .iter()
+            .map(|f| f.map_or([0, 0, 0], |f| FACE_COLOURS[f])),
     )
 }
 
-/// A grid of faces as an image ([`FACE_COLOURS`], black for none).
-pub fn face_image(faces: &[Option<usize>], size: u32) -> Image {
+/// A `size × size` grid of cells (row-major) as an image, each cell its colour.
+pub fn grid_image(size: u32, colours: impl Iterator<Item = [u8; 3]>) -> Image {
     let mut im = Image::new(size, size);
-    for (i, f) in faces.iter().enumerate() {
-        im.set(
-            i as u32 % size,
-            i as u32 / size,
-            f.map_or([0, 0, 0], |f| FACE_COLOURS[f]),
-        );
+    for (i, c) in colours.enumerate() {
+        im.set(i as u32 % size, i as u32 / size, c);
     }
     im
 }

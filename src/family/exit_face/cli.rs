@@ -1,12 +1,22 @@
 //! The family's command line (a file of the command line's layer in the family's folder): `tetwalk
-//! exit`, which answers its cases, and the flags of `stress` that choose its rows; the commands flatten
-//! every family's.
+//! exit`, which answers its cases, `render predicate`, and the flags of `stress` that choose its rows;
+//! the commands flatten every family's.
 
+use super::engine::predicate_grid;
 use super::{ExitFace, ExitRows, TetRow};
+use crate::backend::Backend;
+use crate::cases::Case;
 use crate::cli::answer::{Answered, Answering, Part};
+use crate::cli::render::{
+    Args as RenderArgs, Drawn, Maps, drawn_methods, finish, map_backends, square,
+};
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{Status, WgslArg, choice};
 use crate::family::{Kind, Walks};
+use crate::methods::Model;
+use crate::registry::{Method, Named, reference};
+use crate::render;
+use crate::scenes::tets::{self, Target};
 
 /// Exit-face rows.
 #[derive(clap::Args)]
@@ -110,4 +120,54 @@ fn refuse(k: Kind) -> String {
         _ => "an octree cell case: tetwalk box-exit answers it",
     }
     .into()
+}
+
+/// `render predicate`: a sheet per method, the exit faces over a grid of ulp steps of a case's origin
+/// ([`super::engine::predicate_grid`]), exact | cpu | cpu-fma (| gpu).
+pub(crate) fn render(a: RenderArgs) -> Status {
+    let d = drawn_methods::<ExitFace>(&a)?;
+    let (w, h) = (d.width, d.height);
+    let mut drawn = Drawn::default();
+    square(&a.size, w, h)?;
+    let target = if a.through == "edge" {
+        Target::Edge
+    } else {
+        Target::Vertex
+    };
+    let (tet, ray) = tets::through(a.tet_shape, 1.0, target, &mut crate::scenes::rng(a.seed))
+        .ok_or("no case could be generated")?;
+    let case = Case {
+        tet,
+        org: ray.org,
+        dir: ray.dir,
+        entry: None,
+    };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
+    let exact = render::face_image(&predicate_grid(&case, w, reference(), &cpu)?, w);
+    let (backends, gpu_name) = map_backends();
+    let heading = |m: &Method| {
+        format!(
+            "{}: exit face, origin moved {} ulps in x and y",
+            m.name(),
+            w / 2
+        )
+    };
+    let panel =
+        |m: &Method, b: &Backend| Ok(render::face_image(&predicate_grid(&case, w, m, b)?, w));
+    let key = render::predicate_key();
+    let maps = Maps {
+        exact: &exact,
+        backends: &backends,
+        key: &key,
+    };
+    maps.write(&a.out, &d.methods, heading, panel, &mut drawn)?;
+    drawn.legend = render::predicate_legend();
+    println!(
+        "each sheet: exact | cpu | cpu-fma{}; origin moved ±{} ulps in x (right) and y (up)",
+        gpu_name.map_or(String::new(), |g| format!(" | {g}")),
+        w / 2
+    );
+    finish(drawn, d.json)
 }

@@ -1,13 +1,19 @@
 //! The family's command line (a file of the command line's layer in the family's folder): `tetwalk
-//! box-exit`, which answers its cases, the flags of `stress` that choose its rows and those of
-//! `count`; the commands flatten every family's.
+//! box-exit`, which answers its cases, `render octree-heat`, the flags of `stress` that choose its
+//! rows and those of `count`; the commands flatten every family's.
 
+use super::engine::cells_per_pixel;
 use super::{CellRows, OctreeCells, OctreeCountSettings};
 use crate::cli::answer::{Answered, Answering, Part};
 use crate::cli::count::{FamilyFlags, Flags};
+use crate::cli::render::{Args as RenderArgs, Drawn, finish, views_of, write};
 use crate::cli::stress::{Rows, Shape, or_all};
+use crate::cli::{JsonOut, faces, size};
 use crate::cli::{Status, choice};
-use crate::family::Kind;
+use crate::family::{self, Kind, Triangle};
+use crate::methods::Model;
+use crate::registry::Named;
+use crate::render;
 use crate::scenes::cells::{CellAim, CellPlace};
 
 /// Octree rows.
@@ -130,4 +136,34 @@ pub fn run(a: Args) -> Status {
 /// `box-exit` answers octree cell cases only.
 fn refuse(_: Kind) -> String {
     "not an octree cell case: box-exit answers {\"box\", \"org\", \"dir\"}".into()
+}
+
+/// `render octree-heat`: octree cells per pixel ([`super::engine::cells_per_pixel`]).
+pub(crate) fn render(a: RenderArgs) -> Status {
+    let names = if a.methods == "all" {
+        "portalez16-direction"
+    } else {
+        &a.methods
+    };
+    let method = *family::parse_list::<OctreeCells>(names)?
+        .first()
+        .ok_or("--methods names no octree method")?;
+    let json = JsonOut::new(a.json.as_deref())?;
+    let (w, h) = size(&a.size, false, 4096)?;
+    let mesh = crate::scenes::load(&a.scene, faces(a.no_faces))?;
+    let views = views_of(&a, w, h);
+    let hit = family::by_name::<Triangle>("mt")?.hit(Model::Plain);
+    let cells = cells_per_pixel(
+        &mesh,
+        &views,
+        a.view,
+        method,
+        hit,
+        crate::octree::Settings::PAPER,
+    )?;
+    let im = render::octree_heat(w, h, &cells, method.name());
+    let mut drawn = Drawn::default();
+    write(&a.out, &im, &mut drawn)?;
+    drawn.legend = render::OCTREE_HEAT_LEGEND.into();
+    finish(drawn, json)
 }

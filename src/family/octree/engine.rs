@@ -1,12 +1,18 @@
 //! The octree family's engine beyond its `Family` (a file of the engine's layer in the family's
-//! folder): the fuzz target that walks seed 001's octree (`octree_walk`), and what it finds.
+//! folder): the fuzz target that walks seed 001's octree (`octree_walk`), and what it finds; the
+//! cells a scene's view visits per pixel (`render octree-heat`).
 
 use super::OctreeCells;
 use crate::engine::found::{Failure, Found, FoundError, cpu_backends};
 use crate::engine::fuzz::held;
+use crate::engine::view::{ViewError, located_view};
 use crate::family::{Family, Triangle, Verdict};
-use crate::registry::Named;
+use crate::mesh::Mesh;
+use crate::methods::Model;
+use crate::registry::{HitFn, Named, OctreeMethod};
+use crate::scenes::camera::Views;
 use crate::tet::{Ray, Tri};
+use rayon::prelude::*;
 
 /// The `octree_walk` fuzz target's finding on the bytes it was given: [`octree_walk_find`] on the
 /// closed mesh and ray they decode to (nothing where they decode to none).
@@ -71,4 +77,29 @@ pub fn octree_walk_find(tris: &[Tri], ray: &Ray) -> Result<Option<Found<OctreeCe
         }
     }
     Ok(None)
+}
+
+/// Seed 001's octree cells traversed per pixel (row-major) of view `index` by octree method `method`
+/// (each leaf's triangles tested with `hit`), the octree built as `settings` says over the scene's
+/// constrained faces facing the camera: what `render octree-heat` draws.
+pub fn cells_per_pixel(
+    mesh: &Mesh,
+    views: &Views,
+    index: usize,
+    method: &OctreeMethod,
+    hit: HitFn,
+    settings: crate::octree::Settings,
+) -> Result<Vec<u32>, ViewError> {
+    let (cam, start) = located_view(mesh, views, index)?;
+    let region = crate::mesh::surface::region_of(mesh, start);
+    let (tris, _) = crate::mesh::surface::scene_triangles(mesh, &region);
+    let octree = crate::octree::Octree::build(&tris, settings)
+        .map_err(|e| ViewError::Octree(e.to_string()))?;
+    let cap = crate::walk::octree::default_max_steps(&octree);
+    let walk = method.walk(Model::Plain);
+    Ok(views
+        .rays(&cam)
+        .par_iter()
+        .map(|r| walk(&octree, &tris, hit, r, cap).cells)
+        .collect())
 }

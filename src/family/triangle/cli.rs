@@ -1,16 +1,22 @@
 //! The family's command line (a file of the command line's layer in the family's folder): `tetwalk
-//! hit`, which answers its cases, the flags of `stress` that choose its rows and those of `count`; the
-//! commands flatten every family's.
+//! hit`, which answers its cases, `render leak`, the flags of `stress` that choose its rows and those
+//! of `count`; the commands flatten every family's.
 
+use super::engine::{EdgeHit, LeakGrid, leak_case};
 use super::{TriCountSettings, TriRows, Triangle};
+use crate::backend::Backend;
 use crate::choice::{BackendKind, Choice};
 use crate::cli::answer::{Answered, Answering, Part};
 use crate::cli::bench::Args as BenchArgs;
 use crate::cli::count::{FamilyFlags, Flags};
+use crate::cli::render::{Args as RenderArgs, Drawn, Maps, finish, map_backends, square};
+use crate::cli::size;
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{JsonOut, Status, choice};
-use crate::family::Kind;
+use crate::family::{self, Kind};
+use crate::registry::TriangleMethod;
 use crate::registry::{Named, TRIANGLE_METHODS};
+use crate::render::{self, Image};
 use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
 use std::process::ExitCode;
 
@@ -174,4 +180,45 @@ pub fn bench(a: BenchArgs) -> Status {
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// `render leak`: a sheet per ray–triangle method, exact | cpu | cpu-fma (| gpu), of the hits through
+/// and beside an edge ([`super::engine::LeakGrid`]).
+pub(crate) fn render(a: RenderArgs) -> Status {
+    let methods = family::parse_list::<Triangle>(&a.methods)?;
+    let json = JsonOut::new(a.json.as_deref())?;
+    let (w, h) = size(&a.size, true, 4096)?;
+    square(&a.size, w, h)?;
+    let (case, pair) = leak_case(a.shape, a.place, a.seed, &methods)
+        .ok_or("no ray of the edge row crosses the surface between an edge's two triangles")?;
+    let grid = LeakGrid::new(&case, pair, w);
+    let exact = leak_image(grid.exact(), w);
+    let (backends, gpu_name) = map_backends();
+    let mut drawn = Drawn::default();
+    let heading = |m: &TriangleMethod| format!("{}: hits through and beside an edge", m.name());
+    let panel = |m: &TriangleMethod, b: &Backend| Ok(leak_image(&grid.of(m, b)?, w));
+    let key = EdgeHit::key();
+    let maps = Maps {
+        exact: &exact,
+        backends: &backends,
+        key: &key,
+    };
+    maps.write(&a.out, &methods, heading, panel, &mut drawn)?;
+    drawn.legend = render::key_line(
+        "leak maps: hits on the two triangles sharing the edge",
+        &key,
+    );
+    println!(
+        "each sheet: exact | cpu | cpu-fma{}; the {} {} edge row's first case a listed method leaks through (else its first): along x, rays exactly through the edge at points of its middle half; along y, the direction moved ±{} ulp steps off it",
+        gpu_name.map_or(String::new(), |g| format!(" | {g}")),
+        a.shape.name(),
+        a.place.name(),
+        w / 2
+    );
+    finish(drawn, json)
+}
+
+/// A leak map as an image ([`EdgeHit::colour`]).
+fn leak_image(cells: &[EdgeHit], size: u32) -> Image {
+    render::grid_image(size, cells.iter().map(|c| c.colour()))
 }

@@ -1,6 +1,9 @@
 //! The triangle family's engine beyond its `Family` (a file of the engine's layer in the family's
-//! folder): seed 004 Figure 5's measure, `bench --family triangle`.
+//! folder): seed 004 Figure 5's measure, `bench --family triangle`; a leak map's grid of rays
+//! through and beside an edge, each method's hits judged against every triangle (`render leak`).
 
+use crate::backend::{Backend, BackendError};
+use crate::cases::HitCase;
 use crate::engine::count::located_views;
 use crate::family::count::CountError;
 use crate::mesh::Mesh;
@@ -9,7 +12,10 @@ use crate::methods::Model;
 use crate::methods::triangle::SideError;
 use crate::registry::{Named, TriangleMethod};
 use crate::scenes::camera::{Views, packet_order};
+use crate::scenes::closed::{self, MeshShape, TriPlace};
+use crate::scenes::tets::ulps;
 use crate::tet::Ray;
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// Seed 004 Figure 5's measure: each method's intersection time over a view's primary rays against
@@ -123,4 +129,241 @@ pub fn speed(
             })
             .collect(),
     })
+}
+
+/// Which of the two triangles sharing an edge report a hit: a leak map's cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeHit {
+    First,
+    Second,
+    /// Both: a double hit (right where the ray meets the edge itself).
+    Both,
+    /// A leak, judged against every triangle of the mesh: the ray crosses the surface and no triangle
+    /// around the crossing reports it.
+    Neither,
+    /// Neither, as the exact ray: it passes beside both.
+    Beside,
+    /// Neither of the two, but another triangle around the crossing (the ray passes beside the pair
+    /// onto a neighbour): not a leak.
+    Other,
+}
+
+impl EdgeHit {
+    fn of(first: bool, second: bool) -> EdgeHit {
+        match (first, second) {
+            (true, true) => EdgeHit::Both,
+            (true, false) => EdgeHit::First,
+            (false, true) => EdgeHit::Second,
+            (false, false) => EdgeHit::Neither,
+        }
+    }
+
+    pub const ALL: [EdgeHit; 6] = [
+        EdgeHit::First,
+        EdgeHit::Second,
+        EdgeHit::Both,
+        EdgeHit::Neither,
+        EdgeHit::Beside,
+        EdgeHit::Other,
+    ];
+
+    /// Its letter in the golden text and its colour in the PNG.
+    pub fn letter(self) -> char {
+        ['a', 'b', '2', '0', '.', 'o'][self as usize]
+    }
+
+    pub fn colour(self) -> [u8; 3] {
+        [
+            [40, 110, 255],
+            [40, 200, 80],
+            [250, 210, 0],
+            [230, 30, 30],
+            [0, 0, 0],
+            [150, 90, 200],
+        ][self as usize]
+    }
+
+    /// What it means, for the legend.
+    pub fn words(self) -> &'static str {
+        [
+            "the first triangle only",
+            "the second only",
+            "both (a double hit)",
+            "a leak (no triangle of the mesh catches the ray)",
+            "neither, as the exact ray",
+            "a neighbouring triangle (not a leak)",
+        ][self as usize]
+    }
+
+    /// The leak maps' key: each kind of cell, its words and colour.
+    pub fn key() -> Vec<(&'static str, [u8; 3])> {
+        EdgeHit::ALL
+            .iter()
+            .map(|c| (c.words(), c.colour()))
+            .collect()
+    }
+}
+
+/// A leak map's grid of `size × size` rays around the triangle case's, which passes exactly through
+/// the edge the triangles `pair` share: across (x) the origin moved parallel to the edge by a power-of-
+/// two fraction of it, so that the middle row's rays cross the edge line at points of its middle half
+/// (exactly, where the moved origins are f32 values: the far places), as the stress rows' exact-edge
+/// rays do; down (y) the direction moved by ulp steps in its component, other than the largest, across
+/// which the edge runs least, so that the other rows pass beside the edge by a few ulps. Each cell
+/// says which of the two triangles report a hit, or a leak. The exact cells are judged once, when the
+/// grid is made; every method's are set beside them.
+pub struct LeakGrid {
+    cases: Vec<HitCase>,
+    pair: [u32; 2],
+    exact: Vec<EdgeHit>,
+    /// Each cell's exact first crossings, against which a leak is judged.
+    truths: Vec<Option<crate::exact::hit::HitTruth>>,
+}
+
+impl LeakGrid {
+    pub fn new(case: &HitCase, pair: [u32; 2], size: u32) -> LeakGrid {
+        let half = (size / 2) as i32;
+        // Along x, the origin moves parallel to the edge, so that the middle row's rays pass exactly
+        // through the edge line (where the moved origins are f32 values exactly: the far places);
+        // the stress rows' exact-edge rays, at points from one end of the edge's middle half to the
+        // other.
+        let [t, u] = pair.map(|i| case.tris()[i as usize]);
+        let shared: Vec<glam::Vec3> = t.iter().copied().filter(|p| u.contains(p)).collect();
+        let edge = match shared[..] {
+            [a, b] => b - a,
+            _ => glam::Vec3::ZERO,
+        };
+        // Points from a quarter of the edge before its midpoint to a quarter after, at steps of
+        // edge · 2^-m: the finest that keeps every moved origin an f32 value exactly (so every ray of
+        // the middle row passes exactly through the edge line), at most one point a column.
+        let exact = |m: i32| {
+            let step = edge * 2f32.powi(-m);
+            (-(1i32 << (m - 2))..=1 << (m - 2)).all(|j| {
+                let o = case.org + step * j as f32;
+                (0..3).all(|a| {
+                    o[a] as f64 == case.org[a] as f64 + step[a] as f64 * j as f64
+                        && step[a] as f64 == edge[a] as f64 * 2f64.powi(-m)
+                })
+            })
+        };
+        let finest = (4 * half.max(1) as u32)
+            .next_power_of_two()
+            .trailing_zeros() as i32;
+        let m = (2..=finest).rev().find(|&m| exact(m)).unwrap_or(2);
+        let (step, points) = (edge * 2f32.powi(-m), 1i32 << (m - 2));
+        let along = |x: i32| step * ((x - half) as i64 * points as i64 / half.max(1) as i64) as f32;
+        // Along y, the direction moves by ulp steps in the component (not the largest) across which
+        // the edge runs least.
+        let k = case.dir.abs().max_position();
+        let (a1, a2) = ((k + 1) % 3, (k + 2) % 3);
+        let ay = if edge[a1].abs() <= edge[a2].abs() {
+            a1
+        } else {
+            a2
+        };
+        let step = ulps(case.dir[ay].abs(), 1) - case.dir[ay].abs();
+        let cases: Vec<HitCase> = (0..size)
+            .flat_map(|y| (0..size).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                let mut c = *case;
+                c.org += along(x as i32);
+                c.dir[ay] += (half - y as i32) as f32 * step;
+                c
+            })
+            .collect();
+        let truths = cases
+            .par_iter()
+            .map(|c| crate::exact::hit::judge_hit(c.tris(), c.closed, &c.ray()).ok())
+            .collect();
+        let exact = cases
+            .par_iter()
+            .map(|c| {
+                let ray = c.ray();
+                let hit = |i: u32| {
+                    crate::exact::hit::ray_triangle(c.tris()[i as usize], &ray).is_ok_and(|h| h.hit)
+                };
+                match EdgeHit::of(hit(pair[0]), hit(pair[1])) {
+                    EdgeHit::Neither => EdgeHit::Beside,
+                    e => e,
+                }
+            })
+            .collect();
+        LeakGrid {
+            cases,
+            pair,
+            exact,
+            truths,
+        }
+    }
+
+    /// The exact cells (both on the edge itself).
+    pub fn exact(&self) -> &[EdgeHit] {
+        &self.exact
+    }
+
+    /// `method`'s cells on `backend`: a leak where, judged against every triangle of the mesh, the
+    /// ray crosses the surface and no triangle around the crossing reports it; else which of the two
+    /// it hits, or another around the crossing.
+    pub fn of(
+        &self,
+        method: &TriangleMethod,
+        backend: &Backend,
+    ) -> Result<Vec<EdgeHit>, BackendError> {
+        let [p, q] = self.pair;
+        Ok(backend
+            .triangle_hits(method, &self.cases)?
+            .iter()
+            .zip(self.exact.iter().zip(&self.truths))
+            .map(|(h, (e, truth))| {
+                let ids: Vec<u32> = h.iter().map(|&(k, _)| k).collect();
+                if truth.as_ref().is_some_and(|t| t.leaks(&ids)) {
+                    return EdgeHit::Neither;
+                }
+                match (EdgeHit::of(ids.contains(&p), ids.contains(&q)), e) {
+                    (EdgeHit::Neither, EdgeHit::Beside) => EdgeHit::Beside,
+                    (EdgeHit::Neither, _) => EdgeHit::Other,
+                    (c, _) => c,
+                }
+            })
+            .collect())
+    }
+}
+
+/// A leak map's case: a case of the triangle stress rows' `edge` row of `shape` at `place` (the same
+/// generator: a closed mesh, a ray from a lattice point outside it exactly through the midpoint of an
+/// edge) whose ray crosses the surface there, between the edge's two triangles (the pair): the first
+/// under `seed` that one of `leaking` leaks through on the CPU (plain f32), else the first; `None` if
+/// 1,000 draws found none.
+pub fn leak_case(
+    shape: MeshShape,
+    place: TriPlace,
+    seed: u64,
+    leaking: &[&TriangleMethod],
+) -> Option<(HitCase, [u32; 2])> {
+    let candidates = (0..1000u64).filter_map(|i| {
+        let mut rng = crate::scenes::rng(seed.wrapping_mul(1000).wrapping_add(i));
+        let (mesh, ray) = closed::case(shape, closed::TriAim::Edge, place, 1e-3, 4, &mut rng);
+        let case = HitCase::closed(&mesh, ray).ok()?;
+        let truth = crate::exact::hit::judge_hit(case.tris(), case.closed, &case.ray()).ok()?;
+        let first = truth.first()?;
+        let [p, q] = first.holding[..] else {
+            return None;
+        };
+        first.crosses.then_some((case, [p, q], truth))
+    });
+    let mut fallback = None;
+    for (case, pair, truth) in candidates {
+        let leaks = leaking.iter().any(|m| {
+            Backend::Cpu {
+                model: Model::Plain,
+            }
+            .triangle_hits(m, std::slice::from_ref(&case))
+            .is_ok_and(|h| truth.leaks(&h[0].iter().map(|&(k, _)| k).collect::<Vec<_>>()))
+        });
+        if leaks || leaking.is_empty() {
+            return Some((case, pair));
+        }
+        fallback.get_or_insert((case, pair));
+    }
+    fallback
 }

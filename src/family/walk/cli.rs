@@ -1,9 +1,9 @@
 //! The walk family on the command line (a file of the command line's layer in the family's folder):
-//! `tetwalk walk`, the `stress` flags that choose its rows, what `count` asks of it (an answerer
+//! `tetwalk walk`, `render`'s views of a scene, the `stress` flags that choose its rows, what `count` asks of it (an answerer
 //! asked step by step, `--rays-out`), and `judge` on that rays file: the walks given for its rays
 //! judged as the count judges them.
 
-use super::engine::{WalkReport, Walker, relabellings, walk_table};
+use super::engine::{WalkReport, Walker, frame, relabellings, walk_table};
 use super::{WalkRows, WalkScene, Walks, report};
 use crate::backend::Backend;
 use crate::cases::number;
@@ -14,8 +14,11 @@ use crate::cli::choice;
 use crate::cli::count::Dump;
 use crate::cli::count::{Args as CountArgs, FamilyFlags, Flags, held, views};
 use crate::cli::judge::{Args as JudgeArgs, JudgeError, each_answer};
+use crate::cli::render::{
+    Args as RenderArgs, Drawn, What, beside, drawn_methods, finish, views_of, write,
+};
 use crate::cli::stress::{Rows, Shape, or_all};
-use crate::cli::{AnswererArg, BackendArg, Error, Files, Io, Status, WgslArg, fits};
+use crate::cli::{AnswererArg, BackendArg, Error, Files, Io, Status, WgslArg, faces, fits};
 use crate::engine::answerer::Answerer;
 use crate::engine::count::{self, CountSettings};
 use crate::engine::count::{GivenWalks, Shard, located_views};
@@ -26,6 +29,8 @@ use crate::family::wrong::WrongRay;
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
+use crate::registry::Named;
+use crate::render::{self, Image};
 use crate::scenes::camera::Views;
 use crate::scenes::{self, Generated};
 use crate::tet::Ray;
@@ -533,4 +538,48 @@ pub fn bench(a: BenchArgs) -> Status {
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// `render shaded`, `failures` and `heat`: a view of the scene walked by the exact walk and by each
+/// method ([`super::engine::frame`]).
+pub(crate) fn render(a: RenderArgs) -> Status {
+    let d = drawn_methods::<Walks>(&a)?;
+    let mut drawn = Drawn::default();
+    let backend = a.backend.open()?;
+    let mesh = crate::scenes::load(&a.scene, faces(a.no_faces))?;
+    let views = views_of(&a, d.width, d.height);
+    let f = frame(&mesh, &views, a.view, &d.methods, &backend)?;
+    match a.what {
+        What::Shaded => write(&a.out, &f.shaded(), &mut drawn)?,
+        What::Heat => {
+            write(&a.out, &f.heat(), &mut drawn)?;
+            drawn.legend = render::HEAT_LEGEND.into();
+        }
+        _ => {
+            let maps: Vec<Image> = (0..d.methods.len()).map(|i| f.failures(i)).collect();
+            for ((name, wrong), im) in f.wrong.iter().zip(&maps) {
+                let n = wrong.iter().flatten().count();
+                write(&beside(&a.out, name), im, &mut drawn)?;
+                println!("  {name}: {n} wrong rays");
+                drawn.wrong.push((name.clone(), n));
+            }
+            write(&a.out, &Image::sheet(&maps, 4), &mut drawn)?;
+            let kinds: Vec<_> = f
+                .wrong
+                .iter()
+                .flat_map(|(_, w)| w.iter().flatten())
+                .copied()
+                .collect();
+            drawn.legend = render::failure_legend(&kinds);
+            println!(
+                "sheet order: {}",
+                d.methods
+                    .iter()
+                    .map(|m| m.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+    }
+    finish(drawn, d.json)
 }

@@ -1,15 +1,18 @@
-//! `tetwalk walk`'s runs (the engine layer in the walk family's folder): rays through a generated
-//! mesh, each method's walk judged step by step against the `exact` walk, and the same under the
-//! 12 orientation-preserving relabellings.
+//! The walk family's runs beyond its `Family` (the engine layer in its folder): `tetwalk walk`'s
+//! rays through a generated mesh, each method's walk judged step by step against the `exact` walk
+//! (also under the 12 orientation-preserving relabellings), and a scene's view walked pixel by pixel
+//! for `render`.
 
 use crate::backend::{Backend, BackendError};
+use crate::engine::view::{Frame, ViewError, located_view};
 use crate::mesh::layout::Layout;
-use crate::mesh::{Mesh, MeshError};
+use crate::mesh::{HULL, Mesh, MeshError};
 use crate::methods::Model;
 use crate::registry::{Method, Named, reference};
+use crate::scenes::camera::Views;
 use crate::tet::{EVEN_PERMUTATIONS, Ray};
 use crate::walk::layouts::{Kind, Source};
-use crate::walk::{OutcomeKind, Walk, default_max_steps, locate, same_result};
+use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, judge, locate, same_result};
 use rayon::prelude::*;
 
 /// Why a walk run stopped.
@@ -266,4 +269,54 @@ pub fn relabellings(
             cycles: n[1].clone(),
         })
         .collect())
+}
+
+/// View `index` of `views` (placed as `tetwalk count` places them) walked by the exact walk and by
+/// `methods` on `backend`, each method's walks judged against the exact ones, and the exact hits
+/// shaded: what `render shaded`, `failures` and `heat` draw.
+pub fn frame(
+    mesh: &Mesh,
+    views: &Views,
+    index: usize,
+    methods: &[&Method],
+    backend: &Backend,
+) -> Result<Frame, ViewError> {
+    let (cam, start) = located_view(mesh, views, index)?;
+    let max = default_max_steps(mesh);
+    let rays = views.rays(&cam);
+    let on = backend.mesh(mesh);
+    let exact = backend.walks(reference(), &on, &rays, start, max)?;
+    let mut wrong = Vec::new();
+    for m in methods {
+        let walks = backend.walks(m, &on, &rays, start, max)?;
+        let w: Vec<Option<OutcomeKind>> = rays
+            .par_iter()
+            .zip(&walks)
+            .zip(&exact)
+            .map(|((r, w), re)| judge(mesh, r, w, re))
+            .collect();
+        wrong.push((m.name().to_string(), w));
+    }
+    let shade = rays
+        .iter()
+        .zip(&exact)
+        .map(|(r, w)| match w.outcome {
+            Outcome::Hit { tet, face } => {
+                let [a, b, c] = mesh
+                    .face(tet, face as usize)
+                    .map(|i| mesh.points[i as usize]);
+                let n = (b - a).cross(c - a).normalize_or_zero();
+                let s = (n.dot(r.dir.normalize()).abs() * 205.0 + 50.0) as u8;
+                (s, mesh.neighbors[tet as usize][face as usize] == HULL)
+            }
+            _ => (0, false),
+        })
+        .collect();
+    Ok(Frame {
+        width: views.width,
+        height: views.height,
+        exact,
+        wrong,
+        shade,
+    })
 }
