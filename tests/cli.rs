@@ -852,6 +852,34 @@ fn answering_commands_end_with_a_summary_per_method() {
     assert!(err.contains("tetwalk exit: maria17: 40 cases, "), "{err}");
 }
 
+/// `gen-cases` writes one family's cases: a flag of one family given with a flag of another is
+/// refused, the error naming both, and nothing is written — `--single` (ray–triangle) beside
+/// `--rays` (exit faces), `--cell-place` (octree) beside `--row`, `--shape` beside `--cell-aim`.
+#[test]
+fn gen_cases_refuses_two_families_flags_together() {
+    for (args, both) in [
+        (&["--single", "--rays", "edge"][..], ["--single", "--rays"]),
+        (
+            &["--cell-place", "far", "--row", "well"][..],
+            ["--cell-place", "--row"],
+        ),
+        (
+            &["--shape", "octahedron", "--cell-aim", "edge"][..],
+            ["--shape", "--cell-aim"],
+        ),
+    ] {
+        let mut all = vec!["gen-cases", "--count", "5"];
+        all.extend(args);
+        let (code, out, err) = tetwalk(&all, "");
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(out.is_empty(), "{args:?} wrote {out}");
+        assert!(err.contains("cannot be used with"), "{args:?}: {err}");
+        for flag in both {
+            assert!(err.contains(flag), "{args:?}: {err}");
+        }
+    }
+}
+
 /// `gen-cases` with a stress row's arguments writes that row's cases: `hit`, `box-exit` and `exit`
 /// count on them exactly what `stress` counts; `--single` writes the triangle each ray first crosses, alone.
 #[test]

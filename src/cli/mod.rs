@@ -6,7 +6,7 @@ pub(crate) mod bench;
 mod check_filters;
 pub(crate) mod count;
 mod fuzz_import;
-mod gen_cases;
+pub(crate) mod gen_cases;
 pub(crate) mod judge;
 mod paper;
 pub(crate) mod render;

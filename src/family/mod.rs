@@ -428,6 +428,7 @@ macro_rules! families {
             fuzz { octree: octree_walk }
             bench { walk: "exit-face", triangle: "triangle" }
             pictures { walk: [Shaded, Failures, Heat], exit_face: [Predicate], octree: [OctreeHeat], triangle: [Leak] }
+            gen_cases { triangle, octree, exit_face }
         }
     };
 }

@@ -2,21 +2,30 @@
 //! exit`, which answers its cases, `render predicate`, and the flags of `stress` that choose its rows;
 //! the commands flatten every family's.
 
+use super::ExitRow;
 use super::engine::predicate_grid;
 use super::{ExitFace, ExitRows, TetRow};
 use crate::backend::Backend;
 use crate::cases::Case;
 use crate::cli::answer::{Answered, Answering, Part};
+use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
 use crate::cli::render::{
     Args as RenderArgs, Drawn, Maps, drawn_methods, finish, map_backends, square,
 };
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{Status, WgslArg, choice};
+use crate::exact::classify;
+use crate::family::contract::Contract;
+use crate::family::{Family, Scale};
 use crate::family::{Kind, Walks};
 use crate::methods::Model;
 use crate::registry::{Method, Named, reference};
 use crate::render;
+use crate::scenes::rng;
+use crate::scenes::tets::TetShape;
 use crate::scenes::tets::{self, Target};
+use glam::Vec3;
+use std::io::Write;
 
 /// Exit-face rows.
 #[derive(clap::Args)]
@@ -170,4 +179,206 @@ pub(crate) fn render(a: RenderArgs) -> Status {
         w / 2
     );
     finish(drawn, d.json)
+}
+
+/// How the ray meets the tetrahedron.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Rays {
+    /// Through two random face points.
+    Stab,
+    /// Exactly through an edge.
+    Edge,
+    /// Exactly through a vertex.
+    Vertex,
+    /// Within k ulps (of the case's largest coordinate) of an edge.
+    NearEdge,
+    /// Within k ulps (of the case's largest coordinate) of a vertex.
+    NearVertex,
+}
+
+/// `gen-cases`' exit-face flags.
+#[derive(clap::Args)]
+#[group(id = "exit-face")]
+pub struct GenFlags {
+    /// The tetrahedron's shape (`--family` is an older name for it).
+    #[arg(long, alias = "family", value_parser = choice::<TetShape>(), default_value = "well")]
+    tet_shape: TetShape,
+    /// How the ray meets the tetrahedron.
+    #[arg(long, value_enum, default_value = "stab")]
+    rays: Rays,
+    /// Move each case this far from the origin along (1, 1, 1) (rounded to f32).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
+    offset: f32,
+    /// Give each case its exact entry face (the lowest one) when it has one.
+    #[arg(long)]
+    with_entry: bool,
+    /// Write an exit-face stress row's cases instead (`tet` lines for `tetwalk exit`): with the same
+    /// `--flatness` (0.001 by default, as there), `--ulps` and `--seed`, the cases `stress --rows ROW`
+    /// judges, in its order.
+    #[arg(long, value_parser = choice::<TetRow>(), conflicts_with_all = ["tet_shape", "rays", "with_entry"])]
+    row: Option<TetRow>,
+}
+
+/// What `gen-cases` generated, as `--json` writes it.
+#[derive(serde::Serialize)]
+struct Generated {
+    tet_shape: TetShape,
+    rays: Rays,
+    flatness: f32,
+    ulps: i32,
+    offset: f32,
+    seed: u64,
+    with_entry: bool,
+    #[serde(skip_serializing_if = "Scale::is_one")]
+    scale: Scale,
+    /// What every case holds (`--origin`, `--unit-direction`, …).
+    contract: Contract,
+    written: usize,
+}
+
+/// `gen-cases`' exit-face cases (the family that writes when no other's flags ask): with `--row`, a
+/// stress row's; else (tetrahedron, ray) cases of `--tet-shape` and `--rays`, for `tetwalk exit`.
+pub(crate) fn gen_cases(a: &GenArgs, f: &GenFlags) -> Option<Status> {
+    Some(match f.row {
+        Some(at) => stress_row(a, f, at),
+        None => free(a, f),
+    })
+}
+
+/// `gen-cases --row`: an exit-face stress row's cases.
+fn stress_row(a: &GenArgs, f: &GenFlags, at: TetRow) -> Status {
+    let Start {
+        flatness,
+        out,
+        contract,
+    } = start::<ExitFace>(a, 1e-3, || finite_offset(f.offset))?;
+    let rows = ExitRows {
+        rows: vec![at],
+        flatness,
+        ulps: a.ulps,
+        offset: f.offset,
+        ..ExitRows::default()
+    };
+    let written = row::<ExitFace>(&rows, ExitRow { row: at }, a, &contract, |c, _| {
+        Some(ExitFace::case_json(c))
+    })?;
+    generated(
+        out,
+        &serde_json::json!({
+            "row": at, "flatness": flatness, "ulps": a.ulps, "offset": f.offset, "seed": a.seed, "scale": a.scale,
+            "contract": contract, "written": written,
+        }),
+    )
+}
+
+/// `--offset` finite.
+fn finite_offset(offset: f32) -> Result<(), crate::cli::Error> {
+    if !offset.is_finite() {
+        return Err(format!("--offset {offset} is not finite").into());
+    }
+    Ok(())
+}
+
+/// `gen-cases`' (tetrahedron, ray) cases of `--tet-shape` and `--rays`.
+fn free(a: &GenArgs, f: &GenFlags) -> Status {
+    let Start {
+        flatness,
+        out,
+        contract,
+    } = start::<ExitFace>(a, 1.0, || finite_offset(f.offset))?;
+    let mut r = rng(a.seed);
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    let mut written = 0;
+    for _ in 0..a.count.saturating_mul(100) {
+        if written == a.count {
+            break;
+        }
+        let generated = match f.rays {
+            Rays::Stab => {
+                let t = tets::tet(f.tet_shape, flatness, &mut r);
+                Some((t, tets::stabbing_ray(&t, &mut r)))
+            }
+            Rays::Edge => tets::through(f.tet_shape, flatness, Target::Edge, &mut r),
+            Rays::Vertex => tets::through(f.tet_shape, flatness, Target::Vertex, &mut r),
+            Rays::NearEdge => tets::near(f.tet_shape, flatness, Target::Edge, a.ulps, &mut r),
+            Rays::NearVertex => tets::near(f.tet_shape, flatness, Target::Vertex, a.ulps, &mut r),
+        };
+        let Some((t, ray)) =
+            generated.and_then(|(t, ray)| tets::translated(&t, &ray, Vec3::splat(f.offset)))
+        else {
+            continue;
+        };
+        // Only cases `exit` can judge: finite, a direction, a tetrahedron that is not flat.
+        if crate::exact::check_ray(&t, &ray).is_err() || crate::tet::orientation(&t) == 0 {
+            continue;
+        }
+        let entry = if f.with_entry {
+            classify(&t, &ray)
+                .ok()
+                .and_then(|c| c.entry.first())
+                .map(|f| f as u8)
+        } else {
+            None
+        };
+        let case = Case {
+            tet: t,
+            org: ray.org,
+            dir: ray.dir,
+            entry,
+        };
+        // At another scale: kept where it still reads back and the oracle still judges it.
+        let case = if a.scale.is_one() {
+            case
+        } else {
+            match ExitFace::scaled(&case, a.scale)
+                .filter(crate::family::readable::<ExitFace>)
+                .filter(|c| ExitFace::truth(c).is_ok())
+            {
+                Some(c) => c,
+                None => continue,
+            }
+        };
+        // Within the contract: made to hold it, kept where it then does.
+        let case = if contract.is_default() {
+            case
+        } else {
+            match ExitFace::contracted(&contract, &case, written as u64)
+                .filter(|c| ExitFace::truth(c).is_ok_and(|x| ExitFace::holds(&contract, c, &x)))
+            {
+                Some(c) => c,
+                None => continue,
+            }
+        };
+        writeln!(
+            w,
+            "{}",
+            serde_json::Value::Object(ExitFace::case_json(&case))
+        )?;
+        written += 1;
+    }
+    w.flush()?;
+    if written < a.count {
+        return Err(format!(
+            "only {written} of {} cases could be generated with these settings (in {} tries: the others' tetrahedra were flat in f32, their rays missed the edge or vertex, or left f32's range)",
+            a.count,
+            a.count.saturating_mul(100)
+        )
+        .into());
+    }
+    generated(
+        out,
+        &Generated {
+            tet_shape: f.tet_shape,
+            rays: f.rays,
+            flatness,
+            ulps: a.ulps,
+            offset: f.offset,
+            seed: a.seed,
+            with_entry: f.with_entry,
+            scale: a.scale,
+            contract,
+            written,
+        },
+    )
 }

@@ -2,14 +2,17 @@
 //! box-exit`, which answers its cases, `render octree-heat`, the flags of `stress` that choose its
 //! rows and those of `count`; the commands flatten every family's.
 
+use super::CellRow;
 use super::engine::cells_per_pixel;
 use super::{CellRows, OctreeCells, OctreeCountSettings};
 use crate::cli::answer::{Answered, Answering, Part};
 use crate::cli::count::{FamilyFlags, Flags};
+use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
 use crate::cli::render::{Args as RenderArgs, Drawn, finish, views_of, write};
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{JsonOut, faces, size};
 use crate::cli::{Status, choice};
+use crate::family::Family;
 use crate::family::{self, Kind, Triangle};
 use crate::methods::Model;
 use crate::registry::Named;
@@ -166,4 +169,45 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     write(&a.out, &im, &mut drawn)?;
     drawn.legend = render::OCTREE_HEAT_LEGEND.into();
     finish(drawn, json)
+}
+
+/// `gen-cases`' octree flags.
+#[derive(clap::Args)]
+#[group(id = "octree")]
+pub struct GenFlags {
+    /// Write octree cell cases for `tetwalk box-exit` instead: the stress row of cells where rays
+    /// leave as this says, at `--cell-place` (`box` lines; the cases `stress --family octree`
+    /// judges).
+    #[arg(long, value_parser = choice::<CellAim>())]
+    cell_aim: Option<CellAim>,
+    /// With `--cell-aim`: where the cells are placed.
+    #[arg(long, value_parser = choice::<CellPlace>(), default_value = "origin", requires = "cell_aim")]
+    cell_place: CellPlace,
+}
+
+/// `gen-cases --cell-aim`: an octree stress row's cells; none without `--cell-aim`.
+pub(crate) fn gen_cases(a: &GenArgs, f: &GenFlags) -> Option<Status> {
+    let aim = f.cell_aim?;
+    Some((|| {
+        let Start { out, contract, .. } = start::<OctreeCells>(a, 1.0, || Ok(()))?;
+        let rows = CellRows {
+            aims: vec![aim],
+            places: vec![f.cell_place],
+            ulps: a.ulps,
+        };
+        let at = CellRow {
+            aim,
+            place: f.cell_place,
+        };
+        let written = row::<OctreeCells>(&rows, at, a, &contract, |c, _| {
+            Some(OctreeCells::case_json(c))
+        })?;
+        generated(
+            out,
+            &serde_json::json!({
+                "cell_aim": aim, "cell_place": f.cell_place, "ulps": a.ulps, "seed": a.seed,
+                "scale": a.scale, "contract": contract, "written": written,
+            }),
+        )
+    })())
 }

@@ -2,17 +2,21 @@
 //! hit`, which answers its cases, `render leak`, the flags of `stress` that choose its rows and those
 //! of `count`; the commands flatten every family's.
 
+use super::TriRow;
 use super::engine::{EdgeHit, LeakGrid, leak_case};
 use super::{TriCountSettings, TriRows, Triangle};
 use crate::backend::Backend;
+use crate::cases::HitCase;
 use crate::choice::{BackendKind, Choice};
 use crate::cli::answer::{Answered, Answering, Part};
 use crate::cli::bench::Args as BenchArgs;
 use crate::cli::count::{FamilyFlags, Flags};
+use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
 use crate::cli::render::{Args as RenderArgs, Drawn, Maps, finish, map_backends, square};
 use crate::cli::size;
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{JsonOut, Status, choice};
+use crate::family::Family;
 use crate::family::{self, Kind};
 use crate::registry::TriangleMethod;
 use crate::registry::{Named, TRIANGLE_METHODS};
@@ -221,4 +225,68 @@ pub(crate) fn render(a: RenderArgs) -> Status {
 /// A leak map as an image ([`EdgeHit::colour`]).
 fn leak_image(cells: &[EdgeHit], size: u32) -> Image {
     render::grid_image(size, cells.iter().map(|c| c.colour()))
+}
+
+/// `gen-cases`' ray–triangle flags.
+#[derive(clap::Args)]
+#[group(id = "triangle")]
+pub struct GenFlags {
+    /// Write ray–triangle cases for `tetwalk hit` instead: the stress row of closed meshes of this
+    /// shape, `--aim` and `--place` (`tris` lines; with the same `--flatness`, `--ulps` and `--seed`,
+    /// the cases `stress --family triangle` judges).
+    #[arg(long, value_parser = choice::<MeshShape>())]
+    shape: Option<MeshShape>,
+    /// With `--shape`: each case's triangle where the ray first crosses the mesh, alone (`tri`
+    /// lines, one-triangle cases).
+    #[arg(long, requires = "shape")]
+    single: bool,
+    /// With `--shape`: where the rays are aimed.
+    #[arg(long, value_parser = choice::<TriAim>(), default_value = "edge", requires = "shape")]
+    aim: TriAim,
+    /// With `--shape`: where the mesh is placed.
+    #[arg(long, value_parser = choice::<TriPlace>(), default_value = "origin", requires = "shape")]
+    place: TriPlace,
+}
+
+/// `gen-cases --shape`: a ray–triangle stress row's cases (closed meshes, or with `--single` the
+/// triangle each ray first crosses); none without `--shape`.
+pub(crate) fn gen_cases(a: &GenArgs, f: &GenFlags) -> Option<Status> {
+    let shape = f.shape?;
+    Some((|| {
+        let Start {
+            flatness,
+            out,
+            contract,
+        } = start::<Triangle>(a, 1e-3, || Ok(()))?;
+        let rows = TriRows {
+            shapes: vec![shape],
+            aims: vec![f.aim],
+            places: vec![f.place],
+            flatness,
+            ulps: a.ulps,
+        };
+        let at = TriRow {
+            shape,
+            aim: f.aim,
+            place: f.place,
+        };
+        let written = row::<Triangle>(&rows, at, a, &contract, |c, x| {
+            if !f.single {
+                return Some(Triangle::case_json(c));
+            }
+            let first = x.first_crossing()?.holding[0] as usize;
+            Some(Triangle::case_json(&HitCase::single(
+                c.tris()[first],
+                c.ray(),
+            )))
+        })?;
+        generated(
+            out,
+            &serde_json::json!({
+                "shape": shape, "aim": f.aim, "place": f.place, "flatness": flatness,
+                "ulps": a.ulps, "seed": a.seed, "single": f.single, "scale": a.scale,
+                "contract": contract, "written": written,
+            }),
+        )
+    })())
 }
