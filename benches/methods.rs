@@ -11,7 +11,7 @@ use tetwalk::registry::METHODS;
 use tetwalk::registry::Named;
 use tetwalk::scenes::tets::{TetShape, stabbing_ray, tet};
 use tetwalk::scenes::{self, Generated, rng};
-use tetwalk::walk::layouts::{Kind, Source};
+use tetwalk::walk::layouts::{LayoutKind, Source};
 use tetwalk::walk::{default_max_steps, locate};
 
 fn exit_faces(c: &mut Criterion) {
@@ -67,7 +67,7 @@ fn walks(c: &mut Criterion) {
             })
         });
         if let Some(lw) = m.layout_walk(Model::Plain) {
-            for kind in [Kind::Tet32, Kind::Tet20, Kind::Tet16] {
+            for kind in [LayoutKind::Tet32, LayoutKind::Tet20, LayoutKind::Tet16] {
                 g.bench_function(format!("{} {kind:?}", m.name()), |b| {
                     b.iter(|| {
                         rays.iter()

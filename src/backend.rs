@@ -17,7 +17,7 @@ use crate::octree::Octree;
 use crate::registry::{Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::Ray;
 use crate::walk::Walk;
-use crate::walk::layouts::{Kind, LayoutOutcome, Source};
+use crate::walk::layouts::{LayoutKind, LayoutOutcome, Source};
 use crate::walk::octree::OctreeWalk;
 use rayon::prelude::*;
 
@@ -452,7 +452,7 @@ impl Backend {
     pub fn layout_walks(
         &self,
         method: &Method,
-        kind: Kind,
+        kind: LayoutKind,
         on: &LayoutOn,
         rays: &[(Ray, Source)],
         max_steps: u32,

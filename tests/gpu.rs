@@ -269,7 +269,7 @@ fn layout_walks_on_the_gpu_equal_the_cpu_ones() {
             .iter()
             .filter(|m| m.layout_walk(Model::Plain).is_some())
         {
-            for kind in <tetwalk::walk::layouts::Kind as tetwalk::choice::Choice>::ALL {
+            for kind in <tetwalk::walk::layouts::LayoutKind as tetwalk::choice::Choice>::ALL {
                 let a = g.layout_walks(m, *kind, &on_gpu, &rays, max).unwrap();
                 let b = cpu.layout_walks(m, *kind, &on_cpu, &rays, max).unwrap();
                 assert_eq!(a.walks.len(), rays.len());
@@ -288,7 +288,7 @@ fn layout_walks_on_the_gpu_equal_the_cpu_ones() {
         let err = g
             .layout_walks(
                 maria17,
-                tetwalk::walk::layouts::Kind::Tet20,
+                tetwalk::walk::layouts::LayoutKind::Tet20,
                 &on_gpu,
                 &rays,
                 max,

@@ -13,7 +13,7 @@ use tetwalk::methods::{Aman20, Aman20Scaled, Arith, ExitMethod, Fused, Plain};
 use tetwalk::registry::by_name;
 use tetwalk::scenes::{self, Generated};
 use tetwalk::tet::Ray;
-use tetwalk::walk::layouts::{Kind, Source, encoded_neighbor, walk_layout};
+use tetwalk::walk::layouts::{LayoutKind, Source, encoded_neighbor, walk_layout};
 use tetwalk::walk::{default_max_steps, locate, walk_traced};
 
 /// Test meshes with rays, and the offset they were moved by (exactly, so margins are measured without it).
@@ -122,7 +122,7 @@ where
         let clean = visited
             .iter()
             .all(|&t| edge_margin(&mesh.tet(t).map(|v| v - offset), &home) > 1e-6);
-        for kind in [Kind::Tet32, Kind::Tet20, Kind::Tet16] {
+        for kind in [LayoutKind::Tet32, LayoutKind::Tet20, LayoutKind::Tet16] {
             let mut seen = vec![start];
             let mut prev = start;
             let (end, steps) = walk_layout::<M, A>(

@@ -160,7 +160,7 @@ pub(crate) fn answer_lines(
 /// Per method: lines judged right, wrong, (`exit`, `box-exit`) whose line missed the cell, and (`hit`,
 /// `judge` on closed meshes) leaks.
 #[derive(Clone, Default, serde::Serialize)]
-pub(crate) struct Tally {
+pub(crate) struct AnswerTally {
     pub method: String,
     pub right: u64,
     pub wrong: u64,
@@ -208,7 +208,7 @@ pub(crate) struct Summary {
     backend: String,
     pub lines: u64,
     pub errors: u64,
-    pub methods: Vec<Tally>,
+    pub methods: Vec<AnswerTally>,
 }
 
 /// A command answering JSON Lines: its name, its methods' names, what their tallies count, where the
@@ -226,7 +226,7 @@ pub(crate) struct Answering<'a> {
     pub input: Option<Box<dyn BufRead + Send>>,
     pub json: Option<&'a std::path::Path>,
     pub fail: FailArg,
-    pub standing: &'a dyn Fn(&Tally) -> Standing,
+    pub standing: &'a dyn Fn(&AnswerTally) -> Standing,
 }
 
 impl<'a> Answering<'a> {
@@ -298,13 +298,13 @@ impl<'a> Answering<'a> {
             methods: self
                 .names
                 .into_iter()
-                .map(|method| Tally {
+                .map(|method| AnswerTally {
                     method,
                     missed: self.missed.then_some(0),
                     leaks: self.leaks.then_some(0),
                     back_faces: self.leaks.then_some(0),
                     t_alone: self.leaks.then_some(0),
-                    ..Tally::default()
+                    ..AnswerTally::default()
                 })
                 .collect(),
         };
@@ -625,7 +625,7 @@ fn line(n: usize, method: &str, backend: &str, fields: Map<String, Value>) -> Va
     Value::Object(o)
 }
 
-impl Tally {
+impl AnswerTally {
     /// Count one verdict line.
     fn count(&mut self, said: Said) {
         self.right += (said.correct == Some(true)) as u64;
@@ -710,7 +710,7 @@ pub(crate) fn answer(
 
 /// Each method's tally's standing, as `F`'s claims have it: a robust method's claim refuted by every
 /// wrong answer, a watertight one's by its leaks.
-pub(crate) fn standing<F: Family>(t: &Tally) -> Standing {
+pub(crate) fn standing<F: Family>(t: &AnswerTally) -> Standing {
     Standing::named::<F>(&t.method, t.right + t.wrong, t.wrong, |c| match c {
         crate::registry::Claim::Robust => Some(t.wrong),
         crate::registry::Claim::NoLeak => t.leaks,

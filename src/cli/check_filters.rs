@@ -3,7 +3,7 @@
 
 use super::{JsonOut, Status};
 use crate::choice::Choice;
-use crate::engine::filters::{Checked, Filter, Regime, Tally, check};
+use crate::engine::filters::{Checked, Filter, FilterTally, Regime, check};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -33,7 +33,7 @@ struct Row {
     regime: Regime,
     filter: Filter,
     #[serde(flatten)]
-    tally: Tally,
+    tally: FilterTally,
 }
 
 #[derive(serde::Serialize)]

@@ -14,7 +14,7 @@ use crate::registry::Named;
 use crate::registry::{Gpu, Method};
 use crate::scenes::camera::Views;
 use crate::tet::Ray;
-use crate::walk::layouts::{Kind, Source};
+use crate::walk::layouts::{LayoutKind, Source};
 use crate::walk::{default_max_steps, locate};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -240,7 +240,7 @@ pub fn runs_on<'a>(methods: &[&'a Method], backend: &Backend) -> Vec<&'a Method>
 #[derive(Clone, Copy)]
 enum Walker<'a> {
     Cells(&'a Method),
-    Layout(&'a Method, Kind),
+    Layout(&'a Method, LayoutKind),
 }
 
 /// Time every method on every backend over the views' primary rays, `batch` rays at most at once
@@ -272,7 +272,7 @@ pub fn run(
         let mut walkers: Vec<Walker> = on.iter().map(|m| Walker::Cells(m)).collect();
         if layout.is_some() {
             for m in on.iter().filter(|m| m.layout_walk(Model::Plain).is_some()) {
-                walkers.extend(Kind::ALL.iter().map(|k| Walker::Layout(m, *k)));
+                walkers.extend(LayoutKind::ALL.iter().map(|k| Walker::Layout(m, *k)));
             }
         }
         for w in walkers {

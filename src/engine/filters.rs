@@ -144,14 +144,14 @@ pub struct Refuted {
 
 /// Per regime and filter: signs asked, signs the exact stage had to decide, decided signs that were wrong.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
-pub struct Tally {
+pub struct FilterTally {
     pub asked: u64,
     pub exact_stage: u64,
     pub wrong: u64,
 }
 
-impl std::ops::AddAssign for Tally {
-    fn add_assign(&mut self, o: Tally) {
+impl std::ops::AddAssign for FilterTally {
+    fn add_assign(&mut self, o: FilterTally) {
         self.asked += o.asked;
         self.exact_stage += o.exact_stage;
         self.wrong += o.wrong;
@@ -164,7 +164,7 @@ const KEPT: usize = 16;
 /// A campaign's tallies, `[regime][filter]`, and the first refutations found (at most [`KEPT`]).
 #[derive(Clone, Debug, Default)]
 pub struct Checked {
-    pub tallies: Vec<(Regime, Vec<(Filter, Tally)>)>,
+    pub tallies: Vec<(Regime, Vec<(Filter, FilterTally)>)>,
     pub refuted: Vec<Refuted>,
 }
 
@@ -325,7 +325,7 @@ fn exact_orient(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> i8 {
 }
 
 /// One regime's tallies per filter, and its first refutations.
-type RegimeChecked = (Regime, Vec<(Filter, Tally)>, Vec<Refuted>);
+type RegimeChecked = (Regime, Vec<(Filter, FilterTally)>, Vec<Refuted>);
 
 /// `cases` cases of every regime from `seed`, each sign of every filter compared with the exact one.
 pub fn check(cases: usize, seed: u64) -> Checked {
@@ -335,8 +335,10 @@ pub fn check(cases: usize, seed: u64) -> Checked {
         .enumerate()
         .map(|(i, &regime)| {
             let mut rng = crate::scenes::rng(seed ^ ((i as u64 + 1) << 48));
-            let mut t: Vec<(Filter, Tally)> =
-                Filter::ALL.iter().map(|&f| (f, Tally::default())).collect();
+            let mut t: Vec<(Filter, FilterTally)> = Filter::ALL
+                .iter()
+                .map(|&f| (f, FilterTally::default()))
+                .collect();
             let mut refuted = Vec::new();
             for _ in 0..cases {
                 let x = draw(regime, &mut rng);

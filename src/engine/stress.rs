@@ -5,7 +5,7 @@
 use crate::backend::{Backend, BackendError, BackendKind, CPUS, Ran};
 use crate::engine::answerer::Answerer;
 use crate::engine::found::Failure;
-use crate::exact::Counts;
+use crate::exact::SignCounts;
 use crate::family::contract::{Contract, cases_within};
 use crate::family::{Family, Scale, Summed, Verdict};
 use crate::registry::Named;
@@ -30,7 +30,7 @@ pub struct StressSettings<F: Family> {
 /// One method's counts on one row.
 #[derive(Clone, Debug, serde::Serialize)]
 #[serde(bound = "")]
-pub struct Tally<F: Family> {
+pub struct StressTally<F: Family> {
     pub method: String,
     #[serde(flatten)]
     pub counts: F::Tally,
@@ -45,7 +45,7 @@ pub struct RowReport<F: Family> {
     #[serde(flatten)]
     pub facts: F::RowFacts,
     /// Per method, in the order of [`StressReport::methods`].
-    pub tallies: Vec<Tally<F>>,
+    pub tallies: Vec<StressTally<F>>,
 }
 
 /// One row and method under every labelling ([`Family::LABELLINGS`], the cases' own first).
@@ -70,15 +70,15 @@ pub struct StressReport<F: Family> {
     /// Signs the oracle decided in its f64 filter and exactly, making the cases' truths (none where
     /// the family's oracle decides with rationals alone).
     #[serde(skip_serializing_if = "is_zero")]
-    pub oracle: Counts,
+    pub oracle: SignCounts,
     /// With `--relabel all`: per row and method, wrong answers under each labelling.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub relabelled: Option<Vec<Relabelled<F>>>,
 }
 
 /// Whether no sign was counted.
-fn is_zero(c: &Counts) -> bool {
-    *c == Counts::default()
+fn is_zero(c: &SignCounts) -> bool {
+    *c == SignCounts::default()
 }
 
 /// Who answers a row's cases: a registered method on the run's backend, or a user's program outside
@@ -152,7 +152,7 @@ pub struct Wrong<'a, F: Family> {
 pub type OnWrong<'a, F> = dyn FnMut(Wrong<F>) + 'a;
 
 /// `F::case` with the oracle's stage counts on this thread.
-fn counted<T>(f: impl FnOnce() -> T) -> (T, Counts) {
+fn counted<T>(f: impl FnOnce() -> T) -> (T, SignCounts) {
     let before = crate::exact::counts();
     let out = f();
     (out, crate::exact::counts().since(before))
@@ -163,8 +163,8 @@ pub type Judged<F> = Vec<(<F as Family>::Case, <F as Family>::Truth)>;
 
 /// A row's cases with their truths, and the oracle's counts making them; case `i` a pure function of
 /// the seed, the row and `i`, generated in parallel.
-pub fn row_cases<F: Family>(s: &StressSettings<F>, row: F::Row) -> (Judged<F>, Counts) {
-    let made = std::sync::Mutex::new(Counts::default());
+pub fn row_cases<F: Family>(s: &StressSettings<F>, row: F::Row) -> (Judged<F>, SignCounts) {
+    let made = std::sync::Mutex::new(SignCounts::default());
     let cases = cases_within::<F>(&s.contract, s.cases, |i| {
         let (c, k) = counted(|| {
             let made = F::case(&s.rows, row, s.seed, i)?;
@@ -227,7 +227,7 @@ pub fn run<F: Family>(
     wrong: &mut OnWrong<F>,
 ) -> Result<StressReport<F>, BackendError> {
     let mut rows = Vec::new();
-    let mut oracle = Counts::default();
+    let mut oracle = SignCounts::default();
     for row in F::rows(&s.rows) {
         let (cases, counts) = row_cases(s, row);
         oracle += counts;
@@ -249,7 +249,7 @@ pub fn run<F: Family>(
                     });
                 }
             })?;
-            tallies.push(Tally {
+            tallies.push(StressTally {
                 method: m.name().to_string(),
                 counts,
             });

@@ -8,7 +8,7 @@ pub mod hit;
 pub(crate) mod rational;
 pub mod sign;
 
-pub use sign::{Counts, counts};
+pub use sign::{SignCounts, counts};
 
 use crate::tet::{EDGES, FACE_VERTICES, Ray, Tet, all_finite, edge_index, orientation};
 use glam::Vec3;

@@ -7,36 +7,36 @@ use std::cell::Cell;
 
 /// How many signs each stage decided (on the calling thread).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-pub struct Counts {
+pub struct SignCounts {
     /// Decided by the f64 filter.
     pub filter: u64,
     /// Decided by exact integer arithmetic after the filter could not.
     pub exact: u64,
 }
 
-impl Counts {
+impl SignCounts {
     /// Counts accumulated since `earlier` (a value returned by [`counts`] on the same thread).
-    pub fn since(self, earlier: Counts) -> Counts {
-        Counts {
+    pub fn since(self, earlier: SignCounts) -> SignCounts {
+        SignCounts {
             filter: self.filter - earlier.filter,
             exact: self.exact - earlier.exact,
         }
     }
 }
 
-impl std::ops::AddAssign for Counts {
-    fn add_assign(&mut self, o: Counts) {
+impl std::ops::AddAssign for SignCounts {
+    fn add_assign(&mut self, o: SignCounts) {
         self.filter += o.filter;
         self.exact += o.exact;
     }
 }
 
 thread_local! {
-    static COUNTS: Cell<Counts> = const { Cell::new(Counts { filter: 0, exact: 0 }) };
+    static COUNTS: Cell<SignCounts> = const { Cell::new(SignCounts { filter: 0, exact: 0 }) };
 }
 
 /// The stage counts of the calling thread since it started.
-pub fn counts() -> Counts {
+pub fn counts() -> SignCounts {
     COUNTS.with(Cell::get)
 }
 

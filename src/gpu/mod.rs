@@ -8,7 +8,7 @@ use crate::mesh::layout::Layout;
 use crate::methods::Model;
 use crate::registry::{Gpu as GpuSupport, Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::{Ray, Tet};
-use crate::walk::layouts::{Kind, LayoutOutcome, Source};
+use crate::walk::layouts::{LayoutKind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};
 use rayon::prelude::*;
 use shader::binding::{
@@ -1153,7 +1153,7 @@ impl Gpu {
     pub fn layout_walks(
         &self,
         method: &Method,
-        kind: Kind,
+        kind: LayoutKind,
         layout: &GpuLayout,
         rays: &[(Ray, Source)],
         max_steps: u32,
@@ -1163,7 +1163,7 @@ impl Gpu {
             return Err(GpuError::NoLayoutWalk(method.name()));
         }
         let entry = shader::layout_entry_point(method, kind);
-        let words = &layout.words[Kind::ALL.iter().position(|&k| k == kind).unwrap_or(0)];
+        let words = &layout.words[LayoutKind::ALL.iter().position(|&k| k == kind).unwrap_or(0)];
         let ray = |i: usize| {
             let (r, s) = &rays[i];
             shader::LayoutRay {
@@ -1191,7 +1191,7 @@ impl Gpu {
 
 /// Seed 003's layouts of a mesh and its points, uploaded to the GPU.
 pub struct GpuLayout {
-    /// Tet32, Tet20, Tet16, in [`Kind::ALL`] order.
+    /// Tet32, Tet20, Tet16, in [`LayoutKind::ALL`] order.
     words: [wgpu::Buffer; 3],
     points: wgpu::Buffer,
     pub tetrahedra: usize,

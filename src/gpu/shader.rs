@@ -16,7 +16,7 @@ use crate::registry::{
 };
 use crate::tet::{EDGES, FACE_VERTICES, edge_index};
 use crate::walk::OutcomeKind;
-use crate::walk::layouts::Kind;
+use crate::walk::layouts::LayoutKind;
 use std::fmt::Write;
 
 /// Threads per workgroup.
@@ -208,7 +208,7 @@ pub fn entry_points(m: &Method) -> [String; 2] {
 }
 
 /// The layout entry point of `m` over `kind`: `layout_IDENT_KIND`.
-pub fn layout_entry_point(m: &Method, kind: Kind) -> String {
+pub fn layout_entry_point(m: &Method, kind: LayoutKind) -> String {
     format!("layout_{}_{}", m.ident(), kind.name())
 }
 
@@ -446,7 +446,7 @@ pub fn generate() -> String {
             let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
             s += &fill(EXIT_WALK, &[("ident", &m.ident())]);
             if m.layout_walk(Model::Plain).is_some() {
-                for kind in Kind::ALL {
+                for kind in LayoutKind::ALL {
                     s += "\n";
                     s += &fill(LAYOUT, &[("ident", &m.ident()), ("kind", kind.name())]);
                 }

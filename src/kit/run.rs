@@ -12,16 +12,16 @@ use crate::registry::Named;
 use rand::RngExt;
 
 /// One group's count and its first failure.
-struct Tally<F: Family> {
+struct KitTally<F: Family> {
     name: String,
     judged: u64,
     failures: u64,
     first: Option<Found<F>>,
 }
 
-impl<F: Family> Tally<F> {
+impl<F: Family> KitTally<F> {
     fn new(name: String) -> Self {
-        Tally {
+        KitTally {
             name,
             judged: 0,
             failures: 0,
@@ -153,7 +153,7 @@ pub fn check<F: Family>(m: &F::Method, s: &Settings) -> Result<Passed, Box<Faile
     };
     let mut passed = Passed::default();
     for row in F::rows(&st.rows) {
-        let mut t = Tally::<F>::new(format!("stress row {}", F::row_name(&row)));
+        let mut t = KitTally::<F>::new(format!("stress row {}", F::row_name(&row)));
         let cases = row_cases(&st, row).0;
         judge(&st, Who::Method(m), on, &cases, |c, x, a, v| {
             t.add(s, (m, on), (c, x, a), v)
@@ -161,7 +161,7 @@ pub fn check<F: Family>(m: &F::Method, s: &Settings) -> Result<Passed, Box<Faile
         .expect("the CPU answers every case");
         t.close(s, m, &mut passed)?;
     }
-    let mut t = Tally::<F>::new(format!("property campaign ({} generator)", F::FUZZ_TARGET));
+    let mut t = KitTally::<F>::new(format!("property campaign ({} generator)", F::FUZZ_TARGET));
     let salt = F::NAME
         .bytes()
         .fold(0xc0f0_4a11u64, |h, b| h.rotate_left(5) ^ b as u64);

@@ -13,13 +13,13 @@ use glam::Vec3;
 /// Which layout to walk.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Kind {
+pub enum LayoutKind {
     Tet32,
     Tet20,
     Tet16,
 }
 
-crate::choice!(Kind { Tet32 => "tet32", Tet20 => "tet20", Tet16 => "tet16" });
+crate::choice!(LayoutKind { Tet32 => "tet32", Tet20 => "tet20", Tet16 => "tet16" });
 
 /// The source tetrahedron of §3: the walk's start, with complete vertex and neighbour information.
 #[derive(Clone, Copy, Debug)]
@@ -80,7 +80,7 @@ pub struct Decoded {
 /// Walk with method `M` (`aman20` or `aman20-scaled`) over `kind` from `source`; `observe` sees every
 /// decoded step. Steps count tetrahedra whose exit face was sought, as in [`super::walk`].
 pub fn walk_layout<M, A>(
-    kind: Kind,
+    kind: LayoutKind,
     layout: &Layout,
     points: &[Vec3],
     ray: &Ray,
@@ -128,9 +128,9 @@ where
         steps += 1;
         let t = tet as usize;
         let vx = match kind {
-            Kind::Tet32 => layout.tet32[t].vx,
-            Kind::Tet20 => layout.tet20[t].vx,
-            Kind::Tet16 => layout.tet16[t].vx,
+            LayoutKind::Tet32 => layout.tet32[t].vx,
+            LayoutKind::Tet20 => layout.tet20[t].vx,
+            LayoutKind::Tet16 => layout.tet16[t].vx,
         };
         let fourth = idx[0] ^ idx[1] ^ idx[2] ^ vx;
         let p3 = project(fourth);
@@ -138,9 +138,9 @@ where
         across = idx[k];
         let all = [idx[0], idx[1], idx[2], fourth];
         next = match kind {
-            Kind::Tet32 => next_tet32(&layout.tet32[t], across),
-            Kind::Tet20 => next_tet20(&layout.tet20[t], rank(&all, across)),
-            Kind::Tet16 => next_tet16(
+            LayoutKind::Tet32 => next_tet32(&layout.tet32[t], across),
+            LayoutKind::Tet20 => next_tet20(&layout.tet20[t], rank(&all, across)),
+            LayoutKind::Tet16 => next_tet16(
                 &layout.tet16[t],
                 prev,
                 rank(&all, fourth),
@@ -159,11 +159,12 @@ where
 }
 
 /// A layout walk specialised to one method and arithmetic, for callers that pick methods at run time.
-pub type LayoutWalkFn = fn(Kind, &Layout, &[Vec3], &Ray, &Source, u32) -> (LayoutOutcome, u32);
+pub type LayoutWalkFn =
+    fn(LayoutKind, &Layout, &[Vec3], &Ray, &Source, u32) -> (LayoutOutcome, u32);
 
 /// [`walk_layout`] with nothing observing it.
 pub fn walk_layout_unobserved<M, A>(
-    kind: Kind,
+    kind: LayoutKind,
     layout: &Layout,
     points: &[Vec3],
     ray: &Ray,

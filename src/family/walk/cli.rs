@@ -34,7 +34,7 @@ use crate::render::{self, Image};
 use crate::scenes::camera::Views;
 use crate::scenes::{self, Generated};
 use crate::tet::Ray;
-use crate::walk::layouts::Kind as LayoutKind;
+use crate::walk::layouts::LayoutKind;
 use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
 use glam::Vec3;
 use serde_json::Value;

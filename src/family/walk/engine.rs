@@ -11,7 +11,7 @@ use crate::methods::Model;
 use crate::registry::{Method, Named, reference};
 use crate::scenes::camera::Views;
 use crate::tet::{EVEN_PERMUTATIONS, Ray};
-use crate::walk::layouts::{Kind, Source};
+use crate::walk::layouts::{LayoutKind, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, judge, locate, same_result};
 use rayon::prelude::*;
 
@@ -59,7 +59,7 @@ impl MethodWalks {
 #[derive(serde::Serialize)]
 pub struct MethodRow {
     pub method: String,
-    pub layout: Option<Kind>,
+    pub layout: Option<LayoutKind>,
     #[serde(flatten)]
     pub tally: MethodWalks,
 }
@@ -102,7 +102,7 @@ pub fn walk_table(
     rays: &[Ray],
     methods: &[&'static Method],
     walker: Walker,
-    layout: Option<(Kind, &Layout)>,
+    layout: Option<(LayoutKind, &Layout)>,
 ) -> Result<MethodWalksTable, WalkRunError> {
     let per_ray = match walker {
         Walker::Checked(model) => per_ray(mesh, rays, methods, model, layout, true),
@@ -140,7 +140,7 @@ fn per_ray(
     rays: &[Ray],
     methods: &[&'static Method],
     model: Model,
-    layout: Option<(Kind, &Layout)>,
+    layout: Option<(LayoutKind, &Layout)>,
     checked: bool,
 ) -> Vec<Option<Vec<MethodWalks>>> {
     let max = default_max_steps(mesh);
