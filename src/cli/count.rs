@@ -413,7 +413,7 @@ pub(crate) fn views<F: Counted>(a: &Args) -> Result<Views, super::Error> {
     let (width, height) = super::size(&size, false, 65536)?;
     super::fits(
         &format!("--size {width}x{height}"),
-        width as u128 * height as u128 * super::BYTES_PER_PIXEL,
+        width as u128 * height as u128 * crate::engine::count::BYTES_PER_RAY as u128,
     )?;
     Ok(Views {
         views,

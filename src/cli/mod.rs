@@ -968,10 +968,6 @@ pub(crate) fn fits(what: &str, bytes: u128) -> Result<(), Error> {
     Ok(())
 }
 
-/// Bytes per primary ray of one view while it is walked and judged (ray, reference and method walks,
-/// verdicts).
-pub(crate) const BYTES_PER_PIXEL: u128 = 96;
-
 /// A comma-separated list of backends (`--backend cpu,gpu`), each once, in order.
 pub(crate) fn backend_list(text: &str) -> Result<Vec<BackendKind>, Error> {
     let mut kinds = Vec::new();

@@ -150,9 +150,10 @@ const VIEWS_PER_THREAD: usize = 2;
 /// once where images are large (four of 1024² here).
 const VIEWS_MEMORY: u64 = 512 << 20;
 
-/// A view's bytes per ray while it is counted: the ray (24), the reference walk's and one method's
-/// walks (16 each), the ray with its start as the backend takes it (28), with room to spare.
-const BYTES_PER_RAY: u64 = 128;
+/// A view's bytes per ray while it is counted, rendered or its walks given: the ray (24), the
+/// reference walk's and one method's walks (16 each), the ray with its start as the backend takes it
+/// (28), with room to spare. The views planned at once, and the largest view accepted, follow from it.
+pub const BYTES_PER_RAY: u64 = 128;
 
 /// One view's tallies: per row (the reference walk's first where it is one), the steps, the seconds
 /// its answers took and its wrong rays, described; and the rays audited.

@@ -495,7 +495,7 @@ pub fn bench(a: BenchArgs) -> Status {
     let per_view = width as u128 * height as u128;
     crate::cli::fits(
         &format!("--size {width}x{height} --batch {}", a.batch),
-        per_view.max(a.batch as u128) * crate::cli::BYTES_PER_PIXEL,
+        per_view.max(a.batch as u128) * crate::engine::count::BYTES_PER_RAY as u128,
     )?;
     let out = JsonOut::new(a.json.as_deref())?;
     let backends = kinds
