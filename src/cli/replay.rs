@@ -5,13 +5,11 @@
 use super::{JsonOut, Status};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::object;
+use crate::engine::count::{Rerun, RerunError, rerun};
 use crate::engine::found::{Found, FoundError, Replay, replay};
 use crate::family::wrong::WrongRay;
 use crate::family::{Family, owner};
 use crate::mesh::Mesh;
-use crate::registry::Named;
-use crate::registry::{by_name, reference};
-use crate::walk::{default_max_steps, judge, locate};
 use std::collections::HashMap;
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
@@ -133,13 +131,8 @@ pub fn run(a: Args) -> Status {
         summary.lines += 1;
         let d: WrongRay = serde_json::from_str(&line).map_err(|e| place(&e))?;
         let Some(kind) = d.backend else {
-            return Err(place(&format!(
-                "a wrong ray of walks tetwalk replay cannot rerun (method {}: walks given to tetwalk judge, or an octree walk)",
-                d.method
-            ))
-            .into());
+            return Err(place(&RerunError::NotWalked(d.method.clone())).into());
         };
-        let m = by_name(&d.method).map_err(|e| place(&e))?;
         if !scenes.contains_key(&d.scene) {
             let mesh =
                 crate::scenes::load(&d.scene, super::faces(a.no_faces)).map_err(|e| place(&e))?;
@@ -157,28 +150,19 @@ pub fn run(a: Args) -> Status {
                 continue;
             }
         };
-        let ray = d.ray();
-        crate::exact::check_ray(&[], &ray).map_err(|e| {
-            place(&format!(
-                "the ray ({:?}, {:?}) is not one a walk was made of ({e}): a finite origin and a nonzero direction",
-                ray.org.to_array(),
-                ray.dir.to_array()
-            ))
-        })?;
-        let start = locate(mesh, ray.org, 0).map_err(|e| place(&e))?;
-        let max = default_max_steps(mesh);
-        let on = backend.mesh(mesh);
-        let now = backend.walks(m, &on, &[ray], start, max)?[0];
-        let exact = backend.walks(reference(), &on, &[ray], start, max)?[0];
-        let still_wrong = judge(mesh, &ray, &now, &exact).is_some();
-        let same = still_wrong && now.outcome == d.stopped.outcome;
+        let Rerun {
+            method,
+            now,
+            still_wrong,
+            same,
+        } = rerun(&d, mesh, backend).map_err(|e| place(&e))?;
         if same {
             summary.same += 1;
         } else {
             summary.changed += 1;
         }
         let v = serde_json::json!({
-            "line": n, "method": m.name(), "backend": backend.describe(), "still_wrong": still_wrong,
+            "line": n, "method": method, "backend": backend.describe(), "still_wrong": still_wrong,
             "same": same, "now": now.outcome, "recorded": d.stopped.outcome,
         });
         writeln!(w, "{v}")?;

@@ -471,6 +471,66 @@ pub fn wrong_rays(
         .collect()
 }
 
+/// A count's wrong ray walked again ([`rerun`]): where the method stops now, and whether it is still
+/// wrong, and wrong the same way (stopping where it was recorded to).
+pub struct Rerun {
+    /// The method's name, as the registry spells it.
+    pub method: &'static str,
+    pub now: Walk,
+    pub still_wrong: bool,
+    pub same: bool,
+}
+
+/// Why a wrong ray cannot be walked again.
+#[derive(Debug, thiserror::Error)]
+pub enum RerunError {
+    #[error(
+        "a wrong ray of walks tetwalk replay cannot rerun (method {0}: walks given to tetwalk judge, or an octree walk)"
+    )]
+    NotWalked(String),
+    #[error(transparent)]
+    Method(#[from] crate::registry::UnknownMethod),
+    #[error(
+        "the ray ({org:?}, {dir:?}) is not one a walk was made of ({why}): a finite origin and a nonzero direction"
+    )]
+    Ray {
+        org: [f32; 3],
+        dir: [f32; 3],
+        why: crate::exact::ExactError,
+    },
+    #[error(transparent)]
+    Outside(#[from] crate::walk::LocateError),
+    #[error(transparent)]
+    Backend(#[from] crate::backend::BackendError),
+}
+
+/// The method of wrong ray `d` walks it again through `mesh` (its scene) on `backend`, judged
+/// against the exact walk as the count judged it.
+pub fn rerun(d: &WrongRay, mesh: &Mesh, backend: &Backend) -> Result<Rerun, RerunError> {
+    if d.backend.is_none() {
+        return Err(RerunError::NotWalked(d.method.clone()));
+    }
+    let m = crate::registry::by_name(&d.method)?;
+    let ray = d.ray();
+    crate::exact::check_ray(&[], &ray).map_err(|why| RerunError::Ray {
+        org: ray.org.to_array(),
+        dir: ray.dir.to_array(),
+        why,
+    })?;
+    let start = locate(mesh, ray.org, 0)?;
+    let max = default_max_steps(mesh);
+    let on = backend.mesh(mesh);
+    let now = backend.walks(m, &on, &[ray], start, max)?[0];
+    let exact = backend.walks(crate::registry::reference(), &on, &[ray], start, max)?[0];
+    let still_wrong = judge(mesh, &ray, &now, &exact).is_some();
+    Ok(Rerun {
+        method: m.name(),
+        now,
+        still_wrong,
+        same: still_wrong && now.outcome == d.stopped.outcome,
+    })
+}
+
 /// Why sharded reports cannot be merged; each names the report's file (or name) and the field.
 #[derive(Debug, thiserror::Error)]
 pub enum MergeError {
