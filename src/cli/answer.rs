@@ -22,7 +22,7 @@ use std::sync::mpsc;
 
 /// The arguments `exit` and `hit` share.
 #[derive(clap::Args)]
-pub struct Common {
+pub(crate) struct Common {
     /// A method name, a comma-separated list, or `all`.
     #[arg(long, default_value = "all")]
     pub(crate) method: String,
@@ -438,7 +438,7 @@ pub(crate) struct Part<'a, F: Family> {
 }
 
 impl<'a, F: Lines> Part<'a, F> {
-    pub fn new(answered: Answered<'a, F>, t_ulps: f64) -> Self {
+    pub(crate) fn new(answered: Answered<'a, F>, t_ulps: f64) -> Self {
         Part {
             answered,
             t_ulps,

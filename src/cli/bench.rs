@@ -5,7 +5,7 @@ use crate::scenes::camera::Views;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Which family: `exit-face` (walks) or `triangle` (seed 004 Figure 5's measure: every primary
     /// ray of one view against every triangle, one thread, packets of 1x1 to 8x8, speedups over
     /// mt-precomputed on single rays).
@@ -74,7 +74,7 @@ macro_rules! __bench_families {
         /// `bench --family`'s values.
         const FAMILIES: &[&str] = &[$($n),*];
 
-        pub fn run(a: Args) -> Status {
+        pub(crate) fn run(a: Args) -> Status {
             $(
                 if a.family == $n {
                     return $crate::family::$m::cli::bench(a);

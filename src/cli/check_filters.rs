@@ -7,7 +7,7 @@ use crate::engine::filters::{Checked, Filter, FilterTally, Regime, check};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Cases per regime and round (each case asks every filter once).
     #[arg(long, default_value_t = 20_000)]
     cases: usize,
@@ -45,7 +45,7 @@ struct Report {
     refuted: Vec<String>,
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     if a.cases == 0 {
         return Err("--cases 0 checks nothing: give at least 1".into());
     }

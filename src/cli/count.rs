@@ -16,7 +16,7 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(subcommand)]
     merge: Option<Merge>,
     /// Which family: `walk` (the exit-face methods' walks through the tetrahedra, seed 000 Table 4;
@@ -201,7 +201,7 @@ pub(super) fn shard(text: &str) -> Result<Shard, Error> {
 }
 
 /// What a counted family's own flags set, and what its count adds (its folder's `cli.rs`).
-pub trait Flags: CountFormats {
+pub(crate) trait Flags: CountFormats {
     /// Its own flags, from among every counted family's.
     type Flags;
     fn own(all: &FamilyFlags) -> &Self::Flags;
@@ -249,7 +249,7 @@ macro_rules! __count_flags {
     ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {
         /// Every counted family's own flags.
         #[derive(clap::Args)]
-        pub struct FamilyFlags {
+        pub(crate) struct FamilyFlags {
             $(
                 #[command(flatten)]
                 pub $cm: $crate::family::$cm::cli::CountFlags,
@@ -259,7 +259,7 @@ macro_rules! __count_flags {
 }
 crate::families!(__count_flags);
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     if let Some(Merge::Merge { reports, json }) = &a.merge {
         return merge(reports, json.as_deref());
     }

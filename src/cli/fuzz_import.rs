@@ -50,7 +50,7 @@ fn targets() -> clap::builder::PossibleValuesParser {
 }
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The fuzz target that found them.
     #[arg(long, value_parser = targets())]
     target: String,
@@ -72,7 +72,7 @@ impl super::Io for Args {
     }
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     let json = JsonOut::new(a.json.as_deref())?;
     let mut filed = Vec::new();
     if let Some(filing) = import_more(&a.target, &a, &mut filed) {

@@ -167,7 +167,7 @@ macro_rules! __gen_case_families {
             }
         }
 
-        pub fn run(a: Args) -> Status {
+        pub(crate) fn run(a: Args) -> Status {
             $(
                 if let Some(done) = $crate::family::$m::cli::gen_cases(&a, &a.families.$m) {
                     return done;

@@ -13,7 +13,7 @@ use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// JSON Lines of cases, as `exit` and `hit` read them (exit-face and ray–triangle cases), or the
     /// rays of a scene as `count --rays-out` writes them (its header line first); `-` is standard
     /// input.
@@ -57,7 +57,7 @@ impl super::Io for Args {
 
 /// Why an answers file cannot be read.
 #[derive(Debug, thiserror::Error)]
-pub enum JudgeError {
+pub(crate) enum JudgeError {
     #[error("{file}:{line}: {why}")]
     Answer {
         file: String,
@@ -135,7 +135,7 @@ fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, JudgeError> {
     Ok(out)
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     if a.fail.fail_on == Some(super::FailOn::Claims) {
         return Err("--fail-on claims: judge's answers are yours, and tetwalk knows no claim of theirs; --fail-on wrong fails on any wrong answer".into());
     }

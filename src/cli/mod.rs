@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Any error a command reports; rendered once, by [`main`].
-pub type Error = Box<dyn std::error::Error + Send + Sync>;
+pub(crate) type Error = Box<dyn std::error::Error + Send + Sync>;
 /// How a command ends: its exit status, or the error that stopped it.
 pub(crate) type Status = Result<ExitCode, Error>;
 

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(subcommand)]
     merge: Option<Merge>,
     /// The scene (seed 000's tables are of the bunny).
@@ -75,7 +75,7 @@ enum Merge {
     },
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     if let Some(Merge::Merge { reports, out, json }) = &a.merge {
         return merge(reports, out.as_deref(), json.as_deref());
     }

@@ -125,7 +125,7 @@ pub(crate) fn beside(out: &Path, suffix: &str) -> PathBuf {
     out.with_file_name(format!("{stem}-{suffix}.png"))
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     // The place checked writable before any work (a probe staged there and removed).
     drop(super::Staged::new("--out", &a.out)?);
     if matches!(

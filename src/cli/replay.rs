@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// A dump written by `tetwalk count --dump`, or with `--found` found cases (files of JSON lines).
     #[arg(required = true)]
     files: Vec<PathBuf>,
@@ -107,7 +107,7 @@ fn found(a: &Args) -> Status {
     )
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     if a.found {
         return found(&a);
     }

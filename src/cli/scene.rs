@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Subcommand)]
-pub enum Scene {
+pub(crate) enum Scene {
     /// Tetrahedralize a closed model (OFF, OBJ or ASCII PLY) in a box with the installed TetGen.
     Build {
         /// The closed model (.off, .obj or ASCII .ply).
@@ -122,7 +122,7 @@ impl super::Io for Scene {
     }
 }
 
-pub fn run(s: Scene) -> Status {
+pub(crate) fn run(s: Scene) -> Status {
     match s {
         Scene::Check {
             scene,

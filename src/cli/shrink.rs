@@ -18,7 +18,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Files of found cases (`corpora/found/`, one JSON line each or more), or a `count --dump`.
     #[arg(required = true)]
     files: Vec<PathBuf>,
@@ -247,7 +247,7 @@ fn shrink_dump(
     })
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     if a.checks == 0 {
         return Err("--checks 0 would shrink nothing".into());

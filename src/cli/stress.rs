@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Which family: `exit-face` (one tetrahedron's exit face, seeds 000 and 003), `walk` (walks
     /// through the lattice-tie scenes: Kuhn and jittered grids, an edge fan, near and far), `triangle`
     /// (closed triangle meshes, seed 004: leaks, double hits, wrong first hits) or `octree` (octree
@@ -93,7 +93,7 @@ impl super::Io for Args {
 }
 
 /// The stress rows a family's flags choose (its folder's `cli.rs`).
-pub trait Rows: Formats {
+pub(crate) trait Rows: Formats {
     /// Its own flags, from among every family's.
     type Flags;
     fn own(all: &RowFlags) -> &Self::Flags;
@@ -105,13 +105,13 @@ pub trait Rows: Formats {
 
 /// What the rows of several families share: flatness and ulps.
 #[derive(Clone, Copy, Debug)]
-pub struct Shape {
+pub(crate) struct Shape {
     pub flatness: f32,
     pub ulps: i32,
 }
 
 /// `given`, or every value when none is.
-pub fn or_all<T: Choice>(given: &[T]) -> Vec<T> {
+pub(crate) fn or_all<T: Choice>(given: &[T]) -> Vec<T> {
     if given.is_empty() {
         T::ALL.to_vec()
     } else {
@@ -127,7 +127,7 @@ macro_rules! __stress_row_flags {
     ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {
         /// Every family's row flags.
         #[derive(clap::Args)]
-        pub struct RowFlags {
+        pub(crate) struct RowFlags {
             $(
                 #[command(flatten)]
                 pub $m: $crate::family::$m::cli::StressFlags,
@@ -166,7 +166,7 @@ fn foreign(a: &Args) -> Result<(), Error> {
     }
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     super::generator(a.flatness, a.ulps)?;
     if let Some(seconds) = a.seconds
         && !(seconds.is_finite() && seconds >= 0.0)

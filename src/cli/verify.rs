@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Check only these claims (comma-separated): a check's name (`woop-watertight@cpu`) or a method's
     /// (every backend of it) [default: all].
     #[arg(long, value_delimiter = ',')]
@@ -39,7 +39,7 @@ impl super::Io for Args {
     }
 }
 
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     if a.register {
         print!("{}", register_table());
         return Ok(ExitCode::SUCCESS);

@@ -7,7 +7,7 @@
 //! [`Family`] (`crate::engine`, `crate::kit`). A family is a folder here (`exit_face/`, `walk/`,
 //! `triangle/`, `octree/`): its `Family` in `mod.rs`, how it reads in `report.rs` (a file of the report
 //! layer); and a line in [`families!`]. `tests/layering.rs` holds that no file outside the folders and
-//! the list names a family (and lists the files that still do).
+//! the list names a family (data tables excepted: the claims register, the seeds' tables).
 
 pub mod contract;
 pub mod count;

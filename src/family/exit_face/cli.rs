@@ -29,7 +29,7 @@ use std::io::Write;
 
 /// Exit-face rows.
 #[derive(clap::Args)]
-pub struct StressFlags {
+pub(crate) struct StressFlags {
     /// Exit-face rows (comma-separated) [default: all].
     #[arg(long, alias = "families", value_parser = choice::<TetRow>(), value_delimiter = ',')]
     rows: Vec<TetRow>,
@@ -75,7 +75,7 @@ impl Rows for ExitFace {
 
 /// Answer cases (or found cases) from JSON Lines with each method, judged exactly.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(flatten)]
     common: crate::cli::answer::Common,
     #[command(flatten)]
@@ -89,7 +89,7 @@ impl crate::cli::Io for Args {
 }
 
 /// `tetwalk exit`: the cases read, answered by each method (or `--answerer`) and judged.
-pub fn run(Args { common: a, wgsl }: Args) -> Status {
+pub(crate) fn run(Args { common: a, wgsl }: Args) -> Status {
     let (backend, methods) = wgsl.open::<ExitFace>(a.backend, &a.method)?;
     let outside = a.answerer.start::<ExitFace>(&Default::default())?;
     if let Some(x) = &outside {
@@ -184,7 +184,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
 /// How the ray meets the tetrahedron.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Rays {
+pub(crate) enum Rays {
     /// Through two random face points.
     Stab,
     /// Exactly through an edge.
@@ -200,7 +200,7 @@ pub enum Rays {
 /// `gen-cases`' exit-face flags.
 #[derive(clap::Args)]
 #[group(id = "exit-face")]
-pub struct GenFlags {
+pub(crate) struct GenFlags {
     /// The tetrahedron's shape (`--family` is an older name for it).
     #[arg(long, alias = "family", value_parser = choice::<TetShape>(), default_value = "well")]
     tet_shape: TetShape,

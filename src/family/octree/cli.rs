@@ -21,7 +21,7 @@ use crate::scenes::cells::{CellAim, CellPlace};
 
 /// Octree rows.
 #[derive(clap::Args)]
-pub struct StressFlags {
+pub(crate) struct StressFlags {
     /// Octree rows: where rays leave the cell (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<CellAim>(), value_delimiter = ',')]
     cell_aims: Vec<CellAim>,
@@ -55,7 +55,7 @@ impl Rows for OctreeCells {
 
 /// `count --family octree`'s flags.
 #[derive(clap::Args)]
-pub struct CountFlags {
+pub(crate) struct CountFlags {
     /// `--family octree`: the octree's deepest level (seed 001: 8 for the bunny).
     #[arg(long, default_value_t = 8)]
     depth: u32,
@@ -85,7 +85,7 @@ impl Flags for OctreeCells {
 
 /// The exit face and quarter of octree cells (seed 001), each method's beside the exact ones.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// A method name, a comma-separated list, or `all`.
     #[arg(long, default_value = "all")]
     method: String,
@@ -111,7 +111,7 @@ impl crate::cli::Io for Args {
 }
 
 /// `tetwalk box-exit`: the cases read, answered by each method (or `--answerer`) and judged.
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     let methods = crate::family::parse_list::<OctreeCells>(&a.method)?;
     let backend = a.backend.open()?;
     Answering::own::<OctreeCells>(
@@ -174,7 +174,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
 /// `gen-cases`' octree flags.
 #[derive(clap::Args)]
 #[group(id = "octree")]
-pub struct GenFlags {
+pub(crate) struct GenFlags {
     /// Write octree cell cases for `tetwalk box-exit` instead: the stress row of cells where rays
     /// leave as this says, at `--cell-place` (`box` lines; the cases `stress --family octree`
     /// judges).

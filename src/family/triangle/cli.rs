@@ -26,7 +26,7 @@ use std::process::ExitCode;
 
 /// Triangle rows.
 #[derive(clap::Args)]
-pub struct StressFlags {
+pub(crate) struct StressFlags {
     /// Triangle rows: closed mesh shapes (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<MeshShape>(), value_delimiter = ',')]
     shapes: Vec<MeshShape>,
@@ -66,7 +66,7 @@ impl Rows for Triangle {
 
 /// `count --family triangle`'s flags.
 #[derive(clap::Args)]
-pub struct CountFlags {
+pub(crate) struct CountFlags {
     /// `--family triangle`: primary rays per packet side (1, 2, 4 or 8: packets of 1, 4, 16 or 64
     /// rays sharing the camera's origin).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8), default_value_t = 2)]
@@ -92,7 +92,7 @@ impl Flags for Triangle {
 
 /// Answer ray-triangle cases from JSON Lines with each ray-triangle method, judged exactly.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(flatten)]
     common: crate::cli::answer::Common,
     /// A hit's `t` is right within this many ulps of the exact `t` (of the f32 nearest it), and
@@ -114,7 +114,7 @@ impl crate::cli::Io for Args {
 }
 
 /// `tetwalk hit`: the cases read, answered by each method (or `--answerer`) and judged.
-pub fn run(
+pub(crate) fn run(
     Args {
         common: a,
         t_ulps,
@@ -170,7 +170,7 @@ fn refuse(_: Kind) -> String {
 }
 
 /// `bench --family triangle`: seed 004 Figure 5's measure.
-pub fn bench(a: BenchArgs) -> Status {
+pub(crate) fn bench(a: BenchArgs) -> Status {
     if a.backend != "cpu" || a.layouts || a.hilbert || a.baseline.is_some() || a.repeat != 1 {
         return Err("--family triangle times the CPU, plain f32, best of 3; leave out --backend, --layouts, --hilbert, --repeat and --baseline".into());
     }
@@ -230,7 +230,7 @@ fn leak_image(cells: &[EdgeHit], size: u32) -> Image {
 /// `gen-cases`' ray–triangle flags.
 #[derive(clap::Args)]
 #[group(id = "triangle")]
-pub struct GenFlags {
+pub(crate) struct GenFlags {
     /// Write ray–triangle cases for `tetwalk hit` instead: the stress row of closed meshes of this
     /// shape, `--aim` and `--place` (`tris` lines; with the same `--flatness`, `--ulps` and `--seed`,
     /// the cases `stress --family triangle` judges).

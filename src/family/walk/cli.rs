@@ -46,7 +46,7 @@ use std::process::ExitCode;
 
 /// Walk rays through a generated mesh with each method, every step judged exactly.
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The generated mesh.
     #[arg(long, value_parser = choice::<Generated>(), default_value = "fan")]
     mesh: Generated,
@@ -98,7 +98,7 @@ impl Io for Args {
 
 /// `tetwalk walk`: the mesh and rays made, the walks run and judged ([`super::engine`]), the tables
 /// printed ([`super::report`]).
-pub fn run(a: Args) -> Status {
+pub(crate) fn run(a: Args) -> Status {
     let (backend, methods) = a.wgsl.open::<Walks>(a.backend, &a.methods)?;
     // Every ray keeps one tally per method until the table is made.
     fits(
@@ -173,7 +173,7 @@ pub fn run(a: Args) -> Status {
 
 /// Walk rows.
 #[derive(clap::Args)]
-pub struct StressFlags {
+pub(crate) struct StressFlags {
     /// Walk rows: the scenes walked (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<WalkScene>(), value_delimiter = ',')]
     scenes: Vec<WalkScene>,
@@ -200,7 +200,7 @@ impl Rows for Walks {
 
 /// Walk counts have no flags of their own.
 #[derive(clap::Args)]
-pub struct CountFlags {}
+pub(crate) struct CountFlags {}
 
 impl Flags for Walks {
     type Flags = CountFlags;
@@ -276,7 +276,7 @@ impl Flags for Walks {
 
 /// The header line of `count --rays-out`, which `tetwalk judge` reads back.
 #[derive(serde::Serialize, serde::Deserialize)]
-pub struct RaysHeader {
+pub(crate) struct RaysHeader {
     pub scene: String,
     pub views: Views,
     pub shard: Shard,
@@ -288,7 +288,7 @@ pub struct RaysHeader {
 
 /// The lines of `count --rays-out` for view `v` (camera `cam`, starting tetrahedron `start`): each
 /// ray's view, pixel, origin, direction and start.
-pub fn ray_lines(
+pub(crate) fn ray_lines(
     views: &Views,
     v: usize,
     cam: &crate::scenes::camera::Camera,
@@ -473,7 +473,7 @@ fn judge_scene(a: &JudgeArgs, header: RaysHeader, input: Box<dyn BufRead + Send>
 }
 
 /// `bench` (`--family exit-face`): walk speed per method and backend.
-pub fn bench(a: BenchArgs) -> Status {
+pub(crate) fn bench(a: BenchArgs) -> Status {
     let methods = crate::family::parse_list::<Walks>(&a.methods)?;
     let kinds = crate::cli::backend_list(&a.backend)?;
     crate::cli::view_count(a.views, "bench")?;
