@@ -220,6 +220,55 @@ fn shrink_takes_a_counts_dump_but_never_rewrites_it() {
     assert_eq!(std::fs::read_to_string(dump).unwrap(), lines);
 }
 
+/// A dump line that is not a wrong ray as `count --dump` writes it is an error naming its line, and
+/// nothing is shrunk; a wrong ray whose diverging step was not observed (a GPU walk's) is left as it
+/// is with its reason, and a run that shrank nothing reports no mean of bits.
+#[test]
+fn shrink_refuses_a_malformed_dump_line_and_says_why_a_ray_is_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let dump = dir.path().join("dump.jsonl");
+    let (code, _, err) = tetwalk(&[
+        "count",
+        "--scene",
+        "kuhn-far",
+        "--views",
+        "1",
+        "--size",
+        "4x4",
+        "--methods",
+        "plucker",
+        "--dump",
+        dump.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let first = std::fs::read_to_string(&dump).unwrap();
+    let ray: serde_json::Value = serde_json::from_str(first.lines().next().unwrap()).unwrap();
+    let edited = |edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut r = ray.clone();
+        edit(&mut r);
+        let f = dir.path().join("edited.jsonl");
+        std::fs::write(&f, format!("{r}\n")).unwrap();
+        tetwalk(&["shrink", f.to_str().unwrap()])
+    };
+    let (code, out, err) = edited(&|r| r["steps"] = "x".into());
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("line 1: wrong ray:"), "{err}");
+    assert!(out.is_empty(), "{out}");
+    let (code, _, err) = edited(&|r| {
+        r.as_object_mut().unwrap().remove("case");
+        r["divergence"] = serde_json::Value::Null;
+    });
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("left as it is: no diverging step was observed"),
+        "{err}"
+    );
+    assert!(
+        err.contains("1 left as they were") && !err.contains("mean"),
+        "{err}"
+    );
+}
+
 /// An answerer speaking the protocol (docs/answerers.md) in a shell loop: for each case line, `say`
 /// run with `$n` its line number.
 fn answering_with(say: &str) -> String {

@@ -226,7 +226,12 @@ fn shrink_dump(
 ) -> Result<Result<Done, String>, FoundError> {
     let w: WrongRay = match serde_json::from_value(serde_json::Value::Object(obj)) {
         Ok(w) => w,
-        Err(e) => return Ok(Err(e.to_string())),
+        Err(e) => {
+            return Err(FoundError::Field {
+                field: "wrong ray",
+                why: e.to_string(),
+            });
+        }
     };
     let WrongRay {
         case: Some(case),
@@ -365,14 +370,20 @@ pub(crate) fn run(a: Args) -> Status {
         report.cases.iter().map(|d| f(d) as f64).sum::<f64>() / numbers.max(1) as f64
     };
     let simpler = report.cases.iter().filter(|d| d.simpler()).count();
+    let bits = match numbers {
+        0 => String::new(),
+        _ => format!(
+            "; significant bits per number, mean {:.1} -> {:.1}",
+            mean(|d| d.bits_before),
+            mean(|d| d.bits_after)
+        ),
+    };
     eprintln!(
-        "tetwalk shrink: {} shrunk{}, {} already as simple as the search finds, {} left as they were (each with its reason above); significant bits per number, mean {:.1} -> {:.1}",
+        "tetwalk shrink: {} shrunk{}, {} already as simple as the search finds, {} left as they were (each with its reason above){bits}",
         crate::report::counted(simpler as u64, "case", "cases"),
         if a.in_place { " and written back" } else { "" },
         report.cases.len() - simpler,
         report.left.len(),
-        mean(|d| d.bits_before),
-        mean(|d| d.bits_after),
     );
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
