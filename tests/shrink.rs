@@ -179,13 +179,9 @@ fn shrink_prints_a_reproducing_command_and_writes_only_when_asked() {
     );
 }
 
-/// A count's dump: each wrong ray's diverging step is a one-tetrahedron case its method fails, which
-/// `shrink` shrinks; a dump is never rewritten in place.
-#[test]
-fn shrink_takes_a_counts_dump_but_never_rewrites_it() {
-    let dir = tempfile::tempdir().unwrap();
-    let dump = dir.path().join("dump.jsonl");
-    let dump = dump.to_str().unwrap();
+/// `plucker`'s wrong rays on one 4×4 view of `kuhn-far`, dumped by `count --dump` into `dir`.
+fn counts_dump(dir: &std::path::Path) -> std::path::PathBuf {
+    let dump = dir.join("dump.jsonl");
     let (code, _, err) = tetwalk(&[
         "count",
         "--scene",
@@ -197,9 +193,19 @@ fn shrink_takes_a_counts_dump_but_never_rewrites_it() {
         "--methods",
         "plucker",
         "--dump",
-        dump,
+        dump.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
+    dump
+}
+
+/// A count's dump: each wrong ray's diverging step is a one-tetrahedron case its method fails, which
+/// `shrink` shrinks; a dump is never rewritten in place.
+#[test]
+fn shrink_takes_a_counts_dump_but_never_rewrites_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let dump = counts_dump(dir.path());
+    let dump = dump.to_str().unwrap();
     let lines = std::fs::read_to_string(dump).unwrap();
     assert!(!lines.is_empty() && lines.lines().all(|l| l.contains("\"case\":{\"tet\"")));
     let json = dir.path().join("shrunk.json");
@@ -226,21 +232,7 @@ fn shrink_takes_a_counts_dump_but_never_rewrites_it() {
 #[test]
 fn shrink_refuses_a_malformed_dump_line_and_says_why_a_ray_is_left() {
     let dir = tempfile::tempdir().unwrap();
-    let dump = dir.path().join("dump.jsonl");
-    let (code, _, err) = tetwalk(&[
-        "count",
-        "--scene",
-        "kuhn-far",
-        "--views",
-        "1",
-        "--size",
-        "4x4",
-        "--methods",
-        "plucker",
-        "--dump",
-        dump.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    let dump = counts_dump(dir.path());
     let first = std::fs::read_to_string(&dump).unwrap();
     let ray: serde_json::Value = serde_json::from_str(first.lines().next().unwrap()).unwrap();
     let edited = |edit: &dyn Fn(&mut serde_json::Value)| {
