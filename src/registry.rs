@@ -288,7 +288,7 @@ impl Method {
         self.walk.get(model)
     }
 
-    /// The walk of many rays from one start, interleaved on one thread ([`walk::walks`]).
+    /// The walk of many rays from one start, interleaved on one thread ([`crate::walk::walks`]).
     pub fn walks(&self, model: Model) -> WalksFn {
         self.walks.get(model)
     }
@@ -303,7 +303,7 @@ impl Method {
         self.time_queries
     }
 
-    /// The walk that judges every step with the oracle ([`walk::walk_checked`]).
+    /// The walk that judges every step with the oracle ([`crate::walk::walk_checked`]).
     pub fn walk_checked(&self, model: Model) -> CheckedWalkFn {
         self.checked.get(model)
     }

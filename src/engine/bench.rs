@@ -109,7 +109,7 @@ const NOISE: f64 = 0.02;
 /// A row against the same row of a baseline run of the same settings, like with like: each batch's
 /// speed (the median of its `repeat` timings) over the same batch's there — the same views, so the
 /// spread between views does not hide a change. Faster or slower where every batch's ratio lies on
-/// that side of 1 and their median more than [`NOISE`] from it, else within noise.
+/// that side of 1 and their median more than `NOISE` from it, else within noise.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Change {
     pub baseline_median: f64,

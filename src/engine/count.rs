@@ -167,7 +167,7 @@ struct ViewCount {
 /// Count wrong rays per answerer over the views the shard holds; `tick` is called once per view
 /// (counted, or skipped for a camera outside the mesh), and `sink` sees every wrong ray written out
 /// ([`WrongRay`]), view by view in order. On the CPU several views are counted at once
-/// ([`VIEWS_PER_THREAD`], as many as [`VIEWS_MEMORY`] holds); memory holds those views' rays and
+/// (`VIEWS_PER_THREAD`, as many as `VIEWS_MEMORY` holds); memory holds those views' rays and
 /// walks.
 pub fn run<F: Counted>(
     mesh: &Mesh,

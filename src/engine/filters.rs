@@ -161,7 +161,7 @@ impl std::ops::AddAssign for FilterTally {
 /// The most refutations a campaign keeps (the first found).
 const KEPT: usize = 16;
 
-/// A campaign's tallies, `[regime][filter]`, and the first refutations found (at most [`KEPT`]).
+/// A campaign's tallies, `[regime][filter]`, and the first refutations found (at most `KEPT`).
 #[derive(Clone, Debug, Default)]
 pub struct Checked {
     pub tallies: Vec<(Regime, Vec<(Filter, FilterTally)>)>,

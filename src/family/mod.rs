@@ -6,7 +6,7 @@
 //! targets' policy, the conformance kit, counts and the command line are written once, generic over
 //! [`Family`] (`crate::engine`, `crate::kit`). A family is a folder here (`exit_face/`, `walk/`,
 //! `triangle/`, `octree/`): its `Family` in `mod.rs`, how it reads in `report.rs` (a file of the report
-//! layer); and a line in [`families!`]. `tests/layering.rs` holds that no file outside the folders and
+//! layer); and a line in [`families!`](crate::families). `tests/layering.rs` holds that no file outside the folders and
 //! the list names a family (data tables excepted: the claims register, the seeds' tables).
 
 pub mod contract;
@@ -438,7 +438,7 @@ macro_rules! families {
 #[macro_export]
 macro_rules! __family_kinds {
     ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } $($rest:tt)*) => {
-        /// A family, by name: a typed `--family` choice ([`families!`]).
+        /// A family, by name: a typed `--family` choice ([`families!`](crate::families)).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
         pub enum Kind {
             $($(#[$doc])* #[serde(rename = $n)] $v,)*
@@ -446,7 +446,7 @@ macro_rules! __family_kinds {
 
         $crate::choice!(Kind { $($v => $n),* });
 
-        /// Each family's type, by its [`Kind`] variant's name ([`with_family!`] reads them).
+        /// Each family's type, by its [`Kind`] variant's name ([`with_family!`](crate::with_family) reads them).
         pub mod of {
             $(
                 #[doc = concat!("The `", $n, "` family.")]
@@ -455,7 +455,7 @@ macro_rules! __family_kinds {
         }
 
         /// The families that count a scene, by name: a typed `count --family` choice, and a count
-        /// report's `family` ([`families!`]).
+        /// report's `family` ([`families!`](crate::families)).
         #[derive(Clone, Copy, Debug, PartialEq, Eq)]
         pub enum CountKind {
             $(

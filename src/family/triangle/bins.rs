@@ -132,7 +132,7 @@ pub fn tile_of(x: u32, y: u32, width: u32, tile: u32) -> usize {
     ((y / tile) * width.div_ceil(tile) + x / tile) as usize
 }
 
-/// The error scales, in the order [`Reach::bounds`] and [`ByScale`] keep them.
+/// The error scales, in the order `Reach::bounds` and [`ByScale`] keep them.
 pub const SCALES: [SideError; 2] = [SideError::EdgeScaled, SideError::OriginScaled];
 
 /// A triangle's three linear side-product functions on the screen, `c + a·sx + b·sy`, their sum
