@@ -5,6 +5,7 @@
 
 use crate::backend::{Backend, BackendError};
 use crate::engine::view::{Frame, ViewError, located_view};
+use crate::family::Summed;
 use crate::mesh::layout::Layout;
 use crate::mesh::{HULL, Mesh, MeshError};
 use crate::methods::Model;
@@ -36,7 +37,7 @@ pub enum Walker<'a> {
 
 /// One method's walks: how they ended ([`OutcomeKind::ALL`] order), how many ended elsewhere than the
 /// `exact` walk, how many took a step outside the exact exit set, and the steps.
-#[derive(Default, Clone, Copy, serde::Serialize)]
+#[derive(Default, Clone, Copy, Debug, serde::Serialize)]
 pub struct MethodWalks {
     pub rays: u64,
     pub kinds: [u64; 5],
@@ -45,7 +46,7 @@ pub struct MethodWalks {
     pub steps: u64,
 }
 
-impl MethodWalks {
+impl Summed for MethodWalks {
     fn add(&mut self, t: &MethodWalks) {
         self.rays += t.rays;
         self.wrong += t.wrong;
