@@ -398,14 +398,17 @@ pub fn reference<F: Family>() -> Option<&'static F::Method> {
 
 /// The families, written once (in the spirit of CGAL's interface macros): `$then!` is called with
 /// `[ARGS]` (what follows `$then,` here), each family's line — its [`Kind`] variant, its name, its
-/// type, its folder's module — the variants (and modules) of those that count a scene, and the conformance kit's entry points (each in its
-/// family's folder), and the commands that answer a family's cases (each family's `cli::Args` and
-/// `cli::run`, a subcommand named as the variant), and the fuzz targets beyond each family's own
-/// ([`Family::FUZZ_TARGET`]), each a function of its family's folder's `engine.rs` from the bytes a
-/// target is given to what a held method fails, and the families `bench` times (`bench --family
-/// NAME`, each its folder's `cli::bench`). [`Kind`], [`of`], [`with_family!`], [`CountKind`],
-/// [`with_counted!`], the kit's entry points, those subcommands, `fuzz-import`'s targets and
-/// `bench`'s families expand from it; a new family is a line here.
+/// type, its folder's module — then its sections: `counted`, the families that count a scene;
+/// `kit`, the conformance kit's entry points (each in its family's folder); `commands`, each family's
+/// own command (its folder's `cli::Args` and `cli::run`, a subcommand named as the variant); `fuzz`,
+/// the fuzz targets beyond each family's own ([`Family::FUZZ_TARGET`]), each a function of its
+/// folder's `engine.rs` from the bytes a target is given to what a held method fails; `bench`, the
+/// families `bench` times (`bench --family NAME`, each its folder's `cli::bench`); `pictures`, the
+/// pictures of `render` each family draws (its folder's `cli::render`); `gen_cases`, the families
+/// `gen-cases` writes (its folder's `cli::GenFlags` and `cli::gen_cases`; the last writes when no
+/// other's flags ask). [`Kind`], [`of`], [`with_family!`], [`CountKind`], [`with_counted!`], the kit's
+/// entry points, those subcommands, `fuzz-import`'s targets, `bench`'s families, `render`'s pictures
+/// and `gen-cases`' flags expand from it; a new family is a line here and its entries.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! families {
