@@ -504,12 +504,10 @@ pub enum RerunError {
     Backend(#[from] crate::backend::BackendError),
 }
 
-/// The method of wrong ray `d` walks it again through `mesh` (its scene) on `backend`, judged
-/// against the exact walk as the count judged it.
+/// The method of wrong ray `d` walks it again through `mesh` (its scene) on `backend` (the one `d`
+/// records, `d.backend`; walks given from outside record none and are [`RerunError::NotWalked`]),
+/// judged against the exact walk as the count judged it.
 pub fn rerun(d: &WrongRay, mesh: &Mesh, backend: &Backend) -> Result<Rerun, RerunError> {
-    if d.backend.is_none() {
-        return Err(RerunError::NotWalked(d.method.clone()));
-    }
     let m = crate::registry::by_name(&d.method)?;
     let ray = d.ray();
     crate::exact::check_ray(&[], &ray).map_err(|why| RerunError::Ray {

@@ -294,7 +294,7 @@ fn free(a: &GenArgs, f: &GenFlags) -> Status {
         if written == a.count {
             break;
         }
-        let generated = match f.rays {
+        let made = match f.rays {
             Rays::Stab => {
                 let t = tets::tet(f.tet_shape, flatness, &mut r);
                 Some((t, tets::stabbing_ray(&t, &mut r)))
@@ -305,7 +305,7 @@ fn free(a: &GenArgs, f: &GenFlags) -> Status {
             Rays::NearVertex => tets::near(f.tet_shape, flatness, Target::Vertex, a.ulps, &mut r),
         };
         let Some((t, ray)) =
-            generated.and_then(|(t, ray)| tets::translated(&t, &ray, Vec3::splat(f.offset)))
+            made.and_then(|(t, ray)| tets::translated(&t, &ray, Vec3::splat(f.offset)))
         else {
             continue;
         };

@@ -187,27 +187,29 @@ pub(crate) struct GenFlags {
 
 /// `gen-cases --cell-aim`: an octree stress row's cells; none without `--cell-aim`.
 pub(crate) fn gen_cases(a: &GenArgs, f: &GenFlags) -> Option<Status> {
-    let aim = f.cell_aim?;
-    Some((|| {
-        let Start { out, contract, .. } = start::<OctreeCells>(a, 1.0, || Ok(()))?;
-        let rows = CellRows {
-            aims: vec![aim],
-            places: vec![f.cell_place],
-            ulps: a.ulps,
-        };
-        let at = CellRow {
-            aim,
-            place: f.cell_place,
-        };
-        let written = row::<OctreeCells>(&rows, at, a, &contract, |c, _| {
-            Some(OctreeCells::case_json(c))
-        })?;
-        generated(
-            out,
-            &serde_json::json!({
-                "cell_aim": aim, "cell_place": f.cell_place, "ulps": a.ulps, "seed": a.seed,
-                "scale": a.scale, "contract": contract, "written": written,
-            }),
-        )
-    })())
+    Some(stress_row(a, f, f.cell_aim?))
+}
+
+/// `gen-cases --cell-aim AIM`: the row of cells where rays leave as `aim` says, at `--cell-place`.
+fn stress_row(a: &GenArgs, f: &GenFlags, aim: CellAim) -> Status {
+    let Start { out, contract, .. } = start::<OctreeCells>(a, 1.0, || Ok(()))?;
+    let rows = CellRows {
+        aims: vec![aim],
+        places: vec![f.cell_place],
+        ulps: a.ulps,
+    };
+    let at = CellRow {
+        aim,
+        place: f.cell_place,
+    };
+    let written = row::<OctreeCells>(&rows, at, a, &contract, |c, _| {
+        Some(OctreeCells::case_json(c))
+    })?;
+    generated(
+        out,
+        &serde_json::json!({
+            "cell_aim": aim, "cell_place": f.cell_place, "ulps": a.ulps, "seed": a.seed,
+            "scale": a.scale, "contract": contract, "written": written,
+        }),
+    )
 }

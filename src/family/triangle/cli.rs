@@ -251,42 +251,44 @@ pub(crate) struct GenFlags {
 /// `gen-cases --shape`: a ray–triangle stress row's cases (closed meshes, or with `--single` the
 /// triangle each ray first crosses); none without `--shape`.
 pub(crate) fn gen_cases(a: &GenArgs, f: &GenFlags) -> Option<Status> {
-    let shape = f.shape?;
-    Some((|| {
-        let Start {
-            flatness,
-            out,
-            contract,
-        } = start::<Triangle>(a, 1e-3, || Ok(()))?;
-        let rows = TriRows {
-            shapes: vec![shape],
-            aims: vec![f.aim],
-            places: vec![f.place],
-            flatness,
-            ulps: a.ulps,
-        };
-        let at = TriRow {
-            shape,
-            aim: f.aim,
-            place: f.place,
-        };
-        let written = row::<Triangle>(&rows, at, a, &contract, |c, x| {
-            if !f.single {
-                return Some(Triangle::case_json(c));
-            }
-            let first = x.first_crossing()?.holding[0] as usize;
-            Some(Triangle::case_json(&HitCase::single(
-                c.tris()[first],
-                c.ray(),
-            )))
-        })?;
-        generated(
-            out,
-            &serde_json::json!({
-                "shape": shape, "aim": f.aim, "place": f.place, "flatness": flatness,
-                "ulps": a.ulps, "seed": a.seed, "single": f.single, "scale": a.scale,
-                "contract": contract, "written": written,
-            }),
-        )
-    })())
+    Some(stress_row(a, f, f.shape?))
+}
+
+/// `gen-cases --shape SHAPE`: the row of closed meshes of `shape`, `--aim` and `--place`.
+fn stress_row(a: &GenArgs, f: &GenFlags, shape: MeshShape) -> Status {
+    let Start {
+        flatness,
+        out,
+        contract,
+    } = start::<Triangle>(a, 1e-3, || Ok(()))?;
+    let rows = TriRows {
+        shapes: vec![shape],
+        aims: vec![f.aim],
+        places: vec![f.place],
+        flatness,
+        ulps: a.ulps,
+    };
+    let at = TriRow {
+        shape,
+        aim: f.aim,
+        place: f.place,
+    };
+    let written = row::<Triangle>(&rows, at, a, &contract, |c, x| {
+        if !f.single {
+            return Some(Triangle::case_json(c));
+        }
+        let first = x.first_crossing()?.holding[0] as usize;
+        Some(Triangle::case_json(&HitCase::single(
+            c.tris()[first],
+            c.ray(),
+        )))
+    })?;
+    generated(
+        out,
+        &serde_json::json!({
+            "shape": shape, "aim": f.aim, "place": f.place, "flatness": flatness,
+            "ulps": a.ulps, "seed": a.seed, "single": f.single, "scale": a.scale,
+            "contract": contract, "written": written,
+        }),
+    )
 }

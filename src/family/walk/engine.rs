@@ -105,13 +105,9 @@ pub fn walk_table(
     walker: Walker,
     layout: Option<(LayoutKind, &Layout)>,
 ) -> Result<MethodWalksTable, WalkRunError> {
-    let per_ray = match walker {
-        Walker::Checked(model) => per_ray(mesh, rays, methods, model, layout, true),
-        Walker::Gpu(backend) => gpu_per_ray(backend, mesh, rays, methods)?,
-    };
-    let model = match walker {
-        Walker::Checked(model) => model,
-        Walker::Gpu(_) => Model::Plain,
+    let (per_ray, model) = match walker {
+        Walker::Checked(model) => (per_ray(mesh, rays, methods, model, layout, true), model),
+        Walker::Gpu(backend) => (gpu_per_ray(backend, mesh, rays, methods)?, Model::Plain),
     };
     let rows = methods
         .iter()
