@@ -766,13 +766,37 @@ fn judge_gives_answers_from_anywhere_the_verdicts_of_exit_and_hit() {
     );
     assert_eq!(code, 1);
     assert!(out.contains("no answer for this line"), "{out}");
-    std::fs::write(&given, answers + "{\"line\": 999, \"face\": 1}\n").unwrap();
+    std::fs::write(&given, answers.clone() + "{\"line\": 999, \"face\": 1}\n").unwrap();
     let (code, _, err) = tetwalk(
         &["judge", cases.to_str().unwrap(), given.to_str().unwrap()],
         "",
     );
     assert_eq!(code, 2);
-    assert!(err.contains("[999]"), "{err}");
+    assert!(err.contains("answers for line 999, with no case"), "{err}");
+    // Many lines with no case are named in runs, not one by one.
+    let far: String = (101..=3000)
+        .chain([3005])
+        .map(|n| format!("{{\"line\": {n}, \"face\": 1}}\n"))
+        .collect();
+    std::fs::write(&given, answers + &far).unwrap();
+    let (code, _, err) = tetwalk(
+        &["judge", cases.to_str().unwrap(), given.to_str().unwrap()],
+        "",
+    );
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("answers for lines 101-3000 and 3005, with"),
+        "{err}"
+    );
+    assert!(err.len() < 400, "{err}");
+    // A missing answers file is named once.
+    let missing = dir.path().join("missing.jsonl");
+    let (code, _, err) = tetwalk(
+        &["judge", cases.to_str().unwrap(), missing.to_str().unwrap()],
+        "",
+    );
+    assert_eq!(code, 2);
+    assert_eq!(err.matches("missing.jsonl").count(), 1, "{err}");
 }
 
 /// Every kind of picture writes the file `--out` names: predicate and leak maps a sheet of every

@@ -312,7 +312,7 @@ fn a_failed_judge_writes_no_report_and_fail_on_wrong_gates() {
         &["--json", &json],
     );
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("[9]"), "{err}");
+    assert!(err.contains("answers for line 9, with no case"), "{err}");
     assert!(
         !std::path::Path::new(&json).exists(),
         "a failed run writes no report"

@@ -34,7 +34,8 @@ fn the_family_verdict_and_the_verdict_lines_agree_on_every_answer() {
                 };
                 for answer in [*a, moved(1.01), moved(1.0 + 2.0 * f32::EPSILON)] {
                     let verdict = Triangle::verdict(case, truth, &answer);
-                    let (line, said) = Triangle::verdict_line(case, truth, &answer, T_ULPS);
+                    let said = Triangle::said(case, truth, &answer, T_ULPS);
+                    let line = Triangle::verdict_line(case, truth, &answer, &said);
                     let right = verdict == Verdict::Right;
                     assert_eq!(said.correct, Some(right), "{line:?} against {verdict:?}");
                     assert_eq!(line["correct"], right);

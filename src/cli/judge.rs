@@ -2,9 +2,10 @@
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
 use super::Status;
-use super::answer::{Answering, MAX_LINE, NOT_JSON, answer, reader};
+use super::answer::Answering;
 use super::count::Flags;
 use crate::choice::Choice;
+use crate::engine::answering::{AnsweringError, MAX_LINE, NOT_JSON, answer, open_lines, reader};
 use crate::engine::standing::Standing;
 use crate::family::{CountKind, Kind};
 use serde_json::Value;
@@ -75,9 +76,12 @@ pub(crate) fn each_answer(
     mut take: impl FnMut(usize, Value) -> Result<(), String>,
 ) -> Result<(), JudgeError> {
     let file = path.display().to_string();
-    let f = super::answer::open_lines(path).map_err(|e| JudgeError::File {
+    let f = open_lines(path).map_err(|e| JudgeError::File {
         file: file.clone(),
-        why: e.to_string(),
+        why: match e {
+            AnsweringError::File { why, .. } => why,
+            e => e.to_string(),
+        },
     })?;
     for (i, l) in reader(f) {
         let at = |why: String| JudgeError::Answer {
@@ -177,7 +181,13 @@ pub(crate) fn run(a: Args) -> Status {
         |batch, summary| {
             let mut parts = crate::families!(__given_parts, &a.name, t_ulps);
             let mut given = answers.borrow_mut();
-            answer(batch, &mut parts, refuse, Some(&mut given), summary)
+            Ok(answer(
+                batch,
+                &mut parts,
+                refuse,
+                Some(&mut given),
+                summary,
+            )?)
         },
         || {
             let mut extra: Vec<usize> = answers.borrow().keys().copied().collect();
@@ -186,13 +196,42 @@ pub(crate) fn run(a: Args) -> Status {
                 return Ok(());
             }
             Err(format!(
-                "{}: answers for lines {extra:?}, which hold no case in {}",
+                "{}: answers for {}, with no case in {}",
                 a.answers.display(),
+                line_runs(&extra),
                 a.cases.display()
             )
             .into())
         },
     )
+}
+
+/// Line numbers (sorted) in runs, `line 7` or `lines 3, 7-9 and 12`: the first [`RUNS`] runs, then how
+/// many lines are left.
+fn line_runs(lines: &[usize]) -> String {
+    const RUNS: usize = 8;
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for &n in lines {
+        match runs.last_mut() {
+            Some((_, end)) if *end + 1 == n => *end = n,
+            _ => runs.push((n, n)),
+        }
+    }
+    let shown: Vec<String> = runs
+        .iter()
+        .take(RUNS)
+        .map(|&(a, b)| match a == b {
+            true => a.to_string(),
+            false => format!("{a}-{b}"),
+        })
+        .collect();
+    let left: usize = runs.iter().skip(RUNS).map(|(a, b)| b - a + 1).sum();
+    match (shown.as_slice(), left) {
+        ([one], 0) if lines.len() == 1 => format!("line {one}"),
+        ([one], 0) => format!("lines {one}"),
+        ([init @ .., last], 0) => format!("lines {} and {last}", init.join(", ")),
+        _ => format!("lines {} and {left} more", shown.join(", ")),
+    }
 }
 
 /// `judge` judges no walk case: answers to walks come as a scene's rays.
@@ -204,7 +243,7 @@ fn refuse(_: Kind) -> String {
 /// see whether it is a `count --rays-out` header, then put back in front of the rest.
 fn open_cases(path: &Path) -> Result<(Option<Value>, Box<dyn BufRead + Send>), super::Error> {
     let file = path.display().to_string();
-    let mut input = super::answer::open_lines(path)?;
+    let mut input = open_lines(path)?;
     // The first line only, at most a line's length bound (a longer one is no header).
     let mut first = Vec::new();
     std::io::Read::take(&mut input, MAX_LINE)

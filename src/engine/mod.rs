@@ -4,6 +4,7 @@
 //! (`crate::report`) only format what these return.
 
 pub mod answerer;
+pub mod answering;
 pub mod bench;
 pub mod count;
 pub mod filters;

@@ -40,6 +40,51 @@ pub enum Verdict {
     NotJudged,
 }
 
+impl Verdict {
+    /// A verdict line's `correct`: `None` (`null`) where the case is not judged.
+    pub fn correct(self) -> Option<bool> {
+        match self {
+            Verdict::Right => Some(true),
+            Verdict::Wrong(_) => Some(false),
+            Verdict::NotJudged => None,
+        }
+    }
+}
+
+/// What the oracle says of one answer with the facts counted beside right or wrong
+/// ([`Family::said`]): whether it leaks, whether the ray first meets a back face there
+/// ([`crate::exact::hit::HitTruth::back_face`]), whether a hit is wrong for its `t` alone (its
+/// triangle right), and how a tetrahedron's answer was reached.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Said {
+    /// Right, wrong, or not judged (`None`).
+    pub correct: Option<bool>,
+    /// A cell's case (a tetrahedron's or an octree cell's), whose line may miss the cell.
+    pub cell: bool,
+    /// A triangle case (leaks, back faces and `t` are counted).
+    pub triangle: bool,
+    /// A tetrahedron's case: how it was answered.
+    pub tet: Option<TetSaid>,
+    pub leak: bool,
+    pub back_face: bool,
+    pub t_alone: bool,
+    /// How many ulps a hit's `t` lies from the exact one, where the hit's triangle has an exact `t`.
+    pub t_ulps: Option<f64>,
+    /// What a wrong closed-mesh answer is ([`crate::exact::hit::HitTruth::wrong_kind`]).
+    pub kind: Option<&'static str>,
+}
+
+/// What a tetrahedron case's verdict says besides right or wrong.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TetSaid {
+    /// Wrong with a face (`wrong_face`) or with none (`no_exit_face`).
+    pub wrong: Option<&'static str>,
+    /// More than one face is right: the line leaves through an edge or vertex.
+    pub tie: bool,
+    /// The line only touches the tetrahedron (an edge, a vertex, along a face).
+    pub touch_only: bool,
+}
+
 /// A power-of-two scale of a case: its points and origin multiplied by 2^`points`, its direction by
 /// 2^`direction` (the same line; products of it underflow or overflow sooner or later). Exact where
 /// nothing underflows or overflows; the oracle judges the scaled case as it is.
@@ -160,6 +205,15 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     /// The oracle's answer; an error names what is wrong with the case.
     fn truth(case: &Self::Case) -> Result<Self::Truth, CaseError>;
     fn verdict(case: &Self::Case, truth: &Self::Truth, answer: &Self::Answer) -> Verdict;
+    /// The verdict with the facts counted beside it, as `exit`, `hit`, `box-exit` and `judge` count
+    /// and write them; a hit's `t` is right within `t_ulps` ulps of the exact one (the family's
+    /// [`Family::verdict`] judges with the default bound).
+    fn said(case: &Self::Case, truth: &Self::Truth, answer: &Self::Answer, _t_ulps: f64) -> Said {
+        Said {
+            correct: Self::verdict(case, truth, answer).correct(),
+            ..Said::default()
+        }
+    }
     /// What a method of the family claims when it makes a claim: never a wrong answer, or (ray–triangle
     /// tests) no leak; a user's answerer claims it with `--answerer-claims`.
     const CLAIM: crate::registry::Claim = crate::registry::Claim::Robust;

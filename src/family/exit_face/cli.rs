@@ -7,7 +7,7 @@ use super::engine::predicate_grid;
 use super::{ExitFace, ExitRows, TetRow};
 use crate::backend::Backend;
 use crate::cases::Case;
-use crate::cli::answer::{Answered, Answering, Part};
+use crate::cli::answer::{Answering, methods_part};
 use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
 use crate::cli::render::{
     Args as RenderArgs, Drawn, Maps, drawn_methods, finish, map_backends, square,
@@ -100,14 +100,8 @@ pub(crate) fn run(Args { common: a, wgsl }: Args) -> Status {
         .by_parts(
             || {
                 vec![
-                    Box::new(Part::<ExitFace>::new(
-                        Answered::Methods(&methods, &backend),
-                        0.0,
-                    )),
-                    Box::new(Part::<Walks>::new(
-                        Answered::Methods(&methods, &backend),
-                        0.0,
-                    )),
+                    Box::new(methods_part::<ExitFace>(&methods, &backend, 0.0)),
+                    Box::new(methods_part::<Walks>(&methods, &backend, 0.0)),
                 ]
             },
             refuse,

@@ -9,7 +9,7 @@ pub mod kit;
 mod report;
 
 use super::contract::{self, Contract, EntryGiven, Orientation, Origin};
-use super::{Family, Verdict, given_fields};
+use super::{Family, Said, TetSaid, Verdict, given_fields};
 use crate::backend::{Backend, BackendError};
 use crate::cases::{CaseError, classify, field_error, vec3};
 use crate::exact::{Classification, perturbed_exit};
@@ -296,6 +296,25 @@ impl Family for ExitFace {
             (false, _) => Verdict::NotJudged,
             (true, Some(f)) if x.exit.contains(*f as usize) => Verdict::Right,
             (true, f) => Verdict::Wrong(Self::kind(f)),
+        }
+    }
+
+    /// Besides right or wrong: with a face or none, at a tie, on a line that only touches.
+    fn said(c: &Case, x: &Classification, face: &Face, _: f64) -> Said {
+        let v = Self::verdict(c, x, face);
+        Said {
+            correct: v.correct(),
+            cell: true,
+            tet: Some(TetSaid {
+                wrong: match v {
+                    Verdict::Wrong(_) if face.is_some() => Some("wrong_face"),
+                    Verdict::Wrong(_) => Some("no_exit_face"),
+                    _ => None,
+                },
+                tie: Self::tie(x),
+                touch_only: x.meets() && Self::touch_only(c),
+            }),
+            ..Said::default()
         }
     }
 

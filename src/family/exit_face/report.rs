@@ -4,9 +4,9 @@
 use super::{ExitFace, Face};
 use crate::engine::stress::StressReport;
 use crate::exact::Classification;
-use crate::family::{Family, Verdict};
+use crate::family::Said;
 use crate::report::Formats;
-use crate::report::lines::{Lines, Said, TetSaid, correct, fields};
+use crate::report::lines::{Lines, fields};
 use crate::report::stress::{per_million, relabellings, rounds, seeds, table};
 use serde_json::{Map, Value, json};
 
@@ -48,39 +48,20 @@ impl Formats for ExitFace {
 
 impl Lines for ExitFace {
     fn verdict_line(
-        c: &crate::tet::Case,
+        _: &crate::tet::Case,
         x: &Classification,
         face: &Face,
-        _: f64,
-    ) -> (Map<String, Value>, Said) {
-        let v = Self::verdict(c, x, face);
-        let ok = correct(v);
-        let said = TetSaid {
-            wrong: match v {
-                Verdict::Wrong(_) if face.is_some() => Some("wrong_face"),
-                Verdict::Wrong(_) => Some("no_exit_face"),
-                _ => None,
-            },
-            tie: Self::tie(x),
-            touch_only: x.meets() && Self::touch_only(c),
+        said: &Said,
+    ) -> Map<String, Value> {
+        let tet = said.tet.unwrap_or_default();
+        let verdict = match said.correct {
+            Some(true) => "right",
+            None => "not_judged",
+            Some(false) => tet.wrong.unwrap_or_default(),
         };
-        let verdict = match v {
-            Verdict::Right => "right",
-            Verdict::NotJudged => "not_judged",
-            Verdict::Wrong(_) => said.wrong.unwrap_or_default(),
-        };
-        let line = json!({
+        fields(json!({
             "face": face, "exact_exit": x.exit.to_vec(), "exact_entry": x.entry.to_vec(),
-            "correct": ok, "verdict": verdict, "tie": said.tie, "touch_only": said.touch_only,
-        });
-        (
-            fields(line),
-            Said {
-                correct: ok,
-                cell: true,
-                tet: Some(said),
-                ..Said::default()
-            },
-        )
+            "correct": said.correct, "verdict": verdict, "tie": tet.tie, "touch_only": tet.touch_only,
+        }))
     }
 }

@@ -5,7 +5,7 @@
 use super::CellRow;
 use super::engine::cells_per_pixel;
 use super::{CellRows, OctreeCells, OctreeCountSettings};
-use crate::cli::answer::{Answered, Answering, Part};
+use crate::cli::answer::{Answering, methods_part};
 use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
 use crate::cli::render::{Args as RenderArgs, Drawn, finish, views_of, write};
@@ -127,9 +127,8 @@ pub(crate) fn run(a: Args) -> Status {
     .missing()
     .by_parts(
         || {
-            vec![Box::new(Part::<OctreeCells>::new(
-                Answered::Methods(&methods, &backend),
-                0.0,
+            vec![Box::new(methods_part::<OctreeCells>(
+                &methods, &backend, 0.0,
             ))]
         },
         refuse,

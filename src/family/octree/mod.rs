@@ -10,7 +10,7 @@ mod report;
 
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
-use super::{Family, Summed, Verdict, given_fields};
+use super::{Family, Said, Summed, Verdict, given_fields};
 use crate::backend::{Backend, BackendError, OctreeOn};
 use crate::cases::{BoxCase, CaseError, field_error, vec3};
 use crate::choice::Choice;
@@ -204,6 +204,15 @@ impl Family for OctreeCells {
             None => Verdict::NotJudged,
             Some(true) => Verdict::Right,
             Some(false) => Verdict::Wrong(Self::kind(a)),
+        }
+    }
+
+    /// A cell's case: its line may miss the cell.
+    fn said(c: &BoxCase, x: &BoxExit, a: &CellExit, _: f64) -> Said {
+        Said {
+            correct: Self::verdict(c, x, a).correct(),
+            cell: true,
+            ..Said::default()
         }
     }
 

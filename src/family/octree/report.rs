@@ -5,10 +5,10 @@ use super::{CellExit, OctreeCells};
 use crate::engine::count::CountReport;
 use crate::engine::stress::StressReport;
 use crate::exact::boxes::BoxExit;
-use crate::family::Family;
+use crate::family::Said;
 use crate::octree::cell::FACE_NAMES;
 use crate::report::count::{CountFormats, relabellings as count_relabellings, totals, transfers};
-use crate::report::lines::{Lines, Said, correct, fields};
+use crate::report::lines::{Lines, fields};
 use crate::report::stress::{per_million, relabellings, rounds, seeds, table};
 use crate::report::{Formats, counted};
 use crate::walk::OutcomeKind;
@@ -78,30 +78,21 @@ impl CountFormats for OctreeCells {
 
 impl Lines for OctreeCells {
     fn verdict_line(
-        c: &crate::cases::BoxCase,
+        _: &crate::cases::BoxCase,
         x: &BoxExit,
         a: &CellExit,
-        _: f64,
-    ) -> (Map<String, Value>, Said) {
-        let ok = correct(Self::verdict(c, x, a));
+        said: &Said,
+    ) -> Map<String, Value> {
         let mut quarters = Map::new();
         for (f, q) in x.faces.iter().zip(&x.quarters) {
             quarters.insert(FACE_NAMES[*f].into(), json!(q));
         }
-        let line = json!({
+        fields(json!({
             "face": a.map(|(f, _)| FACE_NAMES[f as usize]),
             "quarter": a.map(|(_, q)| q),
             "exact_faces": x.faces.iter().map(|&f| FACE_NAMES[f]).collect::<Vec<_>>(),
             "exact_quarters": quarters,
-            "correct": ok,
-        });
-        (
-            fields(line),
-            Said {
-                correct: ok,
-                cell: true,
-                ..Said::default()
-            },
-        )
+            "correct": said.correct,
+        }))
     }
 }

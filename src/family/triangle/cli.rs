@@ -8,7 +8,7 @@ use super::{TriCountSettings, TriRows, Triangle};
 use crate::backend::Backend;
 use crate::cases::HitCase;
 use crate::choice::{BackendKind, Choice};
-use crate::cli::answer::{Answered, Answering, Part};
+use crate::cli::answer::{Answering, methods_part};
 use crate::cli::bench::Args as BenchArgs;
 use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
@@ -156,7 +156,7 @@ pub(crate) fn run(
         .leaking()
         .by_parts(
             || {
-                let mut part = Part::<Triangle>::new(Answered::Methods(&methods, &backend), t_ulps);
+                let mut part = methods_part::<Triangle>(&methods, &backend, t_ulps);
                 part.wide = wide;
                 vec![Box::new(part)]
             },

@@ -10,7 +10,7 @@ pub mod kit;
 mod report;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
-use super::{Family, Summed, Verdict, given_fields};
+use super::{Family, Said, Summed, Verdict, given_fields};
 use crate::backend::{Backend, BackendError};
 use crate::cases::{CaseError, HitCase, MAX_TRIS, field_error, number, vec3};
 use crate::choice::{BackendKind, Choice};
@@ -326,6 +326,26 @@ impl Family for Triangle {
         match truth.judge(hits.nearest(), T_ULPS).right {
             true => Verdict::Right,
             false => Verdict::Wrong(Self::kind(hits)),
+        }
+    }
+
+    /// The nearest hit judged by [`HitTruth::judge`] within `t_ulps`; on a closed mesh, whether the
+    /// answer leaks and what a wrong one is.
+    fn said(case: &HitCase, truth: &HitTruth, hits: &Hits, t_ulps: f64) -> Said {
+        let g = hits.nearest();
+        let judged = truth.judge(g, t_ulps);
+        Said {
+            correct: Some(judged.right),
+            triangle: true,
+            leak: case.closed && truth.leaks(&hits.ids()),
+            back_face: truth.back_face(),
+            t_alone: judged.triangle && !judged.right,
+            t_ulps: judged.t.and_then(|t| t.ulps),
+            kind: case
+                .closed
+                .then(|| truth.wrong_kind(&hits.ids(), g.map(|(i, _)| i)))
+                .flatten(),
+            ..Said::default()
         }
     }
 

@@ -7,8 +7,9 @@ use crate::choice::Choice;
 use crate::engine::count::CountReport;
 use crate::engine::stress::{RowReport, StressReport};
 use crate::exact::hit::HitTruth;
+use crate::family::Said;
 use crate::report::count::{CountFormats, audited, relabellings as count_relabellings, transfers};
-use crate::report::lines::{Lines, Said, fields};
+use crate::report::lines::{Lines, fields};
 use crate::report::stress::{per_million, relabellings, rounds, seeds};
 use crate::report::{Formats, counted};
 use serde_json::{Map, Value, json};
@@ -130,31 +131,26 @@ impl Lines for Triangle {
         case: &crate::cases::HitCase,
         truth: &HitTruth,
         hits: &Hits,
-        t_ulps: f64,
-    ) -> (Map<String, Value>, Said) {
+        said: &Said,
+    ) -> Map<String, Value> {
         let g = hits.nearest();
-        let judged = truth.judge(g, t_ulps);
-        let (t, triangle_right, ok) = (judged.t, judged.triangle, judged.right);
+        let ok = said.correct == Some(true);
         let first = truth.first();
         let mut o = fields(json!({
-            "hit": g.is_some(), "t": g.map(|(_, t)| t), "t_ulps": t.and_then(|t| t.ulps),
+            "hit": g.is_some(), "t": g.map(|(_, t)| t), "t_ulps": said.t_ulps,
             "exact_hit": first.is_some(), "exact_t": first.map(|p| ratio(&p.t)),
         }));
-        let mut leak = false;
-        let mut kind = None;
         if case.closed {
-            leak = truth.leaks(&hits.ids());
             o.insert("tri".into(), json!(g.map(|(i, _)| i)));
             let holding = first.map_or(vec![], |p| p.holding.clone());
             let boundary = holding.iter().any(|&i| truth.each[i as usize].on_boundary);
             o.insert("exact_tris".into(), json!(holding));
             o.insert("on_boundary".into(), Value::Bool(boundary));
             o.insert("crosses".into(), json!(first.map(|p| p.crosses)));
-            o.insert("leak".into(), Value::Bool(leak));
-            kind = truth.wrong_kind(&hits.ids(), g.map(|(i, _)| i));
+            o.insert("leak".into(), Value::Bool(said.leak));
             o.insert(
                 "kind".into(),
-                json!(kind.unwrap_or(if ok { "right" } else { "t" })),
+                json!(said.kind.unwrap_or(if ok { "right" } else { "t" })),
             );
             if crate::exact::hit::inside_out(case.tris()) {
                 o.insert("inside_out".into(), Value::Bool(true));
@@ -162,22 +158,11 @@ impl Lines for Triangle {
         } else {
             o.insert("on_boundary".into(), Value::Bool(truth.each[0].on_boundary));
         }
-        if truth.back_face() {
+        if said.back_face {
             o.insert("back_face".into(), Value::Bool(true));
         }
         o.insert("correct".into(), Value::Bool(ok));
-        (
-            o,
-            Said {
-                correct: Some(ok),
-                triangle: true,
-                leak,
-                back_face: truth.back_face(),
-                t_alone: triangle_right && !ok,
-                kind,
-                ..Said::default()
-            },
-        )
+        o
     }
 }
 

@@ -3,12 +3,12 @@
 //! asked step by step, `--rays-out`), and `judge` on that rays file: the walks given for its rays
 //! judged as the count judges them.
 
-use super::engine::{WalkReport, Walker, frame, relabellings, walk_table};
+use super::engine::{
+    GivenWalksMap, RaysHeader, WalkReport, Walker, frame, relabellings, walk_table,
+};
 use super::{WalkRows, WalkScene, Walks, report};
 use crate::backend::Backend;
-use crate::cases::number;
 use crate::cli::JsonOut;
-use crate::cli::answer::reader;
 use crate::cli::bench::Args as BenchArgs;
 use crate::cli::choice;
 use crate::cli::count::Dump;
@@ -20,8 +20,7 @@ use crate::cli::render::{
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{AnswererArg, BackendArg, Error, Files, Io, Status, WgslArg, faces, fits};
 use crate::engine::answerer::Answerer;
-use crate::engine::count::{self, CountSettings};
-use crate::engine::count::{GivenWalks, Shard, located_views};
+use crate::engine::count::{GivenWalks, Shard};
 use crate::engine::standing::Standings;
 use crate::family::ExitFace;
 use crate::family::count::CountError;
@@ -31,14 +30,11 @@ use crate::mesh::layout::Layout;
 use crate::mesh::reorder::hilbert_sorted;
 use crate::registry::Named;
 use crate::render::{self, Image};
-use crate::scenes::camera::Views;
 use crate::scenes::{self, Generated};
 use crate::tet::Ray;
 use crate::walk::layouts::LayoutKind;
-use crate::walk::{Outcome as Ending, OutcomeKind, Walk};
 use glam::Vec3;
 use serde_json::Value;
-use std::collections::HashMap;
 use std::io::{BufRead, Write};
 use std::path::Path;
 use std::path::PathBuf;
@@ -246,15 +242,12 @@ impl Flags for Walks {
         let mut w = std::io::BufWriter::new(&mut staged);
         serde_json::to_writer(&mut w, &header)?;
         w.write_all(b"\n")?;
-        let (mut rays, mut counted_views) = (0u64, 0usize);
-        for (v, cam, start) in located_views(&mesh, &views, |v| shard.holds(v), &|| ()) {
-            counted_views += 1;
-            for line in ray_lines(&views, v, &cam, start) {
-                serde_json::to_writer(&mut w, &line)?;
-                w.write_all(b"\n")?;
-                rays += 1;
-            }
-        }
+        let mut rays = 0u64;
+        let counted_views = header.each_line(&mesh, |v| -> std::io::Result<()> {
+            rays += 1;
+            serde_json::to_writer(&mut w, &v)?;
+            w.write_all(b"\n")
+        })?;
         if counted_views == 0 {
             return Err(crate::family::count::CountError::NoView(views.views).into());
         }
@@ -274,198 +267,19 @@ impl Flags for Walks {
     }
 }
 
-/// The header line of `count --rays-out`, which `tetwalk judge` reads back.
-#[derive(serde::Serialize, serde::Deserialize)]
-pub(crate) struct RaysHeader {
-    pub scene: String,
-    pub views: Views,
-    pub shard: Shard,
-    pub tetrahedra: usize,
-    /// Loaded with `--no-faces`.
-    #[serde(default)]
-    pub no_faces: bool,
-}
-
-/// The lines of `count --rays-out` for view `v` (camera `cam`, starting tetrahedron `start`): each
-/// ray's view, pixel, origin, direction and start.
-pub(crate) fn ray_lines(
-    views: &Views,
-    v: usize,
-    cam: &crate::scenes::camera::Camera,
-    start: u32,
-) -> impl Iterator<Item = serde_json::Value> {
-    let width = views.width;
-    views.rays(cam).into_iter().enumerate().map(move |(i, r)| {
-        serde_json::json!({
-            "view": v, "pixel": [i as u32 % width, i as u32 / width],
-            "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
-        })
-    })
-}
-
-/// The body of a `count --rays-out` file checked against the rays its header names, line by line (a
-/// file cut short, edited, or of another run is refused, the line named): the answers are judged
-/// for the rays the header rebuilds, so those must be the rays that were walked.
-fn check_rays(
-    path: &Path,
-    input: Box<dyn BufRead + Send>,
-    header: &RaysHeader,
-    mesh: &crate::mesh::Mesh,
-) -> Result<(), Error> {
-    let file = path.display().to_string();
-    let mut lines = reader(input).into_iter().skip(1);
-    let views = &header.views;
-    let shard = header.shard;
-    let (mut rays, mut last) = (0u64, 1);
-    for (v, cam, start) in located_views(mesh, views, |v| shard.holds(v), &|| ()) {
-        for want in ray_lines(views, v, &cam, start) {
-            let Some((n, line)) = lines.next() else {
-                return Err(format!(
-                    "{file}: ends after line {last}, {rays} rays, before view {v} pixel {}: cut short? (its header names more)",
-                    want["pixel"]
-                )
-                .into());
-            };
-            let line = line.map_err(|e| format!("{file}:{n}: {e}"))?;
-            let got: Value = serde_json::from_str(&line)
-                .map_err(|e| format!("{file}:{n}: not a whole ray line ({e}): cut short?"))?;
-            if !same_ray(&got, &want) {
-                return Err(format!(
-                    "{file}:{n}: not the ray its header names here, {want} (the body is not this header's run)"
-                )
-                .into());
-            }
-            (rays, last) = (rays + 1, n);
-        }
-    }
-    if let Some((n, _)) = lines.find(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty())) {
-        return Err(format!("{file}:{n}: a line after the {rays} rays its header names").into());
-    }
-    Ok(())
-}
-
-/// Whether a rays line holds the ray `want`: the same keys, integers equal, coordinates the same f32.
-fn same_ray(got: &Value, want: &Value) -> bool {
-    let (Some(g), Some(w)) = (got.as_object(), want.as_object()) else {
-        return false;
-    };
-    let f32s = |v: &Value| -> Option<Vec<u32>> {
-        v.as_array()?
-            .iter()
-            .map(|x| number(x).ok().map(f32::to_bits))
-            .collect()
-    };
-    g.len() == w.len()
-        && w.iter().all(|(k, wv)| match (k.as_str(), g.get(k)) {
-            (_, None) => false,
-            ("org" | "dir", Some(gv)) => f32s(gv).is_some_and(|g| Some(g) == f32s(wv)),
-            (_, Some(gv)) => gv == wv,
-        })
-}
-
-/// Walks given per (view, pixel), read whole from the answers file.
-type GivenMap = HashMap<(usize, u32, u32), Walk>;
-
-/// One walk answer: `view`, `pixel` and steps taken out, the rest an [`Outcome`] in its serde form.
-fn walk_answer(mut v: Value) -> Result<((usize, u32, u32), Walk), String> {
-    let o = v.as_object_mut().ok_or("an answer is a JSON object")?;
-    let view = o
-        .remove("view")
-        .and_then(|x| x.as_u64())
-        .ok_or("needs \"view\", the ray's view")? as usize;
-    let pixel = o
-        .remove("pixel")
-        .and_then(|p| serde_json::from_value::<[u32; 2]>(p).ok())
-        .ok_or("needs \"pixel\": [x, y]")?;
-    let steps = match o.remove("steps") {
-        None => 0,
-        Some(s) => s
-            .as_u64()
-            .and_then(|s| u32::try_from(s).ok())
-            .ok_or("\"steps\" is a count of tetrahedra")?,
-    };
-    let outcome: Ending = serde_json::from_value(v).map_err(|e| e.to_string())?;
-    if let Ending::Cycle { period: 0, .. } = outcome {
-        return Err("a cycle's \"period\" is 1 or more tetrahedra".into());
-    }
-    Ok(((view, pixel[0], pixel[1]), Walk { outcome, steps }))
-}
-
 /// A scene's walks computed elsewhere, judged as `count` judges its methods.
 fn judge_scene(a: &JudgeArgs, header: RaysHeader, input: Box<dyn BufRead + Send>) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;
     let mesh = crate::scenes::load(&header.scene, crate::cli::faces(header.no_faces))?;
-    if mesh.tets.len() != header.tetrahedra {
-        return Err(format!(
-            "{}: scene {} has {} tetrahedra here, {} where the rays were written",
-            a.cases.display(),
-            header.scene,
-            mesh.tets.len(),
-            header.tetrahedra
-        )
-        .into());
-    }
-    check_rays(&a.cases, input, &header, &mesh)?;
-    let file = a.answers.display().to_string();
-    let mut given = GivenMap::new();
-    each_answer(&a.answers, |_, v| {
-        let (key, w) = walk_answer(v)?;
-        let (kind, tet, face) = w.outcome.parts();
-        if tet as usize >= mesh.tets.len() {
-            return Err(format!(
-                "tet {tet} is not a tetrahedron of the scene (0..{})",
-                mesh.tets.len()
-            ));
-        }
-        if matches!(kind, OutcomeKind::Hit | OutcomeKind::LeftMesh) && face >= 4 {
-            return Err("face must be 0..3".into());
-        }
-        match given.insert(key, w) {
-            Some(_) => Err(format!(
-                "a second answer for view {} pixel [{}, {}]",
-                key.0, key.1, key.2
-            )),
-            None => Ok(()),
-        }
-    })?;
-    let width = header.views.width;
-    let lookup = |v: usize, rays: &[crate::tet::Ray], _, _| -> Result<Vec<Walk>, CountError> {
-        (0..rays.len() as u32)
-            .map(|i| {
-                let (x, y) = (i % width, i / width);
-                given.get(&(v, x, y)).copied().ok_or_else(|| {
-                    CountError::Given(format!("{file}: no answer for view {v} pixel [{x}, {y}]"))
-                })
-            })
-            .collect()
-    };
-    let settings = CountSettings::<Walks> {
-        scene: header.scene.clone(),
-        views: header.views,
-        reference: "certified".into(),
-        family: (),
-        audit: 1000,
-        shard: header.shard,
-    };
+    let cases = a.cases.display().to_string();
+    header.check_mesh(&mesh, &cases)?;
+    header.check_rays(&cases, input, &mesh)?;
+    let mut given = GivenWalksMap::default();
+    each_answer(&a.answers, |_, v| given.take(v, &mesh))?;
     let mut write = |w: &WrongRay| dump.write(w);
-    let report = count::run(
-        &mesh,
-        &settings,
-        &[count::Answerer::Given(&a.name, &lookup)],
-        &crate::backend::CPU,
-        &|| (),
-        Some(&mut write),
-    )?;
-    if report.rays != given.len() as u64 {
-        return Err(format!(
-            "{file}: {} answers for the {} rays of {}",
-            given.len(),
-            report.rays,
-            a.cases.display()
-        )
-        .into());
-    }
+    let file = a.answers.display().to_string();
+    let report = given.judge(&mesh, &header, &a.name, &file, &cases, Some(&mut write))?;
     dump.finish()?;
     print!("{}", report.table());
     out.finish(&report)?;

@@ -1,20 +1,29 @@
 //! The walk family's runs beyond its `Family` (the engine layer in its folder): `tetwalk walk`'s
 //! rays through a generated mesh, each method's walk judged step by step against the `exact` walk
-//! (also under the 12 orientation-preserving relabellings), and a scene's view walked pixel by pixel
-//! for `render`.
+//! (also under the 12 orientation-preserving relabellings), a scene's view walked pixel by pixel
+//! for `render`, and a scene's rays written for walks made elsewhere (`count --rays-out`), checked
+//! when read back, and the walks given for them judged as `count` judges a method's (`judge`).
 
+use super::Walks;
 use crate::backend::{Backend, BackendError};
+use crate::cases::number;
+use crate::engine::answering::reader;
+use crate::engine::count::{self, CountReport, CountSettings, Shard, located_views};
 use crate::engine::view::{Frame, ViewError, located_view};
 use crate::family::Summed;
+use crate::family::count::CountError;
 use crate::mesh::layout::Layout;
 use crate::mesh::{HULL, Mesh, MeshError};
 use crate::methods::Model;
 use crate::registry::{Method, Named, reference};
-use crate::scenes::camera::Views;
+use crate::scenes::camera::{Camera, Views};
 use crate::tet::{EVEN_PERMUTATIONS, Ray};
 use crate::walk::layouts::{LayoutKind, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, judge, locate, same_result};
 use rayon::prelude::*;
+use serde_json::{Value, json};
+use std::collections::HashMap;
+use std::io::BufRead;
 
 /// Why a walk run stopped.
 #[derive(Debug, thiserror::Error)]
@@ -316,4 +325,278 @@ pub fn frame(
         wrong,
         shade,
     })
+}
+
+/// The header line of `count --rays-out`, which `tetwalk judge` reads back.
+#[derive(serde::Serialize, serde::Deserialize)]
+pub struct RaysHeader {
+    /// The scene's name.
+    pub scene: String,
+    /// Its views, as the count made them.
+    pub views: Views,
+    /// The slice of the views written.
+    pub shard: Shard,
+    /// The scene's tetrahedra where the rays were written.
+    pub tetrahedra: usize,
+    /// Loaded with `--no-faces`.
+    #[serde(default)]
+    pub no_faces: bool,
+}
+
+/// Why a scene's rays, or the walks given for them, cannot be judged.
+#[derive(Debug, thiserror::Error)]
+pub enum RaysError {
+    /// The scene loaded here is not the one the rays were made in.
+    #[error(
+        "{file}: scene {scene} has {here} tetrahedra here, {there} where the rays were written"
+    )]
+    Tetrahedra {
+        file: String,
+        scene: String,
+        here: usize,
+        there: usize,
+    },
+    /// The rays file ends before its header's last ray.
+    #[error(
+        "{file}: ends after line {last}, {rays} rays, before view {view} pixel {pixel}: cut short? (its header names more)"
+    )]
+    CutShort {
+        file: String,
+        last: usize,
+        rays: u64,
+        view: usize,
+        pixel: Value,
+    },
+    /// A line of a file, and what is wrong with it.
+    #[error("{file}:{line}: {why}")]
+    Line {
+        file: String,
+        line: usize,
+        why: String,
+    },
+    /// Fewer or more walks given than rays counted.
+    #[error("{file}: {given} answers for the {rays} rays of {cases}")]
+    Answers {
+        file: String,
+        given: usize,
+        rays: u64,
+        cases: String,
+    },
+    #[error(transparent)]
+    Count(#[from] CountError),
+}
+
+/// The lines of `count --rays-out` for view `v` (camera `cam`, starting tetrahedron `start`): each
+/// ray's view, pixel, origin, direction and start.
+pub fn ray_lines(views: &Views, v: usize, cam: &Camera, start: u32) -> impl Iterator<Item = Value> {
+    let width = views.width;
+    views.rays(cam).into_iter().enumerate().map(move |(i, r)| {
+        json!({
+            "view": v, "pixel": [i as u32 % width, i as u32 / width],
+            "org": r.org.to_array(), "dir": r.dir.to_array(), "start": start,
+        })
+    })
+}
+
+impl RaysHeader {
+    /// Each ray line of the views the header's shard holds whose camera is inside `mesh`, in order,
+    /// handed to `each`; the views walked.
+    pub fn each_line<E>(
+        &self,
+        mesh: &Mesh,
+        mut each: impl FnMut(Value) -> Result<(), E>,
+    ) -> Result<usize, E> {
+        let mut views = 0;
+        for (v, cam, start) in located_views(mesh, &self.views, |v| self.shard.holds(v), &|| ()) {
+            views += 1;
+            for line in ray_lines(&self.views, v, &cam, start) {
+                each(line)?;
+            }
+        }
+        Ok(views)
+    }
+
+    /// Whether `mesh` is the scene the rays were made in (as many tetrahedra); `file` names the rays.
+    pub fn check_mesh(&self, mesh: &Mesh, file: &str) -> Result<(), RaysError> {
+        match mesh.tets.len() == self.tetrahedra {
+            true => Ok(()),
+            false => Err(RaysError::Tetrahedra {
+                file: file.into(),
+                scene: self.scene.clone(),
+                here: mesh.tets.len(),
+                there: self.tetrahedra,
+            }),
+        }
+    }
+
+    /// The body of a `count --rays-out` file (`input`, its header line first) checked against the
+    /// rays the header names, line by line (a file cut short, edited, or of another run is refused,
+    /// the line named): the answers are judged for the rays the header rebuilds, so those must be the
+    /// rays that were walked.
+    pub fn check_rays(
+        &self,
+        file: &str,
+        input: Box<dyn BufRead + Send>,
+        mesh: &Mesh,
+    ) -> Result<(), RaysError> {
+        let at = |line: usize, why: String| RaysError::Line {
+            file: file.into(),
+            line,
+            why,
+        };
+        let mut lines = reader(input).into_iter().skip(1);
+        let (mut rays, mut last) = (0u64, 1);
+        for (v, cam, start) in located_views(mesh, &self.views, |v| self.shard.holds(v), &|| ()) {
+            for want in ray_lines(&self.views, v, &cam, start) {
+                let Some((n, line)) = lines.next() else {
+                    return Err(RaysError::CutShort {
+                        file: file.into(),
+                        last,
+                        rays,
+                        view: v,
+                        pixel: want["pixel"].clone(),
+                    });
+                };
+                let line = line.map_err(|e| at(n, e))?;
+                let got: Value = serde_json::from_str(&line)
+                    .map_err(|e| at(n, format!("not a whole ray line ({e}): cut short?")))?;
+                if !same_ray(&got, &want) {
+                    return Err(at(
+                        n,
+                        format!(
+                            "not the ray its header names here, {want} (the body is not this header's run)"
+                        ),
+                    ));
+                }
+                (rays, last) = (rays + 1, n);
+            }
+        }
+        match lines.find(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty())) {
+            Some((n, _)) => Err(at(
+                n,
+                format!("a line after the {rays} rays its header names"),
+            )),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Whether a rays line holds the ray `want`: the same keys, integers equal, coordinates the same f32.
+fn same_ray(got: &Value, want: &Value) -> bool {
+    let (Some(g), Some(w)) = (got.as_object(), want.as_object()) else {
+        return false;
+    };
+    let f32s = |v: &Value| -> Option<Vec<u32>> {
+        v.as_array()?
+            .iter()
+            .map(|x| number(x).ok().map(f32::to_bits))
+            .collect()
+    };
+    g.len() == w.len()
+        && w.iter().all(|(k, wv)| match (k.as_str(), g.get(k)) {
+            (_, None) => false,
+            ("org" | "dir", Some(gv)) => f32s(gv).is_some_and(|g| Some(g) == f32s(wv)),
+            (_, Some(gv)) => gv == wv,
+        })
+}
+
+/// Walks given for a scene's rays, by (view, pixel x, pixel y).
+#[derive(Default)]
+pub struct GivenWalksMap(HashMap<(usize, u32, u32), Walk>);
+
+impl GivenWalksMap {
+    /// Take one walk answer (`view`, `pixel`, optional `steps`, the rest an [`Outcome`] in its serde
+    /// form) for a ray of `mesh`: an error names what is wrong with it.
+    pub fn take(&mut self, mut v: Value, mesh: &Mesh) -> Result<(), String> {
+        let o = v.as_object_mut().ok_or("an answer is a JSON object")?;
+        let view = o
+            .remove("view")
+            .and_then(|x| x.as_u64())
+            .ok_or("needs \"view\", the ray's view")? as usize;
+        let pixel = o
+            .remove("pixel")
+            .and_then(|p| serde_json::from_value::<[u32; 2]>(p).ok())
+            .ok_or("needs \"pixel\": [x, y]")?;
+        let steps = match o.remove("steps") {
+            None => 0,
+            Some(s) => s
+                .as_u64()
+                .and_then(|s| u32::try_from(s).ok())
+                .ok_or("\"steps\" is a count of tetrahedra")?,
+        };
+        let outcome: Outcome = serde_json::from_value(v).map_err(|e| e.to_string())?;
+        if let Outcome::Cycle { period: 0, .. } = outcome {
+            return Err("a cycle's \"period\" is 1 or more tetrahedra".into());
+        }
+        let (kind, tet, face) = outcome.parts();
+        if tet as usize >= mesh.tets.len() {
+            return Err(format!(
+                "tet {tet} is not a tetrahedron of the scene (0..{})",
+                mesh.tets.len()
+            ));
+        }
+        if matches!(kind, OutcomeKind::Hit | OutcomeKind::LeftMesh) && face >= 4 {
+            return Err("face must be 0..3".into());
+        }
+        let key = (view, pixel[0], pixel[1]);
+        match self.0.insert(key, Walk { outcome, steps }) {
+            Some(_) => Err(format!(
+                "a second answer for view {view} pixel [{}, {}]",
+                pixel[0], pixel[1]
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// The walks judged as `count` judges a method's, named `name` (each wrong ray handed to
+    /// `wrong`): every ray of the header's views needs one walk (`file` names the answers, `cases`
+    /// the rays), and no walk is for a ray not counted.
+    pub fn judge(
+        &self,
+        mesh: &Mesh,
+        header: &RaysHeader,
+        name: &str,
+        file: &str,
+        cases: &str,
+        wrong: Option<&mut count::Sink>,
+    ) -> Result<CountReport<Walks>, RaysError> {
+        let width = header.views.width;
+        let lookup = |v: usize, rays: &[Ray], _, _| -> Result<Vec<Walk>, CountError> {
+            (0..rays.len() as u32)
+                .map(|i| {
+                    let (x, y) = (i % width, i / width);
+                    self.0.get(&(v, x, y)).copied().ok_or_else(|| {
+                        CountError::Given(format!(
+                            "{file}: no answer for view {v} pixel [{x}, {y}]"
+                        ))
+                    })
+                })
+                .collect()
+        };
+        let settings = CountSettings::<Walks> {
+            scene: header.scene.clone(),
+            views: header.views,
+            reference: "certified".into(),
+            family: (),
+            audit: 1000,
+            shard: header.shard,
+        };
+        let report = count::run(
+            mesh,
+            &settings,
+            &[count::Answerer::Given(name, &lookup)],
+            &crate::backend::CPU,
+            &|| (),
+            wrong,
+        )?;
+        if report.rays != self.0.len() as u64 {
+            return Err(RaysError::Answers {
+                file: file.into(),
+                given: self.0.len(),
+                rays: report.rays,
+                cases: cases.into(),
+            });
+        }
+        Ok(report)
+    }
 }

@@ -5,11 +5,11 @@ use super::engine::{Relabelled, WalkReport};
 use super::{WalkTruth, Walks};
 use crate::engine::count::CountReport;
 use crate::engine::stress::StressReport;
-use crate::family::Family;
+use crate::family::{Family, Said};
 use crate::report::count::{
     CountFormats, audited, relabellings as count_relabellings, totals, transfers,
 };
-use crate::report::lines::{Lines, Said, correct, fields};
+use crate::report::lines::{Lines, fields};
 use crate::report::stress::{per_million, relabellings, rounds, seeds, table};
 use crate::report::{Formats, counted, relabel_spread};
 use crate::walk::{OutcomeKind, Walk};
@@ -89,22 +89,14 @@ impl CountFormats for Walks {
 
 impl Lines for Walks {
     fn verdict_line(
-        c: &crate::cases::WalkCase,
+        _: &crate::cases::WalkCase,
         t: &WalkTruth,
         got: &Walk,
-        _: f64,
-    ) -> (Map<String, Value>, Said) {
-        let ok = correct(Self::verdict(c, t, got));
-        let line = json!({
-            "walk": got.outcome, "steps": got.steps, "exact_walk": t.exact.outcome, "correct": ok,
-        });
-        (
-            fields(line),
-            Said {
-                correct: ok,
-                ..Said::default()
-            },
-        )
+        said: &Said,
+    ) -> Map<String, Value> {
+        fields(json!({
+            "walk": got.outcome, "steps": got.steps, "exact_walk": t.exact.outcome, "correct": said.correct,
+        }))
     }
 }
 
