@@ -7,11 +7,15 @@
 //! first and then smallest in magnitude, pass after pass until none changes.
 
 use crate::backend::Backend;
+use crate::choice::{BackendKind, Choice};
+use crate::engine::answerer::{Answerer as Program, Format};
 use crate::engine::found::{Failure, Found, FoundError, Hold, check, cpu_backends};
 use crate::family::contract::Contract;
-use crate::family::{self, Family, Verdict};
+use crate::family::wrong::WrongRay;
+use crate::family::{self, Family, Verdict, owner};
 use crate::registry::Named;
 use crate::walk::OutcomeKind;
+use std::collections::HashMap;
 
 /// Checks one shrink may make at most (each judges one candidate exactly and answers it once).
 pub const CHECKS: usize = 20_000;
@@ -329,6 +333,235 @@ pub fn reproduce<F: Family>(found: &Found<F>) -> Option<String> {
         f.method,
         crate::choice::Choice::name(f.backend)
     ))
+}
+
+/// Where a case is: its file and 1-based line.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Place {
+    /// The file, as given.
+    pub file: String,
+    /// Its line, from 1.
+    pub line: usize,
+}
+
+/// One case shrunk, as `tetwalk shrink` reports it.
+#[derive(Debug, serde::Serialize)]
+pub struct CaseShrunk {
+    /// Where the case was.
+    pub file: String,
+    /// Its line, from 1.
+    pub line: usize,
+    /// The method that fails it (an answerer's name).
+    pub method: String,
+    /// Where it ran: a backend, or `outside` (`--answerer`).
+    pub backend: String,
+    /// How many numbers the case has.
+    pub numbers: usize,
+    /// Their significant bits summed, before and after ([`bits`]).
+    pub bits_before: u32,
+    pub bits_after: u32,
+    /// The most significant bits of any one number, before and after.
+    pub largest_before: u32,
+    pub largest_after: u32,
+    /// Candidates checked.
+    pub checks: usize,
+    /// Whether the check budget ran out first (a simpler case may exist).
+    pub exhausted: bool,
+    /// The shrunk found case, its original in `original`.
+    pub shrunk: serde_json::Value,
+    /// One shell line that reproduces it.
+    pub reproduce: Option<String>,
+}
+
+impl CaseShrunk {
+    /// What a shrink of `before` to `s` at `at` did, by `method` on `backend`.
+    fn measured<F: Family>(
+        at: &Place,
+        before: &F::Case,
+        s: &Shrunk<F>,
+        method: String,
+        backend: String,
+        shrunk: serde_json::Value,
+        reproduce: Option<String>,
+    ) -> CaseShrunk {
+        let (bits_before, largest_before) = bits::<F>(before);
+        let (bits_after, largest_after) = bits::<F>(&s.case);
+        CaseShrunk {
+            file: at.file.clone(),
+            line: at.line,
+            method,
+            backend,
+            numbers: F::numbers(before).len(),
+            bits_before,
+            bits_after,
+            largest_before,
+            largest_after,
+            checks: s.checks,
+            exhausted: s.exhausted,
+            shrunk,
+            reproduce,
+        }
+    }
+
+    /// Whether the search found a simpler case (fewer significant bits in all, or in the largest).
+    pub fn simpler(&self) -> bool {
+        self.bits_after < self.bits_before || self.largest_after < self.largest_before
+    }
+}
+
+/// What `tetwalk shrink` did: the cases shrunk, and those left as they were, with why (found on a GPU
+/// not here, a dump line without a diverging step).
+#[derive(Debug, Default, serde::Serialize)]
+pub struct ShrinkReport {
+    /// The cases shrunk (or found as simple as the search finds).
+    pub cases: Vec<CaseShrunk>,
+    /// The cases left as they were, and why.
+    pub left: Vec<(Place, String)>,
+}
+
+impl ShrinkReport {
+    /// Significant bits per number before and after, over every case shrunk; `None` where none was.
+    pub fn mean_bits(&self) -> Option<(f64, f64)> {
+        let numbers: usize = self.cases.iter().map(|d| d.numbers).sum();
+        let mean = |f: fn(&CaseShrunk) -> u32| {
+            self.cases.iter().map(|d| f(d) as f64).sum::<f64>() / numbers as f64
+        };
+        (numbers > 0).then(|| (mean(|d| d.bits_before), mean(|d| d.bits_after)))
+    }
+}
+
+/// The backends findings were made on, each opened once, or why it could not be.
+#[derive(Default)]
+pub struct Backends(HashMap<BackendKind, Result<Backend, String>>);
+
+impl Backends {
+    /// Where `f` was found, opened here (a GPU finding only on its own adapter), or why not.
+    fn get<F: Family>(&mut self, f: &Failure<F>) -> Result<&Backend, String> {
+        let b = self
+            .0
+            .entry(f.backend)
+            .or_insert_with(|| Backend::open(f.backend).map_err(|e| e.to_string()))
+            .as_ref()
+            .map_err(Clone::clone)?;
+        f.runs_on(b)?;
+        Ok(b)
+    }
+}
+
+/// A found case at `at` shrunk on the backend it was found on, or why it is left as it is.
+pub fn shrink_case<F: Family>(
+    found: &Found<F>,
+    at: &Place,
+    backends: &mut Backends,
+    checks: usize,
+) -> Result<Result<CaseShrunk, String>, FoundError> {
+    let f = found.failed("shrink")?;
+    let backend = match backends.get(f) {
+        Ok(b) => b,
+        Err(why) => return Ok(Err(why)),
+    };
+    let m = family::by_name::<F>(&f.method)?;
+    let (shrunk, s) = shrink_on(found, m, backend, checks)?;
+    Ok(Ok(CaseShrunk::measured(
+        at,
+        &found.case,
+        &s,
+        f.method.clone(),
+        f.backend.name().to_string(),
+        serde_json::from_str(&shrunk.to_json()).expect("a found case's line is JSON"),
+        reproduce(&shrunk),
+    )))
+}
+
+/// A case at `at` shrunk for a program outside tetwalk, inside its contract, or why it is left as it
+/// is (the case breaks the contract).
+pub fn shrink_case_outside<F: Family>(
+    found: &Found<F>,
+    a: &Program,
+    contract: &Contract,
+    at: &Place,
+    checks: usize,
+) -> Result<Result<CaseShrunk, String>, FoundError> {
+    let s = match shrink_outside::<F>(a, &found.case, checks, contract) {
+        Ok(s) => s,
+        Err(FoundError::Field { field: "case", why }) => return Ok(Err(why)),
+        Err(e) => return Err(e),
+    };
+    let mut asked = F::case_json(&s.case);
+    let line = serde_json::Value::Object(asked.clone()).to_string();
+    asked.insert("line".into(), 1.into());
+    let quoted = |t: &str| format!("'{}'", t.replace('\'', "'\\''"));
+    let reproduce = (a.format == Format::Json).then(|| {
+        format!(
+            "printf '%s\\n\\n' {} | {} > answer.jsonl && echo {} | tetwalk judge - answer.jsonl",
+            quoted(&serde_json::Value::Object(asked).to_string()),
+            a.cmd,
+            quoted(&line),
+        )
+    });
+    Ok(Ok(CaseShrunk::measured(
+        at,
+        &found.case,
+        &s,
+        a.name.clone(),
+        "outside".into(),
+        serde_json::Value::Object(F::case_json(&s.case)),
+        reproduce,
+    )))
+}
+
+/// A dump line's diverging step as a found case (of the family whose case the dump holds: a walk's
+/// step, one tetrahedron), its answer the divergence's in that family's form, or why it has none.
+fn from_dump<F: Family>(
+    method: &str,
+    case: serde_json::Map<String, serde_json::Value>,
+    answer: &serde_json::Value,
+    backend: BackendKind,
+) -> Result<Found<F>, String> {
+    let case = Found::<F>::from_object(case).map_err(|e| e.to_string())?;
+    let method = family::by_name::<F>(method).map_err(|e| e.to_string())?;
+    let answer = F::parse_answer(answer, &case.case)?;
+    Ok(Found::of(
+        case.case,
+        Failure {
+            method: method.name().to_string(),
+            backend,
+            adapter: None,
+            answer,
+        },
+    ))
+}
+
+/// A `count --dump` line at `at` shrunk: the found case of its diverging step ([`from_dump`]), or
+/// why it has none.
+pub fn shrink_dump_line(
+    obj: serde_json::Map<String, serde_json::Value>,
+    at: &Place,
+    backends: &mut Backends,
+    checks: usize,
+) -> Result<Result<CaseShrunk, String>, FoundError> {
+    let w: WrongRay =
+        serde_json::from_value(serde_json::Value::Object(obj)).map_err(|e| FoundError::Field {
+            field: "wrong ray",
+            why: e.to_string(),
+        })?;
+    let WrongRay {
+        case: Some(case),
+        divergence: Some(d),
+        backend: Some(backend),
+        method,
+        ..
+    } = w
+    else {
+        return Ok(Err(
+            "no diverging step was observed (a GPU walk, or walks given from outside)".into(),
+        ));
+    };
+    let answer = serde_json::json!(d.face);
+    crate::with_family!(owner(&case), F => match from_dump::<F>(&method, case, &answer, backend) {
+        Ok(found) => shrink_case::<F>(&found, at, backends, checks),
+        Err(why) => Ok(Err(why)),
+    })
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ pub mod count;
 pub mod lines;
 pub mod paper;
 pub mod scene_info;
+pub mod shrink;
 pub mod stress;
 pub mod verify;
 
