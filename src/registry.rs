@@ -449,7 +449,7 @@ impl Named for TriangleMethod {
 
 /// A method name that is not registered.
 #[derive(Debug, thiserror::Error)]
-#[error("unknown method '{name}' (known: {known}, or all)")]
+#[error("unknown method '{name}' (known: {known})")]
 pub struct UnknownMethod {
     pub name: String,
     known: String,
@@ -473,7 +473,11 @@ pub fn list<T: Named>(all: &'static [T], list: &str) -> Result<Vec<&'static T>, 
         let add: Vec<&'static T> = if n == "all" {
             all.iter().collect()
         } else {
-            vec![find(all, n)?]
+            // A list may also say `all`.
+            vec![find(all, n).map_err(|e| UnknownMethod {
+                known: e.known + ", or all",
+                ..e
+            })?]
         };
         for m in add {
             if !out.iter().any(|x| x.name() == m.name()) {

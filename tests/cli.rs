@@ -1185,3 +1185,63 @@ fn bench_gives_medians_of_samples_and_compares_with_a_baseline() {
     assert_eq!(code, 2);
     assert!(err.contains("none of its rows"), "{err}");
 }
+
+/// `fuzz-import` files a finding as a stress campaign does, by the hash of the case as found: the
+/// same case from two artifacts is filed once, under `<method>/<target>-<kind>-<hash>.json`, shrunk,
+/// its case as found kept in `original`; an unknown `TETWALK_FUZZ_METHOD` names what it may be.
+#[test]
+fn fuzz_import_files_a_case_once_by_the_hash_of_it_as_found() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = r#"{"tet":[[0.4583335,1.9583334,6.208334],[10.0,-7.75,15.5],[-6.5,15.5,-8.75],[-15.75,-11.0,-16.0]],"org":[-64.0,-64.0,-64.0],"dir":[64.458336,65.958336,70.208336],"entry":2}"#;
+    let (a, b) = (
+        dir.path().join("crash-1.json"),
+        dir.path().join("crash-2.json"),
+    );
+    std::fs::write(&a, case).unwrap();
+    std::fs::write(&b, case).unwrap();
+    let out = dir.path().join("found");
+    let args = [
+        "fuzz-import",
+        "--target",
+        "exit_face",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let env = [("TETWALK_FUZZ_METHOD", "maria17")];
+    let (code, printed, err) = common::run_tetwalk_env(&args, b"", &env);
+    assert_eq!(code, 0, "{err}");
+    let filed: Vec<_> = std::fs::read_dir(out.join("maria17"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    assert_eq!(filed.len(), 1, "{filed:?}\n{printed}");
+    assert_eq!(
+        printed.matches("maria17 wrong face").count(),
+        1,
+        "{printed}"
+    );
+    let name = &filed[0];
+    let hash = name
+        .strip_prefix("exit_face-wrong_face-")
+        .and_then(|n| n.strip_suffix(".json"))
+        .unwrap_or_else(|| panic!("{name}"));
+    assert!(
+        hash.len() == 16 && hash.chars().all(|c| c.is_ascii_hexdigit()),
+        "{name}"
+    );
+    let line: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("maria17").join(name)).unwrap())
+            .unwrap();
+    let as_found: serde_json::Value = serde_json::from_str(case).unwrap();
+    assert_eq!(line["original"], as_found);
+    assert_eq!(line["method"], "maria17");
+    let env = [("TETWALK_FUZZ_METHOD", "all")];
+    let (code, _, err) = common::run_tetwalk_env(&args, b"", &env);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("or `robust`") && !err.contains("certified, or all"),
+        "{err}"
+    );
+}

@@ -56,7 +56,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "engine",
         &[
             "backend", "cases", "child", "choice", "exact", "family", "fpenv", "mesh", "methods",
-            "octree", "registry", "scenes", "tet", "walk",
+            "octree", "registry", "scenes", "staged", "tet", "walk",
         ],
     ),
     (

@@ -3,6 +3,7 @@
 
 use super::{JsonOut, Status};
 use crate::choice::Choice;
+use crate::engine::filing;
 use crate::engine::found::Found;
 use crate::engine::fuzz::{find, held};
 use crate::engine::shrink::{CHECKS, shrink_found};
@@ -128,10 +129,14 @@ fn import<F: Family>(
             );
             continue;
         };
-        let name = path.file_stem().and_then(|n| n.to_str()).unwrap_or("case");
-        let stem = name.rsplit('-').next().unwrap_or(name);
         for record in found.with_claim_failures()? {
-            // Filed shrunk, the case as found beside it (as found where its backend is not here).
+            // Named by the case as found; filed shrunk, the case as found beside it (as found where
+            // its backend is not here).
+            let file = filing::path(&a.out, &a.target, &record);
+            if filed.contains(&file.display().to_string()) {
+                // Another artifact of this run held the same case.
+                continue;
+            }
             let record = match shrink_found(&record, CHECKS)? {
                 Ok((shrunk, _)) => shrunk,
                 Err(_) => record,
@@ -140,16 +145,7 @@ fn import<F: Family>(
                 .failure
                 .as_ref()
                 .expect("a found case records its failure");
-            let dir = a.out.join(&f.method);
-            std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-            let file = dir.join(format!(
-                "{}-{}-{}.json",
-                a.target,
-                f.kind().wrong_key(),
-                &stem[..stem.len().min(12)]
-            ));
-            crate::staged::write(&file, (record.to_json() + "\n").as_bytes())
-                .map_err(|e| format!("{}: {e}", file.display()))?;
+            filing::write(&file, &record)?;
             println!(
                 "{}: {} {} ({})",
                 file.display(),

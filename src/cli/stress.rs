@@ -6,15 +6,12 @@ use super::{
 };
 use crate::backend::BackendKind;
 use crate::choice::Choice;
-use crate::engine::found::Found;
-use crate::engine::shrink;
+use crate::engine::filing::Filing;
 use crate::engine::standing::Standings;
-use crate::engine::stress::{self, StressSettings, Who, Wrong};
+use crate::engine::stress::{self, StressSettings, Who};
 use crate::family::{self, Family, Kind, Scale};
 use crate::report::Formats;
-use crate::report::counted;
-use crate::report::stress::disagreements;
-use std::collections::HashMap;
+use crate::report::stress::{disagreements, filed};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -294,7 +291,7 @@ fn stress<F: Rows>(a: Args) -> Status {
         return Err(e.into());
     }
     print!("{}", F::stress_table(&report));
-    filing.print(report.rounds);
+    print!("{}", filed(&filing, report.rounds));
     out.finish(&report)?;
     Ok(a.fail
         .status("stress", &standings(&report, answerer.as_ref())))
@@ -317,119 +314,4 @@ fn standings<F: Family>(
         x.claim::<F>(&mut s, refuted);
     }
     s
-}
-
-/// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
-/// kind (each with the same case for the methods that claim and fail it too); the first error stops
-/// filing and is reported.
-struct Filing {
-    /// What an answerer's found cases are shrunk inside.
-    contract: crate::family::contract::Contract,
-    dir: PathBuf,
-    keep: usize,
-    kept: HashMap<(String, String, &'static str), usize>,
-    seen: u64,
-    filed: Vec<PathBuf>,
-    error: Option<String>,
-}
-
-impl Filing {
-    fn new(dir: PathBuf, keep: usize, contract: crate::family::contract::Contract) -> Filing {
-        Filing {
-            contract,
-            dir,
-            keep,
-            kept: HashMap::new(),
-            seen: 0,
-            filed: Vec::new(),
-            error: None,
-        }
-    }
-
-    /// What the campaign filed, after its table.
-    fn print(&self, rounds: u64) {
-        println!(
-            "\n{} in {}; {} filed under {} (at most {} per method, row and kind):",
-            counted(self.seen, "wrong answer", "wrong answers"),
-            counted(rounds, "round", "rounds"),
-            counted(self.filed.len() as u64, "new found case", "new found cases"),
-            self.dir.display(),
-            self.keep
-        );
-        for f in &self.filed {
-            println!("  {}", f.display());
-        }
-    }
-
-    /// A wrong answer of a row.
-    fn file<F: Family>(&mut self, w: Wrong<F>) {
-        self.seen += 1;
-        let row = F::row_name(w.row);
-        let found = Found::<F>::of(*w.case, w.who.failure(w.on, *w.answer));
-        let kind = F::kind(w.answer).wrong_key();
-        let key = (w.who.name().to_string(), row.clone(), kind);
-        let n = self.kept.get(&key).copied().unwrap_or(0);
-        if n >= self.keep || self.error.is_some() || self.path(&row, &found).exists() {
-            return;
-        }
-        self.kept.insert(key, n + 1);
-        // The same case for every method that claims and fails it too (on the CPU): a failure of a
-        // claim is a finding of its own, as `fuzz-import` files it. An answerer's cases are its own.
-        let records = match (&w.who, found.with_claim_failures()) {
-            (Who::Outside(_), _) => vec![found],
-            (_, Ok(r)) => r,
-            (_, Err(e)) => {
-                self.error = Some(e.to_string());
-                return;
-            }
-        };
-        for (i, r) in records.into_iter().enumerate() {
-            // Named by the case as found, so that it is filed once; written shrunk, the original
-            // beside it.
-            let file = self.path(&row, &r);
-            if file.exists() {
-                continue;
-            }
-            let shrunk = if let Who::Outside(x) = &w.who {
-                shrink::shrink_outside::<F>(x, &r.case, shrink::CHECKS, &self.contract)
-                    .map(|s| shrink::shrunk(&r, &s))
-            } else if let (0, Who::Method(m)) = (i, &w.who) {
-                shrink::shrink_on(&r, m, w.on, shrink::CHECKS).map(|(s, _)| s)
-            } else {
-                shrink::shrink_found(&r, shrink::CHECKS).map(|s| s.map_or(r.clone(), |(s, _)| s))
-            };
-            let r = match shrunk {
-                Ok(s) => s,
-                Err(e) => {
-                    self.error = Some(e.to_string());
-                    return;
-                }
-            };
-            let written = file
-                .parent()
-                .map_or(Ok(()), std::fs::create_dir_all)
-                .and_then(|_| crate::staged::write(&file, (r.to_json() + "\n").as_bytes()));
-            if let Err(e) = written {
-                self.error = Some(format!("{}: {e}", file.display()));
-                return;
-            }
-            self.filed.push(file);
-        }
-    }
-
-    /// Where a found case is filed: by method, row, kind and an FNV-1a hash of its line, so that the
-    /// same failure always files under the same name, once.
-    fn path<F: Family>(&self, row: &str, r: &Found<F>) -> PathBuf {
-        let line = r.to_json();
-        let hash = line.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-            (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
-        });
-        let (method, kind) = r
-            .failure
-            .as_ref()
-            .map_or(("", ""), |f| (f.method.as_str(), f.kind().wrong_key()));
-        self.dir
-            .join(method)
-            .join(format!("stress-{row}-{kind}-{hash:016x}.json"))
-    }
 }

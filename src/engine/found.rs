@@ -22,7 +22,9 @@ pub enum FoundError {
     Backend(#[from] BackendError),
     #[error("{field}: {why}")]
     Field { field: &'static str, why: String },
-    #[error("TETWALK_FUZZ_METHOD: {0}")]
+    #[error(
+        "TETWALK_FUZZ_METHOD: {0}; or `robust` (every method that makes a claim, held to it) or `ours` (those tetwalk vouches for)"
+    )]
     FuzzMethod(UnknownMethod),
     #[error("TETWALK_FUZZ_BACKEND: {0}")]
     FuzzBackend(String),

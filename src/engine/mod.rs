@@ -7,6 +7,7 @@ pub mod answerer;
 pub mod answering;
 pub mod bench;
 pub mod count;
+pub mod filing;
 pub mod filters;
 pub mod found;
 pub mod fuzz;

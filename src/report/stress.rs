@@ -1,8 +1,9 @@
 //! Stress tables: per row and method, each family's failures per million judged cases; the backends'
 //! disagreements; the labellings' spread.
 
-use super::relabel_spread;
+use super::{counted, relabel_spread};
 use crate::choice::Choice;
+use crate::engine::filing::Filing;
 use crate::engine::stress::{Disagreements, StressReport};
 use crate::family::Family;
 
@@ -111,6 +112,23 @@ pub fn disagreements<F: Family>(d: &Disagreements<F>) -> String {
             r.cases,
             cells.join(" | ")
         );
+    }
+    out
+}
+
+/// What a campaign filed, after its table: wrong answers seen in its rounds, the new found cases and
+/// where.
+pub fn filed(f: &Filing, rounds: u64) -> String {
+    let mut out = format!(
+        "\n{} in {}; {} filed under {} (at most {} per method, row and kind):\n",
+        counted(f.seen, "wrong answer", "wrong answers"),
+        counted(rounds, "round", "rounds"),
+        counted(f.filed.len() as u64, "new found case", "new found cases"),
+        f.dir.display(),
+        f.keep
+    );
+    for p in &f.filed {
+        out += &format!("  {}\n", p.display());
     }
     out
 }

@@ -1,0 +1,137 @@
+//! Found cases filed under `corpora/found/<method>/`, one naming scheme for a stress campaign's
+//! findings and `fuzz-import`'s: `<origin>-<kind>-<hash>.json`, the hash that of the case's line as
+//! found, so that the same failure files under the same name, once; each written shrunk, the case as
+//! found kept beside it.
+
+use crate::engine::found::Found;
+use crate::engine::shrink;
+use crate::engine::stress::{Who, Wrong};
+use crate::family::Family;
+use crate::family::contract::Contract;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// Why a found case could not be filed.
+#[derive(Debug, thiserror::Error)]
+pub enum FilingError {
+    /// Checking or shrinking it failed.
+    #[error(transparent)]
+    Found(#[from] crate::engine::found::FoundError),
+    /// Writing it failed.
+    #[error("{file}: {why}")]
+    Write {
+        /// The file.
+        file: String,
+        /// Why.
+        why: std::io::Error,
+    },
+}
+
+/// Where a found case is filed under `dir`: by method, `origin` (what found it: a stress row, a fuzz
+/// target), kind and an FNV-1a hash of its line (the case as found, before any shrink).
+pub fn path<F: Family>(dir: &Path, origin: &str, r: &Found<F>) -> PathBuf {
+    let line = r.to_json();
+    let hash = line.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
+    });
+    let (method, kind) = r
+        .failure
+        .as_ref()
+        .map_or(("", ""), |f| (f.method.as_str(), f.kind().wrong_key()));
+    dir.join(method)
+        .join(format!("{origin}-{kind}-{hash:016x}.json"))
+}
+
+/// `r` written to `file` (its folder made), whole or not at all.
+pub fn write<F: Family>(file: &Path, r: &Found<F>) -> Result<(), FilingError> {
+    file.parent()
+        .map_or(Ok(()), std::fs::create_dir_all)
+        .and_then(|_| crate::staged::write(file, (r.to_json() + "\n").as_bytes()))
+        .map_err(|why| FilingError::Write {
+            file: file.display().to_string(),
+            why,
+        })
+}
+
+/// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
+/// kind (each with the same case for the methods that claim and fail it too); the first error stops
+/// filing and is kept.
+pub struct Filing {
+    /// What an answerer's found cases are shrunk inside.
+    contract: Contract,
+    /// Where they are filed.
+    pub dir: PathBuf,
+    /// At most this many per method, row and kind.
+    pub keep: usize,
+    kept: HashMap<(String, String, &'static str), usize>,
+    /// Wrong answers seen.
+    pub seen: u64,
+    /// The files written.
+    pub filed: Vec<PathBuf>,
+    /// The first error, which stopped the filing.
+    pub error: Option<FilingError>,
+}
+
+impl Filing {
+    /// Filing under `dir`, at most `keep` per method, row and kind; an answerer's cases shrunk inside
+    /// `contract`.
+    pub fn new(dir: PathBuf, keep: usize, contract: Contract) -> Filing {
+        Filing {
+            contract,
+            dir,
+            keep,
+            kept: HashMap::new(),
+            seen: 0,
+            filed: Vec::new(),
+            error: None,
+        }
+    }
+
+    /// A wrong answer of a row.
+    pub fn file<F: Family>(&mut self, w: Wrong<F>) {
+        self.seen += 1;
+        if self.error.is_none()
+            && let Err(e) = self.try_file(w)
+        {
+            self.error = Some(e);
+        }
+    }
+
+    fn try_file<F: Family>(&mut self, w: Wrong<F>) -> Result<(), FilingError> {
+        let row = F::row_name(w.row);
+        let origin = format!("stress-{row}");
+        let found = Found::<F>::of(*w.case, w.who.failure(w.on, *w.answer));
+        let kind = F::kind(w.answer).wrong_key();
+        let key = (w.who.name().to_string(), row, kind);
+        let n = self.kept.get(&key).copied().unwrap_or(0);
+        if n >= self.keep || path(&self.dir, &origin, &found).exists() {
+            return Ok(());
+        }
+        self.kept.insert(key, n + 1);
+        // The same case for every method that claims and fails it too (on the CPU): a failure of a
+        // claim is a finding of its own, as `fuzz-import` files it. An answerer's cases are its own.
+        let records = match &w.who {
+            Who::Outside(_) => vec![found],
+            _ => found.with_claim_failures()?,
+        };
+        for (i, r) in records.into_iter().enumerate() {
+            // Named by the case as found, so that it is filed once; written shrunk, the original
+            // beside it.
+            let file = path(&self.dir, &origin, &r);
+            if file.exists() {
+                continue;
+            }
+            let shrunk = if let Who::Outside(x) = &w.who {
+                shrink::shrink_outside::<F>(x, &r.case, shrink::CHECKS, &self.contract)
+                    .map(|s| shrink::shrunk(&r, &s))?
+            } else if let (0, Who::Method(m)) = (i, &w.who) {
+                shrink::shrink_on(&r, m, w.on, shrink::CHECKS)?.0
+            } else {
+                shrink::shrink_found(&r, shrink::CHECKS)?.map_or(r.clone(), |(s, _)| s)
+            };
+            write(&file, &shrunk)?;
+            self.filed.push(file);
+        }
+        Ok(())
+    }
+}
