@@ -237,7 +237,7 @@ fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
 #[test]
 fn the_audit_stops_a_count_whose_bins_do_not_hold() {
     use tetwalk::backend::Backend;
-    use tetwalk::engine::count::{Answerer, CountSettings, Shard, run};
+    use tetwalk::engine::count::{Answerer, CountSettings, ReferenceWalk, Shard, run};
     use tetwalk::family::Triangle;
     use tetwalk::family::count::CountError;
     use tetwalk::family::triangle::TriCountSettings;
@@ -260,7 +260,7 @@ fn the_audit_stops_a_count_whose_bins_do_not_hold() {
             seed: 1,
             fov_deg: Views::FOV_DEG,
         },
-        reference: "certified".into(),
+        reference: ReferenceWalk::default(),
         family: TriCountSettings {
             packet: 2,
             brute_force: false,

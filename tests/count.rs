@@ -412,7 +412,7 @@ fn a_shard_whose_reference_is_wrong_somewhere_is_refused() {
 #[test]
 fn the_audit_stops_a_count_whose_reference_is_wrong() {
     use tetwalk::backend::Backend;
-    use tetwalk::engine::count::{CountSettings, Shard, run};
+    use tetwalk::engine::count::{CountSettings, ReferenceWalk, Shard, run};
     use tetwalk::family::Walks;
     use tetwalk::family::count::CountError;
     use tetwalk::scenes::camera::Views;
@@ -427,7 +427,7 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
     let settings = |reference: &str| CountSettings::<Walks> {
         scene: "bunny-quality".into(),
         views,
-        reference: reference.into(),
+        reference: ReferenceWalk::named(reference).unwrap(),
         family: (),
         audit: u64::MAX,
         shard: Shard::ALL,
@@ -442,4 +442,19 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
         Err(CountError::Audit { reference, .. }) => assert_eq!(reference, "halfspace"),
         other => panic!("the audit must stop it: {other:?}"),
     }
+}
+
+/// A count's reference walk is read back by name from a report, is one of the walks tetwalk vouches
+/// for when `count --reference` offers it (`exact`, `certified`), defaults to the one that is not
+/// `exact` itself, and an unknown name in a report is an error naming it.
+#[test]
+fn the_reference_walk_is_a_registered_method_by_name() {
+    use tetwalk::engine::count::ReferenceWalk;
+    let vouched: Vec<&str> = ReferenceWalk::vouched().map(|r| r.name()).collect();
+    assert_eq!(vouched, ["exact", "certified"]);
+    assert_eq!(ReferenceWalk::default().name(), "certified");
+    let r: ReferenceWalk = serde_json::from_str("\"exact\"").unwrap();
+    assert_eq!(serde_json::to_string(&r).unwrap(), "\"exact\"");
+    let e = serde_json::from_str::<ReferenceWalk>("\"nope\"").unwrap_err();
+    assert!(e.to_string().contains("unknown method 'nope'"), "{e}");
 }

@@ -2,7 +2,7 @@
 
 use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg};
 use crate::choice::Choice;
-use crate::engine::count::{self, Answerer, CountReport, CountSettings, Shard};
+use crate::engine::count::{self, Answerer, CountReport, CountSettings, ReferenceWalk, Shard};
 use crate::engine::standing::Standings;
 use crate::family::CountKind;
 use crate::family::count::Counted;
@@ -53,8 +53,8 @@ pub(crate) struct Args {
     answerer: super::AnswererArg,
     /// The walk every method is judged against: `exact`, or `certified` (proven to end where `exact`
     /// ends, step for step, and several times faster).
-    #[arg(long, value_parser = ["exact", "certified"], default_value = "certified")]
-    reference: String,
+    #[arg(long, value_parser = reference_walk(), default_value_t)]
+    reference: ReferenceWalk,
     /// Re-judge about this many rays, chosen by the seed, with the full `exact` walk; a disagreement
     /// with the reference is an error that stops the count.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1000)]
@@ -127,6 +127,14 @@ enum Merge {
 
 /// `count --family`: a counted family's name, or one of its [`Counted::COUNT_ALIASES`] (`exit-face`
 /// for `walk`).
+/// `--reference`'s values: the walks tetwalk vouches for as robust.
+fn reference_walk() -> impl clap::builder::TypedValueParser<Value = ReferenceWalk> {
+    use clap::builder::TypedValueParser;
+    let names: Vec<&'static str> = ReferenceWalk::vouched().map(|r| r.name()).collect();
+    clap::builder::PossibleValuesParser::new(names)
+        .map(|n: String| ReferenceWalk::named(&n).expect("a vouched walk is registered"))
+}
+
 fn count_family() -> impl clap::builder::TypedValueParser<Value = CountKind> {
     use clap::builder::TypedValueParser;
     let named: Vec<(&str, CountKind)> = CountKind::ALL
@@ -264,7 +272,6 @@ pub(crate) fn run(a: Args) -> Status {
         return merge(reports, json.as_deref());
     }
     let shard = shard(&a.shard)?;
-    crate::registry::by_name(&a.reference)?;
     if let Some(path) = &a.rays_out {
         if a.wgsl.wgsl.is_some()
             || a.relabel.is_some()
@@ -305,7 +312,7 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     let methods = if list == "none" { Vec::new() } else { methods };
     let methods: Vec<_> = methods
         .into_iter()
-        .filter(|m| !m.is_reference() && m.name() != a.reference)
+        .filter(|m| !m.is_reference() && m.name() != a.reference.name())
         .collect();
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;

@@ -13,12 +13,83 @@ use crate::family::count::{
 use crate::family::count::{Prepared, through_value};
 use crate::family::wrong::{Seen, WrongRay};
 use crate::mesh::Mesh;
-use crate::registry::Named;
+use crate::registry::{Claim, Method, Named, UnknownMethod};
 use crate::scenes::camera::{Camera, Views};
 use crate::tet::Ray;
 use crate::walk::{Walk, default_max_steps, judge, locate};
 use rayon::prelude::*;
 use std::time::Instant;
+
+/// The walk a count judges every method against: a registered exit-face method, by name in settings
+/// and reports. `count --reference` offers those tetwalk vouches for as robust ([`Self::vouched`]:
+/// `exact`, and `certified`, which ends where `exact` ends); the audit holds any to `exact`.
+#[derive(Clone, Copy)]
+pub struct ReferenceWalk(&'static Method);
+
+impl ReferenceWalk {
+    /// The method called `name`.
+    pub fn named(name: &str) -> Result<ReferenceWalk, UnknownMethod> {
+        crate::registry::by_name(name).map(ReferenceWalk)
+    }
+
+    /// The methods tetwalk vouches for as robust: each ends where `exact` ends.
+    pub fn vouched() -> impl Iterator<Item = ReferenceWalk> {
+        crate::registry::METHODS
+            .iter()
+            .filter(|m| m.info.ours && m.info.claim == Some(Claim::Robust))
+            .map(ReferenceWalk)
+    }
+
+    /// The method.
+    pub fn method(self) -> &'static Method {
+        self.0
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        self.0.name()
+    }
+}
+
+/// The default: the vouched walk that is not `exact` itself (`certified`, several times faster).
+impl Default for ReferenceWalk {
+    fn default() -> Self {
+        ReferenceWalk::vouched()
+            .find(|r| !r.0.is_reference())
+            .expect("a vouched walk beside exact is registered")
+    }
+}
+
+impl PartialEq for ReferenceWalk {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl std::fmt::Debug for ReferenceWalk {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(f, "{:?}", self.name())
+    }
+}
+
+impl std::fmt::Display for ReferenceWalk {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl serde::Serialize for ReferenceWalk {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for ReferenceWalk {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        ReferenceWalk::named(&name).map_err(serde::de::Error::custom)
+    }
+}
 
 /// One of `count` disjoint slices of the views (`--shard INDEX/COUNT`); `0/1` is all of them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -81,7 +152,7 @@ pub struct CountSettings<F: Counted> {
     pub views: Views,
     /// The walk every method is judged against: `exact`, or `certified` (which ends where `exact` ends,
     /// faster).
-    pub reference: String,
+    pub reference: ReferenceWalk,
     /// What the family's count sets besides (the packets, the octree).
     #[serde(flatten)]
     pub family: F::CountSettings,
@@ -177,7 +248,7 @@ pub fn run<F: Counted>(
     tick: &(dyn Fn() + Sync),
     mut sink: Option<&mut Sink>,
 ) -> Result<CountReport<F>, CountError> {
-    let reference = crate::registry::by_name(&s.reference)?;
+    let reference = s.reference.method();
     let max = default_max_steps(mesh);
     let scene = Scene {
         mesh,
@@ -335,7 +406,7 @@ fn count_view<F: Counted>(
         for (&i, e) in picked.iter().zip(&exact) {
             if !F::agrees(mesh, &rays[i], e, &walked[i]) {
                 return Err(CountError::Audit {
-                    reference: s.reference.clone(),
+                    reference: s.reference.to_string(),
                     exact: F::EXACT,
                     view: v,
                     pixel: [i as u32 % s.views.width, i as u32 / s.views.width],
@@ -777,7 +848,12 @@ impl<F: Counted> Sharded for CountReport<F> {
             self.audited,
         )?;
         let own = F::reference_row();
-        if own && self.methods.first().is_none_or(|m| m.method != s.reference) {
+        if own
+            && self
+                .methods
+                .first()
+                .is_none_or(|m| m.method != s.reference.name())
+        {
             return inconsistent(
                 "methods",
                 format!("the first row is not the reference {}", s.reference),

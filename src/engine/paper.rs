@@ -5,7 +5,9 @@
 use crate::backend::{Backend, BackendError, Ran};
 use crate::choice::Instruction;
 use crate::engine::bench::{self, BenchReport};
-use crate::engine::count::{self, Answerer, CountReport, CountSettings, Shard, Sharded};
+use crate::engine::count::{
+    self, Answerer, CountReport, CountSettings, ReferenceWalk, Shard, Sharded,
+};
 use crate::engine::info::SceneInfo;
 use crate::family::count::{CountError, inconsistent};
 use crate::family::octree::OctreeCountSettings;
@@ -132,10 +134,10 @@ pub fn run(
     tick: &(dyn Fn() + Sync),
 ) -> Result<PaperReport, PaperError> {
     // Judged against `certified`, as the default count is; the reference's own row comes first.
-    let reference = "certified";
+    let reference = ReferenceWalk::default();
     let methods: Vec<Answerer<Walks>> = METHODS
         .iter()
-        .filter(|m| !m.is_reference() && m.name() != reference)
+        .filter(|m| !m.is_reference() && m.name() != reference.name())
         .map(Answerer::Method)
         .collect();
     let settings = CountSettings::<Walks> {
@@ -147,7 +149,7 @@ pub fn run(
             seed: 1,
             fov_deg: crate::scenes::camera::Views::FOV_DEG,
         },
-        reference: reference.into(),
+        reference,
         family: (),
         audit: 1000,
         shard,
@@ -169,7 +171,7 @@ pub fn run(
     let octree_settings = CountSettings::<OctreeCells> {
         scene: scene.to_string(),
         views: settings.views,
-        reference: reference.into(),
+        reference,
         family: OctreeCountSettings {
             octree: crate::octree::Settings::PAPER,
             triangle_method: "mt".into(),

@@ -8,7 +8,7 @@ use super::Walks;
 use crate::backend::{Backend, BackendError};
 use crate::cases::number;
 use crate::engine::answering::reader;
-use crate::engine::count::{self, CountReport, CountSettings, Shard, located_views};
+use crate::engine::count::{self, CountReport, CountSettings, ReferenceWalk, Shard, located_views};
 use crate::engine::view::{Frame, ViewError, located_view};
 use crate::family::Summed;
 use crate::family::count::CountError;
@@ -576,7 +576,7 @@ impl GivenWalksMap {
         let settings = CountSettings::<Walks> {
             scene: header.scene.clone(),
             views: header.views,
-            reference: "certified".into(),
+            reference: ReferenceWalk::default(),
             family: (),
             audit: 1000,
             shard: header.shard,
