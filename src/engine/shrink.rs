@@ -532,7 +532,7 @@ fn from_dump<F: Family>(
     ))
 }
 
-/// A `count --dump` line at `at` shrunk: the found case of its diverging step ([`from_dump`]), or
+/// A `count --dump` line at `at` shrunk: the found case of its diverging step (`from_dump`), or
 /// why it has none.
 pub fn shrink_dump_line(
     obj: serde_json::Map<String, serde_json::Value>,

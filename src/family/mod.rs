@@ -65,8 +65,11 @@ pub struct Said {
     pub triangle: bool,
     /// A tetrahedron's case: how it was answered.
     pub tet: Option<TetSaid>,
+    /// A closed mesh's answer lets the ray through the surface ([`crate::exact::hit::HitTruth::leaks`]).
     pub leak: bool,
+    /// The ray first meets a back face.
     pub back_face: bool,
+    /// Wrong for its `t` alone: the triangle right, `t` beyond the bound.
     pub t_alone: bool,
     /// How many ulps a hit's `t` lies from the exact one, where the hit's triangle has an exact `t`.
     pub t_ulps: Option<f64>,
