@@ -447,6 +447,90 @@ impl Named for TriangleMethod {
     }
 }
 
+/// A kind of method the registry lists: exit-face, ray–triangle and octree-cell methods.
+pub trait Registered: Named + Sized {
+    /// Every registered method of the kind, in the registry's order.
+    fn registered() -> &'static [Self];
+}
+
+impl Registered for Method {
+    fn registered() -> &'static [Method] {
+        METHODS
+    }
+}
+
+impl Registered for TriangleMethod {
+    fn registered() -> &'static [TriangleMethod] {
+        TRIANGLE_METHODS
+    }
+}
+
+impl Registered for OctreeMethod {
+    fn registered() -> &'static [OctreeMethod] {
+        OCTREE_METHODS
+    }
+}
+
+/// A registered method as settings and reports hold it: the method itself, written by its name and
+/// read back from the registry (an unknown name is an error), equal by name.
+pub struct ByName<T: 'static>(pub &'static T);
+
+impl<T: Registered> ByName<T> {
+    /// The method called `name`.
+    pub fn named(name: &str) -> Result<ByName<T>, UnknownMethod> {
+        find(T::registered(), name).map(ByName)
+    }
+
+    /// The method.
+    pub fn method(self) -> &'static T {
+        self.0
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        self.0.name()
+    }
+}
+
+impl<T> Clone for ByName<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for ByName<T> {}
+
+impl<T: Registered> PartialEq for ByName<T> {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl<T: Registered> std::fmt::Debug for ByName<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(f, "{:?}", self.name())
+    }
+}
+
+impl<T: Registered> std::fmt::Display for ByName<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl<T: Registered> serde::Serialize for ByName<T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de, T: Registered> serde::Deserialize<'de> for ByName<T> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        ByName::named(&name).map_err(serde::de::Error::custom)
+    }
+}
+
 /// A method name that is not registered.
 #[derive(Debug, thiserror::Error)]
 #[error("unknown method '{name}' (known: {known})")]

@@ -446,7 +446,8 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
 
 /// A count's reference walk is read back by name from a report, is one of the walks tetwalk vouches
 /// for when `count --reference` offers it (`exact`, `certified`), defaults to the one that is not
-/// `exact` itself, and an unknown name in a report is an error naming it.
+/// `exact` itself, and an unknown name in a report is an error naming it; the octree count's
+/// ray–triangle method reads back from the triangle registry, not the exit-face one.
 #[test]
 fn the_reference_walk_is_a_registered_method_by_name() {
     use tetwalk::engine::count::ReferenceWalk;
@@ -457,4 +458,8 @@ fn the_reference_walk_is_a_registered_method_by_name() {
     assert_eq!(serde_json::to_string(&r).unwrap(), "\"exact\"");
     let e = serde_json::from_str::<ReferenceWalk>("\"nope\"").unwrap_err();
     assert!(e.to_string().contains("unknown method 'nope'"), "{e}");
+    use tetwalk::registry::{ByName, TriangleMethod};
+    let t: ByName<TriangleMethod> = serde_json::from_str("\"woop-watertight\"").unwrap();
+    assert_eq!(t.name(), "woop-watertight");
+    assert!(serde_json::from_str::<ByName<TriangleMethod>>("\"certified\"").is_err());
 }

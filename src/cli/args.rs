@@ -8,6 +8,7 @@ use crate::choice::Choice;
 use crate::exact::hit::T_ULPS;
 use crate::family::Family;
 use crate::family::contract::{Contract, EntryGiven, Orientation, Origin};
+use crate::registry::{ByName, Registered};
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -16,6 +17,13 @@ use std::process::ExitCode;
 pub(crate) fn choice<T: Choice>() -> impl TypedValueParser<Value = T> {
     PossibleValuesParser::new(T::ALL.iter().map(|v| v.name()))
         .map(|s| T::from_name(&s).expect("clap checked the name"))
+}
+
+/// A clap value parser for a registered method of kind `T`: the registry's names are the possible
+/// values.
+pub(crate) fn registered<T: Registered>() -> impl TypedValueParser<Value = ByName<T>> {
+    PossibleValuesParser::new(T::registered().iter().map(|m| m.name()))
+        .map(|s| ByName::named(&s).expect("clap checked the name"))
 }
 
 /// `--backend`, shared by every command that runs methods.

@@ -130,9 +130,8 @@ enum Merge {
 /// `--reference`'s values: the walks tetwalk vouches for as robust.
 fn reference_walk() -> impl clap::builder::TypedValueParser<Value = ReferenceWalk> {
     use clap::builder::TypedValueParser;
-    let names: Vec<&'static str> = ReferenceWalk::vouched().map(|r| r.name()).collect();
-    clap::builder::PossibleValuesParser::new(names)
-        .map(|n: String| ReferenceWalk::named(&n).expect("a vouched walk is registered"))
+    clap::builder::PossibleValuesParser::new(ReferenceWalk::vouched().map(|r| r.name()))
+        .map(|n| ReferenceWalk::named(&n).expect("clap checked the name"))
 }
 
 fn count_family() -> impl clap::builder::TypedValueParser<Value = CountKind> {

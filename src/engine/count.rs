@@ -13,7 +13,7 @@ use crate::family::count::{
 use crate::family::count::{Prepared, through_value};
 use crate::family::wrong::{Seen, WrongRay};
 use crate::mesh::Mesh;
-use crate::registry::{Claim, Method, Named, UnknownMethod};
+use crate::registry::{ByName, Claim, Method, Named, Registered};
 use crate::scenes::camera::{Camera, Views};
 use crate::tet::Ray;
 use crate::walk::{Walk, default_max_steps, judge, locate};
@@ -21,73 +21,28 @@ use rayon::prelude::*;
 use std::time::Instant;
 
 /// The walk a count judges every method against: a registered exit-face method, by name in settings
-/// and reports. `count --reference` offers those tetwalk vouches for as robust ([`Self::vouched`]:
-/// `exact`, and `certified`, which ends where `exact` ends); the audit holds any to `exact`.
-#[derive(Clone, Copy)]
-pub struct ReferenceWalk(&'static Method);
+/// and reports. `count --reference` offers those tetwalk vouches for as robust
+/// ([`ReferenceWalk::vouched`]: `exact`, and `certified`, which ends where `exact` ends); the audit
+/// holds any to `exact`.
+pub type ReferenceWalk = ByName<Method>;
 
-impl ReferenceWalk {
-    /// The method called `name`.
-    pub fn named(name: &str) -> Result<ReferenceWalk, UnknownMethod> {
-        crate::registry::by_name(name).map(ReferenceWalk)
-    }
-
+impl ByName<Method> {
     /// The methods tetwalk vouches for as robust: each ends where `exact` ends.
     pub fn vouched() -> impl Iterator<Item = ReferenceWalk> {
-        crate::registry::METHODS
+        Method::registered()
             .iter()
             .filter(|m| m.info.ours && m.info.claim == Some(Claim::Robust))
-            .map(ReferenceWalk)
-    }
-
-    /// The method.
-    pub fn method(self) -> &'static Method {
-        self.0
-    }
-
-    /// Its name.
-    pub fn name(self) -> &'static str {
-        self.0.name()
+            .map(ByName)
     }
 }
 
-/// The default: the vouched walk that is not `exact` itself (`certified`, several times faster).
-impl Default for ReferenceWalk {
+/// The default reference walk: the vouched walk that is not `exact` itself (`certified`, several
+/// times faster).
+impl Default for ByName<Method> {
     fn default() -> Self {
         ReferenceWalk::vouched()
             .find(|r| !r.0.is_reference())
             .expect("a vouched walk beside exact is registered")
-    }
-}
-
-impl PartialEq for ReferenceWalk {
-    fn eq(&self, other: &Self) -> bool {
-        self.name() == other.name()
-    }
-}
-
-impl std::fmt::Debug for ReferenceWalk {
-    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        write!(f, "{:?}", self.name())
-    }
-}
-
-impl std::fmt::Display for ReferenceWalk {
-    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl serde::Serialize for ReferenceWalk {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(self.name())
-    }
-}
-
-impl<'de> serde::Deserialize<'de> for ReferenceWalk {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let name = String::deserialize(d)?;
-        ReferenceWalk::named(&name).map_err(serde::de::Error::custom)
     }
 }
 

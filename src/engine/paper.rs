@@ -15,7 +15,7 @@ use crate::family::triangle::engine::SpeedReport;
 use crate::family::{OctreeCells, Walks};
 use crate::mesh::Mesh;
 use crate::methods::Query;
-use crate::registry::{Gpu, METHODS, Named, OCTREE_METHODS, TRIANGLE_METHODS};
+use crate::registry::{ByName, Gpu, METHODS, Named, OCTREE_METHODS, TRIANGLE_METHODS};
 
 /// Seed 003's structures as tetwalk walks them: the method, and `cells` or one of seed 003's layouts.
 pub const SEED003_STRUCTURES: [(&str, &str, &str); 5] = [
@@ -174,7 +174,7 @@ pub fn run(
         reference,
         family: OctreeCountSettings {
             octree: crate::octree::Settings::PAPER,
-            triangle_method: "mt".into(),
+            triangle_method: ByName::named("mt").expect("mt is registered"),
         },
         audit: 1000,
         shard,

@@ -11,11 +11,11 @@ use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
 use crate::cli::render::{Args as RenderArgs, Drawn, finish, views_of, write};
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{JsonOut, faces, size};
-use crate::cli::{Status, choice};
+use crate::cli::{Status, choice, registered};
 use crate::family::Family;
 use crate::family::{self, Kind, Triangle};
 use crate::methods::Model;
-use crate::registry::Named;
+use crate::registry::{ByName, Named, TriangleMethod};
 use crate::render;
 use crate::scenes::cells::{CellAim, CellPlace};
 
@@ -63,8 +63,8 @@ pub(crate) struct CountFlags {
     #[arg(long, default_value_t = 6)]
     capacity: usize,
     /// `--family octree`: the ray–triangle method testing each leaf's triangles.
-    #[arg(long, default_value = "mt")]
-    triangle_method: String,
+    #[arg(long, value_parser = registered::<TriangleMethod>(), default_value = "mt")]
+    triangle_method: ByName<TriangleMethod>,
 }
 
 impl Flags for OctreeCells {
@@ -78,7 +78,7 @@ impl Flags for OctreeCells {
                 depth: f.depth,
                 capacity: f.capacity,
             },
-            triangle_method: f.triangle_method.clone(),
+            triangle_method: f.triangle_method,
         }
     }
 }

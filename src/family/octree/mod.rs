@@ -17,7 +17,7 @@ use crate::choice::Choice;
 use crate::exact::boxes::{BoxExit, box_exit};
 use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
 use crate::octree::cell::{FACE_NAMES, face_named, quarter_signs};
-use crate::registry::{OCTREE_METHODS, OctreeMethod};
+use crate::registry::{ByName, OCTREE_METHODS, OctreeMethod, TriangleMethod};
 use crate::scenes::cells::{CellAim, CellPlace, case};
 use crate::tet::Ray;
 use crate::walk::octree::{OctreeWalk, walk_exact};
@@ -414,7 +414,7 @@ impl Counts for OctreeCount {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OctreeCountSettings {
     pub octree: crate::octree::Settings,
-    pub triangle_method: String,
+    pub triangle_method: ByName<TriangleMethod>,
 }
 
 /// What an octree count's report says of its scene.
@@ -456,10 +456,7 @@ impl Counted for OctreeCells {
                 "--depth {} --capacity {}: {e}",
                 s.octree.depth, s.octree.capacity
             )
-        })?;
-        crate::family::by_name::<crate::family::Triangle>(&s.triangle_method)
-            .map(|_| ())
-            .map_err(|e| e.to_string())
+        })
     }
 
     fn prepare(
@@ -498,7 +495,7 @@ impl Counted for OctreeCells {
         m: &OctreeMethod,
         rays: &[Ray],
     ) -> Result<Vec<Walk>, CountError> {
-        let tri = crate::family::by_name::<crate::family::Triangle>(&at.settings.triangle_method)?;
+        let tri = at.settings.triangle_method.method();
         let ready = at.ready;
         let (tris, from) = &ready.triangles;
         let cap = crate::walk::octree::default_max_steps(&ready.octree);
