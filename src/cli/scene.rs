@@ -3,6 +3,7 @@
 use super::{JsonOut, Status};
 use crate::engine::info::SceneInfo;
 use crate::mesh::Mesh;
+use crate::mesh::export::Exported;
 use crate::scenes::build::build_scene;
 use crate::scenes::model::Model;
 use glam::Vec3;
@@ -266,39 +267,6 @@ pub(crate) fn run(s: Scene) -> Status {
             print!("{}", info.markdown());
             json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
-        }
-    }
-}
-
-/// A mesh as `scene export` writes it, with tetwalk's conventions stated once.
-#[derive(serde::Serialize)]
-struct Exported<'a> {
-    scene: &'a str,
-    convention: String,
-    points: Vec<[f32; 3]>,
-    tets: &'a [[u32; 4]],
-    neighbors: Vec<[i64; 4]>,
-    constrained: Vec<[bool; 4]>,
-}
-
-impl<'a> Exported<'a> {
-    fn of(scene: &'a str, mesh: &'a Mesh) -> Exported<'a> {
-        Exported {
-            scene,
-            convention: format!(
-                "every tetrahedron [v0, v1, v2, v3] is positively oriented: Shewchuk's orient3d(v0, v1, v2, v3) > 0 (v3 below the plane of v0, v1, v2 seen counterclockwise from above); face i is opposite vertex i, its vertices {:?} (face 0 to 3) counterclockwise seen from outside; neighbors[t][i] is the tetrahedron across face i, -1 on the boundary; constrained[t][i]: face i is a face of the scene, where a walk stops (kind hit)",
-                crate::tet::FACE_VERTICES
-            ),
-            points: mesh.points.iter().map(|p| p.to_array()).collect(),
-            tets: &mesh.tets,
-            neighbors: mesh
-                .neighbors
-                .iter()
-                .map(|n| n.map(|x| if x == crate::mesh::HULL { -1 } else { x as i64 }))
-                .collect(),
-            constrained: (0..mesh.tets.len() as u32)
-                .map(|t| std::array::from_fn(|f| mesh.is_constrained(t, f)))
-                .collect(),
         }
     }
 }

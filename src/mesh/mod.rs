@@ -1,6 +1,7 @@
 //! Tetrahedral meshes: f32 points, tetrahedra, neighbours across each face, constrained faces; checked
 //! with exact predicates when they are built, whatever they were built from.
 
+pub mod export;
 #[cfg(feature = "formats")]
 pub mod formats;
 pub mod layout;
