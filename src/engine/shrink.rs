@@ -268,13 +268,22 @@ pub fn shrink_found<F: Family>(
     found: &Found<F>,
     budget: usize,
 ) -> Result<ShrunkOrLeft<F>, FoundError> {
+    shrink_found_with(found, &mut Backends::default(), budget)
+}
+
+/// [`shrink_found`] with the backends opened once each in `backends`.
+fn shrink_found_with<F: Family>(
+    found: &Found<F>,
+    backends: &mut Backends,
+    budget: usize,
+) -> Result<ShrunkOrLeft<F>, FoundError> {
     let f = found.failed("shrink")?;
-    let backend = match f.backend_here() {
+    let backend = match backends.get(f) {
         Ok(b) => b,
         Err(why) => return Ok(Err(why)),
     };
     let m = family::by_name::<F>(&f.method)?;
-    Ok(Ok(shrink_on(found, m, &backend, budget)?))
+    Ok(Ok(shrink_on(found, m, backend, budget)?))
 }
 
 /// `found` shrunk with its method `m` on `backend` (where it was found), the original kept; every
@@ -455,13 +464,11 @@ pub fn shrink_case<F: Family>(
     backends: &mut Backends,
     checks: usize,
 ) -> Result<Result<CaseShrunk, String>, FoundError> {
-    let f = found.failed("shrink")?;
-    let backend = match backends.get(f) {
-        Ok(b) => b,
+    let (shrunk, s) = match shrink_found_with(found, backends, checks)? {
+        Ok(done) => done,
         Err(why) => return Ok(Err(why)),
     };
-    let m = family::by_name::<F>(&f.method)?;
-    let (shrunk, s) = shrink_on(found, m, backend, checks)?;
+    let f = found.failed("shrink")?;
     Ok(Ok(CaseShrunk::measured(
         at,
         &found.case,

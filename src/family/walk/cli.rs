@@ -243,9 +243,9 @@ impl Flags for Walks {
         serde_json::to_writer(&mut w, &header)?;
         w.write_all(b"\n")?;
         let mut rays = 0u64;
-        let counted_views = header.each_line(&mesh, |v| -> std::io::Result<()> {
+        let counted_views = header.each_line(&mesh, |_, line| -> std::io::Result<()> {
             rays += 1;
-            serde_json::to_writer(&mut w, &v)?;
+            serde_json::to_writer(&mut w, &line)?;
             w.write_all(b"\n")
         })?;
         if counted_views == 0 {

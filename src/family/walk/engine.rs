@@ -400,17 +400,17 @@ pub fn ray_lines(views: &Views, v: usize, cam: &Camera, start: u32) -> impl Iter
 
 impl RaysHeader {
     /// Each ray line of the views the header's shard holds whose camera is inside `mesh`, in order,
-    /// handed to `each`; the views walked.
+    /// handed to `each` with its view; the views walked.
     pub fn each_line<E>(
         &self,
         mesh: &Mesh,
-        mut each: impl FnMut(Value) -> Result<(), E>,
+        mut each: impl FnMut(usize, Value) -> Result<(), E>,
     ) -> Result<usize, E> {
         let mut views = 0;
         for (v, cam, start) in located_views(mesh, &self.views, |v| self.shard.holds(v), &|| ()) {
             views += 1;
             for line in ray_lines(&self.views, v, &cam, start) {
-                each(line)?;
+                each(v, line)?;
             }
         }
         Ok(views)
@@ -446,31 +446,30 @@ impl RaysHeader {
         };
         let mut lines = reader(input).into_iter().skip(1);
         let (mut rays, mut last) = (0u64, 1);
-        for (v, cam, start) in located_views(mesh, &self.views, |v| self.shard.holds(v), &|| ()) {
-            for want in ray_lines(&self.views, v, &cam, start) {
-                let Some((n, line)) = lines.next() else {
-                    return Err(RaysError::CutShort {
-                        file: file.into(),
-                        last,
-                        rays,
-                        view: v,
-                        pixel: want["pixel"].clone(),
-                    });
-                };
-                let line = line.map_err(|e| at(n, e))?;
-                let got: Value = serde_json::from_str(&line)
-                    .map_err(|e| at(n, format!("not a whole ray line ({e}): cut short?")))?;
-                if !same_ray(&got, &want) {
-                    return Err(at(
-                        n,
-                        format!(
-                            "not the ray its header names here, {want} (the body is not this header's run)"
-                        ),
-                    ));
-                }
-                (rays, last) = (rays + 1, n);
+        self.each_line(mesh, |v, want| {
+            let Some((n, line)) = lines.next() else {
+                return Err(RaysError::CutShort {
+                    file: file.into(),
+                    last,
+                    rays,
+                    view: v,
+                    pixel: want["pixel"].clone(),
+                });
+            };
+            let line = line.map_err(|e| at(n, e))?;
+            let got: Value = serde_json::from_str(&line)
+                .map_err(|e| at(n, format!("not a whole ray line ({e}): cut short?")))?;
+            if !same_ray(&got, &want) {
+                return Err(at(
+                    n,
+                    format!(
+                        "not the ray its header names here, {want} (the body is not this header's run)"
+                    ),
+                ));
             }
-        }
+            (rays, last) = (rays + 1, n);
+            Ok(())
+        })?;
         match lines.find(|(_, l)| l.as_ref().map_or(true, |l| !l.trim().is_empty())) {
             Some((n, _)) => Err(at(
                 n,
