@@ -453,6 +453,88 @@ fn replay_found_cases_says_whether_each_fails_again() {
     );
 }
 
+/// `replay` answers a count's wrong rays again for every counted family (walks, an octree's cells,
+/// the triangles in packets, whose answers come from the whole view): each fails again the same
+/// way; a recorded ending changed is reported (status 1); a ray edited by one ulp, settings no count
+/// takes, and a line that records no count are refused, naming the line.
+#[test]
+fn replay_answers_every_familys_dumped_wrong_rays_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let runs: [&[&str]; 3] = [
+        &[
+            "--scene",
+            "kuhn-far",
+            "--views",
+            "2",
+            "--size",
+            "16x16",
+            "--methods",
+            "plucker",
+        ],
+        &[
+            "--family", "octree", "--scene", "kuhn-far", "--views", "2", "--size", "16x16",
+        ],
+        &["--family", "triangle", "--packet", "2"],
+    ];
+    for (k, run) in runs.iter().enumerate() {
+        let dump = dir.path().join(format!("dump-{k}.jsonl"));
+        let mut args = vec!["count"];
+        args.extend(*run);
+        args.extend(["--dump", dump.to_str().unwrap()]);
+        let (code, _, err) = tetwalk(&args, "");
+        assert_eq!(code, 0, "{args:?}: {err}");
+        let text = std::fs::read_to_string(&dump).unwrap();
+        let lines = json_lines(&text);
+        assert!(!lines.is_empty(), "{args:?} finds wrong rays");
+        let family = lines[0]["count"]["family"].as_str().unwrap().to_string();
+        let (code, out, err) = tetwalk(&["replay", dump.to_str().unwrap()], "");
+        assert_eq!(code, 0, "{family}: {err}");
+        let n = lines.len();
+        assert!(
+            err.contains(&format!("{n} of {n} wrong rays fail again the same way")),
+            "{family}: {err}"
+        );
+        let replayed = json_lines(&out);
+        assert_eq!(replayed.len(), n);
+        for (r, l) in replayed.iter().zip(&lines) {
+            assert_eq!(r["same"], true, "{family}: {r}");
+            assert_eq!(r["now"], l["stopped"]["outcome"], "{family}");
+        }
+        // One line alone, with its recorded ending changed: it no longer fails the same way.
+        let one = dir.path().join(format!("one-{k}.jsonl"));
+        let mut changed = lines[0].clone();
+        changed["stopped"]["outcome"] = serde_json::json!({"kind": "step_limit", "tet": 0});
+        std::fs::write(&one, format!("{changed}\n")).unwrap();
+        let (code, out, err) = tetwalk(&["replay", one.to_str().unwrap()], "");
+        assert_eq!(code, 1, "{family}: {out}{err}");
+        assert!(
+            err.contains("0 of 1 wrong rays fail again the same way (1 changed"),
+            "{err}"
+        );
+        // Refused: the ray one ulp off its pixel's, settings no count takes, no count recorded.
+        let mut edited = lines[0].clone();
+        let x = edited["dir"][0].as_f64().unwrap() as f32;
+        edited["dir"][0] = serde_json::json!(x.next_up());
+        let mut settings = lines[0].clone();
+        settings["count"]["settings"] = serde_json::json!({"packet": "many"});
+        let mut none = lines[0].clone();
+        none.as_object_mut().unwrap().remove("count");
+        for (bad, says) in [
+            (edited, "is not view"),
+            (settings, "settings are not"),
+            (none, "records no count"),
+        ] {
+            std::fs::write(&one, format!("{bad}\n")).unwrap();
+            let (code, _, err) = tetwalk(&["replay", one.to_str().unwrap()], "");
+            assert_eq!(code, 2, "{family} {says}: {err}");
+            assert!(
+                err.contains("line 1") && err.contains(says),
+                "{family}: {err}"
+            );
+        }
+    }
+}
+
 /// `walk --relabel all` walks under the 12 orientation-preserving relabellings: the own labelling's
 /// wrong results and cycles are the main table's, `certified` is right under every one, and maria17's
 /// cycles on the Kuhn grid depend on the labelling.

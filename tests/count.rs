@@ -169,7 +169,8 @@ fn the_count_judges_and_tallies_every_kind_as_it_is() {
         view: 0,
         pixel: [0, 0],
         name: "maria17",
-        walked: Some((by_name("maria17").unwrap(), BackendKind::Cpu)),
+        backend: Some(BackendKind::Cpu),
+        walker: Some(by_name("maria17").unwrap()),
     };
     let candidates: Vec<(usize, Walk)> = walks.iter().copied().enumerate().collect();
     let wrong = wrong_rays(&mesh, &seen, 7, &rays, &candidates, &reference, start, max);

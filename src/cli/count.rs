@@ -90,7 +90,8 @@ pub(crate) struct Args {
     #[arg(long, value_name = "FILE")]
     rays_out: Option<PathBuf>,
     /// Write every wrong ray here, one JSON line each (view, pixel, the ray, where the method and the
-    /// `exact` walk stopped, the first wrong step, the distance from the edge); `tetwalk replay` reads it.
+    /// `exact` walk stopped, the first wrong step, the distance from the edge, the count's family, views
+    /// and settings); `tetwalk replay` reads it.
     #[arg(long)]
     dump: Option<PathBuf>,
 }

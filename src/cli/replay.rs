@@ -1,11 +1,12 @@
-//! `tetwalk replay`: walk the wrong rays of a `count --dump` again and say whether each still fails
-//! the same way (the same method on the same backend stopping at the same place, and still wrong);
+//! `tetwalk replay`: answer the wrong rays of a `count --dump` again, every family's, and say whether
+//! each still fails the same way (the same method on the same backend stopping at the same place, and
+//! still wrong);
 //! with `--found`, the same for found cases (on their backend, and for a GPU finding on its adapter).
 
 use super::{JsonOut, Status};
 use crate::backend::{Backend, BackendKind};
 use crate::cases::object;
-use crate::engine::count::{Rerun, RerunError, rerun};
+use crate::engine::count::{Reanswered, Rerun, RerunError, rerun};
 use crate::engine::found::{Found, FoundError, Replay, replay};
 use crate::family::wrong::WrongRay;
 use crate::family::{Family, owner};
@@ -119,6 +120,7 @@ pub(crate) fn run(a: Args) -> Status {
     let file = std::fs::File::open(file).map_err(|e| format!("{file_name}: {e}"))?;
     let mut scenes: HashMap<String, Mesh> = HashMap::new();
     let mut backends: HashMap<BackendKind, Result<Backend, String>> = HashMap::new();
+    let mut made = Reanswered::default();
     let mut summary = Summary::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     for (n, line) in std::io::BufReader::new(file).lines().enumerate() {
@@ -155,7 +157,7 @@ pub(crate) fn run(a: Args) -> Status {
             now,
             still_wrong,
             same,
-        } = rerun(&d, mesh, backend).map_err(|e| place(&e))?;
+        } = rerun(&d, mesh, backend, &mut made).map_err(|e| place(&e))?;
         if same {
             summary.same += 1;
         } else {

@@ -11,7 +11,7 @@ use crate::family::count::{
     CountError, CountRow, Counted, Counts, Scene, first_difference, inconsistent,
 };
 use crate::family::count::{Prepared, through_value};
-use crate::family::wrong::{Seen, WrongRay};
+use crate::family::wrong::{Counting, Seen, WrongRay};
 use crate::mesh::Mesh;
 use crate::registry::{ByName, Claim, Method, Named, Registered};
 use crate::scenes::camera::{Camera, Views};
@@ -227,6 +227,12 @@ pub fn run<F: Counted>(
         }
     };
     let (mut rays_counted, mut views_counted, mut audits) = (0u64, 0usize, 0u64);
+    let counting = Counting {
+        family: F::NAME.to_string(),
+        views: s.views,
+        settings: serde_json::to_value(&s.family)
+            .map_err(|e| CountError::Dump(std::io::Error::other(e)))?,
+    };
     let mut ready: Option<F::Ready> = None;
     let mut views = located_views(mesh, &s.views, |v| s.shard.holds(v), tick).peekable();
     loop {
@@ -279,11 +285,15 @@ pub fn run<F: Counted>(
                 if let Some(t) = &traffic {
                     row.add_traffic(t);
                 }
-                for d in &wrong {
+                for d in wrong {
                     row.counts
                         .add_wrong(d.kind().expect("a wrong ray has a kind"), d.class);
                     if let Some(sink) = sink.as_mut() {
-                        sink(d).map_err(CountError::Dump)?;
+                        let d = WrongRay {
+                            count: Some(counting.clone()),
+                            ..d
+                        };
+                        sink(&d).map_err(CountError::Dump)?;
                     }
                 }
             }
@@ -401,8 +411,12 @@ fn count_view<F: Counted>(
             view: v,
             pixel: [0, 0],
             name: a.name(),
-            walked: match a {
-                Answerer::Method(m) => F::walker(m).map(|w| (w, backend.for_method(*m).ran().kind)),
+            backend: match a {
+                Answerer::Method(m) => Some(backend.for_method(*m).ran().kind),
+                Answerer::Given(..) => None,
+            },
+            walker: match a {
+                Answerer::Method(m) => F::walker(m),
                 Answerer::Given(..) => None,
             },
         };
@@ -497,23 +511,31 @@ pub fn wrong_rays(
         .collect()
 }
 
-/// A count's wrong ray walked again ([`rerun`]): where the method stops now, and whether it is still
-/// wrong, and wrong the same way (stopping where it was recorded to).
+/// A count's wrong ray answered again ([`rerun`]): where the method stops now, and whether it is
+/// still wrong, and wrong the same way (stopping where it was recorded to).
 pub struct Rerun {
-    /// The method's name, as the registry spells it.
-    pub method: &'static str,
+    /// The method's name, as its family's registry spells it.
+    pub method: String,
     pub now: Walk,
     pub still_wrong: bool,
     pub same: bool,
 }
 
-/// Why a wrong ray cannot be walked again.
+/// Why a wrong ray cannot be answered again.
 #[derive(Debug, thiserror::Error)]
 pub enum RerunError {
     #[error(
-        "a wrong ray of walks tetwalk replay cannot rerun (method {0}: walks given to tetwalk judge, or an octree walk)"
+        "a wrong ray of walks given to tetwalk judge (by {0}): tetwalk replay cannot answer it again"
     )]
     NotWalked(String),
+    #[error(
+        "the line records no count (a dump written before tetwalk kept its family, views and settings): count again with --dump"
+    )]
+    NoCount,
+    #[error("the count's family: '{0}' is not a family that counts a scene")]
+    Family(String),
+    #[error("the count's settings are not a {family} count's: {why}")]
+    Settings { family: &'static str, why: String },
     #[error(transparent)]
     Method(#[from] crate::registry::UnknownMethod),
     #[error(
@@ -524,31 +546,145 @@ pub enum RerunError {
         dir: [f32; 3],
         why: crate::exact::ExactError,
     },
+    #[error(
+        "view {view} pixel {pixel:?} is not one of the count's ({views} views of {width}x{height})"
+    )]
+    Pixel {
+        view: usize,
+        pixel: [u32; 2],
+        views: usize,
+        width: u32,
+        height: u32,
+    },
+    #[error(
+        "view {view}'s camera lies outside the mesh of scene {scene}: not the mesh counted (counted with --no-faces, or another scene file?)"
+    )]
+    CameraOutside { view: usize, scene: String },
+    #[error(
+        "the ray is not view {view} pixel {pixel:?}'s ray of scene {scene}: the line was edited, or the mesh is not the one counted"
+    )]
+    NotItsRay {
+        view: usize,
+        pixel: [u32; 2],
+        scene: String,
+    },
     #[error(transparent)]
-    Outside(#[from] crate::walk::LocateError),
+    Count(#[from] CountError),
     #[error(transparent)]
     Backend(#[from] crate::backend::BackendError),
 }
 
-/// The method of wrong ray `d` walks it again through `mesh` (its scene) on `backend` (the one `d`
-/// records, `d.backend`; walks given from outside record none and are [`RerunError::NotWalked`]),
-/// judged against the exact walk as the count judged it.
-pub fn rerun(d: &WrongRay, mesh: &Mesh, backend: &Backend) -> Result<Rerun, RerunError> {
-    let m = crate::registry::by_name(&d.method)?;
+/// The answers of one view made again for [`rerun`]: a dump holds a view's wrong rays together, so
+/// its lines answer the view once per method.
+#[derive(Default)]
+pub struct Reanswered {
+    view: Option<(String, Counting, usize, String, crate::choice::BackendKind)>,
+    walks: Vec<Walk>,
+}
+
+/// Wrong ray `d` answered again as its count answered it: its view's rays through `mesh` (its
+/// scene), made ready with the family's settings the line records ([`Counting`]), answered by its
+/// method on `backend` (the one `d` records), and judged against the exact walk as the count judged
+/// it. Walks given from outside record no backend and are [`RerunError::NotWalked`].
+pub fn rerun(
+    d: &WrongRay,
+    mesh: &Mesh,
+    backend: &Backend,
+    made: &mut Reanswered,
+) -> Result<Rerun, RerunError> {
+    let c = d.count.as_ref().ok_or(RerunError::NoCount)?;
+    let kind = <crate::family::CountKind as crate::choice::Choice>::from_name(&c.family)
+        .ok_or_else(|| RerunError::Family(c.family.clone()))?;
+    crate::with_counted!(kind, F => rerun_in::<F>(d, c, mesh, backend, made))
+}
+
+fn rerun_in<F: Counted>(
+    d: &WrongRay,
+    c: &Counting,
+    mesh: &Mesh,
+    backend: &Backend,
+    made: &mut Reanswered,
+) -> Result<Rerun, RerunError> {
+    let m = crate::family::by_name::<F>(&d.method)?;
     let ray = d.ray();
     crate::exact::check_ray(&[], &ray).map_err(|why| RerunError::Ray {
         org: ray.org.to_array(),
         dir: ray.dir.to_array(),
         why,
     })?;
-    let start = locate(mesh, ray.org, 0)?;
-    let max = default_max_steps(mesh);
-    let on = backend.mesh(mesh);
-    let now = backend.walks(m, &on, &[ray], start, max)?[0];
-    let exact = backend.walks(crate::registry::reference(), &on, &[ray], start, max)?[0];
+    let settings = |why: String| RerunError::Settings {
+        family: F::NAME,
+        why,
+    };
+    let family: F::CountSettings =
+        serde_json::from_value(c.settings.clone()).map_err(|e| settings(e.to_string()))?;
+    F::check(&family).map_err(settings)?;
+    let (views, [x, y]) = (c.views, d.pixel);
+    if d.view >= views.views || x >= views.width || y >= views.height {
+        return Err(RerunError::Pixel {
+            view: d.view,
+            pixel: d.pixel,
+            views: views.views,
+            width: views.width,
+            height: views.height,
+        });
+    }
+    let (_, camera, located) = located_views(mesh, &views, |v| v == d.view, &|| {})
+        .next()
+        .ok_or_else(|| RerunError::CameraOutside {
+            view: d.view,
+            scene: d.scene.clone(),
+        })?;
+    let rays = views.rays(&camera);
+    let i = (y * views.width + x) as usize;
+    let bits = |r: &Ray| [r.org, r.dir].map(|v| v.to_array().map(f32::to_bits));
+    if bits(&rays[i]) != bits(&ray) {
+        return Err(RerunError::NotItsRay {
+            view: d.view,
+            pixel: d.pixel,
+            scene: d.scene.clone(),
+        });
+    }
+    let scene = Scene {
+        mesh,
+        on: backend.mesh(mesh),
+        max_steps: default_max_steps(mesh),
+        views,
+    };
+    let view = Some((
+        d.scene.clone(),
+        c.clone(),
+        d.view,
+        d.method.clone(),
+        backend.kind(),
+    ));
+    if made.view != view {
+        let ready = F::prepare(&scene, &family, backend, located)?;
+        let at = Prepared::<F> {
+            backend,
+            scene: &scene,
+            ready: &ready,
+            settings: &family,
+            located,
+            view: d.view,
+            camera: &camera,
+            audited: &[],
+            reference_kept: false,
+        };
+        made.walks = F::answer_rays(&at, m, &rays)?;
+        made.view = view;
+    }
+    let now = made.walks[i];
+    let exact = backend.walks(
+        crate::registry::reference(),
+        &scene.on,
+        &[ray],
+        located,
+        scene.max_steps,
+    )?[0];
     let still_wrong = judge(mesh, &ray, &now, &exact).is_some();
     Ok(Rerun {
-        method: m.name(),
+        method: m.name().to_string(),
         now,
         still_wrong,
         same: still_wrong && now.outcome == d.stopped.outcome,

@@ -561,7 +561,7 @@ pub fn shrink_dump_line(
     } = w
     else {
         return Ok(Err(
-            "no diverging step was observed (a GPU walk, or walks given from outside)".into(),
+            "no diverging step was observed (a GPU walk, walks given from outside, or a method that walks no tetrahedra: a triangle or octree count's)".into(),
         ));
     };
     let answer = serde_json::json!(d.face);

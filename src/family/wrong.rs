@@ -7,6 +7,7 @@ use crate::backend::BackendKind;
 use crate::exact::hit::line_triangle;
 use crate::mesh::Mesh;
 use crate::registry::Method;
+use crate::scenes::camera::Views;
 use crate::tet::Case;
 use crate::tet::Ray;
 use crate::walk::{Divergence, Outcome, OutcomeKind, Walk};
@@ -121,7 +122,7 @@ pub struct WrongRay {
     pub org: [f32; 3],
     pub dir: [f32; 3],
     pub method: String,
-    /// Where the method walked; none for walks given from outside (`tetwalk judge`).
+    /// Where the method answered; none for walks given from outside (`tetwalk judge`).
     pub backend: Option<BackendKind>,
     /// The kind of wrong ending ([`OutcomeKind::wrong_key`]).
     pub kind: String,
@@ -142,17 +143,33 @@ pub struct WrongRay {
     /// failed there; `tetwalk shrink` shrinks it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub case: Option<serde_json::Map<String, serde_json::Value>>,
+    /// The count that found it (its family, views and the family's settings), for `tetwalk replay`
+    /// to answer the ray's view again as the count did; none in dumps written before tetwalk kept it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<Counting>,
 }
 
-/// Where in a count a ray was, and who walked it: a method on a backend, or walks given from outside
-/// (`tetwalk judge`), named.
+/// What a dump's line records of its count: the family counted, the views (each view's camera and
+/// rays), and the family's own settings ([`super::count::Counted::CountSettings`], as JSON).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Counting {
+    /// The family's name ([`super::Family::NAME`]), as a count report's `family`.
+    pub family: String,
+    pub views: Views,
+    pub settings: serde_json::Value,
+}
+
+/// Where in a count a ray was, and who answered it: a method on a backend, or walks given from outside
+/// (`tetwalk judge`, no backend), named.
 #[derive(Clone, Copy)]
 pub struct Seen<'a> {
     pub scene: &'a str,
     pub view: usize,
     pub pixel: [u32; 2],
     pub name: &'a str,
-    pub walked: Option<(&'a Method, BackendKind)>,
+    pub backend: Option<BackendKind>,
+    /// The exit-face method behind the answer, whose CPU walk finds the diverging step.
+    pub walker: Option<&'a Method>,
 }
 
 impl WrongRay {
@@ -167,7 +184,8 @@ impl WrongRay {
         max_steps: u32,
     ) -> WrongRay {
         let divergence = seen
-            .walked
+            .walker
+            .zip(seen.backend)
             .and_then(|(m, b)| Some(m.walk_checked(b.model()?)(mesh, ray, start, max_steps).1))
             .flatten();
         // For a wrong face: adjacent or elsewhere, and how far from its edge the exact hit lies (the
@@ -192,7 +210,7 @@ impl WrongRay {
             org: ray.org.to_array(),
             dir: ray.dir.to_array(),
             method: seen.name.to_string(),
-            backend: seen.walked.map(|(_, b)| b),
+            backend: seen.backend,
             kind: w.outcome.kind().wrong_key().to_string(),
             class,
             stopped: Stop::of(mesh, w),
@@ -208,6 +226,7 @@ impl WrongRay {
             }),
             divergence,
             ulps_from_edge,
+            count: None,
         }
     }
 
