@@ -6,18 +6,21 @@
 //! each wrong ray described ([`WrongRay`]), shards that add up, the labellings of the tetrahedra.
 
 use crate::backend::{Against, Backend, Ran, Traffic};
+use crate::choice::BackendKind;
 use crate::family::Family;
 use crate::family::count::{
     CountError, CountRow, Counted, Counts, Scene, first_difference, inconsistent,
 };
 use crate::family::count::{Prepared, through_value};
 use crate::family::wrong::{Counting, Seen, WrongRay};
+use crate::mesh::Faces;
 use crate::mesh::Mesh;
 use crate::registry::{ByName, Claim, Method, Named, Registered};
 use crate::scenes::camera::{Camera, Views};
 use crate::tet::Ray;
 use crate::walk::{Walk, default_max_steps, judge, locate};
 use rayon::prelude::*;
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// The walk a count judges every method against: a registered exit-face method, by name in settings
@@ -572,38 +575,79 @@ pub enum RerunError {
     Count(#[from] CountError),
     #[error(transparent)]
     Backend(#[from] crate::backend::BackendError),
+    #[error(transparent)]
+    Scene(#[from] crate::mesh::MeshError),
 }
 
-/// The answers of one view made again for [`rerun`]: a dump holds a view's wrong rays together, so
-/// its lines answer the view once per method.
-#[derive(Default)]
-pub struct Reanswered {
-    view: Option<(String, Counting, usize, String, crate::choice::BackendKind)>,
+/// A count's dump answered again line by line ([`Dumped::line`]): each scene loaded once (its
+/// constrained faces as `faces` asks), each backend opened once, and the answers of the last view
+/// kept, since a dump holds a view's wrong rays together (its lines answer the view once per method).
+pub struct Dumped {
+    faces: Faces,
+    scenes: HashMap<String, Mesh>,
+    backends: HashMap<BackendKind, Result<Backend, String>>,
+    view: Option<(String, Counting, usize, String, BackendKind)>,
     walks: Vec<Walk>,
 }
 
-/// Wrong ray `d` answered again as its count answered it: its view's rays through `mesh` (its
-/// scene), made ready with the family's settings the line records ([`Counting`]), answered by its
-/// method on `backend` (the one `d` records), and judged against the exact walk as the count judged
-/// it. Walks given from outside record no backend and are [`RerunError::NotWalked`].
-pub fn rerun(
-    d: &WrongRay,
-    mesh: &Mesh,
-    backend: &Backend,
-    made: &mut Reanswered,
-) -> Result<Rerun, RerunError> {
-    let c = d.count.as_ref().ok_or(RerunError::NoCount)?;
-    let kind = <crate::family::CountKind as crate::choice::Choice>::from_name(&c.family)
-        .ok_or_else(|| RerunError::Family(c.family.clone()))?;
-    crate::with_counted!(kind, F => rerun_in::<F>(d, c, mesh, backend, made))
+/// A dump's line answered again ([`Rerun`], and the backend described), or skipped: the backend it
+/// records cannot be opened here (why).
+pub enum Redone {
+    Rerun(Rerun, String),
+    Skipped(String),
 }
 
-fn rerun_in<F: Counted>(
+impl Dumped {
+    pub fn new(faces: Faces) -> Dumped {
+        Dumped {
+            faces,
+            scenes: HashMap::new(),
+            backends: HashMap::new(),
+            view: None,
+            walks: Vec::new(),
+        }
+    }
+
+    /// Wrong ray `d` answered again as its count answered it: its view's rays through its scene,
+    /// made ready with the family's settings the line records ([`Counting`]), answered by its method
+    /// on the backend `d` records, and judged against the exact walk as the count judged it. Walks
+    /// given from outside record no backend and are [`RerunError::NotWalked`].
+    pub fn line(&mut self, d: &WrongRay) -> Result<Redone, RerunError> {
+        let Some(kind) = d.backend else {
+            return Err(RerunError::NotWalked(d.method.clone()));
+        };
+        if !self.scenes.contains_key(&d.scene) {
+            let mesh = crate::scenes::load(&d.scene, self.faces)?;
+            self.scenes.insert(d.scene.clone(), mesh);
+        }
+        let backend = self
+            .backends
+            .entry(kind)
+            .or_insert_with(|| Backend::open(kind).map_err(|e| e.to_string()));
+        let backend = match backend {
+            Ok(b) => &*b,
+            Err(why) => return Ok(Redone::Skipped(format!("recorded on {kind:?}: {why}"))),
+        };
+        let c = d.count.as_ref().ok_or(RerunError::NoCount)?;
+        let family = <crate::family::CountKind as crate::choice::Choice>::from_name(&c.family)
+            .ok_or_else(|| RerunError::Family(c.family.clone()))?;
+        let mesh = &self.scenes[&d.scene];
+        let (view, walks) = (&mut self.view, &mut self.walks);
+        let rerun =
+            crate::with_counted!(family, F => rerun::<F>(d, c, mesh, backend, view, walks))?;
+        Ok(Redone::Rerun(rerun, backend.describe()))
+    }
+}
+
+/// [`Dumped::line`] in family `F`: `held` names the view (scene, count, index, method, backend)
+/// whose answers `walks` holds.
+fn rerun<F: Counted>(
     d: &WrongRay,
     c: &Counting,
     mesh: &Mesh,
     backend: &Backend,
-    made: &mut Reanswered,
+    held: &mut Option<(String, Counting, usize, String, BackendKind)>,
+    walks: &mut Vec<Walk>,
 ) -> Result<Rerun, RerunError> {
     let m = crate::family::by_name::<F>(&d.method)?;
     let ray = d.ray();
@@ -658,7 +702,7 @@ fn rerun_in<F: Counted>(
         d.method.clone(),
         backend.kind(),
     ));
-    if made.view != view {
+    if *held != view {
         let ready = F::prepare(&scene, &family, backend, located)?;
         let at = Prepared::<F> {
             backend,
@@ -671,10 +715,10 @@ fn rerun_in<F: Counted>(
             audited: &[],
             reference_kept: false,
         };
-        made.walks = F::answer_rays(&at, m, &rays)?;
-        made.view = view;
+        *walks = F::answer_rays(&at, m, &rays)?;
+        *held = view;
     }
-    let now = made.walks[i];
+    let now = walks[i];
     let exact = backend.walks(
         crate::registry::reference(),
         &scene.on,

@@ -382,6 +382,48 @@ pub enum Replay {
     Skipped(String),
 }
 
+/// A found case of any family, as a line's JSON object, replayed ([`replay`]): how it replays now,
+/// and the method that failed on it.
+pub fn replay_object(obj: Map<String, Value>) -> Result<(Replay, Option<String>), FoundError> {
+    crate::with_family!(family::owner(&obj), F => {
+        let r = Found::<F>::from_object(obj)?;
+        Ok((replay(&r)?, r.failure.map(|f| f.method)))
+    })
+}
+
+/// What a replay found: lines replayed, failing again the same way, changed, skipped (their backend
+/// is not here).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct ReplayTally {
+    pub lines: u64,
+    pub same: u64,
+    pub changed: u64,
+    pub skipped: u64,
+}
+
+impl ReplayTally {
+    /// Count a line that failed again the same way (`same`), changed, or was skipped.
+    pub fn add(&mut self, same: Option<bool>) {
+        self.lines += 1;
+        match same {
+            Some(true) => self.same += 1,
+            Some(false) => self.changed += 1,
+            None => self.skipped += 1,
+        }
+    }
+}
+
+impl Replay {
+    /// Whether it fails again the same way; none when skipped.
+    pub fn same(&self) -> Option<bool> {
+        match self {
+            Replay::Holds => Some(true),
+            Replay::Skipped(_) => None,
+            Replay::Right | Replay::OtherAnswer(_) => Some(false),
+        }
+    }
+}
+
 /// Replay a found case: its method on its backend, its answer compared with the recorded one as found
 /// cases record it.
 pub fn replay<F: Family>(found: &Found<F>) -> Result<Replay, FoundError> {

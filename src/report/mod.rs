@@ -5,6 +5,7 @@ pub mod bench;
 pub mod count;
 pub mod lines;
 pub mod paper;
+pub mod replay;
 pub mod scene_info;
 pub mod shrink;
 pub mod stress;
