@@ -177,7 +177,8 @@ for line in sys.stdin:
 
 /// In JSON Lines, a stress row's verdicts are the ones `judge` gives the same answers to the same
 /// cases (`gen-cases --row`); a program that runs past a batch's time limit, one that quits, and one
-/// that answers a face that is none are errors naming why; a campaign must be told where to file.
+/// that answers a face that is none are errors naming why (one that reads nothing stopped at its time
+/// limit, however large the batch); a campaign must be told where to file.
 #[test]
 fn an_answerer_in_json_lines_gets_the_verdicts_judge_gives() {
     let (r, _) = stress(&[
@@ -203,7 +204,11 @@ fn an_answerer_in_json_lines_gets_the_verdicts_judge_gives() {
     );
     for (cmd, says) in [
         ("sleep 100", "time limit"),
-        ("exit 3", "its output ended"),
+        // Its exit status is said, whether its exit or its output's end is seen first.
+        (
+            "exit 3",
+            "its output ended after 0 of a batch's 10 answers (lines 1..=10); it exited with exit status: 3",
+        ),
         (
             r#"python3 -c 'import sys, json; [print(json.dumps({"line": json.loads(l)["line"], "face": 7}), flush=True) for l in sys.stdin if l.strip()]'"#,
             "not 0..3",
@@ -223,6 +228,21 @@ fn an_answerer_in_json_lines_gets_the_verdicts_judge_gives() {
         assert_eq!(code, 2, "{cmd}: {err}");
         assert!(err.contains(says), "{cmd}: {err}");
     }
+    // A program that never reads its input is stopped at the time limit, even when a batch is more
+    // than a pipe holds (its writer, blocked, ends once the program is stopped).
+    let (code, _, err) = tetwalk(&[
+        "stress",
+        "--answerer",
+        "sleep 100000",
+        "--answerer-seconds",
+        "2",
+        "--rows",
+        "well",
+        "--cases",
+        "100000",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("within its time limit of 2s"), "{err}");
     let (code, _, err) = tetwalk(&["stress", "--answerer", FACE_ZERO, "--seconds", "1"]);
     assert_eq!(code, 2);
     assert!(err.contains("--found"), "{err}");

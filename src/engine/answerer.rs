@@ -31,6 +31,9 @@ crate::choice!(Format { Json => "json", Binary => "binary" });
 /// Longest answer line read, in bytes.
 const MAX_LINE: u64 = 1 << 16;
 
+/// How long an answerer whose output has closed is given to exit, so that its exit status is said.
+const EXIT_GRACE: Duration = Duration::from_secs(2);
+
 /// Why an answerer gave no answers.
 #[derive(Debug, thiserror::Error)]
 #[error("answerer {name} ({cmd}): {why}")]
@@ -231,14 +234,25 @@ impl Answerer {
                 (stdin, w)
             });
             let got = self.collect::<F>(&mut r, batch, first, deadline);
+            // On an error: whether it was still running with its input's writer already ended,
+            // and then it is stopped, so that a writer blocked by a program that reads no more
+            // ends too.
+            let alive_writer_ended = got.is_err().then(|| {
+                let alive = matches!(r.child.try_wait(), Ok(None));
+                let ended = writer.is_finished();
+                crate::child::kill(&mut r.child);
+                alive && ended
+            });
             let (stdin, written) = writer.join().unwrap_or((None, None));
             r.stdin = stdin;
-            match (got, written) {
-                (Ok(a), _) => Ok(a),
-                (Err(e), Some(Err(w))) if w.kind() == std::io::ErrorKind::BrokenPipe => {
+            match (got, written, alive_writer_ended) {
+                (Ok(a), ..) => Ok(a),
+                (Err(e), Some(Err(w)), Some(true))
+                    if w.kind() == std::io::ErrorKind::BrokenPipe =>
+                {
                     Err(format!("{e} (it stopped reading its input)"))
                 }
-                (Err(e), _) => Err(e),
+                (Err(e), ..) => Err(e),
             }
         });
         result.map_err(|why| {
@@ -275,7 +289,12 @@ impl Answerer {
             };
             match chunk {
                 Chunk::End => {
-                    let status = r.child.try_wait().ok().flatten();
+                    // Its output closed: it is ending, so its exit status is waited for (within
+                    // `EXIT_GRACE` and the deadline), to be said whether or not it came first.
+                    let grace = deadline
+                        .saturating_duration_since(Instant::now())
+                        .min(EXIT_GRACE);
+                    let status = crate::child::wait(&mut r.child, grace).ok();
                     return Err(format!(
                         "its output ended after {got} of a batch's {n} answers ({}){}",
                         lines(),
