@@ -2,7 +2,7 @@
 
 use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg};
 use crate::choice::Choice;
-use crate::engine::count::{self, Answerer, CountReport, CountSettings, ReferenceWalk, Shard};
+use crate::engine::count::{self, Answerer, CountSettings, ReferenceWalk, Shard};
 use crate::engine::standing::Standings;
 use crate::family::CountKind;
 use crate::family::count::Counted;
@@ -159,44 +159,12 @@ fn count_family() -> impl clap::builder::TypedValueParser<Value = CountKind> {
 fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Status {
     let out = JsonOut::new(json)?;
     let read: Vec<(String, serde_json::Value)> = super::read_reports(reports)?;
-    let mut kind = None;
-    for (file, r) in &read {
-        let named = r
-            .get("family")
-            .and_then(|f| f.as_str())
-            .and_then(CountKind::from_name)
-            .ok_or_else(|| {
-                format!("{file}: family: not a count report's family (walk, triangle or octree)")
-            })?;
-        match kind {
-            Some(k) if k != named => {
-                return Err(format!(
-                    "{file}: counts {} where {} counts {}: merge each family apart",
-                    named.name(),
-                    read[0].0,
-                    CountKind::name(k)
-                )
-                .into());
-            }
-            _ => kind = Some(named),
-        }
-    }
-    let kind = kind.ok_or("nothing to merge")?;
-    crate::with_counted!(kind, F => merged::<F>(read, out))
-}
-
-/// The shards of a count of family `F`, added up.
-fn merged<F: CountFormats>(read: Vec<(String, serde_json::Value)>, out: JsonOut) -> Status {
-    let mut shards: Vec<(String, CountReport<F>)> = Vec::new();
-    for (file, r) in read {
-        let report = serde_path_to_error::deserialize(r)
-            .map_err(|e| format!("{file}: {}: {}", e.path(), e.inner()))?;
-        shards.push((file, report));
-    }
-    let m = count::merge(&shards)?;
-    print!("{}", m.table());
-    out.finish(&m)?;
-    Ok(ExitCode::SUCCESS)
+    crate::with_counted!(count::shards_family(&read)?, F => {
+        let m = count::merge(&count::read_shards::<F>(read)?)?;
+        print!("{}", m.table());
+        out.finish(&m)?;
+        Ok(ExitCode::SUCCESS)
+    })
 }
 
 /// `I/N` with `I < N`.

@@ -1,7 +1,7 @@
 //! `tetwalk scene build`, `scene subdivide`, `scene export`, `scene check` and `scene info`.
 
 use super::{JsonOut, Status};
-use crate::engine::info::SceneInfo;
+use crate::engine::info::{SceneCheck, SceneInfo};
 use crate::mesh::Mesh;
 use crate::mesh::export::Exported;
 use crate::scenes::build::build_scene;
@@ -131,35 +131,14 @@ pub(crate) fn run(s: Scene) -> Status {
             json,
         } => {
             let json = JsonOut::new(json.as_deref())?;
-            let verdict = match crate::scenes::load(&scene, super::faces(no_faces)) {
-                Ok(m) => {
-                    let s = crate::mesh::valid::check(&m.points, &m.tets, &m.neighbors)
-                        .map_err(|(_, what)| what)?;
-                    println!(
-                        "{scene}: a tetrahedralization: {} points, {} tetrahedra, {} interior and {} boundary faces ({} boundary {}), {} constrained faces",
-                        m.points.len(),
-                        m.tets.len(),
-                        s.interior_faces,
-                        s.boundary_faces,
-                        s.boundary_components,
-                        if s.boundary_components == 1 {
-                            "component"
-                        } else {
-                            "components"
-                        },
-                        m.constrained_faces()
-                    );
-                    serde_json::json!({"scene": scene, "valid": true, "points": m.points.len(), "tetrahedra": m.tets.len(), "summary": s})
-                }
-                Err(e) => {
-                    println!("{scene}: not a tetrahedralization: {e}");
-                    serde_json::json!({"scene": scene, "valid": false, "error": e.to_string()})
-                }
-            };
-            json.finish(&verdict)?;
-            Ok(match verdict["valid"].as_bool() {
-                Some(true) => ExitCode::SUCCESS,
-                _ => ExitCode::FAILURE,
+            let check =
+                SceneCheck::of(&scene, crate::scenes::load(&scene, super::faces(no_faces)))?;
+            println!("{}", check.line());
+            json.finish(&check)?;
+            Ok(if check.valid {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
             })
         }
         Scene::Build {

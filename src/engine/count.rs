@@ -6,7 +6,8 @@
 //! each wrong ray described ([`WrongRay`]), shards that add up, the labellings of the tetrahedra.
 
 use crate::backend::{Against, Backend, Ran, Traffic};
-use crate::choice::BackendKind;
+use crate::choice::{BackendKind, Choice};
+use crate::family::CountKind;
 use crate::family::Family;
 use crate::family::count::{
     CountError, CountRow, Counted, Counts, Scene, first_difference, inconsistent,
@@ -740,6 +741,22 @@ fn rerun<F: Counted>(
 pub enum MergeError {
     #[error("nothing to merge")]
     Empty,
+    #[error("{0}: family: not a count report's family ({families})", families = counted_families())]
+    NotACount(String),
+    #[error("{file}: counts {got} where {first} counts {want}: merge each family apart")]
+    Families {
+        file: String,
+        got: &'static str,
+        first: String,
+        want: &'static str,
+    },
+    /// A report that is not one of its family's (a field missing or of another type).
+    #[error("{file}: {path}: {why}")]
+    Field {
+        file: String,
+        path: String,
+        why: String,
+    },
     #[error("{file}: {field} is {got}, but {value} in {first}: a shard of another run")]
     Settings {
         file: String,
@@ -772,6 +789,57 @@ pub enum MergeError {
         field: String,
         why: String,
     },
+}
+
+/// The counted families' names, `walk, triangle or octree`.
+fn counted_families() -> String {
+    let names: Vec<&str> = CountKind::ALL.iter().map(|k| k.name()).collect();
+    match names.split_last() {
+        Some((last, [])) => last.to_string(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    }
+}
+
+/// The family of a sharded count's reports, read as JSON (each named by its file): the same for all.
+pub fn shards_family(read: &[(String, serde_json::Value)]) -> Result<CountKind, MergeError> {
+    let mut kind: Option<CountKind> = None;
+    for (file, r) in read {
+        let named = r
+            .get("family")
+            .and_then(|f| f.as_str())
+            .and_then(CountKind::from_name)
+            .ok_or_else(|| MergeError::NotACount(file.clone()))?;
+        match kind {
+            Some(k) if k != named => {
+                return Err(MergeError::Families {
+                    file: file.clone(),
+                    got: named.name(),
+                    first: read[0].0.clone(),
+                    want: k.name(),
+                });
+            }
+            _ => kind = Some(named),
+        }
+    }
+    kind.ok_or(MergeError::Empty)
+}
+
+/// A count's reports of family `F` from their JSON, each named by its file (an error names the file
+/// and the field).
+pub fn read_shards<F: Counted>(
+    read: Vec<(String, serde_json::Value)>,
+) -> Result<Vec<(String, CountReport<F>)>, MergeError> {
+    read.into_iter()
+        .map(|(file, r)| match serde_path_to_error::deserialize(r) {
+            Ok(report) => Ok((file, report)),
+            Err(e) => Err(MergeError::Field {
+                file,
+                path: e.path().to_string(),
+                why: e.inner().to_string(),
+            }),
+        })
+        .collect()
 }
 
 /// Sorted indices as runs, `0-4, 7, 9-12` (`none` when empty).

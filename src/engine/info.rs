@@ -5,6 +5,59 @@ use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::tet::{EDGES, FACE_VERTICES};
 
+/// Whether a scene loads as a tetrahedralization (`tetwalk scene check`): its counts and what it is
+/// made of, or what is wrong, and where.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SceneCheck {
+    pub scene: String,
+    pub valid: bool,
+    #[serde(flatten)]
+    pub checked: Checked,
+}
+
+/// A scene checked: a tetrahedralization, or not.
+#[derive(Clone, Debug, serde::Serialize)]
+#[serde(untagged)]
+pub enum Checked {
+    Valid {
+        points: usize,
+        tetrahedra: usize,
+        summary: crate::mesh::valid::Summary,
+        /// Its constrained faces.
+        #[serde(skip)]
+        constrained: usize,
+    },
+    /// What is wrong, and where (the loader's error).
+    Invalid { error: String },
+}
+
+impl SceneCheck {
+    /// The scene `scene` as it loaded (`loaded`), checked; an error where a loaded mesh fails the
+    /// rules (loading checks them).
+    pub fn of(
+        scene: &str,
+        loaded: Result<Mesh, crate::mesh::MeshError>,
+    ) -> Result<SceneCheck, String> {
+        let checked = match loaded {
+            Ok(m) => Checked::Valid {
+                points: m.points.len(),
+                tetrahedra: m.tets.len(),
+                summary: crate::mesh::valid::check(&m.points, &m.tets, &m.neighbors)
+                    .map_err(|(_, what)| what)?,
+                constrained: m.constrained_faces(),
+            },
+            Err(e) => Checked::Invalid {
+                error: e.to_string(),
+            },
+        };
+        Ok(SceneCheck {
+            scene: scene.to_string(),
+            valid: matches!(checked, Checked::Valid { .. }),
+            checked,
+        })
+    }
+}
+
 /// Counts of a scene.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SceneInfo {

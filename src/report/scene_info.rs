@@ -1,7 +1,33 @@
 //! `tetwalk scene info`'s tables: seed 000 Table 3 and seed 003 Table 4 of a scene, its flatness, and
 //! seed 001's octree over its constrained faces.
 
-use crate::engine::info::{OctreeInfo, SceneInfo};
+use crate::engine::info::{Checked, OctreeInfo, SceneCheck, SceneInfo};
+
+impl SceneCheck {
+    /// `scene check`'s line: a tetrahedralization and its counts, or what is wrong.
+    pub fn line(&self) -> String {
+        let scene = &self.scene;
+        match &self.checked {
+            Checked::Valid {
+                points,
+                tetrahedra,
+                summary: s,
+                constrained,
+            } => format!(
+                "{scene}: a tetrahedralization: {points} points, {tetrahedra} tetrahedra, {} interior and {} boundary faces ({} boundary {}), {constrained} constrained faces",
+                s.interior_faces,
+                s.boundary_faces,
+                s.boundary_components,
+                if s.boundary_components == 1 {
+                    "component"
+                } else {
+                    "components"
+                },
+            ),
+            Checked::Invalid { error } => format!("{scene}: not a tetrahedralization: {error}"),
+        }
+    }
+}
 
 impl OctreeInfo {
     pub fn markdown(&self) -> String {
