@@ -5,13 +5,12 @@ use super::Status;
 use super::answer::Answering;
 use super::count::Flags;
 use crate::choice::Choice;
-use crate::engine::answering::{AnsweringError, MAX_LINE, NOT_JSON, answer, open_lines, reader};
+use crate::engine::answering::{answer, open_cases, read_answers};
 use crate::engine::standing::Standing;
 use crate::family::{CountKind, Kind};
 use serde_json::Value;
-use std::collections::HashMap;
 use std::io::BufRead;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub(crate) struct Args {
@@ -54,89 +53,6 @@ impl super::Io for Args {
             .output("--json", self.json.as_deref())
             .output("--dump", self.dump.as_deref())
     }
-}
-
-/// Why an answers file cannot be read.
-#[derive(Debug, thiserror::Error)]
-pub(crate) enum JudgeError {
-    #[error("{file}:{line}: {why}")]
-    Answer {
-        file: String,
-        line: usize,
-        why: String,
-    },
-    #[error("{file}: {why}")]
-    File { file: String, why: String },
-}
-
-/// Each non-blank line of an answers file as a JSON value, with its line number, handed to `take`,
-/// read through `exit`'s reader (each line at most its length bound); an error names file and line.
-pub(crate) fn each_answer(
-    path: &Path,
-    mut take: impl FnMut(usize, Value) -> Result<(), String>,
-) -> Result<(), JudgeError> {
-    let file = path.display().to_string();
-    let f = open_lines(path).map_err(|e| JudgeError::File {
-        file: file.clone(),
-        why: match e {
-            AnsweringError::File { why, .. } => why,
-            e => e.to_string(),
-        },
-    })?;
-    for (i, l) in reader(f) {
-        let at = |why: String| JudgeError::Answer {
-            file: file.clone(),
-            line: i,
-            why,
-        };
-        let l = l.map_err(at)?;
-        if l.trim().is_empty() {
-            continue;
-        }
-        let v = match serde_json::from_str::<Value>(&l) {
-            Ok(v) => v,
-            // Not JSON, but naming its case line: an error for that line, the run goes on.
-            Err(e) => match line_number(&l) {
-                Some(n) => serde_json::json!({ "line": n, NOT_JSON: not_json(&e) }),
-                None => return Err(at(not_json(&e))),
-            },
-        };
-        take(i, v).map_err(at)?;
-    }
-    Ok(())
-}
-
-/// Why an answer line is not JSON, naming the forms that are (Python's `json.dumps` writes NaN and
-/// Infinity, which JSON has not).
-fn not_json(e: &serde_json::Error) -> String {
-    format!(
-        "not JSON ({e}); NaN and Infinity are not JSON numbers (Python's json.dumps writes them): a miss is \"tri\": null, \"hit\": false or \"face\": null, without \"t\""
-    )
-}
-
-/// The case line an answer line names in its `"line": N`, read from text that is not JSON.
-fn line_number(text: &str) -> Option<usize> {
-    let rest = &text[text.find("\"line\"")? + 6..];
-    let rest = rest.trim_start().strip_prefix(':')?.trim_start();
-    let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
-    digits.parse().ok().filter(|&n| n >= 1)
-}
-
-/// The answers by case line, read whole (each a JSON object with a `line`).
-fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, JudgeError> {
-    let mut out = HashMap::new();
-    each_answer(path, |_, v| {
-        let n = v
-            .get("line")
-            .and_then(Value::as_u64)
-            .filter(|&n| n >= 1)
-            .ok_or("needs \"line\", the case's line number (1-based)")? as usize;
-        match out.insert(n, v) {
-            Some(_) => Err(format!("a second answer for case line {n}")),
-            None => Ok(()),
-        }
-    })?;
-    Ok(out)
 }
 
 pub(crate) fn run(a: Args) -> Status {
@@ -210,22 +126,13 @@ pub(crate) fn run(a: Args) -> Status {
 /// many lines are left.
 fn line_runs(lines: &[usize]) -> String {
     const RUNS: usize = 8;
-    let mut runs: Vec<(usize, usize)> = Vec::new();
-    for &n in lines {
-        match runs.last_mut() {
-            Some((_, end)) if *end + 1 == n => *end = n,
-            _ => runs.push((n, n)),
-        }
-    }
+    let runs = crate::engine::runs(lines);
     let shown: Vec<String> = runs
         .iter()
         .take(RUNS)
-        .map(|&(a, b)| match a == b {
-            true => a.to_string(),
-            false => format!("{a}-{b}"),
-        })
+        .map(crate::engine::run_text)
         .collect();
-    let left: usize = runs.iter().skip(RUNS).map(|(a, b)| b - a + 1).sum();
+    let left: usize = runs.iter().skip(RUNS).map(|r| r.clone().count()).sum();
     match (shown.as_slice(), left) {
         ([one], 0) if lines.len() == 1 => format!("line {one}"),
         ([one], 0) => format!("lines {one}"),
@@ -237,27 +144,6 @@ fn line_runs(lines: &[usize]) -> String {
 /// `judge` judges no walk case: answers to walks come as a scene's rays.
 fn refuse(_: Kind) -> String {
     "judge answers tetrahedron, triangle and octree cell cases, not walk cases".into()
-}
-
-/// The cases file opened once (a pipe, `/dev/stdin`, cannot be read twice): its first line read to
-/// see whether it is a `count --rays-out` header, then put back in front of the rest.
-fn open_cases(path: &Path) -> Result<(Option<Value>, Box<dyn BufRead + Send>), super::Error> {
-    let file = path.display().to_string();
-    let mut input = open_lines(path)?;
-    // The first line only, at most a line's length bound (a longer one is no header).
-    let mut first = Vec::new();
-    std::io::Read::take(&mut input, MAX_LINE)
-        .read_until(b'\n', &mut first)
-        .map_err(|e| JudgeError::File {
-            file: file.clone(),
-            why: e.to_string(),
-        })?;
-    let header = match serde_json::from_slice::<Value>(&first) {
-        Ok(v) if v.get("scene").is_some() => Some(v),
-        _ => None,
-    };
-    let again = std::io::Read::chain(std::io::Cursor::new(first), input);
-    Ok((header, Box::new(std::io::BufReader::new(again))))
 }
 
 /// Walks given for the rays of a `count --rays-out` file (`header`, its first line, then `input`),

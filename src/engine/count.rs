@@ -844,24 +844,11 @@ pub fn read_shards<F: Counted>(
 
 /// Sorted indices as runs, `0-4, 7, 9-12` (`none` when empty).
 fn runs(sorted: &[usize]) -> String {
-    let mut out: Vec<String> = Vec::new();
-    let mut i = 0;
-    while i < sorted.len() {
-        let mut j = i;
-        while j + 1 < sorted.len() && sorted[j + 1] == sorted[j] + 1 {
-            j += 1;
-        }
-        out.push(if i == j {
-            sorted[i].to_string()
-        } else {
-            format!("{}-{}", sorted[i], sorted[j])
-        });
-        i = j + 1;
-    }
-    if out.is_empty() {
+    let runs: Vec<String> = super::runs(sorted).iter().map(super::run_text).collect();
+    if runs.is_empty() {
         "none".into()
     } else {
-        out.join(", ")
+        runs.join(", ")
     }
 }
 

@@ -36,6 +36,27 @@ pub fn under_labellings<E>(
     Ok(all)
 }
 
+/// Sorted numbers as runs of consecutive ones: `0, 1, 2, 4` as `0..=2` and `4..=4`.
+pub fn runs(sorted: &[usize]) -> Vec<std::ops::RangeInclusive<usize>> {
+    let mut out: Vec<std::ops::RangeInclusive<usize>> = Vec::new();
+    for &n in sorted {
+        match out.last_mut() {
+            Some(r) if *r.end() + 1 == n => *r = *r.start()..=n,
+            _ => out.push(n..=n),
+        }
+    }
+    out
+}
+
+/// A run written `a-b`, or `a` alone.
+pub fn run_text(r: &std::ops::RangeInclusive<usize>) -> String {
+    if r.start() == r.end() {
+        r.start().to_string()
+    } else {
+        format!("{}-{}", r.start(), r.end())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     /// Each number keeps its place: the own labelling's first, then labelling 1, 2, … in order; the

@@ -13,13 +13,14 @@ use crate::cli::bench::Args as BenchArgs;
 use crate::cli::choice;
 use crate::cli::count::Dump;
 use crate::cli::count::{Args as CountArgs, FamilyFlags, Flags, held, views};
-use crate::cli::judge::{Args as JudgeArgs, JudgeError, each_answer};
+use crate::cli::judge::Args as JudgeArgs;
 use crate::cli::render::{
     Args as RenderArgs, Drawn, What, beside, drawn_methods, finish, views_of, write,
 };
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{AnswererArg, BackendArg, Error, Files, Io, Status, WgslArg, faces, fits};
 use crate::engine::answerer::Answerer;
+use crate::engine::answering::{AnswersError, each_answer};
 use crate::engine::count::{GivenWalks, Shard};
 use crate::engine::standing::Standings;
 use crate::family::ExitFace;
@@ -220,7 +221,7 @@ impl Flags for Walks {
     /// with its view, pixel and starting tetrahedron.
     const RAYS_OUT: bool = true;
     fn judge_rays(a: &JudgeArgs, header: Value, input: Box<dyn BufRead + Send>) -> Status {
-        let header = serde_json::from_value(header).map_err(|e| JudgeError::Answer {
+        let header = serde_json::from_value(header).map_err(|e| AnswersError::Answer {
             file: a.cases.display().to_string(),
             line: 1,
             why: format!("not a count --rays-out header: {e}"),
