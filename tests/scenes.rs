@@ -289,7 +289,7 @@ fn subdividing_the_bunny_is_byte_for_byte_the_same() {
         (said["levels"].as_u64(), said["triangles"].as_u64()),
         (Some(1), Some(3674 * 4))
     );
-    let m = tetwalk::scenes::model::Model::read(&dir.path().join("a.off")).unwrap();
+    let m = tetwalk::scenes::model::Surface::read(&dir.path().join("a.off")).unwrap();
     assert_eq!(m.triangles.len(), 3674 * 16);
     m.check_closed().unwrap();
     let (ok, said) = tetwalk(

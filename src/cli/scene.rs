@@ -5,7 +5,7 @@ use crate::engine::info::{SceneCheck, SceneInfo};
 use crate::mesh::Mesh;
 use crate::mesh::export::Exported;
 use crate::scenes::build::build_scene;
-use crate::scenes::model::Model;
+use crate::scenes::model::Surface;
 use glam::Vec3;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -153,7 +153,7 @@ pub(crate) fn run(s: Scene) -> Status {
                 return Err(format!("--tetgen-seconds {tetgen_seconds} is not in (0, 1e6]").into());
             }
             let json = JsonOut::new(json.as_deref())?;
-            let m = Model::read(&model)?;
+            let m = Surface::read(&model)?;
             let out = out.unwrap_or_else(|| model.with_extension(""));
             let text = out.to_string_lossy();
             if out.is_dir() || text.ends_with('/') || out.file_name().is_none() {
@@ -186,7 +186,7 @@ pub(crate) fn run(s: Scene) -> Status {
                 return Err(format!("--levels {levels} is not 1 to 4").into());
             }
             let json = JsonOut::new(json.as_deref())?;
-            let mut m = Model::read(&model)?;
+            let mut m = Surface::read(&model)?;
             for _ in 0..levels {
                 m = m.loop_subdivided()?;
             }

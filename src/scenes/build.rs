@@ -2,7 +2,7 @@
 //! (Si 2015) as a constrained Delaunay tetrahedralization, with every point exactly an f32.
 
 use super::SceneError;
-use super::model::Model;
+use super::model::Surface;
 use crate::child::ChildError;
 use crate::mesh::{Mesh, load_tetgen};
 use glam::Vec3;
@@ -25,7 +25,7 @@ pub const MAX_COORDINATE: f64 = 1e30;
 /// half-diagonal away from its centre on every side: the points and triangles TetGen gets, box corners
 /// last. Refused when the moved model or its box cannot be represented: a coordinate not finite or
 /// beyond [`MAX_COORDINATE`], or a box that f32 cannot place strictly around the model.
-pub fn boxed(model: &Model, offset: Vec3) -> Result<Model, SceneError> {
+pub fn boxed(model: &Surface, offset: Vec3) -> Result<Surface, SceneError> {
     let bad = |why: String| SceneError::Unrepresentable(why);
     if !offset.is_finite() {
         return Err(bad(format!("the offset {offset} is not finite")));
@@ -56,7 +56,7 @@ pub fn boxed(model: &Model, offset: Vec3) -> Result<Model, SceneError> {
         )));
     }
     let base = points.len() as u32;
-    let mut out = Model {
+    let mut out = Surface {
         points,
         triangles: model.triangles.clone(),
     };
@@ -81,7 +81,7 @@ pub fn boxed(model: &Model, offset: Vec3) -> Result<Model, SceneError> {
     Ok(out)
 }
 
-fn smesh(m: &Model) -> String {
+fn smesh(m: &Surface) -> String {
     let mut s = format!("{} 3 0 0\n", m.points.len());
     for (i, p) in m.points.iter().enumerate() {
         // f32 widened to f64 prints a decimal that reads back as exactly that value.
@@ -179,7 +179,7 @@ const ROUNDS: usize = 6;
 /// checked before anything is written. Fails, writing nothing, when that does not happen within a few
 /// rounds, or TetGen fails or runs past `limit`.
 pub fn build_scene(
-    model: &Model,
+    model: &Surface,
     quality: bool,
     offset: Vec3,
     out: &Path,

@@ -5,9 +5,10 @@ use glam::Vec3;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// A triangle model.
+/// A closed model's triangle surface, as read from OFF, OBJ or ASCII PLY (named apart from the
+/// arithmetic models, `crate::methods::Model`).
 #[derive(Clone, Debug, Default)]
-pub struct Model {
+pub struct Surface {
     pub points: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
 }
@@ -26,9 +27,9 @@ fn whole(path: &Path, what: impl std::fmt::Display) -> SceneError {
     }
 }
 
-impl Model {
+impl Surface {
     /// Read a model by its extension (`.off`, `.obj`, `.ply`); polygons are fanned into triangles.
-    pub fn read(path: &Path) -> Result<Model, SceneError> {
+    pub fn read(path: &Path) -> Result<Surface, SceneError> {
         let text =
             std::fs::read_to_string(path).map_err(|e| whole(path, format!("cannot read: {e}")))?;
         let ext = path
@@ -72,7 +73,7 @@ impl Model {
 }
 
 fn push_polygon(
-    m: &mut Model,
+    m: &mut Surface,
     poly: &[u32],
     n: usize,
     path: &Path,
@@ -115,7 +116,7 @@ fn lines(text: &str) -> impl Iterator<Item = (usize, Vec<&str>)> {
         .filter(|(_, w)| !w.is_empty())
 }
 
-fn read_off(path: &Path, text: &str) -> Result<Model, SceneError> {
+fn read_off(path: &Path, text: &str) -> Result<Surface, SceneError> {
     let mut it = lines(text);
     let (l, head) = it.next().ok_or_else(|| err(path, 1, "empty file"))?;
     let mut counts = if head[0] == "OFF" {
@@ -137,7 +138,7 @@ fn read_off(path: &Path, text: &str) -> Result<Model, SceneError> {
         parse(counts[0])?,
         parse(counts.get(1).copied().unwrap_or("x"))?,
     );
-    let mut m = Model::default();
+    let mut m = Surface::default();
     for _ in 0..nv {
         let (l, w) = it
             .next()
@@ -159,8 +160,8 @@ fn read_off(path: &Path, text: &str) -> Result<Model, SceneError> {
     Ok(m)
 }
 
-fn read_obj(path: &Path, text: &str) -> Result<Model, SceneError> {
-    let mut m = Model::default();
+fn read_obj(path: &Path, text: &str) -> Result<Surface, SceneError> {
+    let mut m = Surface::default();
     let mut faces = Vec::new();
     for (l, w) in lines(text) {
         match w[0] {
@@ -192,7 +193,7 @@ fn read_obj(path: &Path, text: &str) -> Result<Model, SceneError> {
     Ok(m)
 }
 
-fn read_ply(path: &Path, text: &str) -> Result<Model, SceneError> {
+fn read_ply(path: &Path, text: &str) -> Result<Surface, SceneError> {
     let mut it = lines(text);
     let (mut nv, mut nf) = (0usize, 0usize);
     let mut header_end = 0;
@@ -210,7 +211,7 @@ fn read_ply(path: &Path, text: &str) -> Result<Model, SceneError> {
             _ => {}
         }
     }
-    let mut m = Model::default();
+    let mut m = Surface::default();
     for _ in 0..nv {
         let (l, w) = it
             .next()

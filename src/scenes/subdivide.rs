@@ -3,7 +3,7 @@
 //! for bit, on every machine. It makes the paper-scale bunny (seed 000's BUNNY has about 69k triangles).
 
 use super::SceneError;
-use super::model::Model;
+use super::model::Surface;
 use glam::Vec3;
 use std::collections::HashMap;
 
@@ -24,11 +24,11 @@ fn rounded(p: [f64; 3]) -> Vec3 {
     Vec3::from_array(p.map(|x| x as f32))
 }
 
-impl Model {
+impl Surface {
     /// One level of Loop subdivision of a closed model: every triangle split into four, each old point
     /// moved to `(1 - nβ) p + β Σ neighbours` and each edge point `3/8 (a + b) + 1/8 (c + d)` (`c`, `d`
     /// the far corners of the edge's two triangles). Refuses a model that is not closed.
-    pub fn loop_subdivided(&self) -> Result<Model, SceneError> {
+    pub fn loop_subdivided(&self) -> Result<Surface, SceneError> {
         self.check_closed()?;
         // Each directed edge a → b names the third corner of its triangle; each point its neighbours,
         // in the order the triangles list them.
@@ -78,7 +78,7 @@ impl Model {
             );
             triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
         }
-        Ok(Model { points, triangles })
+        Ok(Surface { points, triangles })
     }
 
     /// The model as OFF text, each coordinate the shortest decimal that reads back as its f32.
@@ -99,8 +99,8 @@ impl Model {
 mod tests {
     use super::*;
 
-    fn tetrahedron() -> Model {
-        Model {
+    fn tetrahedron() -> Surface {
+        Surface {
             points: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
             triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
         }
@@ -122,7 +122,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("again.off");
         std::fs::write(&path, again.off_text()).unwrap();
-        let back = Model::read(&path).unwrap();
+        let back = Surface::read(&path).unwrap();
         assert_eq!(back.points, again.points, "OFF text reads back bit for bit");
         assert_eq!(back.triangles, again.triangles);
     }
