@@ -18,9 +18,6 @@ mod shrink;
 pub(crate) mod stress;
 mod verify;
 
-use crate::choice::Choice;
-use crate::family::Family;
-use crate::registry::{Gpu, Named};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -272,65 +269,10 @@ fn quiet_mesa() {
     }
 }
 
-/// One registered method, as `tetwalk methods` lists it.
-#[derive(serde::Serialize)]
-struct Listed {
-    name: &'static str,
-    family: &'static str,
-    claims_robust: bool,
-    reference: bool,
-    gpu: String,
-    implements: &'static str,
-}
-
-/// The methods of family `F`.
-fn listed<F: Family>() -> Vec<Listed> {
-    F::methods()
-        .iter()
-        .map(|m| {
-            let i = m.info();
-            Listed {
-                name: i.name,
-                family: F::NAME,
-                claims_robust: i.claim.is_some(),
-                reference: i.reference,
-                gpu: match i.gpu {
-                    Gpu::Wgsl(_) => "yes".into(),
-                    Gpu::CpuOnly(why) => format!("no: {why}"),
-                },
-                implements: i.source,
-            }
-        })
-        .collect()
-}
-
 fn methods(json: Option<PathBuf>) -> Status {
     let out = JsonOut::new(json.as_deref())?;
-    // Each registry once: families that share one (exit faces and walks) list it under the first.
-    let mut seen: Vec<*const ()> = Vec::new();
-    let mut rows: Vec<Listed> = Vec::new();
-    for &k in crate::family::Kind::ALL {
-        crate::with_family!(k, F => {
-            let at = F::methods().as_ptr() as *const ();
-            if !seen.contains(&at) {
-                seen.push(at);
-                rows.extend(listed::<F>());
-            }
-        });
-    }
-    println!("| method | family | claims robust | GPU | implements |\n|---|---|---|---|---|");
-    for r in &rows {
-        let yes = |b: bool| if b { "yes" } else { "no" };
-        let claims = if r.reference {
-            "reference".to_string()
-        } else {
-            yes(r.claims_robust).to_string()
-        };
-        println!(
-            "| {} | {} | {} | {} | {} |",
-            r.name, r.family, claims, r.gpu, r.implements
-        );
-    }
+    let rows = crate::family::listed();
+    print!("{}", crate::report::methods::table(&rows));
     out.finish(&rows)?;
     Ok(ExitCode::SUCCESS)
 }

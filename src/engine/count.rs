@@ -515,7 +515,7 @@ pub fn wrong_rays(
         .collect()
 }
 
-/// A count's wrong ray answered again ([`rerun`]): where the method stops now, and whether it is
+/// A count's wrong ray answered again ([`Dumped::line`]): where the method stops now, and whether it is
 /// still wrong, and wrong the same way (stopping where it was recorded to).
 pub struct Rerun {
     /// The method's name, as its family's registry spells it.

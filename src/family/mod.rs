@@ -443,6 +443,50 @@ pub fn by_name<F: Family>(name: &str) -> Result<&'static F::Method, UnknownMetho
     crate::registry::find(F::methods(), name)
 }
 
+/// One registered method, as `tetwalk methods` lists it.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Listed {
+    pub name: &'static str,
+    pub family: &'static str,
+    pub claims_robust: bool,
+    pub reference: bool,
+    /// `yes`, or `no: ` and why.
+    pub gpu: String,
+    /// The paper, section and equation it implements.
+    pub implements: &'static str,
+}
+
+/// Every registered method, each registry once: families that share one (exit faces and walks)
+/// list it under the first.
+pub fn listed() -> Vec<Listed> {
+    use crate::choice::Choice;
+    let mut seen: Vec<*const ()> = Vec::new();
+    let mut rows: Vec<Listed> = Vec::new();
+    for &k in Kind::ALL {
+        crate::with_family!(k, F => {
+            let at = F::methods().as_ptr() as *const ();
+            if !seen.contains(&at) {
+                seen.push(at);
+                rows.extend(F::methods().iter().map(|m| {
+                    let i = m.info();
+                    Listed {
+                        name: i.name,
+                        family: F::NAME,
+                        claims_robust: i.claim.is_some(),
+                        reference: i.reference,
+                        gpu: match i.gpu {
+                            crate::registry::Gpu::Wgsl(_) => "yes".into(),
+                            crate::registry::Gpu::CpuOnly(why) => format!("no: {why}"),
+                        },
+                        implements: i.source,
+                    }
+                }));
+            }
+        });
+    }
+    rows
+}
+
 /// Methods of family `F` from a comma-separated list (`all` for every one).
 pub fn parse_list<F: Family>(names: &str) -> Result<Vec<&'static F::Method>, UnknownMethod> {
     crate::registry::list(F::methods(), names)

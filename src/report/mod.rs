@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod count;
 pub mod lines;
+pub mod methods;
 pub mod paper;
 pub mod replay;
 pub mod scene_info;
