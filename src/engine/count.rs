@@ -680,22 +680,16 @@ fn rerun<F: Counted>(
             view: d.view,
             scene: d.scene.clone(),
         })?;
-    let rays = views.rays(&camera);
     let i = (y * views.width + x) as usize;
     let bits = |r: &Ray| [r.org, r.dir].map(|v| v.to_array().map(f32::to_bits));
-    if bits(&rays[i]) != bits(&ray) {
+    if bits(&camera.ray(x, y, views.width, views.height)) != bits(&ray) {
         return Err(RerunError::NotItsRay {
             view: d.view,
             pixel: d.pixel,
             scene: d.scene.clone(),
         });
     }
-    let scene = Scene {
-        mesh,
-        on: backend.mesh(mesh),
-        max_steps: default_max_steps(mesh),
-        views,
-    };
+    let max_steps = default_max_steps(mesh);
     let view = Some((
         d.scene.clone(),
         c.clone(),
@@ -703,7 +697,14 @@ fn rerun<F: Counted>(
         d.method.clone(),
         backend.kind(),
     ));
+    // The mesh is made ready on the backend (uploaded to a GPU) only where a view is answered.
     if *held != view {
+        let scene = Scene {
+            mesh,
+            on: backend.mesh(mesh),
+            max_steps,
+            views,
+        };
         let ready = F::prepare(&scene, &family, backend, located)?;
         let at = Prepared::<F> {
             backend,
@@ -716,16 +717,17 @@ fn rerun<F: Counted>(
             audited: &[],
             reference_kept: false,
         };
-        *walks = F::answer_rays(&at, m, &rays)?;
+        *walks = F::answer_rays(&at, m, &views.rays(&camera))?;
         *held = view;
     }
     let now = walks[i];
-    let exact = backend.walks(
+    // The exact walk runs on the CPU whatever the backend (`Backend::for_method`).
+    let exact = crate::backend::CPU.walks(
         crate::registry::reference(),
-        &scene.on,
+        &crate::backend::CPU.mesh(mesh),
         &[ray],
         located,
-        scene.max_steps,
+        max_steps,
     )?[0];
     let still_wrong = judge(mesh, &ray, &now, &exact).is_some();
     Ok(Rerun {
