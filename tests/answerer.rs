@@ -717,8 +717,8 @@ fn triangles_and_octree_cells_travel_in_binary_records_too() {
 }
 
 /// `--answerer-claims`: the program claims what the family's methods claim, and `--fail-on claims`
-/// fails the run that refutes it (status 1) and passes one that does not; an answerer may not take
-/// the name of one of tetwalk's methods.
+/// fails the run that refutes it (status 1) and passes one that does not, in `stress` and in
+/// `count`; an answerer may not take the name of one of tetwalk's methods.
 #[test]
 fn an_answerer_that_claims_is_held_to_its_claim() {
     let dir = tempfile::tempdir().unwrap();
@@ -743,6 +743,33 @@ fn an_answerer_that_claims_is_held_to_its_claim() {
     let (code, _, err) = run("well");
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("claims robust: holds here"), "{err}");
+    // A count asks it every step of every walk: with its own face numbering it is right on the
+    // small far grid; with the identity numbering every walk is wrong, and the claim refuted.
+    for (faces, status, says) in [
+        ("3,0,1,2", 0, "claims robust: holds here"),
+        ("0,1,2,3", 1, "claims robust: REFUTED by 512"),
+    ] {
+        let (code, _, err) = tetwalk(&[
+            "count",
+            "--scene",
+            "kuhn-far",
+            "--views",
+            "2",
+            "--size",
+            "16x16",
+            "--answerer",
+            &exe,
+            "--answerer-format",
+            "binary",
+            "--faces",
+            faces,
+            "--answerer-claims",
+            "--fail-on",
+            "claims",
+        ]);
+        assert_eq!(code, status, "{err}");
+        assert!(err.contains(says), "{err}");
+    }
     let (code, _, err) = tetwalk(&[
         "stress",
         "--answerer",

@@ -329,15 +329,7 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     dump.finish()?;
     print!("{}", report.table());
     out.finish(&report)?;
-    let mut standings = report.standings();
-    if let Some(x) = &outside {
-        let wrong = standings
-            .iter()
-            .find(|s| s.method == x.name)
-            .map_or(0, |s| s.wrong);
-        x.claim::<F>(&mut standings, wrong);
-    }
-    Ok(fail.status("count", &standings))
+    Ok(fail.status("count", &report.standings_with(outside.as_ref())))
 }
 
 /// `--dump FILE`: every wrong ray, one JSON line each, the file complete or absent.

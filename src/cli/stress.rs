@@ -9,7 +9,7 @@ use crate::choice::Choice;
 use crate::engine::filing::Filing;
 use crate::engine::standing::Standings;
 use crate::engine::stress::{self, StressSettings, Who};
-use crate::family::{self, Family, Kind, Scale};
+use crate::family::{self, Kind, Scale};
 use crate::report::Formats;
 use crate::report::stress::{disagreements, filed};
 use std::path::PathBuf;
@@ -280,7 +280,7 @@ fn stress<F: Rows>(a: Args) -> Status {
         out.finish(&report)?;
         return Ok(a
             .fail
-            .status("stress", &standings(&report, answerer.as_ref())));
+            .status("stress", &report.standings_with(answerer.as_ref())));
     };
     let found = a.found.unwrap_or_else(|| PathBuf::from("corpora/found"));
     let mut filing = Filing::new(found, a.keep, contract);
@@ -294,24 +294,5 @@ fn stress<F: Rows>(a: Args) -> Status {
     print!("{}", filed(&filing, report.rounds));
     out.finish(&report)?;
     Ok(a.fail
-        .status("stress", &standings(&report, answerer.as_ref())))
-}
-
-/// Each judged's standing, the answerer's with the claim it makes (`--answerer-claims`).
-fn standings<F: Family>(
-    r: &stress::StressReport<F>,
-    x: Option<&crate::engine::answerer::Answerer>,
-) -> Vec<crate::engine::standing::Standing> {
-    let mut s = r.standings();
-    if let Some(x) = x {
-        let refuted = r
-            .rows
-            .iter()
-            .flat_map(|row| &row.tallies)
-            .filter(|t| t.method == x.name)
-            .map(|t| F::refuted(&t.counts))
-            .sum();
-        x.claim::<F>(&mut s, refuted);
-    }
-    s
+        .status("stress", &report.standings_with(answerer.as_ref())))
 }

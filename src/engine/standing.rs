@@ -123,10 +123,34 @@ pub fn summed(all: impl IntoIterator<Item = Standing>) -> Vec<Standing> {
 /// A report's standings, one per method judged (a count's reference row is what the others are
 /// judged against, audited: not among them).
 pub trait Standings {
+    /// The family judged.
+    type Of: Family;
     fn standings(&self) -> Vec<Standing>;
+    /// The answers of the method or program named that refute its family's claim.
+    fn refuted(&self, name: &str) -> u64;
+    /// The standings, with the claim a program outside tetwalk makes (`--answerer-claims`) held to
+    /// its answers here.
+    fn standings_with(&self, outside: Option<&crate::engine::answerer::Answerer>) -> Vec<Standing> {
+        let mut s = self.standings();
+        if let Some(x) = outside {
+            x.claim::<Self::Of>(&mut s, self.refuted(&x.name));
+        }
+        s
+    }
 }
 
 impl<F: Family> Standings for StressReport<F> {
+    type Of = F;
+
+    fn refuted(&self, name: &str) -> u64 {
+        self.rows
+            .iter()
+            .flat_map(|row| &row.tallies)
+            .filter(|t| t.method == name)
+            .map(|t| F::refuted(&t.counts))
+            .sum()
+    }
+
     fn standings(&self) -> Vec<Standing> {
         summed(self.rows.iter().flat_map(|r| {
             r.tallies.iter().map(|t| {
@@ -139,6 +163,21 @@ impl<F: Family> Standings for StressReport<F> {
 }
 
 impl<F: crate::family::count::Counted> Standings for crate::engine::count::CountReport<F> {
+    type Of = F;
+
+    /// Its wrong rays (the rays a count judges refute a robust claim; first hits cannot tell leaks
+    /// from misses beside the object).
+    fn refuted(&self, name: &str) -> u64 {
+        use crate::family::count::Counts;
+        let own = F::reference_row() as usize;
+        self.methods
+            .iter()
+            .skip(own)
+            .filter(|m| m.method == name)
+            .map(|m| m.counts.wrong_total())
+            .sum()
+    }
+
     fn standings(&self) -> Vec<Standing> {
         use crate::family::count::Counts;
         let own = F::reference_row() as usize;
