@@ -202,15 +202,20 @@ fn an_answerer_in_json_lines_gets_the_verdicts_judge_gives() {
         judged["methods"][0]["wrong"].as_u64(),
         Some(t["wrong_face"].as_u64().unwrap() + t["no_exit_face"].as_u64().unwrap())
     );
-    for (cmd, says) in [
-        ("sleep 100", "time limit"),
+    for (cmd, cases, says) in [
+        ("sleep 100", "10", "time limit"),
+        // A program that never reads its input is stopped at the time limit, even when a batch is
+        // more than a pipe holds (its writer, blocked, ends once the program is stopped).
+        ("sleep 100000", "100000", "within its time limit of 2s"),
         // Its exit status is said, whether its exit or its output's end is seen first.
         (
             "exit 3",
+            "10",
             "its output ended after 0 of a batch's 10 answers (lines 1..=10); it exited with exit status: 3",
         ),
         (
             r#"python3 -c 'import sys, json; [print(json.dumps({"line": json.loads(l)["line"], "face": 7}), flush=True) for l in sys.stdin if l.strip()]'"#,
+            "10",
             "not 0..3",
         ),
     ] {
@@ -223,26 +228,11 @@ fn an_answerer_in_json_lines_gets_the_verdicts_judge_gives() {
             "--rows",
             "well",
             "--cases",
-            "10",
+            cases,
         ]);
         assert_eq!(code, 2, "{cmd}: {err}");
         assert!(err.contains(says), "{cmd}: {err}");
     }
-    // A program that never reads its input is stopped at the time limit, even when a batch is more
-    // than a pipe holds (its writer, blocked, ends once the program is stopped).
-    let (code, _, err) = tetwalk(&[
-        "stress",
-        "--answerer",
-        "sleep 100000",
-        "--answerer-seconds",
-        "2",
-        "--rows",
-        "well",
-        "--cases",
-        "100000",
-    ]);
-    assert_eq!(code, 2, "{err}");
-    assert!(err.contains("within its time limit of 2s"), "{err}");
     let (code, _, err) = tetwalk(&["stress", "--answerer", FACE_ZERO, "--seconds", "1"]);
     assert_eq!(code, 2);
     assert!(err.contains("--found"), "{err}");

@@ -587,7 +587,8 @@ pub struct Dumped {
     faces: Faces,
     scenes: HashMap<String, Mesh>,
     backends: HashMap<BackendKind, Result<Backend, String>>,
-    view: Option<(String, Counting, usize, String, BackendKind)>,
+    /// The view (scene, count, index, method, backend) whose answers `walks` holds.
+    held: Option<(String, Counting, usize, String, BackendKind)>,
     walks: Vec<Walk>,
 }
 
@@ -604,7 +605,7 @@ impl Dumped {
             faces,
             scenes: HashMap::new(),
             backends: HashMap::new(),
-            view: None,
+            held: None,
             walks: Vec::new(),
         }
     }
@@ -633,9 +634,9 @@ impl Dumped {
         let family = <crate::family::CountKind as crate::choice::Choice>::from_name(&c.family)
             .ok_or_else(|| RerunError::Family(c.family.clone()))?;
         let mesh = &self.scenes[&d.scene];
-        let (view, walks) = (&mut self.view, &mut self.walks);
+        let (held, walks) = (&mut self.held, &mut self.walks);
         let rerun =
-            crate::with_counted!(family, F => rerun::<F>(d, c, mesh, backend, view, walks))?;
+            crate::with_counted!(family, F => rerun::<F>(d, c, mesh, backend, held, walks))?;
         Ok(Redone::Rerun(rerun, backend.describe()))
     }
 }
@@ -721,14 +722,10 @@ fn rerun<F: Counted>(
         *held = view;
     }
     let now = walks[i];
-    // The exact walk runs on the CPU whatever the backend (`Backend::for_method`).
-    let exact = crate::backend::CPU.walks(
-        crate::registry::reference(),
-        &crate::backend::CPU.mesh(mesh),
-        &[ray],
-        located,
-        max_steps,
-    )?[0];
+    // The exact walk runs where the backend runs the reference (the CPU), on the mesh made ready there.
+    let reference = crate::registry::reference();
+    let there = backend.for_method(reference);
+    let exact = there.walks(reference, &there.mesh(mesh), &[ray], located, max_steps)?[0];
     let still_wrong = judge(mesh, &ray, &now, &exact).is_some();
     Ok(Rerun {
         method: m.name().to_string(),
