@@ -455,8 +455,8 @@ fn replay_found_cases_says_whether_each_fails_again() {
 
 /// `replay` answers a count's wrong rays again for every counted family (walks, an octree's cells,
 /// the triangles in packets, whose answers come from the whole view): each fails again the same
-/// way; a recorded ending changed is reported (status 1); a ray edited by one ulp, settings no count
-/// takes, and a line that records no count are refused, naming the line.
+/// way; a recorded ending changed is reported (status 1); a ray edited by one ulp, views and settings
+/// no count takes, and a line that records no count are refused, naming the line.
 #[test]
 fn replay_answers_every_familys_dumped_wrong_rays_again() {
     let dir = tempfile::tempdir().unwrap();
@@ -519,8 +519,13 @@ fn replay_answers_every_familys_dumped_wrong_rays_again() {
         settings["count"]["settings"] = serde_json::json!({"packet": "many"});
         let mut none = lines[0].clone();
         none.as_object_mut().unwrap().remove("count");
+        // Views no count takes: placed one by one they would never end.
+        let mut views = lines[0].clone();
+        views["count"]["views"]["views"] = serde_json::json!(1u64 << 50);
+        views["view"] = serde_json::json!((1u64 << 50) - 1);
         for (bad, says) in [
             (edited, "is not view"),
+            (views, "more than a count takes"),
             (settings, "settings are not"),
             (none, "records no count"),
         ] {

@@ -5,6 +5,7 @@
 use super::Error;
 use crate::backend::{Backend, BackendKind};
 use crate::choice::Choice;
+use crate::engine::MEMORY_BUDGET;
 use crate::exact::hit::T_ULPS;
 use crate::family::Family;
 use crate::family::contract::{Contract, EntryGiven, Orientation, Origin};
@@ -137,8 +138,8 @@ pub(crate) fn t_ulps(given: Option<f64>) -> Result<f64, Error> {
     }
 }
 
-/// Most viewpoints a count or bench places (seed 000's runs have 1,282).
-const MAX_VIEWS: usize = 1 << 20;
+/// Most viewpoints a count or bench places.
+const MAX_VIEWS: usize = crate::scenes::camera::Views::MOST;
 
 /// `--views N` of a count or bench (`what`): 1 to [`MAX_VIEWS`].
 pub(crate) fn view_count(views: usize, what: &str) -> Result<usize, Error> {
@@ -392,9 +393,6 @@ impl WgslArg {
         Ok((backend, methods))
     }
 }
-
-/// Most memory a command may plan to hold at once; larger runs are refused with the figure they need.
-const MEMORY_BUDGET: u64 = 8 << 30;
 
 /// Refuse `what` when it would need more than [`MEMORY_BUDGET`] bytes.
 pub(crate) fn fits(what: &str, bytes: u128) -> Result<(), Error> {

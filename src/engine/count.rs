@@ -561,6 +561,16 @@ pub enum RerunError {
         height: u32,
     },
     #[error(
+        "{views} views of {width}x{height}: more than a count takes (at most {most} views, a view of at most {gib} GiB at {BYTES_PER_RAY} bytes a ray)",
+        most = Views::MOST,
+        gib = super::MEMORY_BUDGET >> 30
+    )]
+    Views {
+        views: usize,
+        width: u32,
+        height: u32,
+    },
+    #[error(
         "view {view}'s camera lies outside the mesh of scene {scene}: not the mesh counted (counted with --no-faces, or another scene file?)"
     )]
     CameraOutside { view: usize, scene: String },
@@ -670,6 +680,16 @@ fn rerun<F: Counted>(
         return Err(RerunError::Pixel {
             view: d.view,
             pixel: d.pixel,
+            views: views.views,
+            width: views.width,
+            height: views.height,
+        });
+    }
+    // Views no count takes (more viewpoints, or a view larger than a run may hold) are refused
+    // before a view is placed or its rays made.
+    let bytes = views.width as u128 * views.height as u128 * BYTES_PER_RAY as u128;
+    if views.views > Views::MOST || bytes > super::MEMORY_BUDGET as u128 {
+        return Err(RerunError::Views {
             views: views.views,
             width: views.width,
             height: views.height,

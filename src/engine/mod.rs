@@ -19,6 +19,9 @@ pub mod stress;
 pub mod verify;
 pub mod view;
 
+/// Most memory a run may plan to hold at once; larger runs are refused with the figure they need.
+pub const MEMORY_BUDGET: u64 = 8 << 30;
+
 /// Numbers measured under every labelling, written once for `stress`, `count` and `walk`: `own`
 /// (under the cases' or mesh's own labelling, the identity) each beside the same numbers under
 /// labellings `1..n`, which `again(k)` measures in the same order.

@@ -106,6 +106,8 @@ pub struct Views {
 impl Views {
     /// The vertical field of view of every count and render.
     pub const FOV_DEG: f32 = 40.0;
+    /// Most viewpoints a count, render or bench places (seed 000's runs have 1,282).
+    pub const MOST: usize = 1 << 20;
 
     /// View `i`'s camera around the points bounded by `lo` and `hi`.
     pub fn camera(&self, lo: Vec3, hi: Vec3, i: usize) -> Camera {
