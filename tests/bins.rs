@@ -175,7 +175,9 @@ fn no_triangle_a_method_could_hit_is_left_out() {
 /// bit for bit, in every CPU arithmetic model, at packets of 1, 2 and 4.
 #[test]
 fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
-    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required)
+        .unwrap()
+        .mesh;
     let views = Views {
         views: 3,
         width: 40,
@@ -250,9 +252,8 @@ fn the_audit_stops_a_count_whose_bins_do_not_hold() {
             Some(1.0)
         }
     }
-    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let scene = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
     let settings = CountSettings::<Triangle> {
-        scene: "bunny-quality".into(),
         views: Views {
             views: 2,
             width: 32,
@@ -273,7 +274,7 @@ fn the_audit_stops_a_count_whose_bins_do_not_hold() {
     };
     let outside = TriangleMethod::outside::<Everywhere>("everywhere");
     let counted = run(
-        &mesh,
+        &scene,
         &settings,
         &[Answerer::Method(&outside)],
         &cpu,
@@ -288,7 +289,7 @@ fn the_audit_stops_a_count_whose_bins_do_not_hold() {
     let mut claiming = TriangleMethod::outside::<Everywhere>("everywhere");
     claiming.side_error = Some(EdgeScaled);
     match run(
-        &mesh,
+        &scene,
         &settings,
         &[Answerer::Method(&claiming)],
         &cpu,

@@ -417,7 +417,7 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
     use tetwalk::family::Walks;
     use tetwalk::family::count::CountError;
     use tetwalk::scenes::camera::Views;
-    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let scene = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
     let views = Views {
         views: 16,
         width: 64,
@@ -426,7 +426,6 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
         fov_deg: Views::FOV_DEG,
     };
     let settings = |reference: &str| CountSettings::<Walks> {
-        scene: "bunny-quality".into(),
         views,
         reference: ReferenceWalk::named(reference).unwrap(),
         family: (),
@@ -436,10 +435,10 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
     let cpu = Backend::Cpu {
         model: Model::Plain,
     };
-    let ok = run(&mesh, &settings("certified"), &[], &cpu, &|| {}, None).unwrap();
+    let ok = run(&scene, &settings("certified"), &[], &cpu, &|| {}, None).unwrap();
     assert_eq!(ok.audited, ok.rays, "every ray audited");
     // halfspace finds no exit face on one of these rays (the dump of the same count shows it).
-    match run(&mesh, &settings("halfspace"), &[], &cpu, &|| {}, None) {
+    match run(&scene, &settings("halfspace"), &[], &cpu, &|| {}, None) {
         Err(CountError::Audit { reference, .. }) => assert_eq!(reference, "halfspace"),
         other => panic!("the audit must stop it: {other:?}"),
     }

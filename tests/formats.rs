@@ -20,7 +20,9 @@ const FORMATS: [&str; 8] = [
 ];
 
 fn load(name: &str) -> Result<Mesh, String> {
-    tetwalk::scenes::load(&format!("{DIR}/{name}"), Faces::Required).map_err(|e| e.to_string())
+    tetwalk::scenes::load(&format!("{DIR}/{name}"), Faces::Required)
+        .map(|s| s.mesh)
+        .map_err(|e| e.to_string())
 }
 
 /// Every file is the TetGen files' mesh: the same points, tetrahedra (labelled alike), neighbours and
@@ -104,7 +106,9 @@ fn bad_files_are_refused_naming_the_place() {
         &["tets.msh", "no triangles", "--no-faces"],
     );
     let path = dir.path().join("tets.msh");
-    let m = tetwalk::scenes::load(path.to_str().unwrap(), Faces::Optional).unwrap();
+    let m = tetwalk::scenes::load(path.to_str().unwrap(), Faces::Optional)
+        .unwrap()
+        .mesh;
     assert_eq!(m.tets.len(), 1);
     // A hexahedron, an unknown node, a flat tetrahedron (named by its element tag).
     refused(

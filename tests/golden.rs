@@ -29,7 +29,9 @@ fn rows(width: u32, cells: impl Iterator<Item = String>) -> String {
 
 #[test]
 fn bunny_view_is_unchanged() {
-    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required)
+        .unwrap()
+        .mesh;
     let methods: Vec<_> = METHODS.iter().filter(|m| !m.is_reference()).collect();
     let views = Views {
         views: 160,
@@ -345,7 +347,9 @@ fn leak_maps_are_unchanged() {
 /// `mt`, depth 8, capacity 6): the heat map of the paper's Figure 6.
 #[test]
 fn octree_heat_is_unchanged() {
-    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required)
+        .unwrap()
+        .mesh;
     let views = Views {
         views: 160,
         width: 96,

@@ -197,7 +197,7 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
         return;
     };
     let measures = g.measures_kernels();
-    let mesh = scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
+    let scene = scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
     let views = tetwalk::scenes::camera::Views {
         views: 4,
         width: 24,
@@ -213,8 +213,7 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
         g,
     ];
     let r = tetwalk::engine::bench::run(
-        "kuhn",
-        &mesh,
+        &scene,
         false,
         &views,
         &[certified],
@@ -334,7 +333,7 @@ fn paper_gives_a_gpu_its_columns_with_its_adapter() {
     let Some(g) = common::gpu_or_skip() else {
         return;
     };
-    let mesh = scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
+    let scene = scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
     let size = tetwalk::engine::paper::Size {
         views: 2,
         side: 16,
@@ -351,8 +350,7 @@ fn paper_gives_a_gpu_its_columns_with_its_adapter() {
         },
         g,
     ];
-    let r =
-        tetwalk::engine::paper::run("kuhn", &mesh, size, Shard::ALL, &backends, &|| ()).unwrap();
+    let r = tetwalk::engine::paper::run(&scene, size, Shard::ALL, &backends, &|| ()).unwrap();
     assert_eq!(r.counts.len(), 2);
     assert_eq!(r.counts[1].backend, adapter);
     assert_eq!(r.counts[1].rays, r.counts[0].rays);

@@ -27,7 +27,8 @@ fn maria17_answers(rays: &str) -> String {
         header["scene"].as_str().unwrap(),
         tetwalk::mesh::Faces::Required,
     )
-    .unwrap();
+    .unwrap()
+    .mesh;
     let walk = by_name("maria17").unwrap().walk(Model::Plain);
     let max = default_max_steps(&mesh);
     let mut out = String::new();

@@ -312,7 +312,9 @@ fn the_octree_walk_on_the_gpu_ends_as_on_the_cpu() {
     let Some(gpu) = common::gpu_or_skip() else {
         return;
     };
-    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required)
+        .unwrap()
+        .mesh;
     let views = tetwalk::scenes::camera::Views {
         views: 160,
         width: 64,

@@ -20,7 +20,7 @@ const TINY: Size = Size {
 };
 
 fn run(shard: Shard) -> PaperReport {
-    let mesh = tetwalk::scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
+    let scene = tetwalk::scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
     let backends = [
         Backend::Cpu {
             model: Model::Plain,
@@ -29,7 +29,7 @@ fn run(shard: Shard) -> PaperReport {
             model: Model::Fused,
         },
     ];
-    paper::run("kuhn", &mesh, TINY, shard, &backends, &|| ()).unwrap()
+    paper::run(&scene, TINY, shard, &backends, &|| ()).unwrap()
 }
 
 /// What must not depend on sharding: per backend and method, the rays, views and wrong rays by kind
@@ -236,7 +236,6 @@ fn the_shard_and_merge_scripts_add_up_on_a_small_preset() {
             .contains("## Seed 000 Table 4")
     );
     let whole = tetwalk::engine::paper::run(
-        "kuhn",
         &tetwalk::scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap(),
         Size {
             views: 6,

@@ -31,7 +31,9 @@ fn bunny_scenes_load_and_their_counts_check_out() {
         .unwrap();
     assert_eq!(model_triangles, 3674);
     for name in tetwalk::scenes::BUILT_IN {
-        let mesh = tetwalk::scenes::load(name, tetwalk::mesh::Faces::Required).unwrap();
+        let mesh = tetwalk::scenes::load(name, tetwalk::mesh::Faces::Required)
+            .unwrap()
+            .mesh;
         let info = SceneInfo::of(&mesh, tetwalk::octree::Settings::PAPER);
         assert_eq!(
             info.tetrahedra,
@@ -72,7 +74,9 @@ fn bunny_scenes_load_and_their_counts_check_out() {
         );
     }
     for far in ["bunny-far", "bunny-quality-far"] {
-        let far = tetwalk::scenes::load(far, tetwalk::mesh::Faces::Required).unwrap();
+        let far = tetwalk::scenes::load(far, tetwalk::mesh::Faces::Required)
+            .unwrap()
+            .mesh;
         assert!(
             far.points.iter().all(|p| p.min_element() > 65536.0 - 100.0),
             "bunny-far is far from the origin"
@@ -83,7 +87,9 @@ fn bunny_scenes_load_and_their_counts_check_out() {
 #[test]
 fn exact_walks_of_camera_rays_end_on_the_brute_force_first_hit() {
     for name in ["bunny-quality", "bunny-far", "jitter", "kuhn-far"] {
-        let mesh = tetwalk::scenes::load(name, tetwalk::mesh::Faces::Required).unwrap();
+        let mesh = tetwalk::scenes::load(name, tetwalk::mesh::Faces::Required)
+            .unwrap()
+            .mesh;
         let (lo, hi) = tetwalk::mesh::bounds(&mesh.points);
         let exact = by_name("exact").unwrap();
         let max = default_max_steps(&mesh);

@@ -235,7 +235,9 @@ fn the_fast_exact_walk_equals_the_complete_one() {
             meshes.push((mesh, rays));
         }
     }
-    let bunny = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
+    let bunny = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required)
+        .unwrap()
+        .mesh;
     let (lo, hi) = tetwalk::mesh::bounds(&bunny.points);
     let views = tetwalk::scenes::camera::Views {
         views: 4,

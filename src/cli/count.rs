@@ -7,7 +7,6 @@ use crate::engine::standing::Standings;
 use crate::family::CountKind;
 use crate::family::count::Counted;
 use crate::family::wrong::WrongRay;
-use crate::registry::Named;
 use crate::report::count::CountFormats;
 use crate::scenes::camera::Views;
 use std::io::Write;
@@ -278,17 +277,12 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         .wgsl
         .open::<F>(a.backend, if list == "none" { "all" } else { &list })?;
     let methods = if list == "none" { Vec::new() } else { methods };
-    let methods: Vec<_> = methods
-        .into_iter()
-        .filter(|m| !m.is_reference() && m.name() != a.reference.name())
-        .collect();
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;
     let views = views::<F>(&a)?;
     held(shard, &views)?;
-    let mesh = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let scene = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
     let settings = CountSettings::<F> {
-        scene: a.scene,
         views,
         reference: a.reference,
         family,
@@ -306,16 +300,17 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         "views",
     );
     let outside = F::start(&a.answerer)?;
-    let asking = outside.as_ref().and_then(|x| F::asking(x, &mesh));
-    let mut answerers: Vec<Answerer<F>> = Vec::new();
-    if let (Some(x), Some(asking)) = (&outside, &asking) {
-        answerers.push(Answerer::Given(&x.name, &**asking));
-    }
-    answerers.extend(methods.iter().map(|m| Answerer::Method(*m)));
+    let asking = outside.as_ref().and_then(|x| F::asking(x, &scene.mesh));
+    let given = outside.as_ref().zip(asking.as_deref());
+    let answerers = Answerer::<F>::judged(
+        given.map(|(x, asking)| (x.name.as_str(), asking)),
+        methods.iter().copied(),
+        settings.reference,
+    );
     let mut write = |w: &WrongRay| dump.write(w);
     // The mesh's own labelling gives the report and the dump.
     let mut report = count::run(
-        &mesh,
+        &scene,
         &settings,
         &answerers,
         &backend,
@@ -323,7 +318,7 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         Some(&mut write),
     )?;
     if labellings > 1 {
-        count::relabel_all(&mut report, &mesh, &answerers, &backend, &|| bar.inc(1))?;
+        count::relabel_all(&mut report, &scene, &answerers, &backend, &|| bar.inc(1))?;
     }
     bar.finish_and_clear();
     dump.finish()?;

@@ -118,14 +118,14 @@ pub(crate) fn run(a: Args) -> Status {
         .into_iter()
         .map(Backend::open)
         .collect::<Result<Vec<_>, _>>()?;
-    let mesh = crate::scenes::load(&a.scene, crate::mesh::Faces::Required)?;
+    let scene = crate::scenes::load(&a.scene, crate::mesh::Faces::Required)?;
     // The count and the octree count on each backend.
     let bar = super::progress(
         "paper",
         (shard.held(size.views) * backends.len() * 2) as u64,
         "views",
     );
-    let report = paper::run(&a.scene, &mesh, size, shard, &backends, &|| bar.inc(1))?;
+    let report = paper::run(&scene, size, shard, &backends, &|| bar.inc(1))?;
     bar.finish_and_clear();
     if whole {
         write(&report, out)?;

@@ -2,7 +2,6 @@
 
 use super::{JsonOut, Status};
 use crate::engine::info::{SceneCheck, SceneInfo};
-use crate::mesh::Mesh;
 use crate::mesh::export::Exported;
 use crate::scenes::build::build_scene;
 use crate::scenes::model::Surface;
@@ -213,15 +212,16 @@ pub(crate) fn run(s: Scene) -> Status {
             no_faces,
             out,
         } => {
-            let mesh: Mesh = crate::scenes::load(&scene, super::faces(no_faces))?;
+            let s = crate::scenes::load(&scene, super::faces(no_faces))?;
             let mut staged = super::Staged::new("scene export", &out)?;
-            serde_json::to_writer(&mut staged, &Exported::of(&scene, &mesh))?;
+            serde_json::to_writer(&mut staged, &Exported::of(&s.name, &s.mesh))?;
             staged.finish()?;
             println!(
-                "{}: scene {scene}, {} points, {} tetrahedra",
+                "{}: scene {}, {} points, {} tetrahedra",
                 out.display(),
-                mesh.points.len(),
-                mesh.tets.len()
+                s.name,
+                s.mesh.points.len(),
+                s.mesh.tets.len()
             );
             Ok(ExitCode::SUCCESS)
         }
@@ -240,9 +240,9 @@ pub(crate) fn run(s: Scene) -> Status {
                 .into());
             }
             let json = JsonOut::new(json.as_deref())?;
-            let mesh: Mesh = crate::scenes::load(&scene, super::faces(no_faces))?;
-            let info = SceneInfo::of(&mesh, crate::octree::Settings { depth, capacity });
-            println!("scene {scene}\n");
+            let s = crate::scenes::load(&scene, super::faces(no_faces))?;
+            let info = SceneInfo::of(&s.mesh, crate::octree::Settings { depth, capacity });
+            println!("scene {}\n", s.name);
             print!("{}", info.markdown());
             json.finish(&info)?;
             Ok(ExitCode::SUCCESS)

@@ -7,11 +7,11 @@
 
 use crate::backend::{Backend, BackendError, BackendKind, Ran, Traffic};
 use crate::choice::Choice;
-use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::methods::Model;
 use crate::registry::Named;
 use crate::registry::{Gpu, Method};
+use crate::scenes::Loaded;
 use crate::scenes::camera::Views;
 use crate::tet::Ray;
 use crate::walk::layouts::{LayoutKind, Source};
@@ -249,8 +249,7 @@ enum Walker<'a> {
 /// `hilbert` records that the mesh was put in Hilbert order.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
-    scene: &str,
-    mesh: &Mesh,
+    scene: &Loaded,
     hilbert: bool,
     views: &Views,
     methods: &[&Method],
@@ -258,6 +257,7 @@ pub fn run(
     (batch, layouts, repeat): (usize, bool, usize),
     tick: &dyn Fn(),
 ) -> Result<BenchReport, BenchError> {
+    let mesh = &scene.mesh;
     let (lo, hi) = crate::mesh::bounds(&mesh.points);
     let max = default_max_steps(mesh);
     let layout = layouts.then(|| Layout::build(mesh));
@@ -378,7 +378,7 @@ pub fn run(
         r.bytes_read_per_ray = r.traffic.map(|t| per_ray(t.read));
     }
     Ok(BenchReport {
-        scene: scene.to_string(),
+        scene: scene.name.clone(),
         tetrahedra_in_mesh: mesh.tets.len(),
         views: *views,
         views_timed: timed,

@@ -17,6 +17,7 @@ use crate::family::wrong::{Counting, Seen, WrongRay};
 use crate::mesh::Faces;
 use crate::mesh::Mesh;
 use crate::registry::{ByName, Claim, Method, Named, Registered};
+use crate::scenes::Loaded;
 use crate::scenes::camera::{Camera, Views};
 use crate::tet::Ray;
 use crate::walk::{Walk, default_max_steps, judge, locate};
@@ -103,11 +104,10 @@ pub fn located_views<'a>(
         })
 }
 
-/// What is counted, and how the rays are made.
+/// What is counted in a scene, and how the rays are made.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(remote = "Self", bound = "")]
 pub struct CountSettings<F: Counted> {
-    pub scene: String,
     pub views: Views,
     /// The walk every method is judged against: `exact`, or `certified` (which ends where `exact` ends,
     /// faster).
@@ -130,7 +130,7 @@ pub struct CountSettings<F: Counted> {
 pub struct CountReport<F: Counted> {
     /// The family counted (`count merge` reads it).
     pub family: String,
-    pub settings: CountSettings<F>,
+    pub settings: Recorded<F>,
     /// Rays the audit re-judged with the family's exact answer, all in agreement.
     pub audited: u64,
     /// Where the methods ran (the `exact` reference always on the CPU).
@@ -141,6 +141,16 @@ pub struct CountReport<F: Counted> {
     pub rays: u64,
     pub views_counted: usize,
     pub methods: Vec<CountRow<F::Counts>>,
+}
+
+/// A count's settings as its report records them: the scene counted (its name, from the
+/// [`Loaded`] scene), and the settings.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(bound = "")]
+pub struct Recorded<F: Counted> {
+    pub scene: String,
+    #[serde(flatten)]
+    pub count: CountSettings<F>,
 }
 
 through_value!(CountSettings<F: Counted>);
@@ -159,7 +169,22 @@ pub enum Answerer<'a, F: Family> {
 pub type GivenWalks<'a> =
     dyn Fn(usize, &[Ray], u32, u32) -> Result<Vec<Walk>, CountError> + Sync + 'a;
 
-impl<F: Family> Answerer<'_, F> {
+impl<'a, F: Family> Answerer<'a, F> {
+    /// Whose answers a count judges against `reference`: walks given from outside first, then each
+    /// of `methods` but the family's own reference and `reference` (the count's first row).
+    pub fn judged(
+        given: Option<(&'a str, &'a GivenWalks<'a>)>,
+        methods: impl IntoIterator<Item = &'a F::Method>,
+        reference: ReferenceWalk,
+    ) -> Vec<Answerer<'a, F>> {
+        let given = given.map(|(name, walks)| Answerer::Given(name, walks));
+        let methods = methods
+            .into_iter()
+            .filter(move |m| !m.is_reference() && m.name() != reference.name())
+            .map(Answerer::Method);
+        given.into_iter().chain(methods).collect()
+    }
+
     fn name(&self) -> &str {
         match self {
             Answerer::Method(m) => m.name(),
@@ -200,7 +225,7 @@ struct ViewCount {
 /// (`VIEWS_PER_THREAD`, as many as `VIEWS_MEMORY` holds); memory holds those views' rays and
 /// walks.
 pub fn run<F: Counted>(
-    mesh: &Mesh,
+    loaded: &Loaded,
     s: &CountSettings<F>,
     answerers: &[Answerer<F>],
     backend: &Backend,
@@ -208,9 +233,10 @@ pub fn run<F: Counted>(
     mut sink: Option<&mut Sink>,
 ) -> Result<CountReport<F>, CountError> {
     let reference = s.reference.method();
+    let mesh = &loaded.mesh;
     let max = default_max_steps(mesh);
     let scene = Scene {
-        mesh,
+        loaded,
         on: backend.mesh(mesh),
         max_steps: max,
         views: s.views,
@@ -311,7 +337,10 @@ pub fn run<F: Counted>(
     }
     Ok(CountReport {
         family: F::NAME.to_string(),
-        settings: s.clone(),
+        settings: Recorded {
+            scene: loaded.name.clone(),
+            count: s.clone(),
+        },
         audited: audits,
         backend: backend.ran(),
         scene: F::facts(&scene, ready.as_ref()),
@@ -335,7 +364,7 @@ fn count_view<F: Counted>(
     cam: &Camera,
     located: u32,
 ) -> Result<ViewCount, CountError> {
-    let (mesh, max) = (scene.mesh, scene.max_steps);
+    let (mesh, max) = (&scene.loaded.mesh, scene.max_steps);
     let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
     let rays = s.views.rays(cam);
     let first = v as u64 * rays.len() as u64;
@@ -411,7 +440,7 @@ fn count_view<F: Counted>(
         };
         work.push((steps, seconds, moved(before)));
         let seen = Seen {
-            scene: &s.scene,
+            scene: &scene.loaded.name,
             view: v,
             pixel: [0, 0],
             name: a.name(),
@@ -448,7 +477,7 @@ fn count_view<F: Counted>(
 /// each row's wrong rays under all 12.
 pub fn relabel_all<F: Counted>(
     report: &mut CountReport<F>,
-    mesh: &Mesh,
+    scene: &Loaded,
     answerers: &[Answerer<F>],
     backend: &Backend,
     tick: &(dyn Fn() + Sync),
@@ -458,10 +487,13 @@ pub fn relabel_all<F: Counted>(
     };
     let permutations = &crate::tet::EVEN_PERMUTATIONS;
     let wrong = super::under_labellings(wrong_totals(report), permutations.len(), |k| {
-        let relabelled = mesh.relabelled(permutations[k])?;
+        let relabelled = Loaded {
+            name: scene.name.clone(),
+            mesh: scene.mesh.relabelled(permutations[k])?,
+        };
         let r = run(
             &relabelled,
-            &report.settings,
+            &report.settings.count,
             answerers,
             backend,
             tick,
@@ -595,7 +627,7 @@ pub enum RerunError {
 /// kept, since a dump holds a view's wrong rays together (its lines answer the view once per method).
 pub struct Dumped {
     faces: Faces,
-    scenes: HashMap<String, Mesh>,
+    scenes: HashMap<String, Loaded>,
     backends: HashMap<BackendKind, Result<Backend, String>>,
     /// The view (scene, count, index, method, backend) whose answers `walks` holds.
     held: Option<(String, Counting, usize, String, BackendKind)>,
@@ -629,8 +661,8 @@ impl Dumped {
             return Err(RerunError::NotWalked(d.method.clone()));
         };
         if !self.scenes.contains_key(&d.scene) {
-            let mesh = crate::scenes::load(&d.scene, self.faces)?;
-            self.scenes.insert(d.scene.clone(), mesh);
+            let scene = crate::scenes::load(&d.scene, self.faces)?;
+            self.scenes.insert(d.scene.clone(), scene);
         }
         let backend = self
             .backends
@@ -643,10 +675,10 @@ impl Dumped {
         let c = d.count.as_ref().ok_or(RerunError::NoCount)?;
         let family = <crate::family::CountKind as crate::choice::Choice>::from_name(&c.family)
             .ok_or_else(|| RerunError::Family(c.family.clone()))?;
-        let mesh = &self.scenes[&d.scene];
+        let scene = &self.scenes[&d.scene];
         let (held, walks) = (&mut self.held, &mut self.walks);
         let rerun =
-            crate::with_counted!(family, F => rerun::<F>(d, c, mesh, backend, held, walks))?;
+            crate::with_counted!(family, F => rerun::<F>(d, c, scene, backend, held, walks))?;
         Ok(Redone::Rerun(rerun, backend.describe()))
     }
 }
@@ -656,12 +688,13 @@ impl Dumped {
 fn rerun<F: Counted>(
     d: &WrongRay,
     c: &Counting,
-    mesh: &Mesh,
+    loaded: &Loaded,
     backend: &Backend,
     held: &mut Option<(String, Counting, usize, String, BackendKind)>,
     walks: &mut Vec<Walk>,
 ) -> Result<Rerun, RerunError> {
     let m = crate::family::by_name::<F>(&d.method)?;
+    let mesh = &loaded.mesh;
     let ray = d.ray();
     crate::exact::check_ray(&[], &ray).map_err(|why| RerunError::Ray {
         org: ray.org.to_array(),
@@ -699,7 +732,7 @@ fn rerun<F: Counted>(
         .next()
         .ok_or_else(|| RerunError::CameraOutside {
             view: d.view,
-            scene: d.scene.clone(),
+            scene: loaded.name.clone(),
         })?;
     let i = (y * views.width + x) as usize;
     let bits = |r: &Ray| [r.org, r.dir].map(|v| v.to_array().map(f32::to_bits));
@@ -707,12 +740,12 @@ fn rerun<F: Counted>(
         return Err(RerunError::NotItsRay {
             view: d.view,
             pixel: d.pixel,
-            scene: d.scene.clone(),
+            scene: loaded.name.clone(),
         });
     }
     let max_steps = default_max_steps(mesh);
     let view = Some((
-        d.scene.clone(),
+        loaded.name.clone(),
         c.clone(),
         d.view,
         d.method.clone(),
@@ -721,7 +754,7 @@ fn rerun<F: Counted>(
     // The mesh is made ready on the backend (uploaded to a GPU) only where a view is answered.
     if *held != view {
         let scene = Scene {
-            mesh,
+            loaded,
             on: backend.mesh(mesh),
             max_steps,
             views,
@@ -1026,8 +1059,11 @@ pub fn check_wrong(
 
 impl<F: Counted> Sharded for CountReport<F> {
     fn same(&self) -> serde_json::Value {
-        let settings = CountSettings::<F> {
-            shard: Shard::ALL,
+        let settings = Recorded::<F> {
+            count: CountSettings {
+                shard: Shard::ALL,
+                ..self.settings.count.clone()
+            },
             ..self.settings.clone()
         };
         let mut same = serde_json::json!({"settings": settings, "backend": self.backend});
@@ -1040,7 +1076,7 @@ impl<F: Counted> Sharded for CountReport<F> {
     }
 
     fn shard(&self) -> Shard {
-        self.settings.shard
+        self.settings.count.shard
     }
 
     fn methods(&self) -> Vec<String> {
@@ -1048,7 +1084,7 @@ impl<F: Counted> Sharded for CountReport<F> {
     }
 
     fn check(&self) -> Result<(), (String, String)> {
-        let s = &self.settings;
+        let s = &self.settings.count;
         check_totals(
             s.shard,
             &s.views,
@@ -1092,7 +1128,7 @@ impl<F: Counted> Sharded for CountReport<F> {
     }
 
     fn finish(&mut self) {
-        self.settings.shard = Shard::ALL;
+        self.settings.count.shard = Shard::ALL;
         for t in &mut self.methods {
             t.finish(self.views_counted, self.rays);
         }

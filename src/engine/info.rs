@@ -36,9 +36,9 @@ impl SceneCheck {
     /// rules (loading checks them).
     pub fn of(
         scene: &str,
-        loaded: Result<Mesh, crate::mesh::MeshError>,
+        loaded: Result<crate::scenes::Loaded, crate::mesh::MeshError>,
     ) -> Result<SceneCheck, String> {
-        let checked = match loaded {
+        let checked = match loaded.map(|s| s.mesh) {
             Ok(m) => Checked::Valid {
                 points: m.points.len(),
                 tetrahedra: m.tets.len(),

@@ -13,9 +13,9 @@ use crate::family::count::{CountError, inconsistent};
 use crate::family::octree::OctreeCountSettings;
 use crate::family::triangle::engine::SpeedReport;
 use crate::family::{OctreeCells, Walks};
-use crate::mesh::Mesh;
 use crate::methods::Query;
 use crate::registry::{ByName, Gpu, METHODS, Named, OCTREE_METHODS, TRIANGLE_METHODS};
+use crate::scenes::Loaded;
 
 /// Seed 003's structures as tetwalk walks them: the method, and `cells` or one of seed 003's layouts.
 pub const SEED003_STRUCTURES: [(&str, &str, &str); 5] = [
@@ -122,12 +122,11 @@ pub struct PaperReport {
     pub octrees: Vec<CountReport<OctreeCells>>,
 }
 
-/// Run every reproducible table on `mesh` (scene `scene`) with the counts on `backends`; the counts
+/// Run every reproducible table on `scene` with the counts on `backends`; the counts
 /// over the views `shard` holds ([`count::merge`] adds the shards up), the timings whole on shard 0
 /// only (a merge keeps shard 0's).
 pub fn run(
-    scene: &str,
-    mesh: &Mesh,
+    scene: &Loaded,
     size: Size,
     shard: Shard,
     backends: &[Backend],
@@ -135,13 +134,8 @@ pub fn run(
 ) -> Result<PaperReport, PaperError> {
     // Judged against `certified`, as the default count is; the reference's own row comes first.
     let reference = ReferenceWalk::default();
-    let methods: Vec<Answerer<Walks>> = METHODS
-        .iter()
-        .filter(|m| !m.is_reference() && m.name() != reference.name())
-        .map(Answerer::Method)
-        .collect();
+    let methods = Answerer::<Walks>::judged(None, METHODS, reference);
     let settings = CountSettings::<Walks> {
-        scene: scene.to_string(),
         views: crate::scenes::camera::Views {
             views: size.views,
             width: size.side,
@@ -156,20 +150,15 @@ pub fn run(
     };
     let counts = backends
         .iter()
-        .map(|b| count::run(mesh, &settings, &methods, b, tick, None))
+        .map(|b| count::run(scene, &settings, &methods, b, tick, None))
         .collect::<Result<Vec<_>, _>>()?;
     let timings = if shard.index == 0 {
-        Some(timings(scene, mesh, size, &settings.views, backends)?)
+        Some(timings(scene, size, &settings.views, backends)?)
     } else {
         None
     };
-    let octree_methods: Vec<Answerer<OctreeCells>> = OCTREE_METHODS
-        .iter()
-        .filter(|m| !m.is_reference())
-        .map(Answerer::Method)
-        .collect();
+    let octree_methods = Answerer::<OctreeCells>::judged(None, OCTREE_METHODS, reference);
     let octree_settings = CountSettings::<OctreeCells> {
-        scene: scene.to_string(),
         views: settings.views,
         reference,
         family: OctreeCountSettings {
@@ -181,14 +170,14 @@ pub fn run(
     };
     let octrees = backends
         .iter()
-        .map(|b| count::run(mesh, &octree_settings, &octree_methods, b, tick, None))
+        .map(|b| count::run(scene, &octree_settings, &octree_methods, b, tick, None))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(PaperReport {
         date: today(),
-        scene: scene.to_string(),
+        scene: scene.name.clone(),
         size,
         shard,
-        scene_info: SceneInfo::of(mesh, crate::octree::Settings::PAPER),
+        scene_info: SceneInfo::of(&scene.mesh, crate::octree::Settings::PAPER),
         counts,
         timings,
         octrees,
@@ -197,8 +186,7 @@ pub fn run(
 
 /// The timed tables: Table 5 (CPU and each GPU's kernels), the walk speeds and Figure 5.
 fn timings(
-    scene: &str,
-    mesh: &Mesh,
+    scene: &Loaded,
     size: Size,
     views: &crate::scenes::camera::Views,
     backends: &[Backend],
@@ -232,7 +220,6 @@ fn timings(
     let timed_on: Vec<&Backend> = backends.iter().filter(|b| !fused(b)).collect();
     let speed = bench::run(
         scene,
-        mesh,
         false,
         &crate::scenes::camera::Views {
             views: size.bench_views,
@@ -249,8 +236,7 @@ fn timings(
         ..*views
     };
     let triangle_methods: Vec<_> = TRIANGLE_METHODS.iter().collect();
-    let figure5 =
-        crate::family::triangle::engine::speed(mesh, scene, &views, &triangle_methods, 3)?;
+    let figure5 = crate::family::triangle::engine::speed(scene, &views, &triangle_methods, 3)?;
     Ok(Timings {
         table5,
         table5_gpu,
@@ -356,9 +342,9 @@ impl Sharded for PaperReport {
                 "no count: a paper run counts on one backend at least",
             );
         }
-        let views = |c: &CountReport<Walks>| c.settings.views.views;
+        let views = |c: &CountReport<Walks>| c.settings.count.views.views;
         check_each("counts", &self.counts, self.shard, self.size.views, views)?;
-        let views = |c: &CountReport<OctreeCells>| c.settings.views.views;
+        let views = |c: &CountReport<OctreeCells>| c.settings.count.views.views;
         check_each("octrees", &self.octrees, self.shard, self.size.views, views)?;
         let methods = self.methods();
         if let Some(k) = self.counts.iter().position(|c| c.methods() != methods) {

@@ -81,10 +81,10 @@ pub enum CountError {
     NoView(usize),
 }
 
-/// A scene as a count walks it: the mesh, made ready on the backend, its step bound, and the views
+/// A scene as a count walks it: the scene loaded (its name and mesh), the mesh made ready on the backend, its step bound, and the views
 /// (each view's rays come in pixel order, row by row).
 pub struct Scene<'a> {
-    pub mesh: &'a Mesh,
+    pub loaded: &'a crate::scenes::Loaded,
     pub on: MeshOn<'a>,
     pub max_steps: u32,
     pub views: Views,

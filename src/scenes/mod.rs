@@ -204,11 +204,27 @@ pub fn files_of(name: &str) -> Vec<std::path::PathBuf> {
     }
 }
 
+/// A scene as loaded: the name it was asked for by, and its mesh, which travel together from
+/// [`load`] to every report that names the scene.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    pub name: String,
+    pub mesh: Mesh,
+}
+
 /// A scene by name: a built-in one (embedded in the binary: [`BUILT_IN`]), one built on this machine
 /// ([`BUILT_HERE`], in [`built_here_dir`]), a generated one (`kuhn`, `jitter`, `fan`, each with a
 /// `-far` variant moved by 2^16), a Gmsh, VTK or MEDIT file (`.msh`, `.vtk`, `.vtu`, `.mesh`), or the
 /// stem or any file of TetGen output.
-pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
+pub fn load(name: &str, faces: crate::mesh::Faces) -> Result<Loaded, MeshError> {
+    Ok(Loaded {
+        name: name.to_string(),
+        mesh: mesh_of(name, faces)?,
+    })
+}
+
+/// The mesh of the scene `name` ([`load`]).
+fn mesh_of(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
     let path = match source(name)? {
         Source::Generated(k, offset) => return generated_mesh(k, 8, offset, 1),
         Source::BuiltIn => return built_in(name).expect("a built-in scene is embedded"),

@@ -152,11 +152,11 @@ pub(crate) fn render(a: RenderArgs) -> Status {
         .ok_or("--methods names no octree method")?;
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = size(&a.size, false, 4096)?;
-    let mesh = crate::scenes::load(&a.scene, faces(a.no_faces))?;
+    let scene = crate::scenes::load(&a.scene, faces(a.no_faces))?;
     let views = views_of(&a, w, h);
     let hit = family::by_name::<Triangle>("mt")?.hit(Model::Plain);
     let cells = cells_per_pixel(
-        &mesh,
+        &scene.mesh,
         &views,
         a.view,
         method,

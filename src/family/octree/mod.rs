@@ -465,8 +465,8 @@ impl Counted for OctreeCells {
         backend: &Backend,
         located: u32,
     ) -> Result<Built, CountError> {
-        let region = region_of(scene.mesh, located);
-        let triangles = scene_triangles(scene.mesh, &region);
+        let region = region_of(&scene.loaded.mesh, located);
+        let triangles = scene_triangles(&scene.loaded.mesh, &region);
         let octree = crate::octree::Octree::build(&triangles.0, s.octree)
             .map_err(|e| CountError::Octree(e.to_string()))?;
         let on = backend.octree(&octree, &triangles.0);

@@ -40,10 +40,10 @@ impl Formats for OctreeCells {
 
 impl CountFormats for OctreeCells {
     fn count_table(r: &CountReport<Self>) -> String {
-        let s = &r.settings;
+        let s = &r.settings.count;
         let mut out = format!(
             "scene {} ({} triangles: its constrained faces, each facing the cameras' side), octree of depth {} and leaf capacity {} ({} leaves; {} without the regularity constraint), {} of {}x{}, seed {}, backend {}, each leaf's triangles tested with {}; each walk judged against the {} walk's exact first hit (the exact octree walk audited against it on {} rays, all agreeing)\n\n",
-            s.scene,
+            r.settings.scene,
             r.scene.triangles,
             s.family.octree.depth,
             s.family.octree.capacity,

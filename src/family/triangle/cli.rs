@@ -178,9 +178,9 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
     let methods = crate::family::parse_list::<Triangle>(&a.methods)?;
     let (width, height) = crate::cli::size(a.size.as_deref().unwrap_or("256x256"), false, 4096)?;
     let out = JsonOut::new(a.json.as_deref())?;
-    let mesh = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
+    let scene = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
     let views = crate::cli::bench::views(&a, width, height);
-    let report = super::engine::speed(&mesh, &a.scene, &views, &methods, 3)?;
+    let report = super::engine::speed(&scene, &views, &methods, 3)?;
     print!("{}", report.markdown());
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)

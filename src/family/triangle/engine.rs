@@ -6,11 +6,11 @@ use crate::backend::{Backend, BackendError};
 use crate::cases::HitCase;
 use crate::engine::count::located_views;
 use crate::family::count::CountError;
-use crate::mesh::Mesh;
 use crate::mesh::surface::{region_of, scene_triangles};
 use crate::methods::Model;
 use crate::methods::triangle::SideError;
 use crate::registry::{Named, TriangleMethod};
+use crate::scenes::Loaded;
 use crate::scenes::camera::{Views, packet_order};
 use crate::scenes::closed::{self, MeshShape, TriPlace};
 use crate::scenes::tets::ulps;
@@ -58,12 +58,12 @@ pub const PACKETS: [u32; 4] = [1, 2, 4, 8];
 /// method's error scale, the best of `repeats` runs each, all in one run; speedups per test relative
 /// to `mt-precomputed` at the same packet side and width.
 pub fn speed(
-    mesh: &Mesh,
-    scene: &str,
+    scene: &Loaded,
     views: &Views,
     methods: &[&TriangleMethod],
     repeats: usize,
 ) -> Result<SpeedReport, CountError> {
+    let mesh = &scene.mesh;
     let (_, cam, located) = located_views(mesh, views, |_| true, &|| {})
         .next()
         .ok_or(CountError::NoView(views.views))?;
@@ -112,7 +112,7 @@ pub fn speed(
             .map(|t| t.3)
     };
     Ok(SpeedReport {
-        scene: scene.to_string(),
+        scene: scene.name.clone(),
         views: *views,
         triangles: tris.len(),
         rays: all.len(),

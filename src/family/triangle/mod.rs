@@ -671,8 +671,8 @@ impl Counted for Triangle {
         _: &Backend,
         located: u32,
     ) -> Result<Facing, CountError> {
-        let region = region_of(scene.mesh, located);
-        let triangles = scene_triangles(scene.mesh, &region);
+        let region = region_of(&scene.loaded.mesh, located);
+        let triangles = scene_triangles(&scene.loaded.mesh, &region);
         Ok(Facing {
             region,
             triangles,

@@ -87,11 +87,11 @@ fn by(
 
 impl CountFormats for Triangle {
     fn count_table(r: &CountReport<Self>) -> String {
-        let s = &r.settings;
+        let s = &r.settings.count;
         let mut out = format!(
             "scene {} ({} triangles: its constrained faces, each facing the cameras' side), {} of {}x{}, \
              packets of {}x{} primary rays, backend {}, seed {}, {}, each nearest hit judged against the {} walk's exact first hit{}\n\n",
-            s.scene,
+            r.settings.scene,
             r.scene.triangles,
             counted(r.views_counted as u64, "view", "views"),
             s.views.width,

@@ -231,20 +231,20 @@ impl Flags for Walks {
     fn rays_out(a: &CountArgs, shard: Shard, path: &std::path::Path) -> Status {
         let views = views::<Walks>(a)?;
         held(shard, &views)?;
-        let mesh = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
+        let scene = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
         let mut staged = crate::cli::Staged::new("--rays-out", path)?;
         let header = RaysHeader {
-            scene: a.scene.clone(),
+            scene: scene.name.clone(),
             views,
             shard,
-            tetrahedra: mesh.tets.len(),
+            tetrahedra: scene.mesh.tets.len(),
             no_faces: a.no_faces,
         };
         let mut w = std::io::BufWriter::new(&mut staged);
         serde_json::to_writer(&mut w, &header)?;
         w.write_all(b"\n")?;
         let mut rays = 0u64;
-        let counted_views = header.each_line(&mesh, |_, line| -> std::io::Result<()> {
+        let counted_views = header.each_line(&scene.mesh, |_, line| -> std::io::Result<()> {
             rays += 1;
             serde_json::to_writer(&mut w, &line)?;
             w.write_all(b"\n")
@@ -260,8 +260,8 @@ impl Flags for Walks {
             path.display(),
             crate::report::counted(rays, "ray", "rays"),
             crate::report::counted(counted_views as u64, "view", "views"),
-            a.scene,
-            a.scene,
+            scene.name,
+            scene.name,
             path.display()
         );
         Ok(ExitCode::SUCCESS)
@@ -272,15 +272,15 @@ impl Flags for Walks {
 fn judge_scene(a: &JudgeArgs, header: RaysHeader, input: Box<dyn BufRead + Send>) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;
-    let mesh = crate::scenes::load(&header.scene, crate::cli::faces(header.no_faces))?;
+    let scene = crate::scenes::load(&header.scene, crate::cli::faces(header.no_faces))?;
     let cases = a.cases.display().to_string();
-    header.check_mesh(&mesh, &cases)?;
-    header.check_rays(&cases, input, &mesh)?;
+    header.check_scene(&scene, &cases)?;
+    header.check_rays(&cases, input, &scene.mesh)?;
     let mut given = GivenWalksMap::default();
-    each_answer(&a.answers, |_, v| given.take(v, &mesh))?;
+    each_answer(&a.answers, |_, v| given.take(v, &scene.mesh))?;
     let mut write = |w: &WrongRay| dump.write(w);
     let file = a.answers.display().to_string();
-    let report = given.judge(&mesh, &header, &a.name, &file, &cases, Some(&mut write))?;
+    let report = given.judge(&scene, &header, &a.name, &file, &cases, Some(&mut write))?;
     dump.finish()?;
     print!("{}", report.table());
     out.finish(&report)?;
@@ -317,15 +317,14 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
         .into_iter()
         .map(Backend::open)
         .collect::<Result<Vec<_>, _>>()?;
-    let mut mesh = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
+    let mut scene = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
     if a.hilbert {
-        mesh = crate::mesh::reorder::hilbert_sorted(&mesh);
+        scene.mesh = crate::mesh::reorder::hilbert_sorted(&scene.mesh);
     }
     let views = crate::cli::bench::views(&a, width, height);
     let bar = crate::cli::progress("bench", a.views as u64, "views");
     let report = crate::engine::bench::run(
-        &a.scene,
-        &mesh,
+        &scene,
         a.hilbert,
         &views,
         &methods,
@@ -361,9 +360,9 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     let d = drawn_methods::<Walks>(&a)?;
     let mut drawn = Drawn::default();
     let backend = a.backend.open()?;
-    let mesh = crate::scenes::load(&a.scene, faces(a.no_faces))?;
+    let scene = crate::scenes::load(&a.scene, faces(a.no_faces))?;
     let views = views_of(&a, d.width, d.height);
-    let f = frame(&mesh, &views, a.view, &d.methods, &backend)?;
+    let f = frame(&scene.mesh, &views, a.view, &d.methods, &backend)?;
     match a.what {
         What::Shaded => write(&a.out, &f.shaded(), &mut drawn)?,
         What::Heat => {

@@ -16,6 +16,7 @@ use crate::mesh::layout::Layout;
 use crate::mesh::{HULL, Mesh, MeshError};
 use crate::methods::Model;
 use crate::registry::{Method, Named, reference};
+use crate::scenes::Loaded;
 use crate::scenes::camera::{Camera, Views};
 use crate::tet::{EVEN_PERMUTATIONS, Ray};
 use crate::walk::layouts::{LayoutKind, Source};
@@ -416,14 +417,15 @@ impl RaysHeader {
         Ok(views)
     }
 
-    /// Whether `mesh` is the scene the rays were made in (as many tetrahedra); `file` names the rays.
-    pub fn check_mesh(&self, mesh: &Mesh, file: &str) -> Result<(), RaysError> {
-        match mesh.tets.len() == self.tetrahedra {
+    /// Whether `scene` is the scene the rays were made in (as many tetrahedra); `file` names the
+    /// rays.
+    pub fn check_scene(&self, scene: &Loaded, file: &str) -> Result<(), RaysError> {
+        match scene.mesh.tets.len() == self.tetrahedra {
             true => Ok(()),
             false => Err(RaysError::Tetrahedra {
                 file: file.into(),
-                scene: self.scene.clone(),
-                here: mesh.tets.len(),
+                scene: scene.name.clone(),
+                here: scene.mesh.tets.len(),
                 there: self.tetrahedra,
             }),
         }
@@ -552,7 +554,7 @@ impl GivenWalksMap {
     /// the rays), and no walk is for a ray not counted.
     pub fn judge(
         &self,
-        mesh: &Mesh,
+        scene: &Loaded,
         header: &RaysHeader,
         name: &str,
         file: &str,
@@ -573,7 +575,6 @@ impl GivenWalksMap {
                 .collect()
         };
         let settings = CountSettings::<Walks> {
-            scene: header.scene.clone(),
             views: header.views,
             reference: ReferenceWalk::default(),
             family: (),
@@ -581,7 +582,7 @@ impl GivenWalksMap {
             shard: header.shard,
         };
         let report = count::run(
-            mesh,
+            scene,
             &settings,
             &[count::Answerer::Given(name, &lookup)],
             &crate::backend::CPU,

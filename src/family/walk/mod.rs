@@ -578,7 +578,7 @@ impl Counted for Walks {
 
     fn facts(scene: &Scene, _: Option<&()>) -> WalkFacts {
         WalkFacts {
-            tetrahedra: scene.mesh.tets.len(),
+            tetrahedra: scene.loaded.mesh.tets.len(),
         }
     }
 

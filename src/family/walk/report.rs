@@ -44,7 +44,7 @@ impl CountFormats for Walks {
     /// Per method, wrong rays per image by kind (wrong faces also split into adjacent and
     /// elsewhere), Φ per image, and speed; then the totals.
     fn count_table(r: &CountReport<Self>) -> String {
-        let s = &r.settings.views;
+        let s = &r.settings.count.views;
         let mut out = format!(
             "scene {} ({} tetrahedra), {} of {}x{}, backend {}, seed {}, reference {}{}; per image, averaged over views\n\n",
             r.settings.scene,
@@ -54,7 +54,7 @@ impl CountFormats for Walks {
             s.height,
             r.backend,
             s.seed,
-            r.settings.reference,
+            r.settings.count.reference,
             audited(r, "exact"),
         );
         out += &format!(
