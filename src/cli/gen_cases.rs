@@ -4,7 +4,7 @@
 //! cases are exactly those `tetwalk stress` judges for the same arguments and seed.
 
 use super::{JsonOut, Status};
-use crate::family::contract::{Contract, cases_within};
+use crate::family::contract::Contract;
 use crate::family::{Family, Scale};
 use std::io::Write;
 use std::path::PathBuf;
@@ -57,17 +57,9 @@ pub(crate) fn row<F: Family>(
     contract: &Contract,
     line: impl Fn(&F::Case, &F::Truth) -> Option<serde_json::Map<String, serde_json::Value>> + Sync,
 ) -> Result<usize, super::Error> {
-    let case = |i: usize| -> Option<(F::Case, F::Truth)> {
-        let (c, x) = F::case(rows, row, a.seed, i)?;
-        if a.scale.is_one() {
-            return Some((c, x));
-        }
-        F::scaled(&c, a.scale)
-            .filter(crate::family::readable::<F>)
-            .and_then(|c| Some((c, F::truth(&c).ok()?)))
-    };
     // Every case made before a line is written: a short run writes nothing.
-    let made = cases_within::<F>(contract, a.count, case);
+    let (made, _) =
+        crate::engine::stress::cases_of::<F>(rows, row, a.seed, a.count, a.scale, contract);
     if made.len() < a.count {
         return Err(format!(
             "only {} of the row's first {} cases can be made at scale {}{} (the others round there, or the oracle refuses them; stress judges the same {}): nothing was written",

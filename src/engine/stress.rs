@@ -161,19 +161,34 @@ fn counted<T>(f: impl FnOnce() -> T) -> (T, SignCounts) {
 /// Cases of family `F` with their exact truths.
 pub type Judged<F> = Vec<(<F as Family>::Case, <F as Family>::Truth)>;
 
-/// A row's cases with their truths, and the oracle's counts making them; case `i` a pure function of
-/// the seed, the row and `i`, generated in parallel.
+/// A row's cases with their truths, and the oracle's counts making them ([`cases_of`] with the
+/// settings' rows, seed, cases, scale and contract).
 pub fn row_cases<F: Family>(s: &StressSettings<F>, row: F::Row) -> (Judged<F>, SignCounts) {
+    cases_of::<F>(&s.rows, row, s.seed, s.cases, s.scale, &s.contract)
+}
+
+/// The first `count` cases of row `row` under `rows` that hold `contract`, each at `scale`, with
+/// their truths, and the oracle's counts making them (the cases `stress` judges there, and
+/// `gen-cases` writes); case `i` a pure function of the seed, the row and `i`, generated in
+/// parallel.
+pub fn cases_of<F: Family>(
+    rows: &F::Rows,
+    row: F::Row,
+    seed: u64,
+    count: usize,
+    scale: Scale,
+    contract: &Contract,
+) -> (Judged<F>, SignCounts) {
     let made = std::sync::Mutex::new(SignCounts::default());
-    let cases = cases_within::<F>(&s.contract, s.cases, |i| {
+    let cases = cases_within::<F>(contract, count, |i| {
         let (c, k) = counted(|| {
-            let made = F::case(&s.rows, row, s.seed, i)?;
-            if s.scale.is_one() {
+            let made = F::case(rows, row, seed, i)?;
+            if scale.is_one() {
                 return Some(made);
             }
             // At another scale: the case scaled, judged again as it now is, left out where it
             // no longer reads back (a number overflowed) or the oracle refuses it.
-            let c = F::scaled(&made.0, s.scale).filter(crate::family::readable::<F>)?;
+            let c = F::scaled(&made.0, scale).filter(crate::family::readable::<F>)?;
             Some((c, F::truth(&c).ok()?))
         });
         if let Ok(mut m) = made.lock() {
