@@ -422,6 +422,32 @@ pub(crate) fn backend_list(text: &str) -> Result<Vec<BackendKind>, Error> {
     Ok(kinds)
 }
 
+/// The scene a command loads and walks.
+#[derive(clap::Args)]
+pub(crate) struct SceneArg {
+    /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, bunny-paper once built
+    /// by corpora/scenes/bunny-paper.sh, kuhn, jitter, fan and their -far), a TetGen stem, or a Gmsh `.msh` (4.1 or 2.2), VTK `.vtk` / `.vtu` or MEDIT `.mesh`
+    /// file (its triangles the constrained faces).
+    #[arg(long, default_value = "bunny-quality")]
+    pub(crate) scene: String,
+    /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
+    /// another format): every ray then leaves the mesh.
+    #[arg(long)]
+    pub(crate) no_faces: bool,
+}
+
+impl SceneArg {
+    /// The scene loaded, with its name.
+    pub(crate) fn load(&self) -> Result<crate::scenes::Loaded, crate::mesh::MeshError> {
+        crate::scenes::load(&self.scene, faces(self.no_faces))
+    }
+
+    /// The files the scene is read from, which no output may be.
+    pub(crate) fn files(&self, files: super::Files) -> super::Files {
+        files.scene("--scene", &self.scene)
+    }
+}
+
 /// Whether a scene must have constrained faces (`--no-faces` says it need not).
 pub(crate) fn faces(no_faces: bool) -> crate::mesh::Faces {
     if no_faces {

@@ -11,12 +11,8 @@ pub(crate) struct Args {
     /// mt-precomputed on single rays).
     #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(FAMILIES), default_value = "exit-face")]
     pub(crate) family: String,
-    /// A built-in scene, a TetGen stem, or a Gmsh, VTK or MEDIT file (as `count` takes).
-    #[arg(long, default_value = "bunny-quality")]
-    pub(crate) scene: String,
-    /// Accept a scene without constrained faces (no TetGen `.face`, no triangles in another format).
-    #[arg(long)]
-    pub(crate) no_faces: bool,
+    #[command(flatten)]
+    pub(crate) scene: super::SceneArg,
     /// Viewpoints on a sphere around the model (`--family triangle` times the first inside the mesh).
     #[arg(long, allow_negative_numbers = true, default_value_t = 16)]
     pub(crate) views: usize,
@@ -56,8 +52,8 @@ pub(crate) struct Args {
 
 impl super::Io for Args {
     fn io(&self) -> super::Files {
-        super::Files::default()
-            .scene("--scene", &self.scene)
+        self.scene
+            .files(super::Files::default())
             .input("--baseline", self.baseline.as_deref())
             .output("--json", self.json.as_deref())
     }

@@ -27,15 +27,8 @@ pub(crate) struct Args {
     family: CountKind,
     #[command(flatten)]
     own: FamilyFlags,
-    /// A built-in scene (bunny-quality, bunny-cdt, bunny-quality-far, bunny-far, bunny-paper once built
-    /// by corpora/scenes/bunny-paper.sh, kuhn, jitter, fan and their -far), a TetGen stem, or a Gmsh `.msh` (4.1 or 2.2), VTK `.vtk` / `.vtu` or MEDIT `.mesh`
-    /// file (its triangles the constrained faces).
-    #[arg(long, default_value = "bunny-quality")]
-    pub(crate) scene: String,
-    /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
-    /// another format): every ray then leaves the mesh.
-    #[arg(long)]
-    pub(crate) no_faces: bool,
+    #[command(flatten)]
+    pub(crate) scene: super::SceneArg,
     /// Viewpoints on a sphere around the model [default: 160, 16 with --family triangle or octree, or
     /// 1282 with --preset paper].
     #[arg(long, allow_negative_numbers = true)]
@@ -101,8 +94,9 @@ impl super::Io for Args {
             Some(Merge::Merge { reports, json }) => super::Files::default()
                 .inputs("REPORTS", reports)
                 .output("--json", json.as_deref()),
-            None => super::Files::default()
-                .scene("--scene", &self.scene)
+            None => self
+                .scene
+                .files(super::Files::default())
                 .input("--wgsl", self.wgsl.wgsl.as_deref())
                 .output("--json", self.json.as_deref())
                 .output("--dump", self.dump.as_deref())
@@ -281,7 +275,7 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     let mut dump = Dump::new(a.dump.as_deref())?;
     let views = views::<F>(&a)?;
     held(shard, &views)?;
-    let scene = crate::scenes::load(&a.scene, super::faces(a.no_faces))?;
+    let scene = a.scene.load()?;
     let settings = CountSettings::<F> {
         views,
         reference: a.reference,

@@ -41,13 +41,9 @@ pub(crate) struct Args {
     /// What to draw.
     #[arg(value_enum)]
     pub(crate) what: What,
-    /// A built-in scene, a TetGen stem, or a Gmsh, VTK or MEDIT file (not for predicate maps).
-    #[arg(long, default_value = "bunny-quality")]
-    pub(crate) scene: String,
-    /// Accept a scene without constrained faces (no TetGen `.face` or an empty one, no triangles in
-    /// another format).
-    #[arg(long)]
-    pub(crate) no_faces: bool,
+    /// The scene of `shaded`, `failures`, `heat` and `octree-heat`.
+    #[command(flatten)]
+    pub(crate) scene: super::SceneArg,
     /// Which of `--views` viewpoints, 0-based (placed as `tetwalk count` places them).
     #[arg(long, allow_negative_numbers = true, default_value_t = 0)]
     pub(crate) view: usize,
@@ -89,8 +85,8 @@ pub(crate) struct Args {
 
 impl super::Io for Args {
     fn io(&self) -> super::Files {
-        super::Files::default()
-            .scene("--scene", &self.scene)
+        self.scene
+            .files(super::Files::default())
             .output("--out", Some(&self.out))
             .output("--json", self.json.as_deref())
     }

@@ -10,7 +10,7 @@ use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
 use crate::cli::render::{Args as RenderArgs, Drawn, finish, views_of, write};
 use crate::cli::stress::{Rows, Shape, or_all};
-use crate::cli::{JsonOut, faces, size};
+use crate::cli::{JsonOut, size};
 use crate::cli::{Status, choice, registered};
 use crate::family::Family;
 use crate::family::{self, Kind, Triangle};
@@ -152,7 +152,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
         .ok_or("--methods names no octree method")?;
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = size(&a.size, false, 4096)?;
-    let scene = crate::scenes::load(&a.scene, faces(a.no_faces))?;
+    let scene = a.scene.load()?;
     let views = views_of(&a, w, h);
     let hit = family::by_name::<Triangle>("mt")?.hit(Model::Plain);
     let cells = cells_per_pixel(

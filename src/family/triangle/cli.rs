@@ -178,7 +178,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
     let methods = crate::family::parse_list::<Triangle>(&a.methods)?;
     let (width, height) = crate::cli::size(a.size.as_deref().unwrap_or("256x256"), false, 4096)?;
     let out = JsonOut::new(a.json.as_deref())?;
-    let scene = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
+    let scene = a.scene.load()?;
     let views = crate::cli::bench::views(&a, width, height);
     let report = super::engine::speed(&scene, &views, &methods, 3)?;
     print!("{}", report.markdown());

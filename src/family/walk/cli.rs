@@ -18,7 +18,7 @@ use crate::cli::render::{
     Args as RenderArgs, Drawn, What, beside, drawn_methods, finish, views_of, write,
 };
 use crate::cli::stress::{Rows, Shape, or_all};
-use crate::cli::{AnswererArg, BackendArg, Error, Files, Io, Status, WgslArg, faces, fits};
+use crate::cli::{AnswererArg, BackendArg, Error, Files, Io, Status, WgslArg, fits};
 use crate::engine::answerer::Answerer;
 use crate::engine::answering::{AnswersError, each_answer};
 use crate::engine::count::{GivenWalks, Shard};
@@ -231,14 +231,14 @@ impl Flags for Walks {
     fn rays_out(a: &CountArgs, shard: Shard, path: &std::path::Path) -> Status {
         let views = views::<Walks>(a)?;
         held(shard, &views)?;
-        let scene = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
+        let scene = a.scene.load()?;
         let mut staged = crate::cli::Staged::new("--rays-out", path)?;
         let header = RaysHeader {
             scene: scene.name.clone(),
             views,
             shard,
             tetrahedra: scene.mesh.tets.len(),
-            no_faces: a.no_faces,
+            no_faces: a.scene.no_faces,
         };
         let mut w = std::io::BufWriter::new(&mut staged);
         serde_json::to_writer(&mut w, &header)?;
@@ -317,7 +317,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
         .into_iter()
         .map(Backend::open)
         .collect::<Result<Vec<_>, _>>()?;
-    let mut scene = crate::scenes::load(&a.scene, crate::cli::faces(a.no_faces))?;
+    let mut scene = a.scene.load()?;
     if a.hilbert {
         scene.mesh = crate::mesh::reorder::hilbert_sorted(&scene.mesh);
     }
@@ -360,7 +360,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     let d = drawn_methods::<Walks>(&a)?;
     let mut drawn = Drawn::default();
     let backend = a.backend.open()?;
-    let scene = crate::scenes::load(&a.scene, faces(a.no_faces))?;
+    let scene = a.scene.load()?;
     let views = views_of(&a, d.width, d.height);
     let f = frame(&scene.mesh, &views, a.view, &d.methods, &backend)?;
     match a.what {
