@@ -84,6 +84,44 @@ fn silent_defaults_and_empty_runs_are_errors() {
     );
 }
 
+/// `count --rays-out` of a scene none of whose cameras lies inside it writes nothing: the run is an
+/// error, and no rays file (nor a staging file) is left.
+#[test]
+fn rays_out_of_no_view_is_an_error_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("one.msh");
+    std::fs::write(
+        &mesh,
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n$Elements\n1\n1 4 2 0 1 1 2 3 4\n$EndElements\n",
+    )
+    .unwrap();
+    let rays = dir.path().join("rays.jsonl");
+    refused(
+        &[
+            "count",
+            "--scene",
+            mesh.to_str().unwrap(),
+            "--no-faces",
+            "--views",
+            "2",
+            "--size",
+            "8x8",
+            "--rays-out",
+            rays.to_str().unwrap(),
+        ],
+        &["none of the 2 camera positions lies inside the mesh"],
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        left,
+        vec![std::ffi::OsString::from("one.msh")],
+        "left: {left:?}"
+    );
+}
+
 #[test]
 fn a_scene_without_its_constrained_faces_is_refused_unless_asked_for() {
     let dir = tempfile::tempdir().unwrap();

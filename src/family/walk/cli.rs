@@ -3,9 +3,7 @@
 //! asked step by step, `--rays-out`), and `judge` on that rays file: the walks given for its rays
 //! judged as the count judges them.
 
-use super::engine::{
-    GivenWalksMap, RaysHeader, WalkReport, Walker, frame, relabellings, walk_table,
-};
+use super::engine::{GivenWalksMap, RaysHeader, WalkSettings, Walker, frame, walk_run};
 use super::{WalkRows, WalkScene, Walks, report};
 use crate::backend::Backend;
 use crate::cli::JsonOut;
@@ -27,16 +25,13 @@ use crate::family::ExitFace;
 use crate::family::count::CountError;
 use crate::family::wrong::WrongRay;
 use crate::mesh::Mesh;
-use crate::mesh::layout::Layout;
-use crate::mesh::reorder::hilbert_sorted;
 use crate::registry::Named;
 use crate::render::{self, Image};
-use crate::scenes::{self, Generated};
+use crate::scenes::Generated;
 use crate::tet::Ray;
 use crate::walk::layouts::LayoutKind;
-use glam::Vec3;
 use serde_json::Value;
-use std::io::{BufRead, Write};
+use std::io::BufRead;
 use std::path::Path;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -122,47 +117,28 @@ pub(crate) fn run(a: Args) -> Status {
             return Err(format!("walk judges every step with the oracle on the CPU: use --backend {} (count --backend gpu walks on the GPU; a --wgsl function walks there too)", cpus.join(", ")).into());
         }
     };
-    let offset = Vec3::splat(a.offset);
-    let mesh = scenes::generated_mesh(a.mesh, a.size, offset, a.seed)?;
-    let mesh = if a.hilbert {
-        hilbert_sorted(&mesh)
-    } else {
-        mesh
-    };
     if a.relabel.is_some() && a.layout.is_some() {
         return Err("--relabel walks the plain mesh; leave out --layout".into());
     }
-    let layout = a.layout.map(|_| Layout::build(&mesh));
-    let rays = scenes::rays(a.mesh, &mesh, offset, a.rays, a.seed);
-    let table = walk_table(
-        &mesh,
-        &rays,
-        &methods,
-        walker,
-        a.layout.zip(layout.as_ref()),
-    )?;
-    let mut report = WalkReport {
+    let settings = WalkSettings {
         mesh: a.mesh,
         size: a.size,
         offset: a.offset,
-        tetrahedra: mesh.tets.len(),
-        rays: rays.len() - table.outside,
-        outside: table.outside,
+        rays: a.rays,
         seed: a.seed,
-        backend: a.backend.backend,
-        methods: table.rows,
-        relabellings: None,
+        layout: a.layout,
+        hilbert: a.hilbert,
+        relabel: a.relabel.is_some(),
     };
+    let report = walk_run(&settings, &methods, walker, a.backend.backend)?;
     let (walked_by, checked) = match walker {
         Walker::Checked(model) => (model.words().to_string(), true),
         Walker::Gpu(b) => (b.describe(), false),
     };
     println!("{}", report::walk_heading(&report, &walked_by));
     print!("{}", report::walk_table(&report, checked));
-    if let (Some(_), Walker::Checked(model)) = (&a.relabel, walker) {
-        let r = relabellings(&mesh, &rays, &methods, model)?;
-        print!("{}", report::relabelled_table(&r));
-        report.relabellings = Some(r);
+    if let Some(r) = &report.relabellings {
+        print!("{}", report::relabelled_table(r));
     }
     out.finish(&report)?;
     Ok(ExitCode::SUCCESS)
@@ -233,27 +209,8 @@ impl Flags for Walks {
         held(shard, &views)?;
         let scene = a.scene.load()?;
         let mut staged = crate::cli::Staged::new("--rays-out", path)?;
-        let header = RaysHeader {
-            scene: scene.name.clone(),
-            views,
-            shard,
-            tetrahedra: scene.mesh.tets.len(),
-            no_faces: a.scene.no_faces,
-        };
-        let mut w = std::io::BufWriter::new(&mut staged);
-        serde_json::to_writer(&mut w, &header)?;
-        w.write_all(b"\n")?;
-        let mut rays = 0u64;
-        let counted_views = header.each_line(&scene.mesh, |_, line| -> std::io::Result<()> {
-            rays += 1;
-            serde_json::to_writer(&mut w, &line)?;
-            w.write_all(b"\n")
-        })?;
-        if counted_views == 0 {
-            return Err(crate::family::count::CountError::NoView(views.views).into());
-        }
-        w.flush()?;
-        drop(w);
+        let header = RaysHeader::of(&scene, views, shard, a.scene.no_faces);
+        let (rays, counted_views) = header.write(&scene.mesh, &mut staged)?;
         staged.finish()?;
         println!(
             "{}: {} of {} of scene {} (walk them through `tetwalk scene export {}` and judge your answers with `tetwalk judge {} ANSWERS`)",

@@ -24,7 +24,7 @@ use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, judge, locate, 
 use rayon::prelude::*;
 use serde_json::{Value, json};
 use std::collections::HashMap;
-use std::io::BufRead;
+use std::io::{BufRead, Write};
 
 /// Why a walk run stopped.
 #[derive(Debug, thiserror::Error)]
@@ -106,9 +106,60 @@ pub struct WalkReport {
     pub relabellings: Option<Vec<Relabelled>>,
 }
 
+/// What `tetwalk walk` walks: a generated mesh of `size` (in Hilbert order with `hilbert`) moved by
+/// `offset`, and `rays` of its rays, both from `seed`; the methods over `layout` where they can, and
+/// under every relabelling with `relabel`.
+pub struct WalkSettings {
+    pub mesh: crate::scenes::Generated,
+    pub size: u32,
+    pub offset: f32,
+    pub rays: usize,
+    pub seed: u64,
+    pub layout: Option<LayoutKind>,
+    pub hilbert: bool,
+    pub relabel: bool,
+}
+
+/// `tetwalk walk`: the mesh and its rays made as `s` says, each method's walks judged by `walker`
+/// ([`walk_table`]), and with `s.relabel` under each relabelling ([`relabellings`], every step
+/// judged under `walker`'s model).
+pub fn walk_run(
+    s: &WalkSettings,
+    methods: &[&'static Method],
+    walker: Walker,
+    backend: crate::backend::BackendKind,
+) -> Result<WalkReport, WalkRunError> {
+    let offset = glam::Vec3::splat(s.offset);
+    let mesh = crate::scenes::generated_mesh(s.mesh, s.size, offset, s.seed)?;
+    let mesh = if s.hilbert {
+        crate::mesh::reorder::hilbert_sorted(&mesh)
+    } else {
+        mesh
+    };
+    let layout = s.layout.map(|_| Layout::build(&mesh));
+    let rays = crate::scenes::rays(s.mesh, &mesh, offset, s.rays, s.seed);
+    let table = walk_table(&mesh, &rays, methods, walker, s.layout.zip(layout.as_ref()))?;
+    let relabellings = match (s.relabel, walker) {
+        (true, Walker::Checked(model)) => Some(relabellings(&mesh, &rays, methods, model)?),
+        _ => None,
+    };
+    Ok(WalkReport {
+        mesh: s.mesh,
+        size: s.size,
+        offset: s.offset,
+        tetrahedra: mesh.tets.len(),
+        rays: rays.len() - table.outside,
+        outside: table.outside,
+        seed: s.seed,
+        backend,
+        methods: table.rows,
+        relabellings,
+    })
+}
+
 /// Walk `rays` through `mesh` with each method (over `layout` where the method can), each walk
 /// judged against the `exact` one.
-pub fn walk_table(
+fn walk_table(
     mesh: &Mesh,
     rays: &[Ray],
     methods: &[&'static Method],
@@ -245,7 +296,7 @@ fn gpu_per_ray(
 
 /// Every method's wrong results and cycles under each of the 12 orientation-preserving relabellings
 /// ([`EVEN_PERMUTATIONS`], the identity first).
-pub fn relabellings(
+fn relabellings(
     mesh: &Mesh,
     rays: &[Ray],
     methods: &[&'static Method],
@@ -385,6 +436,9 @@ pub enum RaysError {
     },
     #[error(transparent)]
     Count(#[from] CountError),
+    /// The rays file could not be written.
+    #[error(transparent)]
+    Write(#[from] std::io::Error),
 }
 
 /// The lines of `count --rays-out` for view `v` (camera `cam`, starting tetrahedron `start`): each
@@ -400,6 +454,38 @@ pub fn ray_lines(views: &Views, v: usize, cam: &Camera, start: u32) -> impl Iter
 }
 
 impl RaysHeader {
+    /// The header of `scene`'s rays over `views`, those `shard` holds (`no_faces`: the scene loaded
+    /// without constrained faces).
+    pub fn of(scene: &Loaded, views: Views, shard: Shard, no_faces: bool) -> RaysHeader {
+        RaysHeader {
+            scene: scene.name.clone(),
+            views,
+            shard,
+            tetrahedra: scene.mesh.tets.len(),
+            no_faces,
+        }
+    }
+
+    /// `count --rays-out`'s file written to `w`: this header's line, then every ray line
+    /// ([`RaysHeader::each_line`]); the rays and the views written. A shard none of whose views has
+    /// its camera inside `mesh` is [`CountError::NoView`].
+    pub fn write(&self, mesh: &Mesh, w: impl Write) -> Result<(u64, usize), RaysError> {
+        let mut w = std::io::BufWriter::new(w);
+        serde_json::to_writer(&mut w, self).map_err(std::io::Error::from)?;
+        w.write_all(b"\n")?;
+        let mut rays = 0u64;
+        let views = self.each_line(mesh, |_, line| -> std::io::Result<()> {
+            rays += 1;
+            serde_json::to_writer(&mut w, &line)?;
+            w.write_all(b"\n")
+        })?;
+        if views == 0 {
+            return Err(CountError::NoView(self.views.views).into());
+        }
+        w.flush()?;
+        Ok((rays, views))
+    }
+
     /// Each ray line of the views the header's shard holds whose camera is inside `mesh`, in order,
     /// handed to `each` with its view; the views walked.
     pub fn each_line<E>(
