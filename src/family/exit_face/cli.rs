@@ -3,7 +3,7 @@
 //! the commands flatten every family's.
 
 use super::ExitRow;
-use super::engine::predicate_grid;
+use super::engine::{free_cases, predicate_grid};
 use super::{ExitFace, ExitRows, TetRow};
 use crate::backend::Backend;
 use crate::cases::Case;
@@ -14,7 +14,6 @@ use crate::cli::render::{
 };
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{Status, WgslArg, choice};
-use crate::exact::classify;
 use crate::family::contract::Contract;
 use crate::family::{Family, Scale};
 use crate::family::{Kind, Walks};
@@ -24,7 +23,6 @@ use crate::render;
 use crate::scenes::rng;
 use crate::scenes::tets::TetShape;
 use crate::scenes::tets::{self, Target};
-use glam::Vec3;
 use std::io::Write;
 
 /// Exit-face rows.
@@ -282,68 +280,27 @@ fn free(a: &GenArgs, f: &GenFlags) -> Status {
         contract,
     } = start::<ExitFace>(a, 1.0, || finite_offset(f.offset))?;
     let mut r = rng(a.seed);
+    let make = || match f.rays {
+        Rays::Stab => {
+            let t = tets::tet(f.tet_shape, flatness, &mut r);
+            Some((t, tets::stabbing_ray(&t, &mut r)))
+        }
+        Rays::Edge => tets::through(f.tet_shape, flatness, Target::Edge, &mut r),
+        Rays::Vertex => tets::through(f.tet_shape, flatness, Target::Vertex, &mut r),
+        Rays::NearEdge => tets::near(f.tet_shape, flatness, Target::Edge, a.ulps, &mut r),
+        Rays::NearVertex => tets::near(f.tet_shape, flatness, Target::Vertex, a.ulps, &mut r),
+    };
+    let cases = free_cases(
+        a.count.saturating_mul(100),
+        make,
+        f.offset,
+        f.with_entry,
+        a.scale,
+        &contract,
+    );
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     let mut written = 0;
-    for _ in 0..a.count.saturating_mul(100) {
-        if written == a.count {
-            break;
-        }
-        let made = match f.rays {
-            Rays::Stab => {
-                let t = tets::tet(f.tet_shape, flatness, &mut r);
-                Some((t, tets::stabbing_ray(&t, &mut r)))
-            }
-            Rays::Edge => tets::through(f.tet_shape, flatness, Target::Edge, &mut r),
-            Rays::Vertex => tets::through(f.tet_shape, flatness, Target::Vertex, &mut r),
-            Rays::NearEdge => tets::near(f.tet_shape, flatness, Target::Edge, a.ulps, &mut r),
-            Rays::NearVertex => tets::near(f.tet_shape, flatness, Target::Vertex, a.ulps, &mut r),
-        };
-        let Some((t, ray)) =
-            made.and_then(|(t, ray)| tets::translated(&t, &ray, Vec3::splat(f.offset)))
-        else {
-            continue;
-        };
-        // Only cases `exit` can judge: finite, a direction, a tetrahedron that is not flat.
-        if crate::exact::check_ray(&t, &ray).is_err() || crate::tet::orientation(&t) == 0 {
-            continue;
-        }
-        let entry = if f.with_entry {
-            classify(&t, &ray)
-                .ok()
-                .and_then(|c| c.entry.first())
-                .map(|f| f as u8)
-        } else {
-            None
-        };
-        let case = Case {
-            tet: t,
-            org: ray.org,
-            dir: ray.dir,
-            entry,
-        };
-        // At another scale: kept where it still reads back and the oracle still judges it.
-        let case = if a.scale.is_one() {
-            case
-        } else {
-            match ExitFace::scaled(&case, a.scale)
-                .filter(crate::family::readable::<ExitFace>)
-                .filter(|c| ExitFace::truth(c).is_ok())
-            {
-                Some(c) => c,
-                None => continue,
-            }
-        };
-        // Within the contract: made to hold it, kept where it then does.
-        let case = if contract.is_default() {
-            case
-        } else {
-            match ExitFace::contracted(&contract, &case, written as u64)
-                .filter(|c| ExitFace::truth(c).is_ok_and(|x| ExitFace::holds(&contract, c, &x)))
-            {
-                Some(c) => c,
-                None => continue,
-            }
-        };
+    for case in cases.take(a.count) {
         writeln!(
             w,
             "{}",

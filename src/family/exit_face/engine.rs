@@ -1,10 +1,68 @@
 //! The exit-face family's runs beyond its `Family` (a file of the engine's layer in the family's
-//! folder): a predicate map's grid of exit faces (`render predicate`).
+//! folder): a predicate map's grid of exit faces (`render predicate`), and free cases for `tetwalk
+//! exit` (`gen-cases` without `--row`).
 
+use super::ExitFace;
 use crate::backend::{Backend, BackendError};
 use crate::cases::Case;
+use crate::family::contract::Contract;
+use crate::family::{Family, Scale};
 use crate::registry::Method;
 use crate::scenes::tets::ulps;
+use crate::tet::{Ray, Tet};
+
+/// Free (tetrahedron, ray) cases, as `gen-cases` writes them without `--row`: each of `tries` made
+/// by `make`, moved by `offset` along (1, 1, 1), and kept where `exit` can judge it (finite, a
+/// direction, a tetrahedron not flat in f32); with `with_entry` given its exact entry face (the
+/// lowest); at `scale`, kept where it still reads back and the oracle still judges it; made to hold
+/// `contract` (keyed by the cases kept before it), kept where it then does.
+pub fn free_cases<'a>(
+    tries: usize,
+    mut make: impl FnMut() -> Option<(Tet, Ray)> + 'a,
+    offset: f32,
+    with_entry: bool,
+    scale: Scale,
+    contract: &'a Contract,
+) -> impl Iterator<Item = Case> + 'a {
+    let mut kept = 0u64;
+    (0..tries).filter_map(move |_| {
+        let (t, ray) = make().and_then(|(t, ray)| {
+            crate::scenes::tets::translated(&t, &ray, glam::Vec3::splat(offset))
+        })?;
+        if crate::exact::check_ray(&t, &ray).is_err() || crate::tet::orientation(&t) == 0 {
+            return None;
+        }
+        let entry = if with_entry {
+            crate::exact::classify(&t, &ray)
+                .ok()
+                .and_then(|c| c.entry.first())
+                .map(|f| f as u8)
+        } else {
+            None
+        };
+        let case = Case {
+            tet: t,
+            org: ray.org,
+            dir: ray.dir,
+            entry,
+        };
+        let case = if scale.is_one() {
+            case
+        } else {
+            ExitFace::scaled(&case, scale)
+                .filter(crate::family::readable::<ExitFace>)
+                .filter(|c| ExitFace::truth(c).is_ok())?
+        };
+        let case = if contract.is_default() {
+            case
+        } else {
+            ExitFace::contracted(contract, &case, kept)
+                .filter(|c| ExitFace::truth(c).is_ok_and(|x| ExitFace::holds(contract, c, &x)))?
+        };
+        kept += 1;
+        Some(case)
+    })
+}
 
 /// A predicate map (after Kettner et al.'s classroom examples): the case's origin moved on a
 /// `size × size` grid of ulp steps in x and y around itself, each pixel the exit face `method` gives on
