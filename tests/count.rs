@@ -463,3 +463,70 @@ fn the_reference_walk_is_a_registered_method_by_name() {
     assert_eq!(t.name(), "woop-watertight");
     assert!(serde_json::from_str::<ByName<TriangleMethod>>("\"certified\"").is_err());
 }
+
+/// A view's camera is located as a function of the mesh and the camera alone (the point perturbed
+/// symbolically, so one tetrahedron holds it), so that a count and each of its shards start its rays
+/// in the same tetrahedron: on a mesh one of whose vertices is view 5's camera (a box starred from
+/// that point: all 12 tetrahedra hold it unperturbed), a walk from any of them locates it in the
+/// same one, and every view is located alike whichever views its shard holds before it.
+#[test]
+fn a_cameras_tetrahedron_does_not_depend_on_the_views_before_it() {
+    use glam::Vec3;
+    use tetwalk::engine::count::located_views;
+    use tetwalk::mesh::{Mesh, RawMesh};
+    use tetwalk::scenes::camera::Views;
+    let views = Views {
+        views: 8,
+        width: 4,
+        height: 4,
+        seed: 1,
+        fov_deg: Views::FOV_DEG,
+    };
+    let mut points: Vec<Vec3> = (0..8)
+        .map(|i| Vec3::new((i & 1) as f32, (i >> 1 & 1) as f32, (i >> 2 & 1) as f32))
+        .collect();
+    let eye = views.camera(Vec3::ZERO, Vec3::ONE, 5).eye;
+    points.push(eye);
+    // The cube's faces, counterclockwise seen from outside, each split in two and joined to the eye.
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let tets: Vec<[u32; 4]> = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2], 8], [q[0], q[2], q[3], 8]])
+        .collect();
+    let mesh = Mesh::build(RawMesh {
+        points,
+        tets,
+        ..RawMesh::default()
+    })
+    .unwrap();
+    let from_0 = tetwalk::walk::locate(&mesh, eye, 0).unwrap();
+    for t in 1..12 {
+        assert_eq!(
+            tetwalk::walk::locate(&mesh, eye, t).unwrap(),
+            from_0,
+            "the camera located from tetrahedron {t}"
+        );
+    }
+    let whole: Vec<(usize, u32)> = located_views(&mesh, &views, |_| true, &|| ())
+        .map(|(v, _, t)| (v, t))
+        .collect();
+    assert_eq!(whole.len(), 8, "every camera is inside the box");
+    for shard in 2..=4 {
+        for index in 0..shard {
+            for (v, _, t) in located_views(&mesh, &views, |v| v % shard == index, &|| ()) {
+                assert_eq!(
+                    (v, t),
+                    whole[v],
+                    "view {v} in shard {index}/{shard} starts where the whole count's does"
+                );
+            }
+        }
+    }
+}
