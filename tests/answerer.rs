@@ -815,6 +815,20 @@ fn exit_and_hit_judge_a_file_through_an_answerer() {
     );
     assert_eq!(code, 0, "{err}");
     assert!(out.lines().any(|l| l.contains("\"leak\":true")), "{out}");
+    // A program that claims what the triangle methods claim, no leak, is refuted by its leaks.
+    let (code, _, err) = run_tetwalk(
+        &[
+            "hit",
+            "--answerer",
+            &constant("json", r#"{"tri": None}"#, "", 0),
+            "--answerer-claims",
+            "--fail-on",
+            "claims",
+        ],
+        tri.as_bytes(),
+    );
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("claims no leak: REFUTED by"), "{err}");
     let walk = r#"{"mesh":"kuhn","org":[0.5,0.5,0.5],"dir":[1,0,0]}"#;
     let mut args = vec!["exit"];
     args.extend(kernel);

@@ -4,7 +4,8 @@
 
 use super::{BackendArg, FailArg, JsonOut, Status};
 use crate::engine::answering::{
-    AnswerTally, Answered, Line, Part, Summary, Takes, answer, batches, open_lines, standing,
+    AnswerTally, Answered, Line, Part, Summary, Takes, answer, batches, open_lines,
+    outside_standing, standing,
 };
 use crate::engine::standing::Standing;
 use crate::family::{Family, Kind};
@@ -197,16 +198,7 @@ pub(crate) fn outside<F: Lines>(
         input: None,
         json: a.json.as_deref(),
         fail: a.fail,
-        standing: &|t| {
-            // The claim it makes, if it makes one: robust refuted by every wrong answer, no leak by leaks.
-            let mut s = vec![standing::<F>(t)];
-            let refuted = match F::CLAIM {
-                crate::registry::Claim::Robust => t.wrong,
-                crate::registry::Claim::NoLeak => t.leaks.unwrap_or(0),
-            };
-            x.claim::<F>(&mut s, refuted);
-            s.remove(0)
-        },
+        standing: &|t| outside_standing::<F>(x, t),
     }
     .by_parts(
         || {

@@ -488,13 +488,31 @@ pub fn answer(
     Ok(s)
 }
 
-/// Each method's tally's standing, as `F`'s claims have it: a robust method's claim refuted by every
-/// wrong answer, a watertight one's by its leaks.
+/// Each method's tally's standing, as `F`'s claims have it ([`AnswerTally::refuting`]).
 pub fn standing<F: Family>(t: &AnswerTally) -> Standing {
-    Standing::named::<F>(&t.method, t.right + t.wrong, t.wrong, |c| match c {
-        crate::registry::Claim::Robust => Some(t.wrong),
-        crate::registry::Claim::NoLeak => t.leaks,
-    })
+    Standing::named::<F>(&t.method, t.right + t.wrong, t.wrong, |c| t.refuting(c))
+}
+
+/// A program's tally's standing, with the claim it makes (`--answerer-claims`), if it makes one, held
+/// to its answers as `F`'s claim is ([`AnswerTally::refuting`]; leaks not counted refute nothing).
+pub fn outside_standing<F: Family>(
+    x: &crate::engine::answerer::Answerer,
+    t: &AnswerTally,
+) -> Standing {
+    let mut s = vec![standing::<F>(t)];
+    x.claim::<F>(&mut s, t.refuting(F::CLAIM).unwrap_or(0));
+    s.remove(0)
+}
+
+impl AnswerTally {
+    /// The answers that refute `claim`: a robust method's every wrong answer, a watertight one's
+    /// leaks (where they are counted).
+    pub fn refuting(&self, claim: crate::registry::Claim) -> Option<u64> {
+        match claim {
+            crate::registry::Claim::Robust => Some(self.wrong),
+            crate::registry::Claim::NoLeak => self.leaks,
+        }
+    }
 }
 
 /// The cases file opened once (a pipe, `/dev/stdin`, cannot be read twice): its first line read to
