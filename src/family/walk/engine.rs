@@ -121,8 +121,8 @@ pub struct WalkSettings {
 }
 
 /// `tetwalk walk`: the mesh and its rays made as `s` says, each method's walks judged by `walker`
-/// ([`walk_table`]), and with `s.relabel` under each relabelling ([`relabellings`], every step
-/// judged under `walker`'s model).
+/// against the `exact` ones, and with `s.relabel` under each relabelling (every step judged under
+/// `walker`'s model).
 pub fn walk_run(
     s: &WalkSettings,
     methods: &[&'static Method],
