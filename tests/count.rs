@@ -488,15 +488,7 @@ fn a_cameras_tetrahedron_does_not_depend_on_the_views_before_it() {
     let eye = views.camera(Vec3::ZERO, Vec3::ONE, 5).eye;
     points.push(eye);
     // The cube's faces, counterclockwise seen from outside, each split in two and joined to the eye.
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let tets: Vec<[u32; 4]> = quads
+    let tets: Vec<[u32; 4]> = tetwalk::scenes::build::BOX_FACES
         .iter()
         .flat_map(|q| [[q[0], q[1], q[2], 8], [q[0], q[2], q[3], 8]])
         .collect();

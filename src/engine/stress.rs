@@ -186,10 +186,8 @@ pub fn cases_of<F: Family>(
             if scale.is_one() {
                 return Some(made);
             }
-            // At another scale: the case scaled, judged again as it now is, left out where it
-            // no longer reads back (a number overflowed) or the oracle refuses it.
-            let c = F::scaled(&made.0, scale).filter(crate::family::readable::<F>)?;
-            Some((c, F::truth(&c).ok()?))
+            // At another scale: the case scaled, judged again as it now is.
+            crate::family::scaled_judged::<F>(&made.0, scale)
         });
         if let Ok(mut m) = made.lock() {
             *m += k;

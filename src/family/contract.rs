@@ -173,6 +173,18 @@ pub fn edge_distance(tet: &Tet, org: Vec3, dir: Vec3) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// `case` made to hold a contract other than the default one ([`Family::contracted`], with `key`),
+/// judged again as it then is, and kept where it holds: the case and its truth.
+pub fn within<F: Family>(
+    contract: &Contract,
+    case: &F::Case,
+    key: u64,
+) -> Option<(F::Case, F::Truth)> {
+    let c = F::contracted(contract, case, key)?;
+    let x = F::truth(&c).ok()?;
+    F::holds(contract, &c, &x).then_some((c, x))
+}
+
 /// The cases of `F`'s stress row made until `count` of them hold `contract`, with their truths: case
 /// `i` of the row is tried, made to hold it ([`Family::contracted`], with key `i`), judged again as it
 /// then is, and kept where it holds; at most eight times `count` are tried. The first `count` kept,
@@ -198,9 +210,7 @@ pub fn cases_within<F: Family>(
                 if contract.is_default() {
                     return Some((c, x));
                 }
-                let c = F::contracted(contract, &c, i as u64)?;
-                let x = F::truth(&c).ok()?;
-                F::holds(contract, &c, &x).then_some((c, x))
+                within::<F>(contract, &c, i as u64)
             })
             .collect();
         kept.extend(more.into_iter().flatten().take(count - kept.len()));

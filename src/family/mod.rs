@@ -428,6 +428,13 @@ pub fn readable<F: Family>(case: &F::Case) -> bool {
     F::take_case(&mut obj).is_ok_and(|c| c == *case && obj.is_empty())
 }
 
+/// `case` at `scale` ([`Family::scaled`]), judged again as it then is: none where it no longer reads
+/// back ([`readable`]: a number overflowed) or the oracle refuses it.
+pub fn scaled_judged<F: Family>(case: &F::Case, scale: Scale) -> Option<(F::Case, F::Truth)> {
+    let c = F::scaled(case, scale).filter(readable::<F>)?;
+    Some((c, F::truth(&c).ok()?))
+}
+
 /// Points' coordinates, one after another ([`Family::numbers`]).
 pub(crate) fn points_numbers<'a>(points: impl IntoIterator<Item = &'a glam::Vec3>) -> Vec<f32> {
     points.into_iter().flat_map(|p| p.to_array()).collect()

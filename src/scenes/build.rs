@@ -21,6 +21,17 @@ pub fn switches(quality: bool) -> &'static str {
 /// differences in f64, so stay far below its range (and the box needs room beyond the model).
 pub const MAX_COORDINATE: f64 = 1e30;
 
+/// The six faces of a box whose corner `k` has bit 0, 1 and 2 of `k` for its x, y and z (low or
+/// high), each counterclockwise seen from outside.
+pub const BOX_FACES: [[u32; 4]; 6] = [
+    [0, 2, 3, 1],
+    [4, 5, 7, 6],
+    [0, 1, 5, 4],
+    [2, 6, 7, 3],
+    [0, 4, 6, 2],
+    [1, 3, 7, 5],
+];
+
 /// The model moved by `offset` (each point rounded to f32 once), in an axis-aligned box three times its
 /// half-diagonal away from its centre on every side: the points and triangles TetGen gets, box corners
 /// last. Refused when the moved model or its box cannot be represented: a coordinate not finite or
@@ -67,14 +78,7 @@ pub fn boxed(model: &Surface, offset: Vec3) -> Result<Surface, SceneError> {
             if k & 4 == 0 { blo.z } else { bhi.z },
         ));
     }
-    for [a, b, c, d] in [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ] {
+    for [a, b, c, d] in BOX_FACES {
         out.triangles.push([base + a, base + b, base + c]);
         out.triangles.push([base + a, base + c, base + d]);
     }

@@ -5,8 +5,8 @@
 use super::ExitFace;
 use crate::backend::{Backend, BackendError};
 use crate::cases::Case;
+use crate::family::Scale;
 use crate::family::contract::Contract;
-use crate::family::{Family, Scale};
 use crate::registry::Method;
 use crate::scenes::tets::ulps;
 use crate::tet::{Ray, Tet};
@@ -49,15 +49,12 @@ pub fn free_cases<'a>(
         let case = if scale.is_one() {
             case
         } else {
-            ExitFace::scaled(&case, scale)
-                .filter(crate::family::readable::<ExitFace>)
-                .filter(|c| ExitFace::truth(c).is_ok())?
+            crate::family::scaled_judged::<ExitFace>(&case, scale)?.0
         };
         let case = if contract.is_default() {
             case
         } else {
-            ExitFace::contracted(contract, &case, kept)
-                .filter(|c| ExitFace::truth(c).is_ok_and(|x| ExitFace::holds(contract, c, &x)))?
+            crate::family::contract::within::<ExitFace>(contract, &case, kept)?.0
         };
         kept += 1;
         Some(case)
