@@ -12,7 +12,7 @@ use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::methods::Model;
-use crate::methods::triangle::Among;
+use crate::methods::triangle::{Among, Nearest};
 use crate::octree::Octree;
 use crate::registry::{Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::Ray;
@@ -107,6 +107,13 @@ pub struct LayoutOn<'a> {
 pub struct LayoutWalked {
     pub walks: Vec<(LayoutOutcome, u32)>,
     pub kernel_seconds: Option<f64>,
+}
+
+/// A scene's triangles as a backend compares nearest hits on them: uploaded once to a GPU with the
+/// face each came from, nothing on the CPU.
+pub struct TrianglesOn {
+    #[cfg(feature = "gpu")]
+    gpu: Option<gpu::GpuTriangles>,
 }
 
 /// An octree and its triangles as a backend walks them: uploaded once to a GPU, nothing on the CPU.
@@ -257,7 +264,7 @@ impl Backend {
         rays: &[Ray],
         packet: usize,
         among: &Among,
-    ) -> Result<Vec<Option<(u32, f32)>>, BackendError> {
+    ) -> Result<Vec<Nearest>, BackendError> {
         match self {
             Backend::Cpu { model } => {
                 let trace = method.fastest(*model);
@@ -362,16 +369,72 @@ impl Backend {
         }
     }
 
-    /// Make an octree and its triangles ready to walk here (a GPU gets them uploaded, once).
+    /// Make an octree and its triangles ready to walk here (a GPU gets them uploaded, once, with
+    /// the constrained face each came from, `from`, from both sides, on which a count compares
+    /// hits there; empty where none is compared).
     #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
-    pub fn octree(&self, octree: &Octree, tris: &[crate::tet::Tri]) -> OctreeOn {
+    pub fn octree(
+        &self,
+        octree: &Octree,
+        tris: &[crate::tet::Tri],
+        from: &[[(u32, u8); 2]],
+    ) -> OctreeOn {
         OctreeOn {
             #[cfg(feature = "gpu")]
             gpu: match self {
                 #[cfg(feature = "gpu")]
-                Backend::Gpu(g) => Some(g.upload_octree(octree, tris)),
+                Backend::Gpu(g) => Some(g.upload_octree(octree, g.upload_triangles(tris, from))),
                 Backend::Cpu { .. } => None,
             },
+        }
+    }
+
+    /// Make a scene's triangles ready for the nearest hits a count compares where they are made
+    /// ([`Backend::triangles_against`]): a GPU gets them uploaded, once, with the constrained face
+    /// each came from (`from`, from both sides: [`crate::mesh::surface::both_sides`]).
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
+    pub fn triangles(&self, tris: &[crate::tet::Tri], from: &[[(u32, u8); 2]]) -> TrianglesOn {
+        TrianglesOn {
+            #[cfg(feature = "gpu")]
+            gpu: match self {
+                #[cfg(feature = "gpu")]
+                Backend::Gpu(g) => Some(g.upload_triangles(tris, from)),
+                Backend::Cpu { .. } => None,
+            },
+        }
+    }
+
+    /// `method`'s nearest hit among the triangles made ready as `on` for each ray of the last
+    /// [`Backend::walks_keeping`] that kept its endings (from `start`), compared with them where
+    /// they are made: on a GPU, only the rays not settled there as ending where the reference ends
+    /// (the triangle and `t` of each, or `None`, in pixel order; no steps); `None` elsewhere.
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
+    pub fn triangles_against(
+        &self,
+        method: &TriangleMethod,
+        on: &TrianglesOn,
+        rays: &[Ray],
+        start: u32,
+    ) -> Result<Option<Against<Nearest>>, BackendError> {
+        match self {
+            #[cfg(feature = "gpu")]
+            Backend::Gpu(g) => {
+                let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
+                let kept = map_all(rays, |r| (*r, start));
+                let done = g.nearest_against(method, up, &kept)?;
+                let mut bad = None;
+                let sent = in_pixel_order(done.sent, |_, e| {
+                    e.triangle_hit().unwrap_or_else(|e| {
+                        bad = Some(e);
+                        None
+                    })
+                });
+                match bad {
+                    Some(e) => Err(e.into()),
+                    None => Ok(Some(Against { steps: 0, sent })),
+                }
+            }
+            _ => Ok(None),
         }
     }
 
@@ -400,18 +463,41 @@ impl Backend {
             #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
-                let asked: Vec<(Ray, u32)> = rays
-                    .par_iter()
-                    .map(|r| {
-                        (
-                            *r,
-                            crate::walk::octree::entry(o, r).unwrap_or(crate::mesh::HULL),
-                        )
-                    })
-                    .collect();
-                let ends = g.octree_walks(method, tri, up, &asked, max_steps)?;
+                let ends = g.octree_walks(method, tri, up, &entry_cells(o, rays), max_steps)?;
                 Ok(ends.iter().map(|e| e.octree_walk()).collect())
             }
+        }
+    }
+
+    /// [`Backend::octree_walks`] of the rays of the last [`Backend::walks_keeping`] that kept its
+    /// endings (from `start`), compared with them where they are made: on a GPU, the cells summed
+    /// and only the walks not settled there as ending where the reference ends, in pixel order;
+    /// `None` elsewhere.
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
+    #[allow(clippy::too_many_arguments)]
+    pub fn octree_walks_against(
+        &self,
+        method: &OctreeMethod,
+        tri: &TriangleMethod,
+        o: &Octree,
+        on: &OctreeOn,
+        rays: &[Ray],
+        start: u32,
+        max_steps: u32,
+    ) -> Result<Option<Against<OctreeWalk>>, BackendError> {
+        match self.for_method(method) {
+            #[cfg(feature = "gpu")]
+            Backend::Gpu(g) => {
+                let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
+                let kept = map_all(rays, |r| (*r, start));
+                let entered = || entry_cells(o, rays);
+                let done = g.octree_walks_against(method, tri, up, &entered, max_steps, &kept)?;
+                Ok(Some(Against {
+                    steps: done.steps,
+                    sent: in_pixel_order(done.sent, |_, e| e.octree_walk()),
+                }))
+            }
+            _ => Ok(None),
         }
     }
 
@@ -542,22 +628,14 @@ impl Backend {
                 let done = g.walks_then(method, uploaded, &from, max_steps, gpu::After::Compare)?;
                 let walk = method.walk(Model::Plain);
                 let (mut steps, mut flagged) = (done.steps, 0);
-                // In pixel order (the GPU sends them back in any order).
-                let mut sent = done.sent;
-                sent.sort_unstable_by_key(|s| s.index);
-                let sent: Vec<(usize, Walk)> = sent
-                    .iter()
-                    .map(|s| {
-                        let i = s.index as usize;
-                        let w = s.ending().walk().unwrap_or_else(|| {
-                            flagged += 1;
-                            let w = walk(mesh.mesh, &rays[i], start, max_steps);
-                            steps = steps - u64::from(s.steps) + u64::from(w.steps);
-                            w
-                        });
-                        (i, w)
+                let sent = in_pixel_order(done.sent, |i, e| {
+                    e.walk().unwrap_or_else(|| {
+                        flagged += 1;
+                        let w = walk(mesh.mesh, &rays[i], start, max_steps);
+                        steps = steps - u64::from(e.steps) + u64::from(w.steps);
+                        w
                     })
-                    .collect();
+                });
                 if flagged > 0 && !method.info.runs_on_cpu {
                     return Err(BackendError::Unsettled(method.info.name));
                 }
@@ -649,11 +727,47 @@ impl Backend {
     }
 }
 
-/// Walks compared with the kept reference walk where they were made ([`Backend::walks_against`]):
-/// their steps summed, and each walk not settled there as ending where the reference ends, by index.
-pub struct Against {
+/// Answers compared with the kept reference walk where they were made ([`Backend::walks_against`],
+/// [`Backend::triangles_against`], [`Backend::octree_walks_against`]): their steps summed, and
+/// each answer not settled there as ending where the reference ends, by index, in pixel order.
+pub struct Against<T = Walk> {
     pub steps: u64,
-    pub sent: Vec<(usize, Walk)>,
+    pub sent: Vec<(usize, T)>,
+}
+
+impl<T> Against<T> {
+    /// The same, each answer sent back as `f` says.
+    pub fn map<U>(self, f: impl Fn(T) -> U) -> Against<U> {
+        Against {
+            steps: self.steps,
+            sent: self.sent.into_iter().map(|(i, a)| (i, f(a))).collect(),
+        }
+    }
+}
+
+/// The records a GPU sent back, in pixel order (it sends them in any order), each as `f` reads its
+/// index and ending.
+#[cfg(feature = "gpu")]
+fn in_pixel_order<T>(
+    mut sent: Vec<gpu::shader::Sent>,
+    mut f: impl FnMut(usize, gpu::shader::Ending) -> T,
+) -> Vec<(usize, T)> {
+    sent.sort_unstable_by_key(|s| s.index);
+    sent.iter()
+        .map(|s| (s.index as usize, f(s.index as usize, s.ending())))
+        .collect()
+}
+
+/// Each ray with the address of the octree cell it enters first, from the cube map (seed 001 §4.1;
+/// `HULL` for a miss), as the GPU's octree walk starts it.
+#[cfg(feature = "gpu")]
+fn entry_cells(o: &Octree, rays: &[Ray]) -> Vec<(Ray, u32)> {
+    map_all(rays, |r| {
+        (
+            *r,
+            crate::walk::octree::entry(o, r).unwrap_or(crate::mesh::HULL),
+        )
+    })
 }
 
 /// Walks from a backend: the GPU's kernel time where it measures one, and how many rays the GPU

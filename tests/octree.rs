@@ -338,7 +338,7 @@ fn the_octree_walk_on_the_gpu_ends_as_on_the_cpu() {
         .iter()
         .filter(|m| !m.is_reference())
     {
-        let (on_gpu, on_cpu) = (gpu.octree(&o, &tris), cpu.octree(&o, &tris));
+        let (on_gpu, on_cpu) = (gpu.octree(&o, &tris, &[]), cpu.octree(&o, &tris, &[]));
         let a = gpu
             .octree_walks(m, mt, &o, &tris, &on_gpu, &rays, cap)
             .unwrap();

@@ -6,13 +6,14 @@ use crate::choice::{Choice, Traffic};
 use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::methods::Model;
+use crate::methods::triangle::Nearest;
 use crate::registry::{Gpu as GpuSupport, Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{LayoutKind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};
 use rayon::prelude::*;
 use shader::binding::{
-    CASES, CELLS, COUNTERS, ENDINGS, FACEINFO, FACES, LAYOUT_RAYS, LAYOUT_WORDS, OCTREE,
+    CASES, CELLS, COUNTERS, ENDINGS, FACEINFO, FACES, HIT_FACES, LAYOUT_RAYS, LAYOUT_WORDS, OCTREE,
     OCTREE_BOXES, OCTREE_TRIS, PARAMS, POINTS, RAYS, REFERENCE, SENT,
 };
 use shader::{Ending, GROUP, Params};
@@ -193,6 +194,11 @@ struct Job<'a, I> {
     out_at: u32,
     /// What becomes of the output.
     after: After,
+    /// Where the items bound at `input.0` are.
+    items: Items<'a>,
+    /// With [`After::Compare`], where each triangle a hit names came from (`compare_hits`); `None`
+    /// where the endings are the mesh's (`compare_endings`).
+    hits: Option<&'a wgpu::Buffer>,
     /// The index of the dispatch's first item in the batch ([`Gpu::dispatch`] sets it).
     first: usize,
 }
@@ -205,8 +211,20 @@ pub enum After {
     /// Read back, and kept on the GPU as the reference walk's endings (`compare_endings` reads them).
     Keep,
     /// Compared there with the kept reference endings: only the walks not settled equal come back,
-    /// with the steps summed.
+    /// with the steps summed (`compare_endings`, or `compare_hits` for nearest hits on triangles).
     Compare,
+}
+
+/// Where a dispatch's items are: made and uploaded (`Job::input`'s function), or already on the GPU
+/// for the whole batch (that function is then not called).
+#[derive(Clone, Copy)]
+enum Items<'a> {
+    Upload,
+    /// The reference walk's rays, kept with its endings ([`After::Keep`]).
+    Reference,
+    /// Items uploaded once for every method of a view (an octree walk's rays with their entry
+    /// cells).
+    Bound(&'a wgpu::Buffer),
 }
 
 impl<I> Clone for Job<'_, I> {
@@ -271,6 +289,23 @@ pub struct Dispatched<T> {
     pub kernel_seconds: Option<f64>,
     pub sent: Vec<shader::Sent>,
     pub steps: u64,
+}
+
+impl Dispatched<Ending> {
+    /// The same, refused where an ending or a record sent back has a code `known` refuses.
+    fn checked(self, known: impl Fn(u32) -> bool + Sync) -> Result<Self, GpuError> {
+        let bad = self.items.par_iter().find_any(|e| !known(e.kind)).copied();
+        let bad = bad.or_else(|| {
+            self.sent
+                .iter()
+                .map(|s| s.ending())
+                .find(|e| !known(e.kind))
+        });
+        match bad {
+            Some(e) => Err(GpuError::BadOutcome(e.kind)),
+            None => Ok(self),
+        }
+    }
 }
 
 impl Gpu {
@@ -486,11 +521,14 @@ impl Gpu {
             bound,
             out_at,
             after,
+            items,
+            hits,
             first,
         } = job;
         let pipeline = self.pipeline(entry)?;
-        let compare = match after {
-            After::Compare => Some(self.pipeline(Entry::plain("compare_endings"))?),
+        let compare = match (after, hits) {
+            (After::Compare, None) => Some(self.pipeline(Entry::plain("compare_endings"))?),
+            (After::Compare, Some(_)) => Some(self.pipeline(Entry::plain("compare_hits"))?),
             _ => None,
         };
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
@@ -503,22 +541,21 @@ impl Gpu {
             16,
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         );
-        // Compared walks read the reference walk's rays, kept on the GPU; every other dispatch has
-        // its items uploaded.
-        let upload_items = after != After::Compare;
-        let input_buf = if upload_items {
-            self.scratch(
+        let upload_items = matches!(items, Items::Upload);
+        let input_buf = match items {
+            Items::Upload => self.scratch(
                 &mut kept,
                 "input",
                 in_bytes,
                 wgpu::BufferUsages::STORAGE
                     | wgpu::BufferUsages::COPY_DST
                     | wgpu::BufferUsages::COPY_SRC,
-            )
-        } else {
-            kept.get("reference_items")
+            ),
+            Items::Reference => kept
+                .get("reference_items")
                 .ok_or(GpuError::NoReference)?
-                .clone()
+                .clone(),
+            Items::Bound(b) => b.clone(),
         };
         let out = self.scratch(
             &mut kept,
@@ -651,21 +688,23 @@ impl Gpu {
                         resource: buf.as_entire_binding(),
                     }
                 }
+                let mut entries = vec![
+                    bind(PARAMS, &uniform),
+                    bind(ENDINGS, &out),
+                    bind(REFERENCE, &reference),
+                    bind(SENT, &sent),
+                    bind(COUNTERS, &counters),
+                ];
+                entries.extend(hits.map(|h| bind(HIT_FACES, h)));
                 let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: None,
                     layout: &compare.get_bind_group_layout(0),
-                    entries: &[
-                        bind(PARAMS, &uniform),
-                        bind(ENDINGS, &out),
-                        bind(REFERENCE, &reference),
-                        bind(SENT, &sent),
-                        bind(COUNTERS, &counters),
-                    ],
+                    entries: &entries,
                 });
                 enc.clear_buffer(&counters, 0, None);
                 {
                     let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("compare_endings"),
+                        label: Some("compare"),
                         timestamp_writes: None,
                     });
                     pass.set_pipeline(compare);
@@ -848,6 +887,8 @@ impl Gpu {
             bound: &[],
             out_at: FACES,
             after: After::Read,
+            items: Items::Upload,
+            hits: None,
             first: 0,
         })
     }
@@ -872,13 +913,35 @@ impl Gpu {
             bound: &[],
             out_at: FACES,
             after: After::Read,
+            items: Items::Upload,
+            hits: None,
             first: 0,
         };
         Ok(self.dispatch(job)?.items)
     }
 
-    /// Upload an octree and its triangles for [`Gpu::octree_walks`].
-    pub fn upload_octree(&self, o: &crate::octree::Octree, tris: &[crate::tet::Tri]) -> GpuOctree {
+    /// Upload a scene's triangles and the constrained face each came from (tetrahedron and face,
+    /// from both sides: [`crate::mesh::surface::both_sides`]; a count compares hits on them,
+    /// [`Gpu::nearest_against`], [`Gpu::octree_walks_against`]; empty where nothing is compared).
+    pub fn upload_triangles(
+        &self,
+        tris: &[crate::tet::Tri],
+        from: &[[(u32, u8); 2]],
+    ) -> GpuTriangles {
+        let faces: Vec<[u32; 4]> = from
+            .iter()
+            .map(|&[(t, f), (u, g)]| [t, u32::from(f), u, u32::from(g)])
+            .collect();
+        GpuTriangles {
+            points: self.triangle_points(tris),
+            faces: self.storage(bytemuck::cast_slice(&faces)),
+            count: tris.len(),
+            faced: from.len() == tris.len(),
+        }
+    }
+
+    /// Upload an octree over triangles uploaded for it, for [`Gpu::octree_walks`].
+    pub fn upload_octree(&self, o: &crate::octree::Octree, tris: GpuTriangles) -> GpuOctree {
         let boxes: Vec<[f32; 4]> = o
             .boxes
             .iter()
@@ -888,7 +951,8 @@ impl Gpu {
             words: self.storage(bytemuck::cast_slice(&o.words)),
             boxes: self.storage(bytemuck::cast_slice(&boxes)),
             triangles: self.storage(bytemuck::cast_slice(&o.triangles)),
-            points: self.triangle_points(tris),
+            tris,
+            entered: Mutex::new(None),
         }
     }
 
@@ -902,36 +966,112 @@ impl Gpu {
         rays: &[(Ray, u32)],
         max_steps: u32,
     ) -> Result<Vec<Ending>, GpuError> {
+        let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
+        let batch = (rays.len(), &ray as _, Items::Upload);
+        Ok(self
+            .octree_dispatch(method, tri, o, batch, max_steps, None)?
+            .items)
+    }
+
+    /// [`Gpu::octree_walks`] of the rays of the reference walk kept on the GPU (`kept`, with the
+    /// tetrahedron it started from; refused for other rays), each walk compared there with it
+    /// (`compare_hits`, a hit taken as the face its triangle came from): the cells summed, and only
+    /// the walks not settled there come back ([`Dispatched::sent`]). The rays with their entry cells
+    /// (`entered`, called once for the kept rays) are uploaded once for every method compared.
+    pub fn octree_walks_against(
+        &self,
+        method: &OctreeMethod,
+        tri: &TriangleMethod,
+        o: &GpuOctree,
+        entered: &dyn Fn() -> Vec<(Ray, u32)>,
+        max_steps: u32,
+        kept: &[(Ray, u32)],
+    ) -> Result<Dispatched<Ending>, GpuError> {
+        let hits = self.faces_for(&o.tris, kept)?;
+        let these = (kept.len(), fingerprint(kept));
+        let items = {
+            let mut uploaded = o.entered.lock().unwrap_or_else(|e| e.into_inner());
+            match &*uploaded {
+                Some((of, items)) if *of == these => items.clone(),
+                _ => {
+                    let asked: Vec<shader::WalkRay> = entered()
+                        .par_iter()
+                        .map(|(r, cell)| shader::WalkRay::new(r, *cell))
+                        .collect();
+                    let items = self.storage(bytemuck::cast_slice(&asked));
+                    *uploaded = Some((these, items.clone()));
+                    items
+                }
+            }
+        };
+        let ray = |i: usize| shader::WalkRay::new(&kept[i].0, kept[i].1);
+        let batch = (kept.len(), &ray as _, Items::Bound(&items));
+        self.octree_dispatch(method, tri, o, batch, max_steps, Some(hits))
+    }
+
+    /// [`Gpu::octree_walks`] of a batch (how many rays, each with its entry cell, and where they
+    /// are), compared with the kept reference walk through `hits` where given.
+    fn octree_dispatch(
+        &self,
+        method: &OctreeMethod,
+        tri: &TriangleMethod,
+        o: &GpuOctree,
+        (count, ray, items): (usize, &(dyn Fn(usize) -> shader::WalkRay + Sync), Items),
+        max_steps: u32,
+        hits: Option<&wgpu::Buffer>,
+    ) -> Result<Dispatched<Ending>, GpuError> {
         let constants = [octree_constant(method)?, triangle_constant(tri)?];
         let entry = Entry {
             name: shader::OCTREE_WALK,
             constants: &constants,
         };
-        let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
         let bound = [
             (OCTREE, &o.words),
             (OCTREE_BOXES, &o.boxes),
             (OCTREE_TRIS, &o.triangles),
-            (POINTS, &o.points),
+            (POINTS, &o.tris.points),
         ];
         let out: Dispatched<Ending> = self.dispatch(Job {
             entry,
-            count: rays.len(),
+            count,
             limit: max_steps,
-            input: (RAYS, &ray),
+            input: (RAYS, ray),
             bound: &bound,
             out_at: ENDINGS,
-            after: After::Read,
+            after: if hits.is_some() {
+                After::Compare
+            } else {
+                After::Read
+            },
+            items,
+            hits,
             first: 0,
         })?;
-        if let Some(bad) = out
-            .items
-            .iter()
-            .find(|e| OutcomeKind::from_code(e.kind).is_none())
-        {
-            return Err(GpuError::BadOutcome(bad.kind));
+        out.checked(|kind| OutcomeKind::from_code(kind).is_some())
+    }
+
+    /// The faces `tris` came from, to compare hits on them with the reference walk kept for `kept`
+    /// (refused for other rays, or triangles uploaded without their faces).
+    fn faces_for<'a>(
+        &self,
+        tris: &'a GpuTriangles,
+        kept: &[(Ray, u32)],
+    ) -> Result<&'a wgpu::Buffer, GpuError> {
+        self.check_kept(kept)?;
+        if !tris.faced {
+            return Err(GpuError::NoReference);
         }
-        Ok(out.items)
+        Ok(&tris.faces)
+    }
+
+    /// Refuse to compare walks of `rays` unless they are the rays (with their starting
+    /// tetrahedra) whose reference walk is kept on the GPU.
+    fn check_kept(&self, rays: &[(Ray, u32)]) -> Result<(), GpuError> {
+        let kept = *self.kept_rays.lock().unwrap_or_else(|e| e.into_inner());
+        if kept != Some((rays.len(), fingerprint(rays))) {
+            return Err(GpuError::NoReference);
+        }
+        Ok(())
     }
 
     /// Upload a mesh for [`Gpu::walks`].
@@ -1013,8 +1153,10 @@ impl Gpu {
                     return self.walks_then(method, mesh, rays, max_steps, After::Read);
                 }
                 After::Keep => *kept = Some(these),
-                _ if *kept != Some(these) => return Err(GpuError::NoReference),
-                _ => {}
+                _ => {
+                    drop(kept);
+                    self.check_kept(rays)?;
+                }
             }
         }
         let [_, walk] = Self::entry_points(method)?;
@@ -1028,16 +1170,15 @@ impl Gpu {
             bound: &mesh,
             out_at: ENDINGS,
             after,
+            items: if after == After::Compare {
+                Items::Reference
+            } else {
+                Items::Upload
+            },
+            hits: None,
             first: 0,
         })?;
-        let known = |kind: u32| kind == shader::FLAGGED || OutcomeKind::from_code(kind).is_some();
-        if let Some(bad) = out.items.par_iter().find_any(|e| !known(e.kind)) {
-            return Err(GpuError::BadOutcome(bad.kind));
-        }
-        if let Some(bad) = out.sent.iter().find(|e| !known(e.kind)) {
-            return Err(GpuError::BadOutcome(bad.kind));
-        }
-        Ok(out)
+        out.checked(|kind| kind == shader::FLAGGED || OutcomeKind::from_code(kind).is_some())
     }
 }
 
@@ -1082,6 +1223,8 @@ impl Gpu {
             bound: &[(POINTS, &points)],
             out_at: ENDINGS,
             after: After::Read,
+            items: Items::Upload,
+            hits: None,
             first: 0,
         })?;
         out.items
@@ -1096,20 +1239,10 @@ impl Gpu {
         method: &TriangleMethod,
         tris: &[crate::tet::Tri],
         rays: &[Ray],
-    ) -> Result<Dispatched<Option<(u32, f32)>>, GpuError> {
-        let [_, nearest] = Self::triangle_entry_points(method)?;
+    ) -> Result<Dispatched<Nearest>, GpuError> {
         let points = self.triangle_points(tris);
         let ray = |i: usize| shader::WalkRay::new(&rays[i], 0);
-        let out: Dispatched<Ending> = self.dispatch(Job {
-            entry: Entry::plain(&nearest),
-            count: rays.len(),
-            limit: tris.len() as u32,
-            input: (RAYS, &ray),
-            bound: &[(POINTS, &points)],
-            out_at: ENDINGS,
-            after: After::Read,
-            first: 0,
-        })?;
+        let out = self.nearest(method, (&points, tris.len()), rays.len(), &ray, None)?;
         Ok(Dispatched {
             items: out
                 .items
@@ -1119,6 +1252,68 @@ impl Gpu {
             kernel_seconds: out.kernel_seconds,
             sent: Vec::new(),
             steps: 0,
+        })
+    }
+
+    /// [`Gpu::nearest_triangles`] among uploaded triangles for the rays of the reference walk kept
+    /// on the GPU (`kept`, with the tetrahedron it started from; refused for other rays), read
+    /// there, each nearest hit compared there with the reference walk's ending (`compare_hits`, a
+    /// hit taken as the face its triangle came from): only the rays not settled there come back
+    /// ([`Dispatched::sent`]: HIT with the triangle and the bits of `t`, or LEFT_MESH).
+    pub fn nearest_against(
+        &self,
+        method: &TriangleMethod,
+        tris: &GpuTriangles,
+        kept: &[(Ray, u32)],
+    ) -> Result<Dispatched<Ending>, GpuError> {
+        let faces = self.faces_for(tris, kept)?;
+        let ray = |i: usize| shader::WalkRay::new(&kept[i].0, kept[i].1);
+        self.nearest(
+            method,
+            (&tris.points, tris.count),
+            kept.len(),
+            &ray,
+            Some(faces),
+        )
+    }
+
+    /// The nearest-hit kernel of `method` over `tris` (the points and how many triangles) for `count`
+    /// rays: uploaded (`ray`), or where `hits` is given, the kept reference walk's rays, compared
+    /// with it there.
+    fn nearest(
+        &self,
+        method: &TriangleMethod,
+        (points, triangles): (&wgpu::Buffer, usize),
+        count: usize,
+        ray: &(dyn Fn(usize) -> shader::WalkRay + Sync),
+        hits: Option<&wgpu::Buffer>,
+    ) -> Result<Dispatched<Ending>, GpuError> {
+        let [_, nearest] = Self::triangle_entry_points(method)?;
+        let out: Dispatched<Ending> = self.dispatch(Job {
+            entry: Entry::plain(&nearest),
+            count,
+            limit: triangles as u32,
+            input: (RAYS, ray),
+            bound: &[(POINTS, points)],
+            out_at: ENDINGS,
+            after: if hits.is_some() {
+                After::Compare
+            } else {
+                After::Read
+            },
+            items: if hits.is_some() {
+                Items::Reference
+            } else {
+                Items::Upload
+            },
+            hits,
+            first: 0,
+        })?;
+        out.checked(|kind| {
+            matches!(
+                OutcomeKind::from_code(kind),
+                Some(OutcomeKind::Hit | OutcomeKind::LeftMesh)
+            )
         })
     }
 
@@ -1184,6 +1379,8 @@ impl Gpu {
             bound: &mesh,
             out_at: ENDINGS,
             after: After::Read,
+            items: Items::Upload,
+            hits: None,
             first: 0,
         })
     }
@@ -1213,7 +1410,7 @@ impl Ending {
 
 impl Ending {
     /// A ray–triangle answer: `HIT` with the triangle and the bits of its `t`, or `LEFT_MESH` for none.
-    pub fn triangle_hit(&self) -> Result<Option<(u32, f32)>, GpuError> {
+    pub fn triangle_hit(&self) -> Result<Nearest, GpuError> {
         match OutcomeKind::from_code(self.kind) {
             Some(OutcomeKind::Hit) => Ok(Some((self.tet, f32::from_bits(self.x)))),
             Some(OutcomeKind::LeftMesh) => Ok(None),
@@ -1300,12 +1497,25 @@ pub struct GpuMesh {
     pub tetrahedra: usize,
 }
 
-/// An octree uploaded for [`Gpu::octree_walks`].
+/// An octree uploaded for [`Gpu::octree_walks`], over its triangles.
 pub struct GpuOctree {
     words: wgpu::Buffer,
     boxes: wgpu::Buffer,
     triangles: wgpu::Buffer,
+    tris: GpuTriangles,
+    /// The rays last compared ([`Gpu::octree_walks_against`]: how many and their fingerprint) with
+    /// their entry cells, uploaded once for every method.
+    entered: Mutex<Option<((usize, u64), wgpu::Buffer)>>,
+}
+
+/// A scene's triangles uploaded ([`Gpu::upload_triangles`]): three `points` each, and the face each
+/// came from (tetrahedron and face, from both sides), which `compare_hits` settles a hit on.
+pub struct GpuTriangles {
     points: wgpu::Buffer,
+    faces: wgpu::Buffer,
+    count: usize,
+    /// Whether `faces` names each triangle's face (none were given where nothing is compared).
+    faced: bool,
 }
 
 /// Whether tests must have an adapter (`TETWALK_REQUIRE_GPU=1`, as CI sets).

@@ -186,6 +186,9 @@ bindings! {
     REFERENCE = 13: "var<storage, read> reference: array<Ending>";
     SENT = 14: "var<storage, read_write> sent: array<Sent>";
     COUNTERS = 15: "var<storage, read_write> counters: array<atomic<u32>, 4>";
+    /// Where each triangle of a nearest-hit search came from: its constrained face (tetrahedron and
+    /// face, from both sides), which `compare_hits` settles a hit on.
+    HIT_FACES = 16: "var<storage, read> hit_faces: array<vec4u>";
 }
 
 /// A template (`src/gpu/templates/`) with each `{{key}}` replaced by its value.

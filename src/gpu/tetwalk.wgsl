@@ -112,6 +112,9 @@ struct Sent {
 @group(0) @binding(13) var<storage, read> reference: array<Ending>;
 @group(0) @binding(14) var<storage, read_write> sent: array<Sent>;
 @group(0) @binding(15) var<storage, read_write> counters: array<atomic<u32>, 4>;
+// Where each triangle of a nearest-hit search came from: its constrained face (tetrahedron and
+// face, from both sides), which `compare_hits` settles a hit on.
+@group(0) @binding(16) var<storage, read> hit_faces: array<vec4u>;
 
 // Face i's vertices, counterclockwise seen from outside (tetwalk::tet::FACE_VERTICES).
 fn face_vertices(i: u32) -> vec3u {
@@ -250,12 +253,28 @@ fn brent_step(b: ptr<function, Brent>, s: vec2u) -> u32 {
     return 0u;
 }
 
-// Each walk of a dispatch beside the reference walk of the same ray, kept on the GPU: the steps summed
-// (counters 1 and 2, low and high words), and every walk not settled here as ending where the
-// reference ends sent back (counter 0 counts them) for the CPU to judge exactly
-// (tetwalk::walk::same_result). Settled here: both leave the mesh, or both hit the same face of the
-// same tetrahedron; everything else goes back (a walk flagged on either side, a hit on another face,
-// every other ending), so the counts are the CPU's, ray for ray.
+// Ending `e` of item `i` beside the reference walk's ending of the same ray, kept on the GPU, `e` ending
+// in the mesh's terms as `kind` on face `x` of tetrahedron `tet`: the steps summed (counters 1 and 2,
+// low and high words), and every ending not settled here as ending where the reference ends sent back
+// as it was written (counter 0 counts them) for the CPU to judge exactly (tetwalk::walk::same_result).
+// Settled here: both leave the mesh, or both hit the same face of the same tetrahedron; everything else
+// goes back (a walk flagged on either side, a hit on another face, every other ending), so the counts
+// are the CPU's, ray for ray.
+fn settle(i: u32, e: Ending, kind: u32, tet: u32, x: u32) {
+    let r = reference[params.first + i];
+    let low = atomicAdd(&counters[1], e.steps);
+    if low + e.steps < low {
+        atomicAdd(&counters[2], 1u);
+    }
+    let both_left = kind == LEFT_MESH && r.kind == LEFT_MESH;
+    let same_face = kind == HIT && r.kind == HIT && tet == r.tet && x == r.x;
+    if !(both_left || same_face) {
+        let k = atomicAdd(&counters[0], 1u);
+        sent[k] = Sent(params.first + i, e.kind, e.tet, e.x, e.steps);
+    }
+}
+
+// Each walk of a dispatch settled beside the reference walk (its endings are the mesh's).
 @compute @workgroup_size(GROUP)
 fn compare_endings(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
     let i = item(gid, groups);
@@ -263,17 +282,26 @@ fn compare_endings(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workg
         return;
     }
     let e = endings[i];
-    let r = reference[params.first + i];
-    let low = atomicAdd(&counters[1], e.steps);
-    if low + e.steps < low {
-        atomicAdd(&counters[2], 1u);
+    settle(i, e, e.kind, e.tet, e.x);
+}
+
+// Each nearest hit of a dispatch (a ray–triangle search, an octree walk: a hit names a triangle) settled
+// beside the reference walk, a hit on triangle k taken as the constrained face it came from, named from
+// the side the reference walk names it from: `hit_faces[k]` holds (tetrahedron, face) of both sides.
+@compute @workgroup_size(GROUP)
+fn compare_hits(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
     }
-    let both_left = e.kind == LEFT_MESH && r.kind == LEFT_MESH;
-    let same_face = e.kind == HIT && r.kind == HIT && e.tet == r.tet && e.x == r.x;
-    if !(both_left || same_face) {
-        let k = atomicAdd(&counters[0], 1u);
-        sent[k] = Sent(params.first + i, e.kind, e.tet, e.x, e.steps);
+    let e = endings[i];
+    var at = vec2u(e.tet, e.x);
+    if e.kind == HIT {
+        let sides = hit_faces[e.tet];
+        let r = reference[params.first + i];
+        at = select(sides.xy, sides.zw, all(sides.zw == vec2u(r.tet, r.x)));
     }
+    settle(i, e, e.kind, at.x, at.y);
 }
 
 // ray-plane (Lagae & Dutré 2008 after Garrity 1990), as src/methods/ray_plane.rs.

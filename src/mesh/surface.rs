@@ -32,6 +32,21 @@ pub fn scene_triangles(mesh: &Mesh, region: &[bool]) -> SceneTriangles {
     (tris, from)
 }
 
+/// Both sides of each face of `from` (`(tetrahedron, face)`, the one on the other side next; a face
+/// on the hull given twice): a walk names the face it hits from the side it comes from.
+pub fn both_sides(mesh: &Mesh, from: &[(u32, u8)]) -> Vec<[(u32, u8); 2]> {
+    from.iter()
+        .map(|&(t, f)| {
+            let n = mesh.neighbors[t as usize][f as usize];
+            if n == HULL {
+                [(t, f), (t, f)]
+            } else {
+                [(t, f), (n, mesh.mirror[t as usize][f as usize])]
+            }
+        })
+        .collect()
+}
+
 /// The tetrahedra reached from `start` without crossing a constrained face.
 pub fn region_of(mesh: &Mesh, start: u32) -> Vec<bool> {
     let mut seen = vec![false; mesh.tets.len()];

@@ -11,11 +11,11 @@ mod report;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Said, Summed, Verdict, given_fields};
-use crate::backend::{Backend, BackendError, OctreeOn};
+use crate::backend::{Against, Backend, BackendError, OctreeOn};
 use crate::cases::{BoxCase, CaseError, field_error, vec3};
 use crate::choice::Choice;
 use crate::exact::boxes::{BoxExit, box_exit};
-use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
+use crate::mesh::surface::{SceneTriangles, both_sides, region_of, scene_triangles};
 use crate::octree::cell::{FACE_NAMES, face_named, quarter_signs};
 use crate::registry::{ByName, OCTREE_METHODS, OctreeMethod, TriangleMethod};
 use crate::scenes::cells::{CellAim, CellPlace, case};
@@ -469,7 +469,8 @@ impl Counted for OctreeCells {
         let triangles = scene_triangles(&scene.loaded.mesh, &region);
         let octree = crate::octree::Octree::build(&triangles.0, s.octree)
             .map_err(|e| CountError::Octree(e.to_string()))?;
-        let on = backend.octree(&octree, &triangles.0);
+        let sides = both_sides(&scene.loaded.mesh, &triangles.1);
+        let on = backend.octree(&octree, &triangles.0, &sides);
         Ok(Built {
             region,
             triangles,
@@ -503,6 +504,29 @@ impl Counted for OctreeCells {
             .backend
             .octree_walks(m, tri, &ready.octree, tris, &ready.on, rays, cap)?;
         Ok(ends.iter().map(|w| walked(w, from)).collect())
+    }
+
+    fn answer_against(
+        at: &Prepared<Self>,
+        m: &OctreeMethod,
+        rays: &[Ray],
+    ) -> Result<Option<Against>, CountError> {
+        if !at.reference_kept {
+            return Ok(None);
+        }
+        let ready = at.ready;
+        let cap = crate::walk::octree::default_max_steps(&ready.octree);
+        let tri = at.settings.triangle_method.method();
+        let against = at.backend.octree_walks_against(
+            m,
+            tri,
+            &ready.octree,
+            &ready.on,
+            rays,
+            at.located,
+            cap,
+        )?;
+        Ok(against.map(|a| a.map(|w| walked(&w, &ready.triangles.1))))
     }
 
     fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {

@@ -11,11 +11,11 @@ mod report;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Said, Summed, Verdict, given_fields};
-use crate::backend::{Backend, BackendError};
+use crate::backend::{Against, Backend, BackendError, TrianglesOn};
 use crate::cases::{CaseError, HitCase, MAX_TRIS, field_error, number, vec3};
 use crate::choice::{BackendKind, Choice};
 use crate::exact::hit::{HitTruth, Missed, T_ULPS, first_crossing, judge_hit};
-use crate::mesh::surface::{SceneTriangles, region_of, scene_triangles};
+use crate::mesh::surface::{SceneTriangles, both_sides, region_of, scene_triangles};
 use crate::methods::triangle::nearest_of;
 use crate::methods::triangle::{Among, MAX_PACKET, SideError};
 use crate::registry::{Named, TRIANGLE_METHODS, TriangleMethod};
@@ -632,6 +632,8 @@ pub struct TriangleFacts {
 pub struct Facing {
     region: Vec<bool>,
     triangles: SceneTriangles,
+    /// The triangles made ready where hits are compared with the reference walk.
+    on: TrianglesOn,
     binned: std::sync::Mutex<Vec<ViewBins>>,
 }
 
@@ -668,13 +670,14 @@ impl Counted for Triangle {
     fn prepare(
         scene: &Scene,
         _: &TriCountSettings,
-        _: &Backend,
+        backend: &Backend,
         located: u32,
     ) -> Result<Facing, CountError> {
         let region = region_of(&scene.loaded.mesh, located);
         let triangles = scene_triangles(&scene.loaded.mesh, &region);
         Ok(Facing {
             region,
+            on: backend.triangles(&triangles.0, &both_sides(&scene.loaded.mesh, &triangles.1)),
             triangles,
             binned: Default::default(),
         })
@@ -748,6 +751,23 @@ impl Counted for Triangle {
             .into_iter()
             .map(|h| ending(h.map(|(t, _)| t), from))
             .collect())
+    }
+
+    /// Where the reference walk is kept (a GPU), every triangle per ray, the rays read there in pixel
+    /// order (a GPU thread answers a ray as it alone would), each nearest hit compared there.
+    fn answer_against(
+        at: &Prepared<Self>,
+        m: &TriangleMethod,
+        rays: &[Ray],
+    ) -> Result<Option<Against>, CountError> {
+        if !at.reference_kept || binned_on(at.settings, at.backend.ran().kind) {
+            return Ok(None);
+        }
+        let from = &at.ready.triangles.1;
+        let against = at
+            .backend
+            .triangles_against(m, &at.ready.on, rays, at.located)?;
+        Ok(against.map(|a| a.map(|h| ending(h.map(|(t, _)| t), from))))
     }
 
     /// The exact first crossing of each audited ray among its tile's edge-scaled candidates (an exact

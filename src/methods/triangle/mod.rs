@@ -227,9 +227,12 @@ pub fn each_hit<'a, M: HitMethod, T: Tester<M>>(
     }
 }
 
+/// A ray's nearest hit: the triangle and its `t`, or none.
+pub type Nearest = Option<(u32, f32)>;
+
 /// Whether a hit at `t` replaces `best` as the nearest: the first with the smallest `t` is kept.
 #[inline(always)]
-fn nearer(best: Option<(u32, f32)>, t: f32) -> bool {
+fn nearer(best: Nearest, t: f32) -> bool {
     best.is_none_or(|(_, bt)| t < bt)
 }
 
