@@ -32,6 +32,8 @@ pub enum BackendError {
     NoGpu,
     #[error("the GPU holds another mesh than the one walked")]
     OtherMesh,
+    #[error("no reference walk is kept where the methods run")]
+    NotKept,
     #[error(
         "method '{0}' has no layout walk (seed 003's layouts are walked by the 2-D frame methods)"
     )]
@@ -428,7 +430,7 @@ impl Backend {
                         bad = Some(e);
                         None
                     })
-                });
+                })?;
                 match bad {
                     Some(e) => Err(e.into()),
                     None => Ok(Some(Against { steps: 0, sent })),
@@ -494,7 +496,7 @@ impl Backend {
                 let done = g.octree_walks_against(method, tri, up, &entered, max_steps, &kept)?;
                 Ok(Some(Against {
                     steps: done.steps,
-                    sent: in_pixel_order(done.sent, |_, e| e.octree_walk()),
+                    sent: in_pixel_order(done.sent, |_, e| e.octree_walk())?,
                 }))
             }
             _ => Ok(None),
@@ -587,8 +589,10 @@ impl Backend {
         Ok(self.walks_from(method, mesh, &rays, max_steps)?.walks)
     }
 
-    /// [`Backend::walks`], each ending also kept where it was made when that is a GPU (then `true`):
-    /// the reference walk a count compares its methods' walks with ([`Backend::walks_against`]).
+    /// [`Backend::walks`] as the reference walk a count compares its methods' answers with
+    /// ([`Backend::walks_against`]): on a GPU that can keep the batch, kept there, only the steps
+    /// summed and the endings of `picked` (indices into `rays`, ascending) read back, the rays it
+    /// flagged walked on the CPU and written over their endings there; elsewhere every ending.
     pub fn walks_keeping(
         &self,
         method: &Method,
@@ -596,15 +600,76 @@ impl Backend {
         rays: &[Ray],
         start: u32,
         max_steps: u32,
-    ) -> Result<(Vec<Walk>, bool), BackendError> {
-        let rays = map_all(rays, |r| (*r, start));
-        let walked = self.walks_from_keeping(method, mesh, &rays, max_steps, true)?;
-        let kept = match self.for_method(method) {
+        picked: &[usize],
+    ) -> Result<Kept, BackendError> {
+        let from = map_all(rays, |r| (*r, start));
+        match self.for_method(method) {
             #[cfg(feature = "gpu")]
-            Backend::Gpu(g) => g.keeps(rays.len()),
-            Backend::Cpu { .. } => false,
-        };
-        Ok((walked.walks, kept))
+            Backend::Gpu(g) if g.keeps(rays.len()) => {
+                let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
+                if uploaded.tetrahedra != mesh.mesh.tets.len() {
+                    return Err(BackendError::OtherMesh);
+                }
+                let done =
+                    g.walks_then(method, uploaded, &from, max_steps, gpu::After::Keep, picked)?;
+                if !done.sent.is_empty() && !method.info.runs_on_cpu {
+                    return Err(BackendError::Unsettled(method.info.name));
+                }
+                let walk = method.walk(Model::Plain);
+                let mut steps = done.steps;
+                let flagged: Vec<(usize, Walk)> = done
+                    .sent
+                    .iter()
+                    .map(|s| {
+                        let i = s.index as usize;
+                        let w = walk(mesh.mesh, &rays[i], start, max_steps);
+                        steps = steps - u64::from(s.steps) + u64::from(w.steps);
+                        (i, w)
+                    })
+                    .collect();
+                g.amend_reference(&flagged)?;
+                let picked = picked
+                    .iter()
+                    .zip(&done.items)
+                    .map(|(i, e)| {
+                        e.walk()
+                            .or_else(|| flagged.iter().find(|f| f.0 == *i).map(|f| f.1))
+                            .ok_or(GpuError::BadOutcome(e.kind))
+                    })
+                    .collect::<Result<_, _>>()?;
+                Ok(Kept {
+                    steps,
+                    picked,
+                    all: None,
+                })
+            }
+            _ => {
+                let walks = self.walks_from(method, mesh, &from, max_steps)?.walks;
+                Ok(Kept {
+                    steps: walks.iter().map(|w| u64::from(w.steps)).sum(),
+                    picked: picked.iter().map(|&i| walks[i]).collect(),
+                    all: Some(walks),
+                })
+            }
+        }
+    }
+
+    /// Every ending of the reference walk kept where it was made ([`Backend::walks_keeping`]) for
+    /// `rays` from `start`, read back.
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
+    pub fn kept_walks(&self, rays: &[Ray], start: u32) -> Result<Vec<Walk>, BackendError> {
+        match self {
+            #[cfg(feature = "gpu")]
+            Backend::Gpu(g) => {
+                let from = map_all(rays, |r| (*r, start));
+                let endings = g.kept_endings(&from)?;
+                Ok(endings
+                    .par_iter()
+                    .map(|e| e.walk().ok_or(GpuError::BadOutcome(e.kind)))
+                    .collect::<Result<_, _>>()?)
+            }
+            Backend::Cpu { .. } => Err(BackendError::NotKept),
+        }
     }
 
     /// `method`'s walks of the rays of the last [`Backend::walks_keeping`] that kept its endings,
@@ -625,7 +690,8 @@ impl Backend {
             Backend::Gpu(g) => {
                 let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let from = map_all(rays, |r| (*r, start));
-                let done = g.walks_then(method, uploaded, &from, max_steps, gpu::After::Compare)?;
+                let done =
+                    g.walks_then(method, uploaded, &from, max_steps, gpu::After::Compare, &[])?;
                 let walk = method.walk(Model::Plain);
                 let (mut steps, mut flagged) = (done.steps, 0);
                 let sent = in_pixel_order(done.sent, |i, e| {
@@ -635,7 +701,7 @@ impl Backend {
                         steps = steps - u64::from(e.steps) + u64::from(w.steps);
                         w
                     })
-                });
+                })?;
                 if flagged > 0 && !method.info.runs_on_cpu {
                     return Err(BackendError::Unsettled(method.info.name));
                 }
@@ -653,19 +719,6 @@ impl Backend {
         mesh: &MeshOn,
         rays: &[(Ray, u32)],
         max_steps: u32,
-    ) -> Result<Walked, BackendError> {
-        self.walks_from_keeping(method, mesh, rays, max_steps, false)
-    }
-
-    /// [`Backend::walks_from`], the endings kept on the GPU when `keep`.
-    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
-    fn walks_from_keeping(
-        &self,
-        method: &Method,
-        mesh: &MeshOn,
-        rays: &[(Ray, u32)],
-        max_steps: u32,
-        keep: bool,
     ) -> Result<Walked, BackendError> {
         match self.for_method(method) {
             Backend::Cpu { .. } if !method.info.runs_on_cpu => {
@@ -697,12 +750,8 @@ impl Backend {
                 if uploaded.tetrahedra != mesh.mesh.tets.len() {
                     return Err(BackendError::OtherMesh);
                 }
-                let after = if keep {
-                    gpu::After::Keep
-                } else {
-                    gpu::After::Read
-                };
-                let done = g.walks_then(method, uploaded, rays, max_steps, after)?;
+                let done =
+                    g.walks_then(method, uploaded, rays, max_steps, gpu::After::Read, &[])?;
                 let flagged = done.items.par_iter().filter(|e| e.walk().is_none()).count();
                 if flagged > 0 && !method.info.runs_on_cpu {
                     return Err(BackendError::Unsettled(method.info.name));
@@ -727,12 +776,24 @@ impl Backend {
     }
 }
 
+/// A reference walk of a view's rays as [`Backend::walks_keeping`] left it.
+pub struct Kept {
+    /// Every walk's steps, summed.
+    pub steps: u64,
+    /// The picked rays' endings, in their order.
+    pub picked: Vec<Walk>,
+    /// Every ending, where they were read back (on the CPU, or a batch too large to keep on the
+    /// GPU); `None` where they are kept on the GPU ([`Backend::kept_walks`] reads them back).
+    pub all: Option<Vec<Walk>>,
+}
+
 /// Answers compared with the kept reference walk where they were made ([`Backend::walks_against`],
 /// [`Backend::triangles_against`], [`Backend::octree_walks_against`]): their steps summed, and
-/// each answer not settled there as ending where the reference ends, by index, in pixel order.
+/// each answer not settled there as ending where the reference ends, by index, in pixel order,
+/// with the reference walk's ending (its steps not sent).
 pub struct Against<T = Walk> {
     pub steps: u64,
-    pub sent: Vec<(usize, T)>,
+    pub sent: Vec<(usize, T, Walk)>,
 }
 
 impl<T> Against<T> {
@@ -740,21 +801,28 @@ impl<T> Against<T> {
     pub fn map<U>(self, f: impl Fn(T) -> U) -> Against<U> {
         Against {
             steps: self.steps,
-            sent: self.sent.into_iter().map(|(i, a)| (i, f(a))).collect(),
+            sent: self
+                .sent
+                .into_iter()
+                .map(|(i, a, r)| (i, f(a), r))
+                .collect(),
         }
     }
 }
 
 /// The records a GPU sent back, in pixel order (it sends them in any order), each as `f` reads its
-/// index and ending.
+/// index and ending, with the reference walk's ending.
 #[cfg(feature = "gpu")]
 fn in_pixel_order<T>(
     mut sent: Vec<gpu::shader::Sent>,
     mut f: impl FnMut(usize, gpu::shader::Ending) -> T,
-) -> Vec<(usize, T)> {
+) -> Result<Vec<(usize, T, Walk)>, GpuError> {
     sent.sort_unstable_by_key(|s| s.index);
     sent.iter()
-        .map(|s| (s.index as usize, f(s.index as usize, s.ending())))
+        .map(|s| {
+            let reference = s.reference().ok_or(GpuError::BadOutcome(s.r_kind))?;
+            Ok((s.index as usize, f(s.index as usize, s.ending()), reference))
+        })
         .collect()
 }
 

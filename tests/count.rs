@@ -163,7 +163,6 @@ fn the_count_judges_and_tallies_every_kind_as_it_is() {
         walk(Outcome::StepLimit { tet }),
     ];
     let rays = vec![ray; walks.len()];
-    let reference = vec![exact; walks.len()];
     let seen = Seen {
         scene: "kuhn",
         view: 0,
@@ -172,8 +171,13 @@ fn the_count_judges_and_tallies_every_kind_as_it_is() {
         backend: Some(BackendKind::Cpu),
         walker: Some(by_name("maria17").unwrap()),
     };
-    let candidates: Vec<(usize, Walk)> = walks.iter().copied().enumerate().collect();
-    let wrong = wrong_rays(&mesh, &seen, 7, &rays, &candidates, &reference, start, max);
+    // Each beside the reference walk's ending, the exact one.
+    let candidates: Vec<(usize, Walk, Walk)> = walks
+        .iter()
+        .enumerate()
+        .map(|(i, w)| (i, *w, exact))
+        .collect();
+    let wrong = wrong_rays(&mesh, &seen, 7, &rays, &candidates, start, max);
     let kinds: Vec<_> = wrong.iter().map(|w| w.kind().unwrap()).collect();
     use OutcomeKind::*;
     assert_eq!(

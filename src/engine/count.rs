@@ -377,8 +377,11 @@ fn count_view<F: Counted>(
     let moved = |before: Option<Traffic>| backend.traffic().zip(before).map(|(a, b)| a.since(b));
     let t0 = Instant::now();
     let before = backend.traffic();
-    let (walked, reference_kept) =
-        backend.walks_keeping(reference, &scene.on, &rays, located, max)?;
+    let kept = backend.walks_keeping(reference, &scene.on, &rays, located, max, &picked)?;
+    // Every reference ending, read back once where an answerer needs them all (its answers are
+    // not compared where they are made).
+    let mut all = kept.all;
+    let reference_kept = all.is_none();
     let at = Prepared::<F> {
         backend,
         scene,
@@ -391,24 +394,20 @@ fn count_view<F: Counted>(
         reference_kept,
     };
     if F::reference_row() {
-        work.push((
-            walked.iter().map(|w| w.steps as u64).sum(),
-            t0.elapsed().as_secs_f64(),
-            moved(before),
-        ));
+        work.push((kept.steps, t0.elapsed().as_secs_f64(), moved(before)));
         wrong.push(Vec::new());
     }
     if !picked.is_empty() {
         let picked_rays: Vec<Ray> = picked.iter().map(|&i| rays[i]).collect();
         let exact = F::audit(&at, &picked_rays)?;
-        for (&i, e) in picked.iter().zip(&exact) {
-            if !F::agrees(mesh, &rays[i], e, &walked[i]) {
+        for ((&i, e), walked) in picked.iter().zip(&exact).zip(&kept.picked) {
+            if !F::agrees(mesh, &rays[i], e, walked) {
                 return Err(CountError::Audit {
                     reference: s.reference.to_string(),
                     exact: F::EXACT,
                     view: v,
                     pixel: [i as u32 % s.views.width, i as u32 / s.views.width],
-                    walked: walked[i],
+                    walked: *walked,
                     answered: *e,
                 });
             }
@@ -435,7 +434,17 @@ fn count_view<F: Counted>(
                     Answerer::Given(_, given) => (given(v, &rays, located, max)?, 0.0),
                 };
                 let steps = walks.iter().map(|w| w.steps as u64).sum();
-                (walks.into_iter().enumerate().collect(), steps, seconds)
+                let all = match &mut all {
+                    Some(all) => all,
+                    None => all.insert(backend.kept_walks(&rays, located)?),
+                };
+                let candidates = walks
+                    .into_iter()
+                    .zip(all.iter())
+                    .enumerate()
+                    .map(|(i, (w, r))| (i, w, *r))
+                    .collect();
+                (candidates, steps, seconds)
             }
         };
         work.push((steps, seconds, moved(before)));
@@ -459,7 +468,6 @@ fn count_view<F: Counted>(
             s.views.width,
             &rays,
             &candidates,
-            &walked,
             located,
             max,
         ));
@@ -507,42 +515,31 @@ pub fn relabel_all<F: Counted>(
     Ok(())
 }
 
-/// One view's wrong rays for one method among `candidates` (pixel `i`'s walk, beside the reference
-/// walk `reference[i]`, pixel `i` at column `i % width`: every pixel, or those not settled right
-/// where they were walked), each described; wrong rays are few, so each is described where it is
-/// found.
-#[allow(clippy::too_many_arguments)]
+/// One view's wrong rays for one method among `candidates` (pixel `i`'s walk beside the reference
+/// walk's ending, pixel `i` at column `i % width`: every pixel, or those not settled right where
+/// they were walked), each described; wrong rays are few, so each is described where it is found.
 pub fn wrong_rays(
     mesh: &Mesh,
     seen: &Seen,
     width: u32,
     rays: &[Ray],
-    candidates: &[(usize, Walk)],
-    reference: &[Walk],
+    candidates: &[(usize, Walk, Walk)],
     start: u32,
     max_steps: u32,
 ) -> Vec<WrongRay> {
-    let wrong: Vec<(usize, Walk)> = candidates
+    let wrong: Vec<(usize, Walk, Walk)> = candidates
         .par_iter()
-        .filter(|(i, w)| judge(mesh, &rays[*i], w, &reference[*i]).is_some())
+        .filter(|(i, w, reference)| judge(mesh, &rays[*i], w, reference).is_some())
         .copied()
         .collect();
     wrong
         .par_iter()
-        .map(|&(i, walk)| {
+        .map(|&(i, walk, reference)| {
             let seen = Seen {
                 pixel: [i as u32 % width, i as u32 / width],
                 ..*seen
             };
-            WrongRay::of(
-                mesh,
-                &seen,
-                &rays[i],
-                &walk,
-                &reference[i],
-                start,
-                max_steps,
-            )
+            WrongRay::of(mesh, &seen, &rays[i], &walk, &reference, start, max_steps)
         })
         .collect()
 }

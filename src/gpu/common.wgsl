@@ -73,24 +73,50 @@ fn brent_step(b: ptr<function, Brent>, s: vec2u) -> u32 {
     return 0u;
 }
 
+// Add `steps` to the dispatch's sum (counters 1 and 2, low and high words).
+fn add_steps(steps: u32) {
+    let low = atomicAdd(&counters[1], steps);
+    if low + steps < low {
+        atomicAdd(&counters[2], 1u);
+    }
+}
+
 // Ending `e` of item `i` beside the reference walk's ending of the same ray, kept on the GPU, `e` ending
-// in the mesh's terms as `kind` on face `x` of tetrahedron `tet`: the steps summed (counters 1 and 2,
-// low and high words), and every ending not settled here as ending where the reference ends sent back
-// as it was written (counter 0 counts them) for the CPU to judge exactly (tetwalk::walk::same_result).
+// in the mesh's terms as `kind` on face `x` of tetrahedron `tet`: the steps summed, and every ending not settled here as ending where the reference ends sent back
+// as it was written, with the reference's ending (counter 0 counts them), for the CPU to judge exactly
+// (tetwalk::walk::same_result).
 // Settled here: both leave the mesh, or both hit the same face of the same tetrahedron; everything else
 // goes back (a walk flagged on either side, a hit on another face, every other ending), so the counts
 // are the CPU's, ray for ray.
 fn settle(i: u32, e: Ending, kind: u32, tet: u32, x: u32) {
     let r = reference[params.first + i];
-    let low = atomicAdd(&counters[1], e.steps);
-    if low + e.steps < low {
-        atomicAdd(&counters[2], 1u);
-    }
+    add_steps(e.steps);
     let both_left = kind == LEFT_MESH && r.kind == LEFT_MESH;
     let same_face = kind == HIT && r.kind == HIT && tet == r.tet && x == r.x;
     if !(both_left || same_face) {
-        let k = atomicAdd(&counters[0], 1u);
-        sent[k] = Sent(params.first + i, e.kind, e.tet, e.x, e.steps);
+        send(i, e, vec3u(r.kind, r.tet, r.x));
+    }
+}
+
+// Send item `i`'s ending `e` back (counter 0 counts them) beside reference ending `r` (kind, tet, x).
+fn send(i: u32, e: Ending, r: vec3u) {
+    let k = atomicAdd(&counters[0], 1u);
+    sent[k] = Sent(params.first + i, e.kind, e.tet, e.x, e.steps, r.x, r.y, r.z);
+}
+
+// The reference walk's endings of a dispatch, kept on the GPU and not read back: their steps summed
+// (counters 1 and 2, low and high words), and each ray the walk flagged (a step its f32 stage could not
+// settle) sent back (counter 0 counts them) for the CPU to walk, whose ending then replaces it there.
+@compute @workgroup_size(GROUP)
+fn hold_endings(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let i = item(gid, groups);
+    if i >= params.count {
+        return;
+    }
+    let e = endings[i];
+    add_steps(e.steps);
+    if e.kind == FLAGGED {
+        send(i, e, vec3u(e.kind, e.tet, e.x));
     }
 }
 

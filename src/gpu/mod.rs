@@ -199,6 +199,8 @@ struct Job<'a, I> {
     /// With [`After::Compare`], where each triangle a hit names came from (`compare_hits`); `None`
     /// where the endings are the mesh's (`compare_endings`).
     hits: Option<&'a wgpu::Buffer>,
+    /// With [`After::Keep`], the items (in the batch, ascending) whose outputs are read back.
+    picked: &'a [usize],
     /// The index of the dispatch's first item in the batch ([`Gpu::dispatch`] sets it).
     first: usize,
 }
@@ -208,7 +210,9 @@ struct Job<'a, I> {
 pub enum After {
     /// Read back.
     Read,
-    /// Read back, and kept on the GPU as the reference walk's endings (`compare_endings` reads them).
+    /// Kept on the GPU as the reference walk's endings (`compare_endings` and `compare_hits` read
+    /// them) and not read back, but for the picked items': the steps summed there and the walks it
+    /// flagged sent back (`hold_endings`), for the CPU to walk ([`Gpu::amend_reference`]).
     Keep,
     /// Compared there with the kept reference endings: only the walks not settled equal come back,
     /// with the steps summed (`compare_endings`, or `compare_hits` for nearest hits on triangles).
@@ -523,13 +527,16 @@ impl Gpu {
             after,
             items,
             hits,
+            picked,
             first,
         } = job;
         let pipeline = self.pipeline(entry)?;
+        // The second pass over the output, where it stays on the GPU.
         let compare = match (after, hits) {
             (After::Compare, None) => Some(self.pipeline(Entry::plain("compare_endings"))?),
             (After::Compare, Some(_)) => Some(self.pipeline(Entry::plain("compare_hits"))?),
-            _ => None,
+            (After::Keep, _) => Some(self.pipeline(Entry::plain("hold_endings"))?),
+            (After::Read, _) => None,
         };
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let (in_size, out_size) = (std::mem::size_of::<I>(), std::mem::size_of::<T>());
@@ -639,6 +646,7 @@ impl Gpu {
             enc.copy_buffer_to_buffer(upload, 0, &input_buf, 0, in_span.end);
         }
         if after == After::Keep {
+            // The rays, kept with the endings.
             let items = kept.get("reference_items").ok_or(GpuError::NoReference)?;
             enc.copy_buffer_to_buffer(&input_buf, 0, items, (first * in_size) as u64, in_bytes);
         }
@@ -657,16 +665,17 @@ impl Gpu {
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
         }
-        // What is read back: the output, or where the walks are compared on the GPU, the counters.
+        // What is read back: the output, or where it stays on the GPU, the counters (and the
+        // picked items' outputs).
         let mut read_bytes = out_bytes;
-        let sent = match (after, &compare) {
-            (After::Keep, _) => {
-                let reference = kept.get("reference").ok_or(GpuError::NoReference)?.clone();
-                let at = (first * out_size) as u64;
-                enc.copy_buffer_to_buffer(&out, 0, &reference, at, out_bytes);
-                None
-            }
-            (After::Compare, Some(compare)) => {
+        let picked: Vec<u64> = picked
+            .iter()
+            .filter(|&&p| (first..first + count).contains(&p))
+            .map(|&p| (p - first) as u64)
+            .collect();
+        let sent = match &compare {
+            None => None,
+            Some(compare) => {
                 let sent = self.scratch(
                     &mut kept,
                     "sent",
@@ -682,6 +691,10 @@ impl Gpu {
                         | wgpu::BufferUsages::COPY_DST,
                 );
                 let reference = kept.get("reference").ok_or(GpuError::NoReference)?.clone();
+                if after == After::Keep {
+                    let at = (first * out_size) as u64;
+                    enc.copy_buffer_to_buffer(&out, 0, &reference, at, out_bytes);
+                }
                 fn bind(binding: u32, buf: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                     wgpu::BindGroupEntry {
                         binding,
@@ -691,10 +704,12 @@ impl Gpu {
                 let mut entries = vec![
                     bind(PARAMS, &uniform),
                     bind(ENDINGS, &out),
-                    bind(REFERENCE, &reference),
                     bind(SENT, &sent),
                     bind(COUNTERS, &counters),
                 ];
+                if after == After::Compare {
+                    entries.push(bind(REFERENCE, &reference));
+                }
                 entries.extend(hits.map(|h| bind(HIT_FACES, h)));
                 let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: None,
@@ -711,10 +726,16 @@ impl Gpu {
                     pass.set_bind_group(0, &group, &[]);
                     pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
                 }
-                read_bytes = COUNTER_BYTES;
+                // The counters, then the picked items' outputs.
+                enc.copy_buffer_to_buffer(&counters, 0, &read, 0, COUNTER_BYTES);
+                for (k, p) in picked.iter().enumerate() {
+                    let to = COUNTER_BYTES + (k * out_size) as u64;
+                    let size = out_size as u64;
+                    enc.copy_buffer_to_buffer(&out, p * size, &read, to, size);
+                }
+                read_bytes = COUNTER_BYTES + (picked.len() * out_size) as u64;
                 Some((sent, counters))
             }
-            _ => None,
         };
         if let Some(q) = &self.timestamps {
             let resolved = self.scratch(
@@ -726,9 +747,8 @@ impl Gpu {
             enc.resolve_query_set(q, 0..2, &resolved, 0);
             enc.copy_buffer_to_buffer(&resolved, 0, &read, read_bytes, TIMESTAMP_BYTES);
         }
-        match &sent {
-            Some((_, counters)) => enc.copy_buffer_to_buffer(counters, 0, &read, 0, COUNTER_BYTES),
-            None => enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes),
+        if sent.is_none() {
+            enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes);
         }
         self.queue.submit([enc.finish()]);
         let span = 0..read_bytes + TIMESTAMP_BYTES;
@@ -741,16 +761,17 @@ impl Gpu {
             let (front, stamps) = bytes.split_at(read_bytes as usize);
             let stamps: [u64; 2] = bytemuck::pod_read_unaligned(stamps);
             let period = f64::from(self.queue.get_timestamp_period());
-            let (items, counters): (Vec<T>, [u32; 4]) = match sent {
-                Some(_) => (Vec::new(), bytemuck::pod_read_unaligned(front)),
-                None => (
-                    front
-                        .par_chunks(out_size)
-                        .map(bytemuck::pod_read_unaligned)
-                        .collect(),
-                    [0; 4],
-                ),
+            let (counters, front) = match sent {
+                Some(_) => {
+                    let (counters, picked) = front.split_at(COUNTER_BYTES as usize);
+                    (bytemuck::pod_read_unaligned(counters), picked)
+                }
+                None => ([0u32; 4], front),
             };
+            let items: Vec<T> = front
+                .par_chunks(out_size)
+                .map(bytemuck::pod_read_unaligned)
+                .collect();
             (
                 items,
                 counters,
@@ -842,7 +863,10 @@ impl Gpu {
         if job.after == After::Keep {
             // The whole batch's items and endings, kept for the walks compared with them.
             let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
-            let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+            // Read back whole where asked ([`Gpu::kept_endings`]).
+            let usage = wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC;
             for (name, size) in [
                 ("reference", std::mem::size_of::<T>()),
                 ("reference_items", std::mem::size_of::<I>()),
@@ -889,6 +913,7 @@ impl Gpu {
             after: After::Read,
             items: Items::Upload,
             hits: None,
+            picked: &[],
             first: 0,
         })
     }
@@ -915,6 +940,7 @@ impl Gpu {
             after: After::Read,
             items: Items::Upload,
             hits: None,
+            picked: &[],
             first: 0,
         };
         Ok(self.dispatch(job)?.items)
@@ -1045,6 +1071,7 @@ impl Gpu {
             },
             items,
             hits,
+            picked: &[],
             first: 0,
         })?;
         out.checked(|kind| OutcomeKind::from_code(kind).is_some())
@@ -1120,7 +1147,7 @@ impl Gpu {
         rays: &[(Ray, u32)],
         max_steps: u32,
     ) -> Result<Dispatched<Ending>, GpuError> {
-        self.walks_then(method, mesh, rays, max_steps, After::Read)
+        self.walks_then(method, mesh, rays, max_steps, After::Read, &[])
     }
 
     /// Whether a batch of `rays` rays can be kept on the GPU as a reference walk (its rays fit one
@@ -1130,10 +1157,12 @@ impl Gpu {
     }
 
     /// [`Gpu::walks`], and then: [`After::Keep`] keeps the rays and endings on the GPU as the
-    /// reference walk's; [`After::Compare`] walks the kept rays and compares each ending there with
-    /// the kept one (`compare_endings`): the steps summed, and only the walks not settled as ending
-    /// where the reference ends come back ([`Dispatched::sent`]). Compared rays must be the kept
-    /// ones (refused otherwise); a batch too large to keep ([`Gpu::keeps`]) is read back only.
+    /// reference walk's, reading back only the endings of `picked` ([`Dispatched::items`]), the
+    /// steps summed and the walks flagged ([`Dispatched::sent`]); [`After::Compare`] walks the kept
+    /// rays and compares each ending there with the kept one (`compare_endings`): the steps summed,
+    /// and only the walks not settled as ending where the reference ends come back
+    /// ([`Dispatched::sent`]). Compared rays must be the kept ones (refused otherwise); a batch too
+    /// large to keep ([`Gpu::keeps`]) is read back whole.
     pub fn walks_then(
         &self,
         method: &Method,
@@ -1141,6 +1170,7 @@ impl Gpu {
         rays: &[(Ray, u32)],
         max_steps: u32,
         after: After,
+        picked: &[usize],
     ) -> Result<Dispatched<Ending>, GpuError> {
         if after != After::Read {
             let these = (rays.len(), fingerprint(rays));
@@ -1150,7 +1180,7 @@ impl Gpu {
                 After::Keep if !self.keeps(rays.len()) => {
                     *kept = None;
                     drop(kept);
-                    return self.walks_then(method, mesh, rays, max_steps, After::Read);
+                    return self.walks_then(method, mesh, rays, max_steps, After::Read, &[]);
                 }
                 After::Keep => *kept = Some(these),
                 _ => {
@@ -1176,9 +1206,57 @@ impl Gpu {
                 Items::Upload
             },
             hits: None,
+            picked,
             first: 0,
         })?;
         out.checked(|kind| kind == shader::FLAGGED || OutcomeKind::from_code(kind).is_some())
+    }
+
+    /// Write the CPU's walks of rays the reference walk flagged (by index in its batch) over its
+    /// endings kept on the GPU, so that the walks compared with it meet the endings the CPU judges
+    /// with.
+    pub fn amend_reference(&self, walks: &[(usize, Walk)]) -> Result<(), GpuError> {
+        let kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
+        let reference = kept.get("reference").ok_or(GpuError::NoReference)?;
+        let size = std::mem::size_of::<Ending>();
+        for (i, w) in walks {
+            let e = Ending::of(w);
+            self.queue
+                .write_buffer(reference, (i * size) as u64, bytemuck::bytes_of(&e));
+        }
+        self.traffic
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .written += (walks.len() * size) as u64;
+        Ok(())
+    }
+
+    /// Every ending of the reference walk kept on the GPU for `rays` (refused for other rays), read
+    /// back.
+    pub fn kept_endings(&self, rays: &[(Ray, u32)]) -> Result<Vec<Ending>, GpuError> {
+        self.check_kept(rays)?;
+        let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
+        let reference = kept.get("reference").ok_or(GpuError::NoReference)?.clone();
+        let bytes = (rays.len() * std::mem::size_of::<Ending>()) as u64;
+        let read = self.scratch(
+            &mut kept,
+            "readback",
+            bytes,
+            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        );
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(&reference, 0, &read, 0, bytes);
+        self.queue.submit([enc.finish()]);
+        self.map(&read, wgpu::MapMode::Read, 0..bytes)?;
+        let endings = {
+            let view = read
+                .get_mapped_range(0..bytes)
+                .map_err(|e| GpuError::Readback(e.to_string()))?;
+            bytemuck::pod_collect_to_vec(&view)
+        };
+        read.unmap();
+        self.traffic.lock().unwrap_or_else(|e| e.into_inner()).read += bytes;
+        Ok(endings)
     }
 }
 
@@ -1225,6 +1303,7 @@ impl Gpu {
             after: After::Read,
             items: Items::Upload,
             hits: None,
+            picked: &[],
             first: 0,
         })?;
         out.items
@@ -1307,6 +1386,7 @@ impl Gpu {
                 Items::Upload
             },
             hits,
+            picked: &[],
             first: 0,
         })?;
         out.checked(|kind| {
@@ -1381,6 +1461,7 @@ impl Gpu {
             after: After::Read,
             items: Items::Upload,
             hits: None,
+            picked: &[],
             first: 0,
         })
     }
@@ -1474,6 +1555,31 @@ impl shader::Sent {
             tet: self.tet,
             x: self.x,
             steps: self.steps,
+        }
+    }
+
+    /// The reference walk's ending beside it (without its steps), or `None` where it is not one
+    /// the CPU can read.
+    pub fn reference(&self) -> Option<Walk> {
+        Ending {
+            kind: self.r_kind,
+            tet: self.r_tet,
+            x: self.r_x,
+            steps: 0,
+        }
+        .walk()
+    }
+}
+
+impl Ending {
+    /// A walk as the shader writes its ending.
+    pub fn of(w: &Walk) -> Ending {
+        let (kind, tet, x) = w.outcome.parts();
+        Ending {
+            kind: kind.code(),
+            tet,
+            x,
+            steps: w.steps,
         }
     }
 }

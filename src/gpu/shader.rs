@@ -132,13 +132,18 @@ shared_struct! {
 
 shared_struct! {
     /// A walk the GPU sent back because it could not settle that it ends where the reference walk
-    /// ends (`compare_endings`): the ray's index in its batch and its [`Ending`].
+    /// ends (`compare_endings`, `compare_hits`), or a reference walk's ending it flagged
+    /// (`hold_endings`): the ray's index in its batch, its [`Ending`], and the reference walk's
+    /// ending without its steps (`r_kind`, `r_tet`, `r_x`; the ending itself for `hold_endings`).
     Sent {
         index: u32 => "u32",
         kind: u32 => "u32",
         tet: u32 => "u32",
         x: u32 => "u32",
         steps: u32 => "u32",
+        r_kind: u32 => "u32",
+        r_tet: u32 => "u32",
+        r_x: u32 => "u32",
     }
 }
 
