@@ -195,7 +195,9 @@ impl<'de> serde::Deserialize<'de> for Ran {
 }
 
 /// What crossed between the CPU and a GPU, summed: bytes written to it (uploads, uniforms), bytes
-/// read back (outputs, timestamps), dispatches, and their kernel time where the adapter measures it.
+/// read back (outputs, timestamps), dispatches, the times the CPU waited for the GPU (each buffer
+/// mapped), the answers it sent back to be judged on the CPU where it compared them, and their
+/// kernel time where the adapter measures it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Traffic {
     #[serde(rename = "bytes_written")]
@@ -203,6 +205,10 @@ pub struct Traffic {
     #[serde(rename = "bytes_read")]
     pub read: u64,
     pub dispatches: u64,
+    #[serde(default)]
+    pub waits: u64,
+    #[serde(default)]
+    pub sent_back: u64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kernel_seconds: Option<f64>,
 }
@@ -214,6 +220,8 @@ impl Traffic {
             written: self.written + o.written,
             read: self.read + o.read,
             dispatches: self.dispatches + o.dispatches,
+            waits: self.waits + o.waits,
+            sent_back: self.sent_back + o.sent_back,
             kernel_seconds: self
                 .kernel_seconds
                 .zip(o.kernel_seconds)
@@ -227,6 +235,8 @@ impl Traffic {
             written: self.written - before.written,
             read: self.read - before.read,
             dispatches: self.dispatches - before.dispatches,
+            waits: self.waits - before.waits,
+            sent_back: self.sent_back - before.sent_back,
             kernel_seconds: self
                 .kernel_seconds
                 .zip(before.kernel_seconds)

@@ -285,6 +285,12 @@ const TIMESTAMP_BYTES: u64 = 2 * 8;
 /// The comparison's counters read back: walks sent back, steps summed (low and high words), padding.
 const COUNTER_BYTES: u64 = 4 * 4;
 
+/// Where a dispatch's output stays on the GPU, the records sent back that are read with its
+/// counters, in the same wait: one for every `AHEAD_PER` items and `AHEAD_LEAST` more (half a byte a
+/// ray at most, beside a second wait for the rest where more were sent back).
+const AHEAD_PER: usize = 64;
+const AHEAD_LEAST: usize = 16;
+
 /// What a dispatch returns: its output and, where the adapter measures it, its kernel time; for a
 /// walk compared on the GPU, the walks sent back and the steps summed instead of the output.
 #[derive(Debug)]
@@ -570,11 +576,24 @@ impl Gpu {
             out_bytes,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
-        let sent_bytes = (count * std::mem::size_of::<shader::Sent>()) as u64;
+        let sent_size = std::mem::size_of::<shader::Sent>();
+        let sent_bytes = (count * sent_size) as u64;
+        // The picked items (in this dispatch), and the records sent back that are read with the
+        // counters where the output stays on the GPU.
+        let picked: Vec<u64> = picked
+            .iter()
+            .filter(|&&p| (first..first + count).contains(&p))
+            .map(|&p| (p - first) as u64)
+            .collect();
+        let ahead = match compare {
+            Some(_) => (count / AHEAD_PER + AHEAD_LEAST).min(count),
+            None => 0,
+        };
+        let with_counters = COUNTER_BYTES + (picked.len() * out_size + ahead * sent_size) as u64;
         let read = self.scratch(
             &mut kept,
             "readback",
-            out_bytes.max(sent_bytes) + TIMESTAMP_BYTES,
+            out_bytes.max(sent_bytes).max(with_counters) + TIMESTAMP_BYTES,
             wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         );
         let params = Params {
@@ -668,11 +687,6 @@ impl Gpu {
         // What is read back: the output, or where it stays on the GPU, the counters (and the
         // picked items' outputs).
         let mut read_bytes = out_bytes;
-        let picked: Vec<u64> = picked
-            .iter()
-            .filter(|&&p| (first..first + count).contains(&p))
-            .map(|&p| (p - first) as u64)
-            .collect();
         let sent = match &compare {
             None => None,
             Some(compare) => {
@@ -726,14 +740,16 @@ impl Gpu {
                     pass.set_bind_group(0, &group, &[]);
                     pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
                 }
-                // The counters, then the picked items' outputs.
+                // The counters, the picked items' outputs, and the first records sent back.
                 enc.copy_buffer_to_buffer(&counters, 0, &read, 0, COUNTER_BYTES);
                 for (k, p) in picked.iter().enumerate() {
                     let to = COUNTER_BYTES + (k * out_size) as u64;
                     let size = out_size as u64;
                     enc.copy_buffer_to_buffer(&out, p * size, &read, to, size);
                 }
-                read_bytes = COUNTER_BYTES + (picked.len() * out_size) as u64;
+                let at = COUNTER_BYTES + (picked.len() * out_size) as u64;
+                enc.copy_buffer_to_buffer(&sent, 0, &read, at, (ahead * sent_size) as u64);
+                read_bytes = with_counters;
                 Some((sent, counters))
             }
         };
@@ -753,28 +769,32 @@ impl Gpu {
         self.queue.submit([enc.finish()]);
         let span = 0..read_bytes + TIMESTAMP_BYTES;
         self.map(&read, wgpu::MapMode::Read, span.clone())?;
-        // The output's items, or where the walks were compared, the counters.
-        let (items, counters, kernel_seconds) = {
+        // The output's items, or where it stays on the GPU, the counters, the picked items and the
+        // first records.
+        let (items, counters, sent_ahead, kernel_seconds) = {
             let bytes = read
                 .get_mapped_range(span)
                 .map_err(|e| GpuError::Readback(e.to_string()))?;
             let (front, stamps) = bytes.split_at(read_bytes as usize);
             let stamps: [u64; 2] = bytemuck::pod_read_unaligned(stamps);
             let period = f64::from(self.queue.get_timestamp_period());
-            let (counters, front) = match sent {
+            let (counters, front, records) = match sent {
                 Some(_) => {
-                    let (counters, picked) = front.split_at(COUNTER_BYTES as usize);
-                    (bytemuck::pod_read_unaligned(counters), picked)
+                    let (counters, rest) = front.split_at(COUNTER_BYTES as usize);
+                    let (picked, records) = rest.split_at(picked.len() * out_size);
+                    (bytemuck::pod_read_unaligned(counters), picked, records)
                 }
-                None => ([0u32; 4], front),
+                None => ([0u32; 4], front, &[][..]),
             };
             let items: Vec<T> = front
                 .par_chunks(out_size)
                 .map(bytemuck::pod_read_unaligned)
                 .collect();
+            let records: Vec<shader::Sent> = bytemuck::pod_collect_to_vec(records);
             (
                 items,
                 counters,
+                records,
                 self.timestamps
                     .as_ref()
                     .map(|_| stamps[1].saturating_sub(stamps[0]) as f64 * period * 1e-9),
@@ -786,24 +806,26 @@ impl Gpu {
             None => (Vec::new(), 0),
             Some((sent, _)) => {
                 let [n, low, high, _] = counters;
-                let bytes = n as u64 * std::mem::size_of::<shader::Sent>() as u64;
-                let records = if n == 0 {
-                    Vec::new()
+                let n = n as usize;
+                let mut records = sent_ahead;
+                if n <= ahead {
+                    records.truncate(n);
                 } else {
+                    // The rest, in a second wait.
+                    let bytes = ((n - ahead) * sent_size) as u64;
                     let mut enc = self.device.create_command_encoder(&Default::default());
-                    enc.copy_buffer_to_buffer(&sent, 0, &read, 0, bytes);
+                    enc.copy_buffer_to_buffer(&sent, (ahead * sent_size) as u64, &read, 0, bytes);
                     self.queue.submit([enc.finish()]);
                     self.map(&read, wgpu::MapMode::Read, 0..bytes)?;
-                    let records = {
+                    {
                         let view = read
                             .get_mapped_range(0..bytes)
                             .map_err(|e| GpuError::Readback(e.to_string()))?;
-                        bytemuck::pod_collect_to_vec(&view)
-                    };
+                        records.extend(bytemuck::pod_collect_to_vec::<u8, shader::Sent>(&view));
+                    }
                     read.unmap();
-                    records
-                };
-                read_total += bytes;
+                    read_total += bytes;
+                }
                 (records, u64::from(low) | u64::from(high) << 32)
             }
         };
@@ -812,6 +834,7 @@ impl Gpu {
             (if upload_items { in_bytes } else { 0 }) + std::mem::size_of::<Params>() as u64;
         traffic.read += read_total;
         traffic.dispatches += 1;
+        traffic.sent_back += sent.len() as u64;
         traffic.kernel_seconds = traffic
             .kernel_seconds
             .zip(kernel_seconds)
@@ -838,6 +861,7 @@ impl Gpu {
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.traffic.lock().unwrap_or_else(|e| e.into_inner()).waits += 1;
         rx.recv()
             .map_err(|e| GpuError::Readback(e.to_string()))?
             .map_err(|e| GpuError::Readback(e.to_string()))

@@ -41,8 +41,9 @@ pub fn relabellings<F: Counted>(r: &CountReport<F>) -> String {
     "\nwrong rays under the 12 orientation-preserving relabellings of the tetrahedra\n\n| method | own labelling | min | median | max |\n|---|---|---|---|---|\n".to_string() + &out
 }
 
-/// On a GPU, what each row's answers moved between the CPU and the GPU, per ray, and the kernels'
-/// share of its wall time.
+/// On a GPU, what each row's answers moved between the CPU and the GPU, per ray, its dispatches, the
+/// times the CPU waited for the GPU, the answers sent back to be judged, and the kernels' share of
+/// its wall time.
 pub fn transfers<F: Counted>(r: &CountReport<F>) -> String {
     let mut out = String::new();
     for m in &r.methods {
@@ -51,15 +52,20 @@ pub fn transfers<F: Counted>(r: &CountReport<F>) -> String {
                 .kernel_share
                 .map_or("-".into(), |k| format!("{:.1}%", 100.0 * k));
             out += &format!(
-                "| {} | {:.1} | {:.1} | {} | {share} |\n",
-                m.method, t.bytes_written_per_ray, t.bytes_read_per_ray, t.total.dispatches
+                "| {} | {:.1} | {:.1} | {} | {} | {} | {share} |\n",
+                m.method,
+                t.bytes_written_per_ray,
+                t.bytes_read_per_ray,
+                t.total.dispatches,
+                t.total.waits,
+                t.total.sent_back
             );
         }
     }
     if out.is_empty() {
         return out;
     }
-    "\nbetween the CPU and the GPU, per ray counted\n\n| method | bytes written | bytes read back | dispatches | kernels' share of the wall time |\n|---|---|---|---|---|\n".to_string() + &out
+    "\nbetween the CPU and the GPU, per ray counted\n\n| method | bytes written | bytes read back | dispatches | waits | sent back | kernels' share of the wall time |\n|---|---|---|---|---|---|---|\n".to_string() + &out
 }
 
 /// `(audited against … on N rays, all agreeing)`, or nothing when no ray was audited.
