@@ -448,6 +448,59 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
     }
 }
 
+/// A count relabelled under the 12 labellings of its tetrahedra (`relabel_all`) gets each row's
+/// wrong rays under all 12, its own labelling's first (as counted); a report of another scene than
+/// the one given is refused, naming both, and left as it was.
+#[test]
+fn a_count_is_relabelled_on_its_own_scene_only() {
+    use tetwalk::backend::Backend;
+    use tetwalk::engine::count::{CountSettings, ReferenceWalk, Shard, relabel_all, run};
+    use tetwalk::family::Walks;
+    use tetwalk::family::count::CountError;
+    use tetwalk::scenes::camera::Views;
+    let scene = tetwalk::scenes::load("kuhn-far", tetwalk::mesh::Faces::Required).unwrap();
+    let settings = CountSettings::<Walks> {
+        views: Views {
+            views: 2,
+            width: 16,
+            height: 16,
+            seed: 1,
+            fov_deg: Views::FOV_DEG,
+        },
+        reference: ReferenceWalk::default(),
+        family: (),
+        audit: 0,
+        shard: Shard::ALL,
+    };
+    let cpu = Backend::Cpu {
+        model: Model::Plain,
+    };
+    let methods = ["maria17", "ms06"].map(|m| tetwalk::registry::by_name(m).unwrap());
+    let answerers =
+        tetwalk::engine::count::Answerer::<Walks>::judged(None, methods, ReferenceWalk::default());
+    let mut report = run(&scene, &settings, &answerers, &cpu, &|| {}, None).unwrap();
+    let other = tetwalk::scenes::Loaded {
+        name: "kuhn".to_string(),
+        mesh: scene.mesh.clone(),
+    };
+    match relabel_all(&mut report, &other, &answerers, &cpu, &|| {}) {
+        Err(e @ CountError::OtherScene { .. }) => {
+            let said = e.to_string();
+            assert!(
+                said.contains("kuhn-far") && said.contains("not kuhn"),
+                "{said}"
+            );
+        }
+        other => panic!("refused: {other:?}"),
+    }
+    assert!(report.methods.iter().all(|m| m.relabelled.is_none()));
+    relabel_all(&mut report, &scene, &answerers, &cpu, &|| {}).unwrap();
+    for m in &report.methods {
+        let r = m.relabelled.as_ref().unwrap();
+        assert_eq!((r.len(), r[0]), (12, m.counts.wrong_total), "{}", m.method);
+    }
+}
+
 /// A count's reference walk is read back by name from a report, is one of the walks tetwalk vouches
 /// for when `count --reference` offers it (`exact`, `certified`), defaults to the one that is not
 /// `exact` itself, and an unknown name in a report is an error naming it; the octree count's

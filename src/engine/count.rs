@@ -482,7 +482,7 @@ fn count_view<F: Counted>(
 
 /// Count again under each other orientation-preserving relabelling of the tetrahedra
 /// (`crate::tet::EVEN_PERMUTATIONS`, the same for the whole mesh; `report` is the mesh's own) and keep
-/// each row's wrong rays under all 12.
+/// each row's wrong rays under all 12; refused for another scene than the report's.
 pub fn relabel_all<F: Counted>(
     report: &mut CountReport<F>,
     scene: &Loaded,
@@ -490,6 +490,12 @@ pub fn relabel_all<F: Counted>(
     backend: &Backend,
     tick: &(dyn Fn() + Sync),
 ) -> Result<(), CountError> {
+    if report.settings.scene != scene.name {
+        return Err(CountError::OtherScene {
+            report: report.settings.scene.clone(),
+            scene: scene.name.clone(),
+        });
+    }
     let wrong_totals = |r: &CountReport<F>| -> Vec<u64> {
         r.methods.iter().map(|m| m.counts.wrong_total()).collect()
     };

@@ -75,6 +75,9 @@ pub enum CountError {
     },
     #[error(transparent)]
     Relabel(#[from] crate::mesh::MeshError),
+    /// A report of one scene counted again on another (`engine::count::relabel_all`).
+    #[error("the report counts scene {report}, not {scene}: it cannot be relabelled with {scene}")]
+    OtherScene { report: String, scene: String },
     #[error(
         "no view could be counted: none of the {0} camera positions lies inside the mesh (a scene needs the box around the model that `tetwalk scene build` adds)"
     )]
