@@ -455,11 +455,14 @@ fn replay_found_cases_says_whether_each_fails_again() {
 
 /// `replay` answers a count's wrong rays again for every counted family (walks, an octree's cells,
 /// the triangles in packets, whose answers come from the whole view): each fails again the same
-/// way; a recorded ending changed is reported (status 1); a ray edited by one ulp, views and settings
-/// no count takes, and a line that records no count are refused, naming the line.
+/// way, each answer line naming its file and line; the three dumps replayed at once give every
+/// line of each, in order; a recorded ending changed is reported (status 1); a ray edited by one
+/// ulp, views and settings no count takes, and a line that records no count are refused, naming
+/// the file and the line.
 #[test]
 fn replay_answers_every_familys_dumped_wrong_rays_again() {
     let dir = tempfile::tempdir().unwrap();
+    let mut dumps = Vec::new();
     let runs: [&[&str]; 3] = [
         &[
             "--scene",
@@ -499,7 +502,9 @@ fn replay_answers_every_familys_dumped_wrong_rays_again() {
         for (r, l) in replayed.iter().zip(&lines) {
             assert_eq!(r["same"], true, "{family}: {r}");
             assert_eq!(r["now"], l["stopped"]["outcome"], "{family}");
+            assert_eq!(r["file"], dump.to_str().unwrap(), "{family}");
         }
+        dumps.push((dump.clone(), replayed));
         // One line alone, with its recorded ending changed: it no longer fails the same way.
         let one = dir.path().join(format!("one-{k}.jsonl"));
         let mut changed = lines[0].clone();
@@ -533,11 +538,26 @@ fn replay_answers_every_familys_dumped_wrong_rays_again() {
             let (code, _, err) = tetwalk(&["replay", one.to_str().unwrap()], "");
             assert_eq!(code, 2, "{family} {says}: {err}");
             assert!(
-                err.contains("line 1") && err.contains(says),
+                err.contains(&format!("{} line 1", one.display())) && err.contains(says),
                 "{family}: {err}"
             );
         }
     }
+    let mut args = vec!["replay"];
+    args.extend(dumps.iter().map(|(d, _)| d.to_str().unwrap()));
+    let (code, out, err) = tetwalk(&args, "");
+    assert_eq!(code, 0, "{err}");
+    let alone: Vec<serde_json::Value> = dumps.into_iter().flat_map(|(_, r)| r).collect();
+    let n = alone.len();
+    assert_eq!(
+        json_lines(&out),
+        alone,
+        "each file's lines as replayed alone"
+    );
+    assert!(
+        err.contains(&format!("{n} of {n} wrong rays fail again the same way")),
+        "{err}"
+    );
 }
 
 /// `walk --relabel all` walks under the 12 orientation-preserving relabellings: the own labelling's

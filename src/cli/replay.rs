@@ -15,7 +15,8 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// A dump written by `tetwalk count --dump`, or with `--found` found cases (files of JSON lines).
+    /// Dumps written by `tetwalk count --dump` (a sharded count's, or several counts'), or with
+    /// `--found` found cases (files of JSON lines).
     #[arg(required = true)]
     files: Vec<PathBuf>,
     /// The files hold found cases (`corpora/found/`), not a count's dump.
@@ -42,25 +43,17 @@ fn found(a: &Args) -> Status {
     let out = JsonOut::new(a.json.as_deref())?;
     let mut tally = ReplayTally::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-    for path in &a.files {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        for (n, line) in text
-            .lines()
-            .enumerate()
-            .filter(|(_, l)| !l.trim().is_empty())
-        {
-            let place =
-                |e: &dyn std::fmt::Display| format!("{} line {}: {e}", path.display(), n + 1);
-            let obj = object(line).map_err(|e| place(&e))?;
-            let (now, method) = replay_object(obj).map_err(|e| place(&e))?;
-            tally.add(now.same());
-            if let Replay::Skipped(why) = &now {
-                eprintln!("tetwalk replay: {} skipped: {why}", place(&"case"));
-            }
-            let file = path.display().to_string();
-            writeln!(w, "{}", found_line(&file, n + 1, method.as_deref(), &now))?;
+    each_line(&a.files, |file, n, line| {
+        let place = |e: &dyn std::fmt::Display| format!("{file} line {n}: {e}");
+        let obj = object(line).map_err(|e| place(&e))?;
+        let (now, method) = replay_object(obj).map_err(|e| place(&e))?;
+        tally.add(now.same());
+        if let Replay::Skipped(why) = &now {
+            eprintln!("tetwalk replay: {} skipped: {why}", place(&"case"));
         }
-    }
+        writeln!(w, "{}", found_line(file, n, method.as_deref(), &now))?;
+        Ok(())
+    })?;
     w.flush()?;
     finish(
         tally,
@@ -74,41 +67,54 @@ pub(crate) fn run(a: Args) -> Status {
     if a.found {
         return found(&a);
     }
-    let [file] = a.files.as_slice() else {
-        return Err("a count's dump is replayed one file at a time".into());
-    };
     let out = JsonOut::new(a.json.as_deref())?;
-    let file_name = file.display();
-    let file = std::fs::File::open(file).map_err(|e| format!("{file_name}: {e}"))?;
+    // One for every file: the scenes loaded and the views made once.
     let mut dumped = Dumped::new(super::faces(a.no_faces));
     let mut tally = ReplayTally::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-    for (n, line) in std::io::BufReader::new(file).lines().enumerate() {
-        let n = n + 1;
-        let place = |e: &dyn std::fmt::Display| format!("{file_name} line {n}: {e}");
-        let line = line.map_err(|e| place(&e))?;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let d: WrongRay = serde_json::from_str(&line).map_err(|e| place(&e))?;
+    each_line(&a.files, |file, n, line| {
+        let place = |e: &dyn std::fmt::Display| format!("{file} line {n}: {e}");
+        let d: WrongRay = serde_json::from_str(line).map_err(|e| place(&e))?;
         match dumped.line(&d).map_err(|e| place(&e))? {
             Redone::Skipped(why) => {
                 tally.add(None);
-                eprintln!("tetwalk replay: line {n} skipped: {why}");
+                eprintln!("tetwalk replay: {file} line {n} skipped: {why}");
             }
             Redone::Rerun(r, backend) => {
                 tally.add(Some(r.same));
-                writeln!(w, "{}", dumped_line(n, &r, &backend, &d.stopped.outcome))?;
+                let line = dumped_line(file, n, &r, &backend, &d.stopped.outcome);
+                writeln!(w, "{line}")?;
             }
         }
-    }
+        Ok(())
+    })?;
     w.flush()?;
+    let files: Vec<String> = a.files.iter().map(|f| f.display().to_string()).collect();
     finish(
         tally,
         out,
-        &format!("{file_name}: no wrong ray to replay"),
+        &format!("{}: no wrong ray to replay", files.join(", ")),
         "wrong rays fail again the same way",
     )
+}
+
+/// `f` on each line of each file that is not blank: the file's name, the line's number (from 1) and
+/// the line, read one at a time.
+fn each_line(
+    files: &[PathBuf],
+    mut f: impl FnMut(&str, usize, &str) -> Result<(), super::Error>,
+) -> Result<(), super::Error> {
+    for path in files {
+        let name = path.display().to_string();
+        let file = std::fs::File::open(path).map_err(|e| format!("{name}: {e}"))?;
+        for (n, line) in std::io::BufReader::new(file).lines().enumerate() {
+            let line = line.map_err(|e| format!("{name} line {}: {e}", n + 1))?;
+            if !line.trim().is_empty() {
+                f(&name, n + 1, &line)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Write the tally, say it, and end: an error when nothing was replayed, status 1 when a line

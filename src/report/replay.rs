@@ -17,10 +17,11 @@ pub fn found_line(file: &str, line: usize, method: Option<&str>, now: &Replay) -
     json!({"file": file, "line": line, "method": method, "replay": replay})
 }
 
-/// A dumped wrong ray at `line`, answered again on `backend`, beside where it was recorded to stop.
-pub fn dumped_line(line: usize, r: &Rerun, backend: &str, recorded: &Outcome) -> Value {
+/// A dumped wrong ray at `line` of `file`, answered again on `backend`, beside where it was recorded
+/// to stop.
+pub fn dumped_line(file: &str, line: usize, r: &Rerun, backend: &str, recorded: &Outcome) -> Value {
     json!({
-        "line": line, "method": r.method, "backend": backend, "still_wrong": r.still_wrong,
+        "file": file, "line": line, "method": r.method, "backend": backend, "still_wrong": r.still_wrong,
         "same": r.same, "now": r.now.outcome, "recorded": recorded,
     })
 }
