@@ -286,8 +286,9 @@ const TIMESTAMP_BYTES: u64 = 2 * 8;
 const COUNTER_BYTES: u64 = 4 * 4;
 
 /// Where a dispatch's output stays on the GPU, the records sent back that are read with its
-/// counters, in the same wait: one for every `AHEAD_PER` items and `AHEAD_LEAST` more (half a byte a
-/// ray at most, beside a second wait for the rest where more were sent back).
+/// counters, in the same wait: one for every `AHEAD_PER` items and `AHEAD_LEAST` more (32 bytes
+/// each: half a byte a ray and 512 bytes more a dispatch, where a second wait for the rest, when
+/// more were sent back, costs far more on a real GPU).
 const AHEAD_PER: usize = 64;
 const AHEAD_LEAST: usize = 16;
 
@@ -1037,8 +1038,7 @@ impl Gpu {
         max_steps: u32,
         kept: &[(Ray, u32)],
     ) -> Result<Dispatched<Ending>, GpuError> {
-        let hits = self.faces_for(&o.tris, kept)?;
-        let these = (kept.len(), fingerprint(kept));
+        let (hits, these) = self.faces_for(&o.tris, kept)?;
         let items = {
             let mut uploaded = o.entered.lock().unwrap_or_else(|e| e.into_inner());
             match &*uploaded {
@@ -1102,27 +1102,29 @@ impl Gpu {
     }
 
     /// The faces `tris` came from, to compare hits on them with the reference walk kept for `kept`
-    /// (refused for other rays, or triangles uploaded without their faces).
+    /// (refused for other rays, or triangles uploaded without their faces), and the kept rays'
+    /// count and fingerprint.
     fn faces_for<'a>(
         &self,
         tris: &'a GpuTriangles,
         kept: &[(Ray, u32)],
-    ) -> Result<&'a wgpu::Buffer, GpuError> {
-        self.check_kept(kept)?;
+    ) -> Result<(&'a wgpu::Buffer, (usize, u64)), GpuError> {
+        let these = self.check_kept(kept)?;
         if !tris.faced {
             return Err(GpuError::NoReference);
         }
-        Ok(&tris.faces)
+        Ok((&tris.faces, these))
     }
 
     /// Refuse to compare walks of `rays` unless they are the rays (with their starting
-    /// tetrahedra) whose reference walk is kept on the GPU.
-    fn check_kept(&self, rays: &[(Ray, u32)]) -> Result<(), GpuError> {
+    /// tetrahedra) whose reference walk is kept on the GPU: their count and fingerprint.
+    fn check_kept(&self, rays: &[(Ray, u32)]) -> Result<(usize, u64), GpuError> {
+        let these = (rays.len(), fingerprint(rays));
         let kept = *self.kept_rays.lock().unwrap_or_else(|e| e.into_inner());
-        if kept != Some((rays.len(), fingerprint(rays))) {
+        if kept != Some(these) {
             return Err(GpuError::NoReference);
         }
-        Ok(())
+        Ok(these)
     }
 
     /// Upload a mesh for [`Gpu::walks`].
@@ -1369,7 +1371,7 @@ impl Gpu {
         tris: &GpuTriangles,
         kept: &[(Ray, u32)],
     ) -> Result<Dispatched<Ending>, GpuError> {
-        let faces = self.faces_for(tris, kept)?;
+        let (faces, _) = self.faces_for(tris, kept)?;
         let ray = |i: usize| shader::WalkRay::new(&kept[i].0, kept[i].1);
         self.nearest(
             method,
