@@ -593,9 +593,9 @@ fn count_compared(g: &Backend, family: &str, written: u64, least: u64, as_cpu: b
 }
 
 /// The reference walk of `rays` kept on the GPU (`walks_keeping`), which reads back only the steps
-/// summed and the picked rays' endings, then every ending read back (`kept_walks`): the endings as
-/// the CPU walks them, the steps as their sum, the picked ones as read whole (where the adapter does
-/// not contract).
+/// summed and the picked rays' endings (lone ones and a run), then every ending read back
+/// (`kept_walks`): the endings as the CPU walks them (where the adapter does not contract), the
+/// steps as their sum, the picked ones as read whole.
 fn kept_reference(
     g: &Backend,
     reference: &Method,
@@ -604,7 +604,10 @@ fn kept_reference(
     start: u32,
     max: u32,
 ) -> Vec<tetwalk::walk::Walk> {
-    let picked: Vec<usize> = (0..rays.len()).step_by(7).collect();
+    // Lone picks and a run of consecutive ones (read back in one copy).
+    let picked: Vec<usize> = (0..rays.len())
+        .filter(|i| i % 7 == 0 || (100..300).contains(i))
+        .collect();
     let kept = g
         .walks_keeping(reference, on, rays, start, max, &picked)
         .unwrap();

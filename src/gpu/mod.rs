@@ -742,11 +742,14 @@ impl Gpu {
                     pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
                 }
                 // The counters, the picked items' outputs, and the first records sent back.
+                // Each run of consecutive picked items in one copy (every item: one copy).
                 enc.copy_buffer_to_buffer(&counters, 0, &read, 0, COUNTER_BYTES);
-                for (k, p) in picked.iter().enumerate() {
-                    let to = COUNTER_BYTES + (k * out_size) as u64;
-                    let size = out_size as u64;
-                    enc.copy_buffer_to_buffer(&out, p * size, &read, to, size);
+                let size = out_size as u64;
+                let mut to = COUNTER_BYTES;
+                for run in picked.chunk_by(|a, b| *b == a + 1) {
+                    let bytes = run.len() as u64 * size;
+                    enc.copy_buffer_to_buffer(&out, run[0] * size, &read, to, bytes);
+                    to += bytes;
                 }
                 let at = COUNTER_BYTES + (picked.len() * out_size) as u64;
                 enc.copy_buffer_to_buffer(&sent, 0, &read, at, (ahead * sent_size) as u64);
