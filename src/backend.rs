@@ -424,17 +424,8 @@ impl Backend {
                 let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let kept = map_all(rays, |r| (*r, start));
                 let done = g.nearest_against(method, up, &kept)?;
-                let mut bad = None;
-                let sent = in_pixel_order(done.sent, |_, e| {
-                    e.triangle_hit().unwrap_or_else(|e| {
-                        bad = Some(e);
-                        None
-                    })
-                })?;
-                match bad {
-                    Some(e) => Err(e.into()),
-                    None => Ok(Some(Against { steps: 0, sent })),
-                }
+                let sent = in_pixel_order(done.sent, |_, e| e.triangle_hit())?;
+                Ok(Some(Against { steps: 0, sent }))
             }
             _ => Ok(None),
         }
@@ -496,7 +487,7 @@ impl Backend {
                 let done = g.octree_walks_against(method, tri, up, &entered, max_steps, &kept)?;
                 Ok(Some(Against {
                     steps: done.steps,
-                    sent: in_pixel_order(done.sent, |_, e| e.octree_walk())?,
+                    sent: in_pixel_order(done.sent, |_, e| Ok(e.octree_walk()))?,
                 }))
             }
             _ => Ok(None),
@@ -695,12 +686,12 @@ impl Backend {
                 let walk = method.walk(Model::Plain);
                 let (mut steps, mut flagged) = (done.steps, 0);
                 let sent = in_pixel_order(done.sent, |i, e| {
-                    e.walk().unwrap_or_else(|| {
+                    Ok(e.walk().unwrap_or_else(|| {
                         flagged += 1;
                         let w = walk(mesh.mesh, &rays[i], start, max_steps);
                         steps = steps - u64::from(e.steps) + u64::from(w.steps);
                         w
-                    })
+                    }))
                 })?;
                 if flagged > 0 && !method.info.runs_on_cpu {
                     return Err(BackendError::Unsettled(method.info.name));
@@ -811,17 +802,21 @@ impl<T> Against<T> {
 }
 
 /// The records a GPU sent back, in pixel order (it sends them in any order), each as `f` reads its
-/// index and ending, with the reference walk's ending.
+/// index and ending (refused where it cannot), with the reference walk's ending.
 #[cfg(feature = "gpu")]
 fn in_pixel_order<T>(
     mut sent: Vec<gpu::shader::Sent>,
-    mut f: impl FnMut(usize, gpu::shader::Ending) -> T,
+    mut f: impl FnMut(usize, gpu::shader::Ending) -> Result<T, GpuError>,
 ) -> Result<Vec<(usize, T, Walk)>, GpuError> {
     sent.sort_unstable_by_key(|s| s.index);
     sent.iter()
         .map(|s| {
             let reference = s.reference().ok_or(GpuError::BadOutcome(s.r_kind))?;
-            Ok((s.index as usize, f(s.index as usize, s.ending()), reference))
+            Ok((
+                s.index as usize,
+                f(s.index as usize, s.ending())?,
+                reference,
+            ))
         })
         .collect()
 }

@@ -55,6 +55,10 @@ pub enum GpuError {
     BadOutcome(u32),
     #[error("walks compared on the GPU with no reference walk of the same rays kept there")]
     NoReference,
+    #[error(
+        "{0} rays are too many to keep on the GPU as a reference walk (one binding holds them)"
+    )]
+    TooManyToKeep(usize),
 }
 
 /// The module with a user's WGSL spliced in, parsed and validated: an error in their lines is shown
@@ -1190,8 +1194,8 @@ impl Gpu {
     /// steps summed and the walks flagged ([`Dispatched::sent`]); [`After::Compare`] walks the kept
     /// rays and compares each ending there with the kept one (`compare_endings`): the steps summed,
     /// and only the walks not settled as ending where the reference ends come back
-    /// ([`Dispatched::sent`]). Compared rays must be the kept ones (refused otherwise); a batch too
-    /// large to keep ([`Gpu::keeps`]) is read back whole.
+    /// ([`Dispatched::sent`]). Compared rays must be the kept ones, and a batch kept must fit one
+    /// binding ([`Gpu::keeps`]): refused otherwise.
     pub fn walks_then(
         &self,
         method: &Method,
@@ -1201,21 +1205,18 @@ impl Gpu {
         after: After,
         picked: &[usize],
     ) -> Result<Dispatched<Ending>, GpuError> {
-        if after != After::Read {
-            let these = (rays.len(), fingerprint(rays));
-            let mut kept = self.kept_rays.lock().unwrap_or_else(|e| e.into_inner());
-            match after {
-                // Too many rays for one binding: read back, keep nothing.
-                After::Keep if !self.keeps(rays.len()) => {
-                    *kept = None;
-                    drop(kept);
-                    return self.walks_then(method, mesh, rays, max_steps, After::Read, &[]);
+        match after {
+            After::Read => {}
+            After::Keep => {
+                let mut kept = self.kept_rays.lock().unwrap_or_else(|e| e.into_inner());
+                *kept = None;
+                if !self.keeps(rays.len()) {
+                    return Err(GpuError::TooManyToKeep(rays.len()));
                 }
-                After::Keep => *kept = Some(these),
-                _ => {
-                    drop(kept);
-                    self.check_kept(rays)?;
-                }
+                *kept = Some((rays.len(), fingerprint(rays)));
+            }
+            After::Compare => {
+                self.check_kept(rays)?;
             }
         }
         let [_, walk] = Self::entry_points(method)?;

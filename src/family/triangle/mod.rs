@@ -753,14 +753,15 @@ impl Counted for Triangle {
             .collect())
     }
 
-    /// Where the reference walk is kept (a GPU), every triangle per ray, the rays read there in pixel
-    /// order (a GPU thread answers a ray as it alone would), each nearest hit compared there.
+    /// Where the reference walk is kept (a GPU, which tries every triangle per ray: no bins), the
+    /// rays read there in pixel order (a GPU thread answers a ray as it alone would), each nearest
+    /// hit compared there.
     fn answer_against(
         at: &Prepared<Self>,
         m: &TriangleMethod,
         rays: &[Ray],
     ) -> Result<Option<Against>, CountError> {
-        if !at.reference_kept || binned_on(at.settings, at.backend.ran().kind) {
+        if !at.reference_kept {
             return Ok(None);
         }
         let from = &at.ready.triangles.1;
