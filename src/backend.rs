@@ -408,24 +408,31 @@ impl Backend {
 
     /// `method`'s nearest hit among the triangles made ready as `on` for each ray of the last
     /// [`Backend::walks_keeping`] that kept its endings (from `start`), compared with them where
-    /// they are made: on a GPU, only the rays not settled there as ending where the reference ends
-    /// (the triangle and `t` of each, or `None`, in pixel order; no steps); `None` elsewhere.
+    /// they are made: on a GPU, queued ([`Backend::gather`]), only the rays not settled there as
+    /// ending where the reference ends (the triangle and `t` of each, or `None`, in pixel order;
+    /// no steps); `None` elsewhere.
     #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
-    pub fn triangles_against(
-        &self,
-        method: &TriangleMethod,
-        on: &TrianglesOn,
-        rays: &[Ray],
+    pub fn triangles_against<'a>(
+        &'a self,
+        method: &'a TriangleMethod,
+        on: &'a TrianglesOn,
+        rays: &'a [Ray],
         start: u32,
-    ) -> Result<Option<Against<Nearest>>, BackendError> {
+    ) -> Result<Option<Pending<'a, Nearest>>, BackendError> {
         match self {
             #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let kept = map_all(rays, |r| (*r, start));
-                let done = g.nearest_against(method, up, &kept)?;
-                let sent = in_pixel_order(done.sent, |_, e| e.triangle_hit())?;
-                Ok(Some(Against { steps: 0, sent }))
+                let queued = g.nearest_against(method, up, &kept)?;
+                Ok(Some(Pending::new(
+                    queued,
+                    move || g.nearest_against(method, up, &kept),
+                    |done| {
+                        let sent = in_pixel_order(done.sent, |_, e| e.triangle_hit())?;
+                        Ok(Against { steps: 0, sent })
+                    },
+                )))
             }
             _ => Ok(None),
         }
@@ -463,32 +470,38 @@ impl Backend {
     }
 
     /// [`Backend::octree_walks`] of the rays of the last [`Backend::walks_keeping`] that kept its
-    /// endings (from `start`), compared with them where they are made: on a GPU, the cells summed
-    /// and only the walks not settled there as ending where the reference ends, in pixel order;
-    /// `None` elsewhere.
+    /// endings (from `start`), compared with them where they are made: on a GPU, queued
+    /// ([`Backend::gather`]), the cells summed and only the walks not settled there as ending where
+    /// the reference ends, in pixel order; `None` elsewhere.
     #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
     #[allow(clippy::too_many_arguments)]
-    pub fn octree_walks_against(
-        &self,
-        method: &OctreeMethod,
-        tri: &TriangleMethod,
-        o: &Octree,
-        on: &OctreeOn,
-        rays: &[Ray],
+    pub fn octree_walks_against<'a>(
+        &'a self,
+        method: &'a OctreeMethod,
+        tri: &'a TriangleMethod,
+        o: &'a Octree,
+        on: &'a OctreeOn,
+        rays: &'a [Ray],
         start: u32,
         max_steps: u32,
-    ) -> Result<Option<Against<OctreeWalk>>, BackendError> {
+    ) -> Result<Option<Pending<'a, OctreeWalk>>, BackendError> {
         match self.for_method(method) {
             #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let up = on.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let kept = map_all(rays, |r| (*r, start));
-                let entered = || entry_cells(o, rays);
-                let done = g.octree_walks_against(method, tri, up, &entered, max_steps, &kept)?;
-                Ok(Some(Against {
-                    steps: done.steps,
-                    sent: in_pixel_order(done.sent, |_, e| Ok(e.octree_walk()))?,
-                }))
+                let entered = move || entry_cells(o, rays);
+                let queued = g.octree_walks_against(method, tri, up, &entered, max_steps, &kept)?;
+                Ok(Some(Pending::new(
+                    queued,
+                    move || g.octree_walks_against(method, tri, up, &entered, max_steps, &kept),
+                    |done| {
+                        Ok(Against {
+                            steps: done.steps,
+                            sent: in_pixel_order(done.sent, |_, e| Ok(e.octree_walk()))?,
+                        })
+                    },
+                )))
             }
             _ => Ok(None),
         }
@@ -664,39 +677,45 @@ impl Backend {
     }
 
     /// `method`'s walks of the rays of the last [`Backend::walks_keeping`] that kept its endings,
-    /// compared with them where they are made: on a GPU, the steps summed and only the walks not
-    /// settled there as ending where the reference ends (each to be judged exactly, with the rays
-    /// the GPU flagged walked on the CPU); `None` elsewhere.
+    /// compared with them where they are made: on a GPU, queued ([`Backend::gather`]), the steps
+    /// summed and only the walks not settled there as ending where the reference ends (each to be
+    /// judged exactly, with the rays the GPU flagged walked on the CPU); `None` elsewhere.
     #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
-    pub fn walks_against(
-        &self,
-        method: &Method,
-        mesh: &MeshOn,
-        rays: &[Ray],
+    pub fn walks_against<'a>(
+        &'a self,
+        method: &'a Method,
+        mesh: &'a MeshOn,
+        rays: &'a [Ray],
         start: u32,
         max_steps: u32,
-    ) -> Result<Option<Against>, BackendError> {
+    ) -> Result<Option<Pending<'a>>, BackendError> {
         match self.for_method(method) {
             #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
                 let uploaded = mesh.gpu.as_ref().ok_or(BackendError::OtherMesh)?;
                 let from = map_all(rays, |r| (*r, start));
-                let done =
-                    g.walks_then(method, uploaded, &from, max_steps, gpu::After::Compare, &[])?;
-                let walk = method.walk(Model::Plain);
-                let (mut steps, mut flagged) = (done.steps, 0);
-                let sent = in_pixel_order(done.sent, |i, e| {
-                    Ok(e.walk().unwrap_or_else(|| {
-                        flagged += 1;
-                        let w = walk(mesh.mesh, &rays[i], start, max_steps);
-                        steps = steps - u64::from(e.steps) + u64::from(w.steps);
-                        w
-                    }))
-                })?;
-                if flagged > 0 && !method.info.runs_on_cpu {
-                    return Err(BackendError::Unsettled(method.info.name));
-                }
-                Ok(Some(Against { steps, sent }))
+                let queued = g.walks_against(method, uploaded, &from, max_steps)?;
+                let finish = move |done: gpu::Dispatched<gpu::shader::Ending>| {
+                    let walk = method.walk(Model::Plain);
+                    let (mut steps, mut flagged) = (done.steps, 0);
+                    let sent = in_pixel_order(done.sent, |i, e| {
+                        Ok(e.walk().unwrap_or_else(|| {
+                            flagged += 1;
+                            let w = walk(mesh.mesh, &rays[i], start, max_steps);
+                            steps = steps - u64::from(e.steps) + u64::from(w.steps);
+                            w
+                        }))
+                    })?;
+                    if flagged > 0 && !method.info.runs_on_cpu {
+                        return Err(BackendError::Unsettled(method.info.name));
+                    }
+                    Ok(Against { steps, sent })
+                };
+                Ok(Some(Pending::new(
+                    queued,
+                    move || g.walks_against(method, uploaded, &from, max_steps),
+                    finish,
+                )))
             }
             _ => Ok(None),
         }
@@ -798,6 +817,101 @@ impl<T> Against<T> {
                 .map(|(i, a, r)| (i, f(a), r))
                 .collect(),
         }
+    }
+}
+
+/// Answers compared with the kept reference walk where they are made, queued on a GPU and not yet
+/// read back: [`Backend::gather`] reads a view's at once, in one wait.
+pub struct Pending<'a, T = Walk> {
+    #[cfg(feature = "gpu")]
+    queued: gpu::Queued,
+    /// The same queued again, where a later one's records were sent over its before they were read.
+    #[cfg(feature = "gpu")]
+    again: Box<dyn Fn() -> Result<gpu::Queued, GpuError> + 'a>,
+    /// The answers from what was read back.
+    #[cfg(feature = "gpu")]
+    #[allow(clippy::type_complexity)]
+    finish: Box<
+        dyn FnOnce(gpu::Dispatched<gpu::shader::Ending>) -> Result<Against<T>, BackendError> + 'a,
+    >,
+    #[cfg(not(feature = "gpu"))]
+    never: (std::convert::Infallible, std::marker::PhantomData<&'a T>),
+}
+
+impl<'a, T: 'a> Pending<'a, T> {
+    #[cfg(feature = "gpu")]
+    fn new(
+        queued: gpu::Queued,
+        again: impl Fn() -> Result<gpu::Queued, GpuError> + 'a,
+        finish: impl FnOnce(gpu::Dispatched<gpu::shader::Ending>) -> Result<Against<T>, BackendError>
+        + 'a,
+    ) -> Self {
+        Pending {
+            queued,
+            again: Box::new(again),
+            finish: Box::new(finish),
+        }
+    }
+
+    /// The same, each answer sent back as `f` says.
+    #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
+    pub fn map<U>(self, f: impl Fn(T) -> U + 'a) -> Pending<'a, U> {
+        #[cfg(feature = "gpu")]
+        {
+            let finish = self.finish;
+            Pending {
+                queued: self.queued,
+                again: self.again,
+                finish: Box::new(move |done| Ok(finish(done)?.map(f))),
+            }
+        }
+        #[cfg(not(feature = "gpu"))]
+        match self.never.0 {}
+    }
+}
+
+impl Backend {
+    /// The answers queued ([`Pending`]), read back in one wait, in their order, each with what
+    /// crossed for it (the wait counted on the first); refused for answers another backend queued.
+    pub fn gather<T>(
+        &self,
+        pending: Vec<Pending<T>>,
+    ) -> Result<Vec<(Against<T>, Traffic)>, BackendError> {
+        if pending.is_empty() {
+            return Ok(Vec::new());
+        }
+        #[cfg(feature = "gpu")]
+        {
+            let Backend::Gpu(g) = self else {
+                return Err(BackendError::NotKept);
+            };
+            let (queued, rest): (Vec<_>, Vec<_>) = pending
+                .into_iter()
+                .map(|p| (p.queued, (p.again, p.finish)))
+                .unzip();
+            g.gather(queued)?
+                .into_iter()
+                .zip(rest)
+                .map(|(gathered, (again, finish))| {
+                    let mut traffic = gathered.traffic;
+                    let done = match gathered.done {
+                        Some(done) => done,
+                        None => {
+                            // Queued again alone, its records are the last sent, and read whole.
+                            let alone = g.gather(vec![again()?])?.remove(0);
+                            traffic = traffic.plus(&alone.traffic);
+                            alone.done.ok_or(GpuError::Readback(
+                                "a comparison's records were sent over before they were read"
+                                    .into(),
+                            ))?
+                        }
+                    };
+                    Ok((finish(done)?, traffic))
+                })
+                .collect()
+        }
+        #[cfg(not(feature = "gpu"))]
+        pending.into_iter().map(|p| match p.never.0 {}).collect()
     }
 }
 

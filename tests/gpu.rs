@@ -6,8 +6,8 @@
 mod common;
 
 use glam::Vec3;
-use tetwalk::backend::Backend;
 use tetwalk::backend::BackendKind;
+use tetwalk::backend::{Against, Backend};
 use tetwalk::cases::classify;
 use tetwalk::engine::count::Shard;
 use tetwalk::exact::edge_margin;
@@ -466,7 +466,8 @@ fn every_family_answers_on_the_gpu_as_on_the_cpu_through_one_differential_check(
 /// walk of a view, each ray with its entry cell, 32 bytes, for every octree method) and reads back
 /// only its counters and the answers not settled there (32 bytes each, with the reference's ending:
 /// every wrong ray, and few right ones), the first of them (one for every 64 rays, and 16) read with
-/// the counters in one wait a view, the rest in a second. The counts, wrong rays by kind and steps, equal the CPU's
+/// the counters, every method row of a view in one wait, the rest in a second (a row whose records
+/// the next row sent over before the wait dispatched again). The counts, wrong rays by kind and steps, equal the CPU's
 /// where the adapter does not contract, but the octree walk's (seed 001's cell methods divide, and
 /// lavapipe's f32 division is not correctly rounded: its answers are held to the GPU's own read back
 /// in `octree_walks_are_compared_on_the_gpu_as_they_read_back`); a CPU count reports no transfer.
@@ -517,6 +518,9 @@ fn count_compared(g: &Backend, family: &str, written: u64, least: u64, as_cpu: b
     };
     let (cpu, gpu) = (count("cpu"), count("gpu"));
     let rays = gpu["rays"].as_u64().unwrap();
+    let views = gpu["views_counted"].as_u64().unwrap();
+    // The method rows' waits, and whether each row read nothing beyond its counters.
+    let (mut method_waits, mut all_ahead) = (0, true);
     assert_eq!(cpu["rays"], gpu["rays"]);
     let (mut wrong, mut sent_back, mut rows, mut rays_written) = (0, 0, 0, 0);
     let pairs = cpu["methods"]
@@ -533,13 +537,16 @@ fn count_compared(g: &Backend, family: &str, written: u64, least: u64, as_cpu: b
         let reference_row = family == "walk" && k == 0;
         let (dispatches, sent) = (int("dispatches"), int("sent_back"));
         let beside = int("bytes_written") - 16 * dispatches;
-        // Per dispatch (a view), the counters and timestamps, the records read with them
-        // (one for every 64 rays and 16 more), and those sent back beyond them in a second wait.
-        let ahead = rays / dispatches / 64 + 16;
+        // Per dispatch (one a view, and one again for a view where the next row's records were
+        // sent over this row's before they were read), the counters and timestamps, the records
+        // read with them (one for every 64 rays of a view and 16 more), and those sent back beyond
+        // them in a second wait.
+        let ahead = rays / views / 64 + 16;
         let read = int("bytes_read") - dispatches * (32 + 32 * ahead);
-        let beyond = sent.saturating_sub(dispatches * ahead);
-        let waits = int("waits") - dispatches;
+        let beyond = sent.saturating_sub(views * ahead);
+        let again = dispatches - views;
         if reference_row {
+            let waits = int("waits") - dispatches;
             // Each flagged ray sent back, then written over its ending; one wait more a view for
             // the upload.
             let flagged = (beside - 32 * rays) / 16;
@@ -552,11 +559,17 @@ fn count_compared(g: &Backend, family: &str, written: u64, least: u64, as_cpu: b
             assert!(flagged <= rays / 100, "{flagged} flagged");
             assert!((dispatches..=2 * dispatches).contains(&waits), "{t}");
         } else {
+            // A view's method rows are read back in one wait, counted on the first row; a second
+            // for records beyond those read ahead, two more for a dispatch again.
+            let first_row = k == usize::from(family == "walk");
+            let waits = int("waits") - if first_row { views } else { 0 };
             assert!((32 * beyond..=32 * sent).contains(&read), "{t}");
-            assert!(waits <= dispatches, "{t}");
+            assert!(waits <= views + 2 * again, "{t}");
             if sent == 0 {
-                assert_eq!((read, waits), (0, 0), "{t}");
+                assert_eq!((read, waits, again), (0, 0, 0), "{t}");
             }
+            method_waits += int("waits");
+            all_ahead &= read == 0 && again == 0;
             let w = match m.get("wrong_total") {
                 Some(w) => w.as_u64().unwrap(),
                 None => m["wrong_triangle"].as_u64().unwrap() + m["false_miss"].as_u64().unwrap(),
@@ -582,6 +595,13 @@ fn count_compared(g: &Backend, family: &str, written: u64, least: u64, as_cpu: b
         }
     }
     assert_eq!(rays_written, written * rays, "{family}");
+    assert!(method_waits >= views, "{family}: {method_waits} waits");
+    if all_ahead {
+        assert_eq!(
+            method_waits, views,
+            "{family}: one wait a view for every method row"
+        );
+    }
     assert!(
         wrong >= least,
         "{family}: the scene makes wrong rays to send back: {wrong}"
@@ -688,10 +708,12 @@ fn nearest_hits_are_compared_on_the_gpu_on_either_side_of_their_face() {
     let a = aimed(Vec3::ZERO);
     let (on, max) = (g.mesh(&a.mesh), default_max_steps(&a.mesh));
     let walked = kept_reference(&g, a.reference, &on, &a.rays, a.start, max);
-    let against = g
-        .triangles_against(a.mt, &g.triangles(&a.tris, &a.sides), &a.rays, a.start)
-        .unwrap()
-        .unwrap();
+    let against = gathered(
+        &g,
+        g.triangles_against(a.mt, &g.triangles(&a.tris, &a.sides), &a.rays, a.start)
+            .unwrap()
+            .unwrap(),
+    );
     let cpu = Backend::Cpu {
         model: Model::Plain,
     };
@@ -785,10 +807,12 @@ fn octree_walks_are_compared_on_the_gpu_as_they_read_back() {
             .octree_walks(m, a.mt, &octree, &a.tris, &on_octree, &a.rays, cap)
             .unwrap();
         let walked = kept_reference(&g, a.reference, &on, &a.rays, a.start, max);
-        let against = g
-            .octree_walks_against(m, a.mt, &octree, &on_octree, &a.rays, a.start, cap)
-            .unwrap()
-            .unwrap();
+        let against = gathered(
+            &g,
+            g.octree_walks_against(m, a.mt, &octree, &on_octree, &a.rays, a.start, cap)
+                .unwrap()
+                .unwrap(),
+        );
         assert_eq!(
             against.steps,
             read.iter().map(|w| w.cells as u64).sum::<u64>(),
@@ -828,15 +852,9 @@ fn octree_walks_are_compared_on_the_gpu_as_they_read_back() {
     );
 }
 
-/// Walks compared on the GPU are compared with the reference walk of the same rays only: after
-/// `walks_keeping`, `walks_against` of the same rays sends back at least every walk that is not the
-/// reference's (each as the CPU walks it, in pixel order) and sums the steps as the CPU does; of other
-/// rays it is refused; the CPU compares nothing there (`None`).
-#[test]
-fn walks_are_compared_on_the_gpu_only_with_the_reference_of_the_same_rays() {
-    let Some(g) = common::gpu_or_skip() else {
-        return;
-    };
+/// A jittered grid and 3,000 rays fanned out from a point inside it, with the tetrahedron holding
+/// that point.
+fn fanned() -> (tetwalk::mesh::Mesh, u32, Vec<Ray>) {
     let mesh = scenes::generated_mesh(Generated::Jitter, 6, Vec3::ZERO, 4).unwrap();
     let start = locate(&mesh, Vec3::splat(2.9), 0).unwrap();
     let rays: Vec<Ray> = (0..3000)
@@ -848,6 +866,60 @@ fn walks_are_compared_on_the_gpu_only_with_the_reference_of_the_same_rays() {
             }
         })
         .collect();
+    (mesh, start, rays)
+}
+
+/// Answers queued on the GPU ([`Backend::triangles_against`] and the like), read back alone.
+fn gathered<T>(g: &Backend, pending: tetwalk::backend::Pending<T>) -> Against<T> {
+    g.gather(vec![pending]).unwrap().remove(0).0
+}
+
+/// Walks of several methods queued on the GPU are read back in one wait, each as it is read back
+/// alone: with the reference kept two steps long, nearly every walk comes back, more than a
+/// dispatch reads with its counters, so the first one's records are sent over by the second's
+/// before the wait, and it is queued again alone (a second dispatch on its traffic).
+#[test]
+fn walks_queued_together_are_read_back_in_one_wait_as_each_alone() {
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
+    let (mesh, start, rays) = fanned();
+    let (on, max) = (g.mesh(&mesh), default_max_steps(&mesh));
+    let reference = tetwalk::registry::by_name("certified").unwrap();
+    let methods = ["maria17", "plucker"].map(|m| tetwalk::registry::by_name(m).unwrap());
+    g.walks_keeping(reference, &on, &rays, start, 2, &[])
+        .unwrap();
+    let queue = |m| g.walks_against(m, &on, &rays, start, max).unwrap().unwrap();
+    let alone: Vec<Against> = methods.iter().map(|&m| gathered(&g, queue(m))).collect();
+    let waits = g.traffic().unwrap().waits;
+    let together = g
+        .gather(methods.iter().map(|&m| queue(m)).collect())
+        .unwrap();
+    // One wait for both; the second's records beyond those read ahead in a second; the first's
+    // were sent over: it was dispatched again alone, and read whole in two more.
+    assert_eq!(g.traffic().unwrap().waits - waits, 4);
+    let [(first, t1), (second, t2)] = <[_; 2]>::try_from(together).ok().unwrap();
+    assert_eq!((t1.dispatches, t1.waits), (2, 3));
+    assert_eq!((t2.dispatches, t2.waits), (1, 1));
+    for ((a, t), b) in [(first, t1), (second, t2)].into_iter().zip(&alone) {
+        // More than a dispatch of 3,000 rays reads with its counters (3000 / 64 + 16).
+        assert!(a.sent.len() > 3000 / 64 + 16, "{}", a.sent.len());
+        assert_eq!(a.steps, b.steps);
+        assert_eq!(t.sent_back, a.sent.len() as u64);
+        assert_eq!(a.sent, b.sent);
+    }
+}
+
+/// Walks compared on the GPU are compared with the reference walk of the same rays only: after
+/// `walks_keeping`, `walks_against` of the same rays sends back at least every walk that is not the
+/// reference's (each as the CPU walks it, in pixel order) and sums the steps as the CPU does; of other
+/// rays it is refused; the CPU compares nothing there (`None`).
+#[test]
+fn walks_are_compared_on_the_gpu_only_with_the_reference_of_the_same_rays() {
+    let Some(g) = common::gpu_or_skip() else {
+        return;
+    };
+    let (mesh, start, rays) = fanned();
     let (on, max) = (g.mesh(&mesh), default_max_steps(&mesh));
     let cpu = Backend::Cpu {
         model: Model::Plain,
@@ -856,10 +928,12 @@ fn walks_are_compared_on_the_gpu_only_with_the_reference_of_the_same_rays() {
     let reference = tetwalk::registry::by_name("certified").unwrap();
     let maria17 = tetwalk::registry::by_name("maria17").unwrap();
     let walked = kept_reference(&g, reference, &on, &rays, start, max);
-    let against = g
-        .walks_against(maria17, &on, &rays, start, max)
-        .unwrap()
-        .unwrap();
+    let against = gathered(
+        &g,
+        g.walks_against(maria17, &on, &rays, start, max)
+            .unwrap()
+            .unwrap(),
+    );
     let mine = cpu.walks(maria17, &on_cpu, &rays, start, max).unwrap();
     if !contracts(&g) {
         assert_eq!(

@@ -413,18 +413,34 @@ fn count_view<F: Counted>(
             }
         }
     }
-    for a in answerers {
+    // The methods whose answers are compared with the reference where they are made are queued
+    // there first and read back together (one wait a view on a GPU); only the rays not settled
+    // there are judged here.
+    let t0 = Instant::now();
+    let (mut rows, mut queued) = (Vec::new(), Vec::new());
+    for (k, a) in answerers.iter().enumerate() {
+        if let Answerer::Method(m) = a
+            && let Some(p) = F::answer_against(&at, m, &rays)?
+        {
+            rows.push(k);
+            queued.push(p);
+        }
+    }
+    let gathered = backend.gather(queued)?;
+    let kernels: Vec<_> = gathered.iter().map(|(_, t)| t.kernel_seconds).collect();
+    let mut compared: Vec<_> = answerers.iter().map(|_| None).collect();
+    let shares = apportion(t0.elapsed().as_secs_f64(), &kernels);
+    for ((k, (against, traffic)), seconds) in rows.into_iter().zip(gathered).zip(shares) {
+        compared[k] = Some((against, seconds, traffic));
+    }
+    for (a, compared) in answerers.iter().zip(compared) {
         let t0 = Instant::now();
         let before = backend.traffic();
-        // Given walks were timed elsewhere, if at all: their speed is not measured here. Where the
-        // answers are compared with the reference where they are made, only the rays not settled
-        // there are judged here.
-        let against = match a {
-            Answerer::Method(m) => F::answer_against(&at, m, &rays)?,
-            Answerer::Given(..) => None,
-        };
-        let (candidates, steps, seconds) = match against {
-            Some(Against { steps, sent }) => (sent, steps, t0.elapsed().as_secs_f64()),
+        // Given walks were timed elsewhere, if at all: their speed is not measured here.
+        let (candidates, steps, seconds, traffic) = match compared {
+            Some((Against { steps, sent }, seconds, traffic)) => {
+                (sent, steps, seconds, Some(traffic))
+            }
             None => {
                 let (walks, seconds) = match a {
                     Answerer::Method(m) => {
@@ -444,10 +460,10 @@ fn count_view<F: Counted>(
                     .enumerate()
                     .map(|(i, (w, r))| (i, w, *r))
                     .collect();
-                (candidates, steps, seconds)
+                (candidates, steps, seconds, moved(before))
             }
         };
-        work.push((steps, seconds, moved(before)));
+        work.push((steps, seconds, traffic));
         let seen = Seen {
             scene: &scene.loaded.name,
             view: v,
@@ -478,6 +494,19 @@ fn count_view<F: Counted>(
         audits: picked.len() as u64,
         rays: rays.len() as u64,
     })
+}
+
+/// `wall` seconds shared among rows run together: in proportion to their kernel times where each
+/// was measured and any took time, equally otherwise.
+fn apportion(wall: f64, kernels: &[Option<f64>]) -> Vec<f64> {
+    let measured: Option<Vec<f64>> = kernels.iter().copied().collect();
+    match measured {
+        Some(k) if k.iter().sum::<f64>() > 0.0 => {
+            let sum: f64 = k.iter().sum();
+            k.iter().map(|k| wall * k / sum).collect()
+        }
+        _ => vec![wall / kernels.len().max(1) as f64; kernels.len()],
+    }
 }
 
 /// Count again under each other orientation-preserving relabelling of the tetrahedra

@@ -6,7 +6,7 @@
 
 use super::Family;
 use super::wrong::Class;
-use crate::backend::{Against, Backend, BackendError, MeshOn, Traffic};
+use crate::backend::{Backend, BackendError, MeshOn, Pending, Traffic};
 use crate::mesh::Mesh;
 use crate::registry::Method;
 use crate::scenes::camera::{Camera, Views};
@@ -172,14 +172,15 @@ pub trait Counted: Family {
     ) -> Result<Vec<Walk>, CountError>;
 
     /// `m`'s answers compared with the reference walk where they are made, where the backend can
-    /// ([`Backend::walks_against`]: a GPU holding the reference's endings): the steps summed and
-    /// only the rays not settled there, each with its walk; `None` where every answer comes back
+    /// ([`Backend::walks_against`]: a GPU holding the reference's endings), queued there: the
+    /// engine reads a view's methods' back at once ([`Backend::gather`]), the steps summed and only
+    /// the rays not settled there, each with its walk; `None` where every answer comes back
     /// ([`Counted::answer_rays`]). The count is the same either way, ray for ray.
-    fn answer_against(
-        _at: &Prepared<Self>,
-        _m: &Self::Method,
-        _rays: &[Ray],
-    ) -> Result<Option<Against>, CountError> {
+    fn answer_against<'a>(
+        _at: &'a Prepared<Self>,
+        _m: &'a Self::Method,
+        _rays: &'a [Ray],
+    ) -> Result<Option<Pending<'a>>, CountError> {
         Ok(None)
     }
 

@@ -167,6 +167,11 @@ pub struct Gpu {
     /// The rays whose reference walk is kept on the GPU ([`After::Keep`]): how many, and a
     /// fingerprint of them, which the walks compared with it must match.
     kept_rays: Mutex<Option<(usize, u64)>>,
+    /// Readback buffers of dispatches whose output stays on the GPU, returned when read.
+    readbacks: Mutex<Vec<wgpu::Buffer>>,
+    /// How many dispatches have sent records back into the kept `sent` buffer (the last one's are
+    /// there).
+    last_sent: Mutex<u64>,
 }
 
 /// An entry point of the module and the override constants its pipeline is compiled with.
@@ -277,6 +282,24 @@ fn triangle_constant(m: &TriangleMethod) -> Result<(&'static str, f64), GpuError
     )
 }
 
+/// The ending codes a walk may end with: an outcome, or flagged for the CPU.
+fn walk_known(kind: u32) -> bool {
+    kind == shader::FLAGGED || OutcomeKind::from_code(kind).is_some()
+}
+
+/// The ending codes an octree walk may end with.
+fn octree_known(kind: u32) -> bool {
+    OutcomeKind::from_code(kind).is_some()
+}
+
+/// The ending codes of a nearest hit: a hit, or none.
+fn nearest_known(kind: u32) -> bool {
+    matches!(
+        OutcomeKind::from_code(kind),
+        Some(OutcomeKind::Hit | OutcomeKind::LeftMesh)
+    )
+}
+
 /// Items of one dispatch at most (a test sends batches larger than this).
 pub const DISPATCH_RUN: usize = 1 << 22;
 
@@ -295,6 +318,55 @@ const COUNTER_BYTES: u64 = 4 * 4;
 /// more were sent back, costs far more on a real GPU).
 const AHEAD_PER: usize = 64;
 const AHEAD_LEAST: usize = 16;
+
+/// Bytes of a record sent back.
+const SENT_SIZE: usize = std::mem::size_of::<shader::Sent>();
+
+/// A dispatch submitted and not yet read back ([`Gpu::collect`]).
+struct Submitted {
+    /// Its readback: its own where the output stays on the GPU (it may be read in one wait with
+    /// others'), the kept one otherwise.
+    read: wgpu::Buffer,
+    /// Bytes read before the timestamps: the output, or the counters, the picked items' outputs
+    /// and the records read ahead.
+    read_bytes: u64,
+    /// How many items were picked, and where the output stays on the GPU, how many records are
+    /// read ahead.
+    picked: usize,
+    ahead: Option<usize>,
+    /// Bytes written for it.
+    written: u64,
+    /// The number of the last dispatch whose records are in the kept `sent` buffer when this one
+    /// was submitted ([`Gpu::last_sent`]).
+    sent_by: u64,
+}
+
+/// One dispatch read back ([`Gpu::collect`]): whether all the records it sent back were read, and
+/// what crossed for it.
+struct Collected<T> {
+    done: Dispatched<T>,
+    complete: bool,
+    traffic: Traffic,
+}
+
+/// Walks compared on the GPU, submitted and not yet read back: [`Gpu::gather`] reads several at
+/// once, in one wait.
+pub struct Queued {
+    parts: Vec<Submitted>,
+    /// Bytes uploaded for them beyond their dispatches' (an octree walk's rays with their entry
+    /// cells, once for every method of a view).
+    uploaded: u64,
+    /// Which ending codes they may send back.
+    known: fn(u32) -> bool,
+}
+
+/// Queued walks read back ([`Gpu::gather`]): the steps summed and the walks sent back, or `None`
+/// where a later dispatch sent its records over theirs before they were read; what crossed for
+/// them.
+pub struct Gathered {
+    pub done: Option<Dispatched<Ending>>,
+    pub traffic: Traffic,
+}
 
 /// What a dispatch returns: its output and, where the adapter measures it, its kernel time; for a
 /// walk compared on the GPU, the walks sent back and the steps summed instead of the output.
@@ -405,6 +477,8 @@ impl Gpu {
             timestamps,
             scratch: Mutex::new(HashMap::new()),
             kept_rays: Mutex::new(None),
+            readbacks: Mutex::new(Vec::new()),
+            last_sent: Mutex::new(0),
         })
     }
 
@@ -521,13 +595,13 @@ impl Gpu {
         b
     }
 
-    /// Run `job` (at least one item) in one dispatch: its items are made in parallel and uploaded,
-    /// and the items of its output binding are read back in parallel straight from the mapped
-    /// buffer, with the kernel time where the adapter measures it.
-    fn dispatch_once<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
+    /// Submit `job` (at least one item) in one dispatch, its items made in parallel and uploaded;
+    /// [`Gpu::collect`] reads it back.
+    fn submit_once<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
+        kept: &mut HashMap<&'static str, wgpu::Buffer>,
         job: Job<I>,
-    ) -> Result<Dispatched<T>, GpuError> {
+    ) -> Result<Submitted, GpuError> {
         let Job {
             entry,
             count,
@@ -549,12 +623,11 @@ impl Gpu {
             (After::Keep, _) => Some(self.pipeline(Entry::plain("hold_endings"))?),
             (After::Read, _) => None,
         };
-        let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let (in_size, out_size) = (std::mem::size_of::<I>(), std::mem::size_of::<T>());
         let in_bytes = (count * in_size) as u64;
         let out_bytes = (count * out_size) as u64;
         let uniform = self.scratch(
-            &mut kept,
+            kept,
             "params",
             16,
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
@@ -562,7 +635,7 @@ impl Gpu {
         let upload_items = matches!(items, Items::Upload);
         let input_buf = match items {
             Items::Upload => self.scratch(
-                &mut kept,
+                kept,
                 "input",
                 in_bytes,
                 wgpu::BufferUsages::STORAGE
@@ -576,13 +649,12 @@ impl Gpu {
             Items::Bound(b) => b.clone(),
         };
         let out = self.scratch(
-            &mut kept,
+            kept,
             "output",
             out_bytes,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
-        let sent_size = std::mem::size_of::<shader::Sent>();
-        let sent_bytes = (count * sent_size) as u64;
+        let sent_bytes = (count * SENT_SIZE) as u64;
         // The picked items (in this dispatch), and the records sent back that are read with the
         // counters where the output stays on the GPU.
         let picked: Vec<u64> = picked
@@ -590,17 +662,24 @@ impl Gpu {
             .filter(|&&p| (first..first + count).contains(&p))
             .map(|&p| (p - first) as u64)
             .collect();
-        let ahead = match compare {
-            Some(_) => (count / AHEAD_PER + AHEAD_LEAST).min(count),
-            None => 0,
+        let ahead = compare
+            .as_ref()
+            .map(|_| (count / AHEAD_PER + AHEAD_LEAST).min(count));
+        let read_bytes = match ahead {
+            Some(ahead) => COUNTER_BYTES + (picked.len() * out_size + ahead * SENT_SIZE) as u64,
+            None => out_bytes,
         };
-        let with_counters = COUNTER_BYTES + (picked.len() * out_size + ahead * sent_size) as u64;
-        let read = self.scratch(
-            &mut kept,
-            "readback",
-            out_bytes.max(sent_bytes).max(with_counters) + TIMESTAMP_BYTES,
-            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        );
+        // Where the output stays on the GPU, a readback of its own, which may wait for other
+        // dispatches' to be read in the same wait; the kept one otherwise.
+        let read = match ahead {
+            Some(_) => self.pooled(read_bytes + TIMESTAMP_BYTES),
+            None => self.scratch(
+                kept,
+                "readback",
+                out_bytes + TIMESTAMP_BYTES,
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+        };
         let params = Params {
             count: count as u32,
             limit,
@@ -614,7 +693,7 @@ impl Gpu {
         let in_span = 0..in_bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
         let upload = if upload_items {
             let upload = self.scratch(
-                &mut kept,
+                kept,
                 "upload",
                 in_bytes,
                 wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC,
@@ -690,19 +769,18 @@ impl Gpu {
             pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
         }
         // What is read back: the output, or where it stays on the GPU, the counters (and the
-        // picked items' outputs).
-        let mut read_bytes = out_bytes;
-        let sent = match &compare {
-            None => None,
+        // picked items' outputs, and the first records sent back).
+        match &compare {
+            None => enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes),
             Some(compare) => {
                 let sent = self.scratch(
-                    &mut kept,
+                    kept,
                     "sent",
                     sent_bytes,
                     wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 );
                 let counters = self.scratch(
-                    &mut kept,
+                    kept,
                     "counters",
                     COUNTER_BYTES,
                     wgpu::BufferUsages::STORAGE
@@ -745,7 +823,6 @@ impl Gpu {
                     pass.set_bind_group(0, &group, &[]);
                     pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
                 }
-                // The counters, the picked items' outputs, and the first records sent back.
                 // Each run of consecutive picked items in one copy (every item: one copy).
                 enc.copy_buffer_to_buffer(&counters, 0, &read, 0, COUNTER_BYTES);
                 let size = out_size as u64;
@@ -755,15 +832,13 @@ impl Gpu {
                     enc.copy_buffer_to_buffer(&out, run[0] * size, &read, to, bytes);
                     to += bytes;
                 }
-                let at = COUNTER_BYTES + (picked.len() * out_size) as u64;
-                enc.copy_buffer_to_buffer(&sent, 0, &read, at, (ahead * sent_size) as u64);
-                read_bytes = with_counters;
-                Some((sent, counters))
+                let ahead = ahead.unwrap_or(0);
+                enc.copy_buffer_to_buffer(&sent, 0, &read, to, (ahead * SENT_SIZE) as u64);
             }
-        };
+        }
         if let Some(q) = &self.timestamps {
             let resolved = self.scratch(
-                &mut kept,
+                kept,
                 "timestamps",
                 TIMESTAMP_BYTES,
                 wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
@@ -771,58 +846,124 @@ impl Gpu {
             enc.resolve_query_set(q, 0..2, &resolved, 0);
             enc.copy_buffer_to_buffer(&resolved, 0, &read, read_bytes, TIMESTAMP_BYTES);
         }
-        if sent.is_none() {
-            enc.copy_buffer_to_buffer(&out, 0, &read, 0, out_bytes);
-        }
         self.queue.submit([enc.finish()]);
-        let span = 0..read_bytes + TIMESTAMP_BYTES;
-        self.map(&read, wgpu::MapMode::Read, span.clone())?;
-        // The output's items, or where it stays on the GPU, the counters, the picked items and the
-        // first records.
-        let (items, counters, sent_ahead, kernel_seconds) = {
-            let bytes = read
-                .get_mapped_range(span)
-                .map_err(|e| GpuError::Readback(e.to_string()))?;
-            let (front, stamps) = bytes.split_at(read_bytes as usize);
-            let stamps: [u64; 2] = bytemuck::pod_read_unaligned(stamps);
-            let period = f64::from(self.queue.get_timestamp_period());
-            let (counters, front, records) = match sent {
-                Some(_) => {
-                    let (counters, rest) = front.split_at(COUNTER_BYTES as usize);
-                    let (picked, records) = rest.split_at(picked.len() * out_size);
-                    (bytemuck::pod_read_unaligned(counters), picked, records)
-                }
-                None => ([0u32; 4], front, &[][..]),
+        // This dispatch's records are now the ones in the kept `sent` buffer.
+        let mut last = self.last_sent.lock().unwrap_or_else(|e| e.into_inner());
+        if ahead.is_some() {
+            *last += 1;
+        }
+        Ok(Submitted {
+            read,
+            read_bytes,
+            picked: picked.len(),
+            ahead,
+            written: (if upload_items { in_bytes } else { 0 })
+                + std::mem::size_of::<Params>() as u64,
+            sent_by: *last,
+        })
+    }
+
+    /// A readback buffer of at least `size` bytes for one dispatch, from those returned
+    /// ([`Gpu::collect`] returns them).
+    fn pooled(&self, size: u64) -> wgpu::Buffer {
+        let size = size.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        let mut pool = self.readbacks.lock().unwrap_or_else(|e| e.into_inner());
+        match pool.iter().position(|b| b.size() >= size) {
+            Some(at) => pool.swap_remove(at),
+            None => self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size: size.next_power_of_two(),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    /// Read back dispatches submitted ([`Gpu::submit_once`]), all in one wait: each one's output's
+    /// items read in parallel straight from the mapped buffer, or where it stays on the GPU, its
+    /// counters, picked items and records sent back, with the kernel time where the adapter
+    /// measures it and what crossed for it (the wait counted on the first). Records beyond those
+    /// read ahead are read in a second wait where they are still on the GPU (no later dispatch
+    /// sent any); a dispatch whose records are not all read back is not complete.
+    fn collect<T: bytemuck::Pod + Send>(
+        &self,
+        kept: &mut HashMap<&'static str, wgpu::Buffer>,
+        submitted: Vec<Submitted>,
+    ) -> Result<Vec<Collected<T>>, GpuError> {
+        let out_size = std::mem::size_of::<T>();
+        let spans: Vec<_> = submitted
+            .iter()
+            .map(|s| (&s.read, 0..s.read_bytes + TIMESTAMP_BYTES))
+            .collect();
+        self.map_all(&spans, wgpu::MapMode::Read)?;
+        let last_sent = *self.last_sent.lock().unwrap_or_else(|e| e.into_inner());
+        let mut collected = Vec::with_capacity(submitted.len());
+        for (k, s) in submitted.into_iter().enumerate() {
+            let span = 0..s.read_bytes + TIMESTAMP_BYTES;
+            // The output's items, or where it stays on the GPU, the counters, the picked items and
+            // the first records.
+            let (items, counters, mut records, kernel_seconds) = {
+                let bytes = s
+                    .read
+                    .get_mapped_range(span.clone())
+                    .map_err(|e| GpuError::Readback(e.to_string()))?;
+                let (front, stamps) = bytes.split_at(s.read_bytes as usize);
+                let stamps: [u64; 2] = bytemuck::pod_read_unaligned(stamps);
+                let period = f64::from(self.queue.get_timestamp_period());
+                let (counters, front, records) = match s.ahead {
+                    Some(_) => {
+                        let (counters, rest) = front.split_at(COUNTER_BYTES as usize);
+                        let (picked, records) = rest.split_at(s.picked * out_size);
+                        (bytemuck::pod_read_unaligned(counters), picked, records)
+                    }
+                    None => ([0u32; 4], front, &[][..]),
+                };
+                let items: Vec<T> = front
+                    .par_chunks(out_size)
+                    .map(bytemuck::pod_read_unaligned)
+                    .collect();
+                let records: Vec<shader::Sent> = bytemuck::pod_collect_to_vec(records);
+                (
+                    items,
+                    counters,
+                    records,
+                    self.timestamps
+                        .as_ref()
+                        .map(|_| stamps[1].saturating_sub(stamps[0]) as f64 * period * 1e-9),
+                )
             };
-            let items: Vec<T> = front
-                .par_chunks(out_size)
-                .map(bytemuck::pod_read_unaligned)
-                .collect();
-            let records: Vec<shader::Sent> = bytemuck::pod_collect_to_vec(records);
-            (
-                items,
-                counters,
-                records,
-                self.timestamps
-                    .as_ref()
-                    .map(|_| stamps[1].saturating_sub(stamps[0]) as f64 * period * 1e-9),
-            )
-        };
-        read.unmap();
-        let mut read_total = read_bytes + TIMESTAMP_BYTES;
-        let (sent, steps) = match sent {
-            None => (Vec::new(), 0),
-            Some((sent, _)) => {
-                let [n, low, high, _] = counters;
-                let n = n as usize;
-                let mut records = sent_ahead;
+            s.read.unmap();
+            let mut traffic = Traffic {
+                written: s.written,
+                read: span.end,
+                dispatches: 1,
+                waits: u64::from(k == 0),
+                sent_back: 0,
+                kernel_seconds,
+            };
+            let [n, low, high, _] = counters;
+            let (n, mut complete) = (n as usize, true);
+            if let Some(ahead) = s.ahead {
+                self.readbacks
+                    .lock()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .push(s.read);
                 if n <= ahead {
                     records.truncate(n);
-                } else {
+                } else if s.sent_by == last_sent {
                     // The rest, in a second wait.
-                    let bytes = ((n - ahead) * sent_size) as u64;
+                    let bytes = ((n - ahead) * SENT_SIZE) as u64;
+                    let (sent, read) = (
+                        kept.get("sent").ok_or(GpuError::NoReference)?.clone(),
+                        self.scratch(
+                            kept,
+                            "readback",
+                            bytes,
+                            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                        ),
+                    );
                     let mut enc = self.device.create_command_encoder(&Default::default());
-                    enc.copy_buffer_to_buffer(&sent, (ahead * sent_size) as u64, &read, 0, bytes);
+                    enc.copy_buffer_to_buffer(&sent, (ahead * SENT_SIZE) as u64, &read, 0, bytes);
                     self.queue.submit([enc.finish()]);
                     self.map(&read, wgpu::MapMode::Read, 0..bytes)?;
                     {
@@ -832,27 +973,36 @@ impl Gpu {
                         records.extend(bytemuck::pod_collect_to_vec::<u8, shader::Sent>(&view));
                     }
                     read.unmap();
-                    read_total += bytes;
+                    traffic.read += bytes;
+                    traffic.waits += 1;
+                } else {
+                    // A later dispatch sent its records over the rest.
+                    complete = false;
                 }
-                (records, u64::from(low) | u64::from(high) << 32)
+                if complete {
+                    traffic.sent_back = records.len() as u64;
+                }
             }
-        };
-        let mut traffic = self.traffic.lock().unwrap_or_else(|e| e.into_inner());
-        traffic.written +=
-            (if upload_items { in_bytes } else { 0 }) + std::mem::size_of::<Params>() as u64;
-        traffic.read += read_total;
-        traffic.dispatches += 1;
-        traffic.sent_back += sent.len() as u64;
-        traffic.kernel_seconds = traffic
-            .kernel_seconds
-            .zip(kernel_seconds)
-            .map(|(a, k)| a + k);
-        Ok(Dispatched {
-            items,
-            kernel_seconds,
-            sent,
-            steps,
-        })
+            {
+                let mut total = self.traffic.lock().unwrap_or_else(|e| e.into_inner());
+                // The waits were counted where they were made.
+                *total = total.plus(&Traffic {
+                    waits: 0,
+                    ..traffic
+                });
+            }
+            collected.push(Collected {
+                done: Dispatched {
+                    items,
+                    kernel_seconds,
+                    sent: records,
+                    steps: u64::from(low) | u64::from(high) << 32,
+                },
+                complete,
+                traffic,
+            });
+        }
+        Ok(collected)
     }
 
     /// Map `span` of `buffer` and wait until it is mapped.
@@ -862,39 +1012,74 @@ impl Gpu {
         mode: wgpu::MapMode,
         span: std::ops::Range<u64>,
     ) -> Result<(), GpuError> {
+        self.map_all(&[(buffer, span)], mode)
+    }
+
+    /// Map each span of its buffer, and wait once until all are mapped.
+    fn map_all(
+        &self,
+        spans: &[(&wgpu::Buffer, std::ops::Range<u64>)],
+        mode: wgpu::MapMode,
+    ) -> Result<(), GpuError> {
         let (tx, rx) = std::sync::mpsc::channel();
-        buffer.map_async(mode, span, move |r| {
-            let _ = tx.send(r);
-        });
+        for (buffer, span) in spans {
+            let tx = tx.clone();
+            buffer.map_async(mode, span.clone(), move |r| {
+                let _ = tx.send(r);
+            });
+        }
         self.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::Readback(e.to_string()))?;
         self.traffic.lock().unwrap_or_else(|e| e.into_inner()).waits += 1;
-        rx.recv()
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .map_err(|e| GpuError::Readback(e.to_string()))
+        for _ in spans {
+            rx.recv()
+                .map_err(|e| GpuError::Readback(e.to_string()))?
+                .map_err(|e| GpuError::Readback(e.to_string()))?;
+        }
+        Ok(())
     }
 
-    /// [`Gpu::dispatch_once`] over any count: dispatches of at most [`DISPATCH_RUN`] items (and what
-    /// the adapter's largest binding holds), their outputs in order, their kernel times summed.
-    fn dispatch<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
+    /// `job` over any count, in dispatches of at most [`DISPATCH_RUN`] items (and what the
+    /// adapter's largest binding holds), each made by `each` from the run's job.
+    fn runs<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
         job: Job<I>,
-    ) -> Result<Dispatched<T>, GpuError> {
+        mut each: impl FnMut(Job<I>) -> Result<(), GpuError>,
+    ) -> Result<(), GpuError> {
         self.pipeline(job.entry)?;
         let per = self
             .max_items(std::mem::size_of::<I>())
             .min(self.max_items(std::mem::size_of::<T>()))
             .min(DISPATCH_RUN);
+        let (input_at, input) = job.input;
+        for first in (0..job.count).step_by(per) {
+            let shifted = |i: usize| input(first + i);
+            each(Job {
+                count: per.min(job.count - first),
+                input: (input_at, &shifted),
+                first,
+                ..job
+            })?;
+        }
+        Ok(())
+    }
+
+    /// `job` run now over any count ([`Gpu::runs`]): each dispatch submitted and read back before
+    /// the next, their outputs in order, their kernel times summed.
+    fn dispatch<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
+        &self,
+        job: Job<I>,
+    ) -> Result<Dispatched<T>, GpuError> {
         let mut out = Dispatched {
             items: Vec::new(),
             kernel_seconds: self.measures_kernels().then_some(0.0),
             sent: Vec::new(),
             steps: 0,
         };
+        let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         if job.after == After::Keep {
             // The whole batch's items and endings, kept for the walks compared with them.
-            let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
             // Read back whole where asked ([`Gpu::kept_endings`]).
             let usage = wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::COPY_DST
@@ -906,15 +1091,13 @@ impl Gpu {
                 self.scratch(&mut kept, name, (job.count * size) as u64, usage);
             }
         }
-        let (input_at, input) = job.input;
-        for first in (0..job.count).step_by(per) {
-            let shifted = |i: usize| input(first + i);
-            let d = self.dispatch_once(Job {
-                count: per.min(job.count - first),
-                input: (input_at, &shifted),
-                first,
-                ..job
-            })?;
+        self.runs::<I, T>(job, |run| {
+            let submitted = self.submit_once::<I, T>(&mut kept, run)?;
+            // Read at once, with the scratch held: its records are the last sent.
+            let d = self
+                .collect::<T>(&mut kept, vec![submitted])?
+                .remove(0)
+                .done;
             out.kernel_seconds = out.kernel_seconds.zip(d.kernel_seconds).map(|(a, b)| a + b);
             out.sent.extend(d.sent);
             out.steps += d.steps;
@@ -923,8 +1106,76 @@ impl Gpu {
             } else {
                 out.items.extend(d.items);
             }
-        }
+            Ok(())
+        })?;
         Ok(out)
+    }
+
+    /// `job`, its output compared on the GPU ([`After::Compare`]), submitted and not read back:
+    /// [`Gpu::gather`] reads it with others in one wait. `known` says which ending codes it may
+    /// send back.
+    fn queue<I: bytemuck::Pod + Send>(
+        &self,
+        job: Job<I>,
+        known: fn(u32) -> bool,
+    ) -> Result<Queued, GpuError> {
+        let mut parts = Vec::new();
+        let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
+        self.runs::<I, Ending>(job, |run| {
+            parts.push(self.submit_once::<I, Ending>(&mut kept, run)?);
+            Ok(())
+        })?;
+        Ok(Queued {
+            parts,
+            known,
+            uploaded: 0,
+        })
+    }
+
+    /// The walks compared on the GPU that were queued ([`Gpu::walks_against`],
+    /// [`Gpu::nearest_against`], [`Gpu::octree_walks_against`]), each with the steps summed and the
+    /// walks not settled there, all read back in one wait; `done` is `None` for one whose records
+    /// a later one sent over before they were read (queue it again alone). Traffic is each one's,
+    /// the wait counted on the first.
+    pub fn gather(&self, queued: Vec<Queued>) -> Result<Vec<Gathered>, GpuError> {
+        let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
+        let sizes: Vec<usize> = queued.iter().map(|q| q.parts.len()).collect();
+        let known: Vec<_> = queued.iter().map(|q| (q.known, q.uploaded)).collect();
+        let all = queued.into_iter().flat_map(|q| q.parts).collect();
+        let mut collected = self.collect::<Ending>(&mut kept, all)?.into_iter();
+        let mut gathered = Vec::with_capacity(sizes.len());
+        for (n, (known, uploaded)) in sizes.into_iter().zip(known) {
+            let mut done = Dispatched {
+                items: Vec::new(),
+                kernel_seconds: self.measures_kernels().then_some(0.0),
+                sent: Vec::new(),
+                steps: 0,
+            };
+            let (mut complete, mut traffic) = (
+                true,
+                Traffic {
+                    written: uploaded,
+                    kernel_seconds: done.kernel_seconds,
+                    ..Traffic::default()
+                },
+            );
+            for c in collected.by_ref().take(n) {
+                complete &= c.complete;
+                traffic = traffic.plus(&c.traffic);
+                done.kernel_seconds = done
+                    .kernel_seconds
+                    .zip(c.done.kernel_seconds)
+                    .map(|(a, b)| a + b);
+                done.sent.extend(c.done.sent);
+                done.steps += c.done.steps;
+            }
+            let done = match complete {
+                true => Some(done.checked(known)?),
+                false => None,
+            };
+            gathered.push(Gathered { done, traffic });
+        }
+        Ok(gathered)
     }
 
     /// Each case's answer by `method`, as the shader writes it: a face, [`NONE`] for no exit face, or
@@ -1026,16 +1277,18 @@ impl Gpu {
     ) -> Result<Vec<Ending>, GpuError> {
         let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
         let batch = (rays.len(), &ray as _, Items::Upload);
-        Ok(self
-            .octree_dispatch(method, tri, o, batch, max_steps, None)?
-            .items)
+        let out = self.octree_dispatch(method, tri, o, batch, max_steps, None, |job| {
+            self.dispatch(job)
+        })?;
+        Ok(out.checked(octree_known)?.items)
     }
 
     /// [`Gpu::octree_walks`] of the rays of the reference walk kept on the GPU (`kept`, with the
     /// tetrahedron it started from; refused for other rays), each walk compared there with it
     /// (`compare_hits`, a hit taken as the face its triangle came from): the cells summed, and only
-    /// the walks not settled there come back ([`Dispatched::sent`]). The rays with their entry cells
-    /// (`entered`, called once for the kept rays) are uploaded once for every method compared.
+    /// the walks not settled there come back ([`Dispatched::sent`]), queued ([`Gpu::gather`]). The
+    /// rays with their entry cells (`entered`, called once for the kept rays) are uploaded once for
+    /// every method compared.
     pub fn octree_walks_against(
         &self,
         method: &OctreeMethod,
@@ -1044,8 +1297,9 @@ impl Gpu {
         entered: &dyn Fn() -> Vec<(Ray, u32)>,
         max_steps: u32,
         kept: &[(Ray, u32)],
-    ) -> Result<Dispatched<Ending>, GpuError> {
+    ) -> Result<Queued, GpuError> {
         let (hits, these) = self.faces_for(&o.tris, kept)?;
+        let mut upload_bytes = 0;
         let items = {
             let mut uploaded = o.entered.lock().unwrap_or_else(|e| e.into_inner());
             match &*uploaded {
@@ -1055,7 +1309,9 @@ impl Gpu {
                         .par_iter()
                         .map(|(r, cell)| shader::WalkRay::new(r, *cell))
                         .collect();
-                    let items = self.storage(bytemuck::cast_slice(&asked));
+                    let bytes: &[u8] = bytemuck::cast_slice(&asked);
+                    upload_bytes = bytes.len() as u64;
+                    let items = self.storage(bytes);
                     *uploaded = Some((these, items.clone()));
                     items
                 }
@@ -1063,12 +1319,20 @@ impl Gpu {
         };
         let ray = |i: usize| shader::WalkRay::new(&kept[i].0, kept[i].1);
         let batch = (kept.len(), &ray as _, Items::Bound(&items));
-        self.octree_dispatch(method, tri, o, batch, max_steps, Some(hits))
+        let queued = self.octree_dispatch(method, tri, o, batch, max_steps, Some(hits), |job| {
+            self.queue(job, octree_known)
+        })?;
+        Ok(Queued {
+            uploaded: upload_bytes,
+            ..queued
+        })
     }
 
-    /// [`Gpu::octree_walks`] of a batch (how many rays, each with its entry cell, and where they
-    /// are), compared with the kept reference walk through `hits` where given.
-    fn octree_dispatch(
+    /// The job of [`Gpu::octree_walks`] of a batch (how many rays, each with its entry cell, and
+    /// where they are), compared with the kept reference walk through `hits` where given, given to
+    /// `run`.
+    #[allow(clippy::too_many_arguments)]
+    fn octree_dispatch<R>(
         &self,
         method: &OctreeMethod,
         tri: &TriangleMethod,
@@ -1076,7 +1340,8 @@ impl Gpu {
         (count, ray, items): (usize, &(dyn Fn(usize) -> shader::WalkRay + Sync), Items),
         max_steps: u32,
         hits: Option<&wgpu::Buffer>,
-    ) -> Result<Dispatched<Ending>, GpuError> {
+        run: impl FnOnce(Job<shader::WalkRay>) -> Result<R, GpuError>,
+    ) -> Result<R, GpuError> {
         let constants = [octree_constant(method)?, triangle_constant(tri)?];
         let entry = Entry {
             name: shader::OCTREE_WALK,
@@ -1088,7 +1353,7 @@ impl Gpu {
             (OCTREE_TRIS, &o.triangles),
             (POINTS, &o.tris.points),
         ];
-        let out: Dispatched<Ending> = self.dispatch(Job {
+        run(Job {
             entry,
             count,
             limit: max_steps,
@@ -1104,8 +1369,7 @@ impl Gpu {
             hits,
             picked: &[],
             first: 0,
-        })?;
-        out.checked(|kind| OutcomeKind::from_code(kind).is_some())
+        })
     }
 
     /// The faces `tris` came from, to compare hits on them with the reference walk kept for `kept`
@@ -1191,11 +1455,9 @@ impl Gpu {
 
     /// [`Gpu::walks`], and then: [`After::Keep`] keeps the rays and endings on the GPU as the
     /// reference walk's, reading back only the endings of `picked` ([`Dispatched::items`]), the
-    /// steps summed and the walks flagged ([`Dispatched::sent`]); [`After::Compare`] walks the kept
-    /// rays and compares each ending there with the kept one (`compare_endings`): the steps summed,
-    /// and only the walks not settled as ending where the reference ends come back
-    /// ([`Dispatched::sent`]). Compared rays must be the kept ones, and a batch kept must fit one
-    /// binding ([`Gpu::keeps`]): refused otherwise.
+    /// steps summed and the walks flagged ([`Dispatched::sent`]); [`After::Compare`] is
+    /// [`Gpu::walks_against`] read back at once. A batch kept must fit one binding
+    /// ([`Gpu::keeps`]): refused otherwise.
     pub fn walks_then(
         &self,
         method: &Method,
@@ -1205,6 +1467,41 @@ impl Gpu {
         after: After,
         picked: &[usize],
     ) -> Result<Dispatched<Ending>, GpuError> {
+        let out = self.walk_job(method, mesh, rays, max_steps, after, picked, |job| {
+            self.dispatch(job)
+        })?;
+        out.checked(walk_known)
+    }
+
+    /// `method`'s walks of the kept rays (`rays`, which must be the kept ones: refused otherwise),
+    /// each ending compared there with the kept one (`compare_endings`), queued ([`Gpu::gather`]):
+    /// the steps summed, and only the walks not settled as ending where the reference ends come
+    /// back ([`Dispatched::sent`]).
+    pub fn walks_against(
+        &self,
+        method: &Method,
+        mesh: &GpuMesh,
+        rays: &[(Ray, u32)],
+        max_steps: u32,
+    ) -> Result<Queued, GpuError> {
+        self.walk_job(method, mesh, rays, max_steps, After::Compare, &[], |job| {
+            self.queue(job, walk_known)
+        })
+    }
+
+    /// The job of `method`'s walks of `rays` and what becomes of them, given to `run`; the rays
+    /// kept or checked as [`Gpu::walks_then`] says.
+    #[allow(clippy::too_many_arguments)]
+    fn walk_job<R>(
+        &self,
+        method: &Method,
+        mesh: &GpuMesh,
+        rays: &[(Ray, u32)],
+        max_steps: u32,
+        after: After,
+        picked: &[usize],
+        run: impl FnOnce(Job<shader::WalkRay>) -> Result<R, GpuError>,
+    ) -> Result<R, GpuError> {
         match after {
             After::Read => {}
             After::Keep => {
@@ -1222,7 +1519,7 @@ impl Gpu {
         let [_, walk] = Self::entry_points(method)?;
         let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
         let mesh = [(CELLS, &mesh.cells), (FACEINFO, &mesh.info)];
-        let out: Dispatched<Ending> = self.dispatch(Job {
+        run(Job {
             entry: Entry::plain(&walk),
             count: rays.len(),
             limit: max_steps,
@@ -1238,8 +1535,7 @@ impl Gpu {
             hits: None,
             picked,
             first: 0,
-        })?;
-        out.checked(|kind| kind == shader::FLAGGED || OutcomeKind::from_code(kind).is_some())
+        })
     }
 
     /// Write the CPU's walks of rays the reference walk flagged (by index in its batch) over its
@@ -1351,7 +1647,15 @@ impl Gpu {
     ) -> Result<Dispatched<Nearest>, GpuError> {
         let points = self.triangle_points(tris);
         let ray = |i: usize| shader::WalkRay::new(&rays[i], 0);
-        let out = self.nearest(method, (&points, tris.len()), rays.len(), &ray, None)?;
+        let out = self.nearest(
+            method,
+            (&points, tris.len()),
+            rays.len(),
+            &ray,
+            None,
+            |job| self.dispatch(job),
+        )?;
+        let out = out.checked(nearest_known)?;
         Ok(Dispatched {
             items: out
                 .items
@@ -1368,13 +1672,14 @@ impl Gpu {
     /// on the GPU (`kept`, with the tetrahedron it started from; refused for other rays), read
     /// there, each nearest hit compared there with the reference walk's ending (`compare_hits`, a
     /// hit taken as the face its triangle came from): only the rays not settled there come back
-    /// ([`Dispatched::sent`]: HIT with the triangle and the bits of `t`, or LEFT_MESH).
+    /// ([`Dispatched::sent`]: HIT with the triangle and the bits of `t`, or LEFT_MESH), queued
+    /// ([`Gpu::gather`]).
     pub fn nearest_against(
         &self,
         method: &TriangleMethod,
         tris: &GpuTriangles,
         kept: &[(Ray, u32)],
-    ) -> Result<Dispatched<Ending>, GpuError> {
+    ) -> Result<Queued, GpuError> {
         let (faces, _) = self.faces_for(tris, kept)?;
         let ray = |i: usize| shader::WalkRay::new(&kept[i].0, kept[i].1);
         self.nearest(
@@ -1383,22 +1688,24 @@ impl Gpu {
             kept.len(),
             &ray,
             Some(faces),
+            |job| self.queue(job, nearest_known),
         )
     }
 
     /// The nearest-hit kernel of `method` over `tris` (the points and how many triangles) for `count`
     /// rays: uploaded (`ray`), or where `hits` is given, the kept reference walk's rays, compared
-    /// with it there.
-    fn nearest(
+    /// with it there; the job given to `run`.
+    fn nearest<R>(
         &self,
         method: &TriangleMethod,
         (points, triangles): (&wgpu::Buffer, usize),
         count: usize,
         ray: &(dyn Fn(usize) -> shader::WalkRay + Sync),
         hits: Option<&wgpu::Buffer>,
-    ) -> Result<Dispatched<Ending>, GpuError> {
+        run: impl FnOnce(Job<shader::WalkRay>) -> Result<R, GpuError>,
+    ) -> Result<R, GpuError> {
         let [_, nearest] = Self::triangle_entry_points(method)?;
-        let out: Dispatched<Ending> = self.dispatch(Job {
+        run(Job {
             entry: Entry::plain(&nearest),
             count,
             limit: triangles as u32,
@@ -1418,12 +1725,6 @@ impl Gpu {
             hits,
             picked: &[],
             first: 0,
-        })?;
-        out.checked(|kind| {
-            matches!(
-                OutcomeKind::from_code(kind),
-                Some(OutcomeKind::Hit | OutcomeKind::LeftMesh)
-            )
         })
     }
 

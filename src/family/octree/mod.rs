@@ -11,7 +11,7 @@ mod report;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Said, Summed, Verdict, given_fields};
-use crate::backend::{Against, Backend, BackendError, OctreeOn};
+use crate::backend::{Backend, BackendError, OctreeOn, Pending};
 use crate::cases::{BoxCase, CaseError, field_error, vec3};
 use crate::choice::Choice;
 use crate::exact::boxes::{BoxExit, box_exit};
@@ -506,18 +506,18 @@ impl Counted for OctreeCells {
         Ok(ends.iter().map(|w| walked(w, from)).collect())
     }
 
-    fn answer_against(
-        at: &Prepared<Self>,
-        m: &OctreeMethod,
-        rays: &[Ray],
-    ) -> Result<Option<Against>, CountError> {
+    fn answer_against<'a>(
+        at: &'a Prepared<Self>,
+        m: &'a OctreeMethod,
+        rays: &'a [Ray],
+    ) -> Result<Option<Pending<'a>>, CountError> {
         if !at.reference_kept {
             return Ok(None);
         }
         let ready = at.ready;
         let cap = crate::walk::octree::default_max_steps(&ready.octree);
         let tri = at.settings.triangle_method.method();
-        let against = at.backend.octree_walks_against(
+        let pending = at.backend.octree_walks_against(
             m,
             tri,
             &ready.octree,
@@ -526,7 +526,7 @@ impl Counted for OctreeCells {
             at.located,
             cap,
         )?;
-        Ok(against.map(|a| a.map(|w| walked(&w, &ready.triangles.1))))
+        Ok(pending.map(|p| p.map(|w| walked(&w, &ready.triangles.1))))
     }
 
     fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {

@@ -11,7 +11,7 @@ mod report;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, per_image};
 use super::wrong::Class;
 use super::{Family, Said, Summed, Verdict, given_fields};
-use crate::backend::{Against, Backend, BackendError, TrianglesOn};
+use crate::backend::{Backend, BackendError, Pending, TrianglesOn};
 use crate::cases::{CaseError, HitCase, MAX_TRIS, field_error, number, vec3};
 use crate::choice::{BackendKind, Choice};
 use crate::exact::hit::{HitTruth, Missed, T_ULPS, first_crossing, judge_hit};
@@ -756,19 +756,19 @@ impl Counted for Triangle {
     /// Where the reference walk is kept (a GPU, which tries every triangle per ray: no bins), the
     /// rays read there in pixel order (a GPU thread answers a ray as it alone would), each nearest
     /// hit compared there.
-    fn answer_against(
-        at: &Prepared<Self>,
-        m: &TriangleMethod,
-        rays: &[Ray],
-    ) -> Result<Option<Against>, CountError> {
+    fn answer_against<'a>(
+        at: &'a Prepared<Self>,
+        m: &'a TriangleMethod,
+        rays: &'a [Ray],
+    ) -> Result<Option<Pending<'a>>, CountError> {
         if !at.reference_kept {
             return Ok(None);
         }
         let from = &at.ready.triangles.1;
-        let against = at
+        let pending = at
             .backend
             .triangles_against(m, &at.ready.on, rays, at.located)?;
-        Ok(against.map(|a| a.map(|h| ending(h.map(|(t, _)| t), from))))
+        Ok(pending.map(|p| p.map(|h| ending(h.map(|(t, _)| t), from))))
     }
 
     /// The exact first crossing of each audited ray among its tile's edge-scaled candidates (an exact

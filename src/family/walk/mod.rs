@@ -11,7 +11,7 @@ mod report;
 use super::count::{CountError, Counted, Counts, Prepared, Scene, first_difference, inconsistent};
 use super::wrong::Class;
 use super::{ExitFace, Family, Scale, Summed, Verdict};
-use crate::backend::{Against, Backend, BackendError, CPU};
+use crate::backend::{Backend, BackendError, CPU, Pending};
 use crate::cases::{CaseError, field_error, number, vec3};
 use crate::exact::hit::first_hit;
 use crate::mesh::Mesh;
@@ -589,11 +589,11 @@ impl Counted for Walks {
             .walks(m, &scene.on, rays, at.located, scene.max_steps)?)
     }
 
-    fn answer_against(
-        at: &Prepared<Self>,
-        m: &Method,
-        rays: &[Ray],
-    ) -> Result<Option<Against>, CountError> {
+    fn answer_against<'a>(
+        at: &'a Prepared<Self>,
+        m: &'a Method,
+        rays: &'a [Ray],
+    ) -> Result<Option<Pending<'a>>, CountError> {
         if !at.reference_kept {
             return Ok(None);
         }
