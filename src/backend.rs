@@ -418,7 +418,7 @@ impl Backend {
         on: &'a TrianglesOn,
         rays: &'a [Ray],
         start: u32,
-    ) -> Result<Option<Pending<'a, Nearest>>, BackendError> {
+    ) -> Result<Option<Pending<'a, Against<Nearest>>>, BackendError> {
         match self {
             #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
@@ -484,7 +484,7 @@ impl Backend {
         rays: &'a [Ray],
         start: u32,
         max_steps: u32,
-    ) -> Result<Option<Pending<'a, OctreeWalk>>, BackendError> {
+    ) -> Result<Option<Pending<'a, Against<OctreeWalk>>>, BackendError> {
         match self.for_method(method) {
             #[cfg(feature = "gpu")]
             Backend::Gpu(g) => {
@@ -594,9 +594,8 @@ impl Backend {
     }
 
     /// [`Backend::walks`] as the reference walk a count compares its methods' answers with
-    /// ([`Backend::walks_against`]): on a GPU that can keep the batch, kept there, only the steps
-    /// summed and the endings of `picked` (indices into `rays`, ascending) read back, the rays it
-    /// flagged walked on the CPU and written over their endings there; elsewhere every ending.
+    /// ([`Backend::walks_against`]): on a GPU that can keep the batch, kept there and read back
+    /// with them ([`Backend::keep_walks`]); elsewhere every ending.
     pub fn walks_keeping(
         &self,
         method: &Method,
@@ -606,6 +605,23 @@ impl Backend {
         max_steps: u32,
         picked: &[usize],
     ) -> Result<Kept, BackendError> {
+        let keeping = self.keep_walks(method, mesh, rays, start, max_steps, picked)?;
+        Ok(self.gather_view::<Walk>(keeping, Vec::new())?.kept)
+    }
+
+    /// [`Backend::walks_keeping`] queued: on a GPU that can keep the batch, kept there, only the
+    /// steps summed and the endings of `picked` (indices into `rays`, ascending) to be read back
+    /// ([`Backend::gather_view`], with the methods' answers queued after it), the rays it flagged
+    /// then walked on the CPU and written over their endings there; elsewhere every ending, now.
+    pub fn keep_walks<'a>(
+        &'a self,
+        method: &'a Method,
+        mesh: &'a MeshOn,
+        rays: &'a [Ray],
+        start: u32,
+        max_steps: u32,
+        picked: &'a [usize],
+    ) -> Result<Keeping<'a>, BackendError> {
         let from = map_all(rays, |r| (*r, start));
         match self.for_method(method) {
             #[cfg(feature = "gpu")]
@@ -614,46 +630,52 @@ impl Backend {
                 if uploaded.tetrahedra != mesh.mesh.tets.len() {
                     return Err(BackendError::OtherMesh);
                 }
-                let done =
-                    g.walks_then(method, uploaded, &from, max_steps, gpu::After::Keep, picked)?;
-                if !done.sent.is_empty() && !method.info.runs_on_cpu {
-                    return Err(BackendError::Unsettled(method.info.name));
-                }
-                let walk = method.walk(Model::Plain);
-                let mut steps = done.steps;
-                let flagged: Vec<(usize, Walk)> = done
-                    .sent
-                    .iter()
-                    .map(|s| {
-                        let i = s.index as usize;
-                        let w = walk(mesh.mesh, &rays[i], start, max_steps);
-                        steps = steps - u64::from(s.steps) + u64::from(w.steps);
-                        (i, w)
-                    })
-                    .collect();
-                g.amend_reference(&flagged)?;
-                let picked = picked
-                    .iter()
-                    .zip(&done.items)
-                    .map(|(i, e)| {
-                        e.walk()
-                            .or_else(|| flagged.iter().find(|f| f.0 == *i).map(|f| f.1))
-                            .ok_or(GpuError::BadOutcome(e.kind))
-                    })
-                    .collect::<Result<_, _>>()?;
-                Ok(Kept {
-                    steps,
-                    picked,
-                    all: None,
-                })
+                let queued = g.walks_keeping(method, uploaded, &from, max_steps, picked)?;
+                let finish = move |done: gpu::Dispatched<gpu::shader::Ending>| {
+                    if !done.sent.is_empty() && !method.info.runs_on_cpu {
+                        return Err(BackendError::Unsettled(method.info.name));
+                    }
+                    let walk = method.walk(Model::Plain);
+                    let mut steps = done.steps;
+                    let flagged: Vec<(usize, Walk)> = done
+                        .sent
+                        .iter()
+                        .map(|s| {
+                            let i = s.index as usize;
+                            let w = walk(mesh.mesh, &rays[i], start, max_steps);
+                            steps = steps - u64::from(s.steps) + u64::from(w.steps);
+                            (i, w)
+                        })
+                        .collect();
+                    let picked = picked
+                        .iter()
+                        .zip(&done.items)
+                        .map(|(i, e)| {
+                            e.walk()
+                                .or_else(|| flagged.iter().find(|f| f.0 == *i).map(|f| f.1))
+                                .ok_or(GpuError::BadOutcome(e.kind))
+                        })
+                        .collect::<Result<_, _>>()?;
+                    let kept = Kept {
+                        steps,
+                        picked,
+                        all: None,
+                    };
+                    Ok((kept, flagged))
+                };
+                Ok(Keeping::Queued(Pending::new(
+                    queued,
+                    move || g.walks_keeping(method, uploaded, &from, max_steps, picked),
+                    finish,
+                )))
             }
             _ => {
                 let walks = self.walks_from(method, mesh, &from, max_steps)?.walks;
-                Ok(Kept {
+                Ok(Keeping::Read(Kept {
                     steps: walks.iter().map(|w| u64::from(w.steps)).sum(),
                     picked: picked.iter().map(|&i| walks[i]).collect(),
                     all: Some(walks),
-                })
+                }))
             }
         }
     }
@@ -760,8 +782,7 @@ impl Backend {
                 if uploaded.tetrahedra != mesh.mesh.tets.len() {
                     return Err(BackendError::OtherMesh);
                 }
-                let done =
-                    g.walks_then(method, uploaded, rays, max_steps, gpu::After::Read, &[])?;
+                let done = g.walks(method, uploaded, rays, max_steps)?;
                 let flagged = done.items.par_iter().filter(|e| e.walk().is_none()).count();
                 if flagged > 0 && !method.info.runs_on_cpu {
                     return Err(BackendError::Unsettled(method.info.name));
@@ -820,9 +841,10 @@ impl<T> Against<T> {
     }
 }
 
-/// Answers compared with the kept reference walk where they are made, queued on a GPU and not yet
-/// read back: [`Backend::gather`] reads a view's at once, in one wait.
-pub struct Pending<'a, T = Walk> {
+/// Answers kept or compared with the kept reference walk where they are made, queued on a GPU and
+/// not yet read back: [`Backend::gather`] reads a view's at once, in one wait. Each is read as `R`:
+/// a method's answers ([`Against`]), or the reference walk.
+pub struct Pending<'a, R = Against> {
     #[cfg(feature = "gpu")]
     queued: gpu::Queued,
     /// The same queued again, where a later one's records were sent over its before they were read.
@@ -831,20 +853,17 @@ pub struct Pending<'a, T = Walk> {
     /// The answers from what was read back.
     #[cfg(feature = "gpu")]
     #[allow(clippy::type_complexity)]
-    finish: Box<
-        dyn FnOnce(gpu::Dispatched<gpu::shader::Ending>) -> Result<Against<T>, BackendError> + 'a,
-    >,
+    finish: Box<dyn FnOnce(gpu::Dispatched<gpu::shader::Ending>) -> Result<R, BackendError> + 'a>,
     #[cfg(not(feature = "gpu"))]
-    never: (std::convert::Infallible, std::marker::PhantomData<&'a T>),
+    never: (std::convert::Infallible, std::marker::PhantomData<&'a R>),
 }
 
-impl<'a, T: 'a> Pending<'a, T> {
+impl<'a, R: 'a> Pending<'a, R> {
     #[cfg(feature = "gpu")]
     fn new(
         queued: gpu::Queued,
         again: impl Fn() -> Result<gpu::Queued, GpuError> + 'a,
-        finish: impl FnOnce(gpu::Dispatched<gpu::shader::Ending>) -> Result<Against<T>, BackendError>
-        + 'a,
+        finish: impl FnOnce(gpu::Dispatched<gpu::shader::Ending>) -> Result<R, BackendError> + 'a,
     ) -> Self {
         Pending {
             queued,
@@ -852,10 +871,12 @@ impl<'a, T: 'a> Pending<'a, T> {
             finish: Box::new(finish),
         }
     }
+}
 
+impl<'a, T: 'a> Pending<'a, Against<T>> {
     /// The same, each answer sent back as `f` says.
     #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
-    pub fn map<U>(self, f: impl Fn(T) -> U + 'a) -> Pending<'a, U> {
+    pub fn map<U>(self, f: impl Fn(T) -> U + 'a) -> Pending<'a, Against<U>> {
         #[cfg(feature = "gpu")]
         {
             let finish = self.finish;
@@ -870,48 +891,154 @@ impl<'a, T: 'a> Pending<'a, T> {
     }
 }
 
+/// A view's reference walk ([`Backend::keep_walks`]): queued where the methods run (a GPU), to be
+/// read back with their answers ([`Backend::gather_view`]), or walked and read back whole.
+pub enum Keeping<'a> {
+    /// Kept on the GPU; read back as the walk and the rays it flagged, walked on the CPU (written
+    /// over their endings there when read back).
+    Queued(Pending<'a, (Kept, Vec<(usize, Walk)>)>),
+    Read(Kept),
+}
+
+impl Keeping<'_> {
+    /// Whether the reference walk's endings are kept where the methods run.
+    pub fn kept_there(&self) -> bool {
+        matches!(self, Keeping::Queued(_))
+    }
+}
+
+/// A view's answers read back ([`Backend::gather_view`]): the reference walk, with what crossed for
+/// it where it was queued, and each method's answers with what crossed for them.
+pub struct Gathered<T> {
+    pub kept: Kept,
+    pub reference: Option<Traffic>,
+    pub answers: Vec<(Against<T>, Traffic)>,
+}
+
 impl Backend {
     /// The answers queued ([`Pending`]), read back in one wait, in their order, each with what
     /// crossed for it (the wait counted on the first); refused for answers another backend queued.
     pub fn gather<T>(
         &self,
-        pending: Vec<Pending<T>>,
+        pending: Vec<Pending<Against<T>>>,
     ) -> Result<Vec<(Against<T>, Traffic)>, BackendError> {
-        if pending.is_empty() {
-            return Ok(Vec::new());
+        Ok(self.gather_all(None, pending)?.1)
+    }
+
+    /// A view's reference walk and its methods' answers queued after it, read back in one wait
+    /// where the reference is queued: the rays it flagged are walked on the CPU, written over its
+    /// endings there, and set as the reference's ending of every answer sent back for them (none
+    /// settled there: a flagged ending settles nothing).
+    pub fn gather_view<'a, T>(
+        &self,
+        reference: Keeping<'a>,
+        pending: Vec<Pending<'a, Against<T>>>,
+    ) -> Result<Gathered<T>, BackendError> {
+        match reference {
+            Keeping::Read(kept) => Ok(Gathered {
+                kept,
+                reference: None,
+                answers: self.gather(pending)?,
+            }),
+            Keeping::Queued(r) => {
+                let (reference, answers) = self.gather_all(Some(r), pending)?;
+                let ((kept, _), traffic) = reference.expect("the reference was queued");
+                Ok(Gathered {
+                    kept,
+                    reference: Some(traffic),
+                    answers,
+                })
+            }
+        }
+    }
+
+    /// [`Backend::gather_view`] of a queued reference walk, or [`Backend::gather`] without one.
+    #[allow(clippy::type_complexity)]
+    fn gather_all<'a, T>(
+        &self,
+        reference: Option<Pending<'a, (Kept, Vec<(usize, Walk)>)>>,
+        pending: Vec<Pending<'a, Against<T>>>,
+    ) -> Result<
+        (
+            Option<((Kept, Vec<(usize, Walk)>), Traffic)>,
+            Vec<(Against<T>, Traffic)>,
+        ),
+        BackendError,
+    > {
+        if reference.is_none() && pending.is_empty() {
+            return Ok((None, Vec::new()));
         }
         #[cfg(feature = "gpu")]
         {
             let Backend::Gpu(g) = self else {
                 return Err(BackendError::NotKept);
             };
-            let (queued, rest): (Vec<_>, Vec<_>) = pending
+            // Read back with the others' in one wait; where a later one's records were sent over
+            // its own, queued again alone and read whole.
+            let resolve = |gathered: gpu::Gathered,
+                           again: &dyn Fn() -> Result<gpu::Queued, GpuError>|
+             -> Result<_, BackendError> {
+                let mut traffic = gathered.traffic;
+                let done = match gathered.done {
+                    Some(done) => done,
+                    None => {
+                        let alone = g.gather(vec![again()?])?.remove(0);
+                        traffic = traffic.plus(&alone.traffic);
+                        alone.done.ok_or(GpuError::Readback(
+                            "a comparison's records were sent over before they were read".into(),
+                        ))?
+                    }
+                };
+                Ok((done, traffic))
+            };
+            let mut all: Vec<gpu::Queued> = Vec::with_capacity(pending.len() + 1);
+            let reference = reference.map(|r| {
+                all.push(r.queued);
+                (r.again, r.finish)
+            });
+            let pending: Vec<_> = pending
                 .into_iter()
-                .map(|p| (p.queued, (p.again, p.finish)))
-                .unzip();
-            g.gather(queued)?
-                .into_iter()
-                .zip(rest)
+                .map(|p| {
+                    all.push(p.queued);
+                    (p.again, p.finish)
+                })
+                .collect();
+            let mut gathered = g.gather(all)?.into_iter();
+            let reference = match reference {
+                Some((again, finish)) => {
+                    let (done, mut traffic) = resolve(gathered.next().expect("one each"), &*again)?;
+                    let (kept, flagged) = finish(done)?;
+                    traffic.written += g.amend_reference(&flagged)?;
+                    Some(((kept, flagged), traffic))
+                }
+                None => None,
+            };
+            // The flagged rays' endings as the CPU walked them, by index.
+            let flagged: std::collections::HashMap<u32, gpu::shader::Ending> = reference
+                .iter()
+                .flat_map(|((_, flagged), _)| flagged)
+                .map(|(i, w)| (*i as u32, gpu::shader::Ending::of(w)))
+                .collect();
+            let answers = gathered
+                .zip(pending)
                 .map(|(gathered, (again, finish))| {
-                    let mut traffic = gathered.traffic;
-                    let done = match gathered.done {
-                        Some(done) => done,
-                        None => {
-                            // Queued again alone, its records are the last sent, and read whole.
-                            let alone = g.gather(vec![again()?])?.remove(0);
-                            traffic = traffic.plus(&alone.traffic);
-                            alone.done.ok_or(GpuError::Readback(
-                                "a comparison's records were sent over before they were read"
-                                    .into(),
-                            ))?
+                    let (mut done, traffic) = resolve(gathered, &*again)?;
+                    for s in &mut done.sent {
+                        if let Some(e) = flagged.get(&s.index) {
+                            (s.r_kind, s.r_tet, s.r_x) = (e.kind, e.tet, e.x);
                         }
-                    };
+                    }
                     Ok((finish(done)?, traffic))
                 })
-                .collect()
+                .collect::<Result<_, BackendError>>()?;
+            Ok((reference, answers))
         }
         #[cfg(not(feature = "gpu"))]
-        pending.into_iter().map(|p| match p.never.0 {}).collect()
+        // Without a GPU nothing is queued (a `Pending` has no value there).
+        match reference {
+            Some(r) => match r.never.0 {},
+            None => Err(BackendError::NoGpu),
+        }
     }
 }
 

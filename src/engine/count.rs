@@ -375,13 +375,14 @@ fn count_view<F: Counted>(
     let mut wrong = Vec::with_capacity(answerers.len() + 1);
     // What the GPU moved since `before`, on a GPU.
     let moved = |before: Option<Traffic>| backend.traffic().zip(before).map(|(a, b)| a.since(b));
+    // The reference walk, and the methods whose answers are compared with it where they are made,
+    // queued there one after another and read back together (one wait a view on a GPU; only the
+    // rays not settled there are judged here); elsewhere the reference walk is walked first.
     let t0 = Instant::now();
     let before = backend.traffic();
-    let kept = backend.walks_keeping(reference, &scene.on, &rays, located, max, &picked)?;
-    // Every reference ending, read back once where an answerer needs them all (its answers are
-    // not compared where they are made).
-    let mut all = kept.all;
-    let reference_kept = all.is_none();
+    let keeping = backend.keep_walks(reference, &scene.on, &rays, located, max, &picked)?;
+    let reference_kept = keeping.kept_there();
+    let walked = (!reference_kept).then(|| (t0.elapsed().as_secs_f64(), moved(before)));
     let at = Prepared::<F> {
         backend,
         scene,
@@ -393,8 +394,30 @@ fn count_view<F: Counted>(
         audited: &picked,
         reference_kept,
     };
+    let (mut rows, mut queued) = (Vec::new(), Vec::new());
+    for (k, a) in answerers.iter().enumerate() {
+        if let Answerer::Method(m) = a
+            && let Some(p) = F::answer_against(&at, m, &rays)?
+        {
+            rows.push(k);
+            queued.push(p);
+        }
+    }
+    let gathered = backend.gather_view(keeping, queued)?;
+    // The wall time shared by the rows read back together, the reference's first where it was.
+    let kernels: Vec<_> = (gathered.reference.iter())
+        .chain(gathered.answers.iter().map(|(_, t)| t))
+        .map(|t| t.kernel_seconds)
+        .collect();
+    let wall = t0.elapsed().as_secs_f64() - walked.as_ref().map_or(0.0, |w| w.0);
+    let mut shares = apportion(wall, &kernels).into_iter();
+    let kept = gathered.kept;
+    let reference_work = match (walked, gathered.reference) {
+        (Some((seconds, traffic)), _) => (seconds, traffic),
+        (None, traffic) => (shares.next().expect("one a row"), traffic),
+    };
     if F::reference_row() {
-        work.push((kept.steps, t0.elapsed().as_secs_f64(), moved(before)));
+        work.push((kept.steps, reference_work.0, reference_work.1));
         wrong.push(Vec::new());
     }
     if !picked.is_empty() {
@@ -413,24 +436,11 @@ fn count_view<F: Counted>(
             }
         }
     }
-    // The methods whose answers are compared with the reference where they are made are queued
-    // there first and read back together (one wait a view on a GPU); only the rays not settled
-    // there are judged here.
-    let t0 = Instant::now();
-    let (mut rows, mut queued) = (Vec::new(), Vec::new());
-    for (k, a) in answerers.iter().enumerate() {
-        if let Answerer::Method(m) = a
-            && let Some(p) = F::answer_against(&at, m, &rays)?
-        {
-            rows.push(k);
-            queued.push(p);
-        }
-    }
-    let gathered = backend.gather(queued)?;
-    let kernels: Vec<_> = gathered.iter().map(|(_, t)| t.kernel_seconds).collect();
+    // Every reference ending, read back once where an answerer needs them all (its answers are
+    // not compared where they are made).
+    let mut all = kept.all;
     let mut compared: Vec<_> = answerers.iter().map(|_| None).collect();
-    let shares = apportion(t0.elapsed().as_secs_f64(), &kernels);
-    for ((k, (against, traffic)), seconds) in rows.into_iter().zip(gathered).zip(shares) {
+    for ((k, (against, traffic)), seconds) in rows.into_iter().zip(gathered.answers).zip(shares) {
         compared[k] = Some((against, seconds, traffic));
     }
     for (a, compared) in answerers.iter().zip(compared) {

@@ -173,7 +173,8 @@ pub trait Counted: Family {
 
     /// `m`'s answers compared with the reference walk where they are made, where the backend can
     /// ([`Backend::walks_against`]: a GPU holding the reference's endings), queued there: the
-    /// engine reads a view's methods' back at once ([`Backend::gather`]), the steps summed and only
+    /// engine reads a view's back at once with the reference walk ([`Backend::gather_view`]), the
+    /// steps summed and only
     /// the rays not settled there, each with its walk; `None` where every answer comes back
     /// ([`Counted::answer_rays`]). The count is the same either way, ray for ray.
     fn answer_against<'a>(

@@ -334,8 +334,9 @@ struct Submitted {
     /// read ahead.
     picked: usize,
     ahead: Option<usize>,
-    /// Bytes written for it.
+    /// Bytes written for it, and the waits its upload took.
     written: u64,
+    waited: u64,
     /// The number of the last dispatch whose records are in the kept `sent` buffer when this one
     /// was submitted ([`Gpu::last_sent`]).
     sent_by: u64,
@@ -691,6 +692,7 @@ impl Gpu {
         // Made in parallel straight into a kept upload buffer mapped for writing, in runs of
         // [`UPLOAD_RUN`] items (each run a mapped range of its own), then copied on the GPU.
         let in_span = 0..in_bytes.next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        let mut waited = 0;
         let upload = if upload_items {
             let upload = self.scratch(
                 kept,
@@ -699,6 +701,7 @@ impl Gpu {
                 wgpu::BufferUsages::MAP_WRITE | wgpu::BufferUsages::COPY_SRC,
             );
             self.map(&upload, wgpu::MapMode::Write, in_span.clone())?;
+            waited = 1;
             (0..count.div_ceil(UPLOAD_RUN))
                 .into_par_iter()
                 .try_for_each(|run| {
@@ -859,6 +862,7 @@ impl Gpu {
             ahead,
             written: (if upload_items { in_bytes } else { 0 })
                 + std::mem::size_of::<Params>() as u64,
+            waited,
             sent_by: *last,
         })
     }
@@ -937,7 +941,7 @@ impl Gpu {
                 written: s.written,
                 read: span.end,
                 dispatches: 1,
-                waits: u64::from(k == 0),
+                waits: u64::from(k == 0) + s.waited,
                 sent_back: 0,
                 kernel_seconds,
             };
@@ -1044,10 +1048,24 @@ impl Gpu {
     /// adapter's largest binding holds), each made by `each` from the run's job.
     fn runs<I: bytemuck::Pod + Send, T: bytemuck::Pod + Send>(
         &self,
+        kept: &mut HashMap<&'static str, wgpu::Buffer>,
         job: Job<I>,
-        mut each: impl FnMut(Job<I>) -> Result<(), GpuError>,
+        mut each: impl FnMut(&mut HashMap<&'static str, wgpu::Buffer>, Job<I>) -> Result<(), GpuError>,
     ) -> Result<(), GpuError> {
         self.pipeline(job.entry)?;
+        if job.after == After::Keep {
+            // The whole batch's items and endings, kept for the walks compared with them.
+            // Read back whole where asked ([`Gpu::kept_endings`]).
+            let usage = wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC;
+            for (name, size) in [
+                ("reference", std::mem::size_of::<T>()),
+                ("reference_items", std::mem::size_of::<I>()),
+            ] {
+                self.scratch(kept, name, (job.count * size) as u64, usage);
+            }
+        }
         let per = self
             .max_items(std::mem::size_of::<I>())
             .min(self.max_items(std::mem::size_of::<T>()))
@@ -1055,12 +1073,15 @@ impl Gpu {
         let (input_at, input) = job.input;
         for first in (0..job.count).step_by(per) {
             let shifted = |i: usize| input(first + i);
-            each(Job {
-                count: per.min(job.count - first),
-                input: (input_at, &shifted),
-                first,
-                ..job
-            })?;
+            each(
+                kept,
+                Job {
+                    count: per.min(job.count - first),
+                    input: (input_at, &shifted),
+                    first,
+                    ..job
+                },
+            )?;
         }
         Ok(())
     }
@@ -1078,26 +1099,10 @@ impl Gpu {
             steps: 0,
         };
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
-        if job.after == After::Keep {
-            // The whole batch's items and endings, kept for the walks compared with them.
-            // Read back whole where asked ([`Gpu::kept_endings`]).
-            let usage = wgpu::BufferUsages::STORAGE
-                | wgpu::BufferUsages::COPY_DST
-                | wgpu::BufferUsages::COPY_SRC;
-            for (name, size) in [
-                ("reference", std::mem::size_of::<T>()),
-                ("reference_items", std::mem::size_of::<I>()),
-            ] {
-                self.scratch(&mut kept, name, (job.count * size) as u64, usage);
-            }
-        }
-        self.runs::<I, T>(job, |run| {
-            let submitted = self.submit_once::<I, T>(&mut kept, run)?;
+        self.runs::<I, T>(&mut kept, job, |kept, run| {
+            let submitted = self.submit_once::<I, T>(kept, run)?;
             // Read at once, with the scratch held: its records are the last sent.
-            let d = self
-                .collect::<T>(&mut kept, vec![submitted])?
-                .remove(0)
-                .done;
+            let d = self.collect::<T>(kept, vec![submitted])?.remove(0).done;
             out.kernel_seconds = out.kernel_seconds.zip(d.kernel_seconds).map(|(a, b)| a + b);
             out.sent.extend(d.sent);
             out.steps += d.steps;
@@ -1111,8 +1116,8 @@ impl Gpu {
         Ok(out)
     }
 
-    /// `job`, its output compared on the GPU ([`After::Compare`]), submitted and not read back:
-    /// [`Gpu::gather`] reads it with others in one wait. `known` says which ending codes it may
+    /// `job`, its output compared on the GPU ([`After::Compare`]) or kept there ([`After::Keep`]),
+    /// submitted and not read back: [`Gpu::gather`] reads it with others in one wait. `known` says which ending codes it may
     /// send back.
     fn queue<I: bytemuck::Pod + Send>(
         &self,
@@ -1121,8 +1126,8 @@ impl Gpu {
     ) -> Result<Queued, GpuError> {
         let mut parts = Vec::new();
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
-        self.runs::<I, Ending>(job, |run| {
-            parts.push(self.submit_once::<I, Ending>(&mut kept, run)?);
+        self.runs::<I, Ending>(&mut kept, job, |kept, run| {
+            parts.push(self.submit_once::<I, Ending>(kept, run)?);
             Ok(())
         })?;
         Ok(Queued {
@@ -1132,9 +1137,9 @@ impl Gpu {
         })
     }
 
-    /// The walks compared on the GPU that were queued ([`Gpu::walks_against`],
-    /// [`Gpu::nearest_against`], [`Gpu::octree_walks_against`]), each with the steps summed and the
-    /// walks not settled there, all read back in one wait; `done` is `None` for one whose records
+    /// The walks kept or compared on the GPU that were queued ([`Gpu::walks_keeping`],
+    /// [`Gpu::walks_against`], [`Gpu::nearest_against`], [`Gpu::octree_walks_against`]), each with
+    /// the steps summed, the picked endings and the walks sent back, all read back in one wait; `done` is `None` for one whose records
     /// a later one sent over before they were read (queue it again alone). Traffic is each one's,
     /// the wait counted on the first.
     pub fn gather(&self, queued: Vec<Queued>) -> Result<Vec<Gathered>, GpuError> {
@@ -1166,6 +1171,7 @@ impl Gpu {
                     .kernel_seconds
                     .zip(c.done.kernel_seconds)
                     .map(|(a, b)| a + b);
+                done.items.extend(c.done.items);
                 done.sent.extend(c.done.sent);
                 done.steps += c.done.steps;
             }
@@ -1444,7 +1450,10 @@ impl Gpu {
         rays: &[(Ray, u32)],
         max_steps: u32,
     ) -> Result<Dispatched<Ending>, GpuError> {
-        self.walks_then(method, mesh, rays, max_steps, After::Read, &[])
+        let out = self.walk_job(method, mesh, rays, max_steps, After::Read, &[], |job| {
+            self.dispatch(job)
+        })?;
+        out.checked(walk_known)
     }
 
     /// Whether a batch of `rays` rays can be kept on the GPU as a reference walk (its rays fit one
@@ -1453,24 +1462,21 @@ impl Gpu {
         (rays * std::mem::size_of::<shader::WalkRay>()) as u64 <= self.max_binding
     }
 
-    /// [`Gpu::walks`], and then: [`After::Keep`] keeps the rays and endings on the GPU as the
-    /// reference walk's, reading back only the endings of `picked` ([`Dispatched::items`]), the
-    /// steps summed and the walks flagged ([`Dispatched::sent`]); [`After::Compare`] is
-    /// [`Gpu::walks_against`] read back at once. A batch kept must fit one binding
-    /// ([`Gpu::keeps`]): refused otherwise.
-    pub fn walks_then(
+    /// [`Gpu::walks`] kept on the GPU as the reference walk's rays and endings, queued
+    /// ([`Gpu::gather`]): only the endings of `picked` are read back ([`Dispatched::items`]), with
+    /// the steps summed and the walks flagged ([`Dispatched::sent`]). A batch kept must fit one
+    /// binding ([`Gpu::keeps`]): refused otherwise.
+    pub fn walks_keeping(
         &self,
         method: &Method,
         mesh: &GpuMesh,
         rays: &[(Ray, u32)],
         max_steps: u32,
-        after: After,
         picked: &[usize],
-    ) -> Result<Dispatched<Ending>, GpuError> {
-        let out = self.walk_job(method, mesh, rays, max_steps, after, picked, |job| {
-            self.dispatch(job)
-        })?;
-        out.checked(walk_known)
+    ) -> Result<Queued, GpuError> {
+        self.walk_job(method, mesh, rays, max_steps, After::Keep, picked, |job| {
+            self.queue(job, walk_known)
+        })
     }
 
     /// `method`'s walks of the kept rays (`rays`, which must be the kept ones: refused otherwise),
@@ -1489,8 +1495,9 @@ impl Gpu {
         })
     }
 
-    /// The job of `method`'s walks of `rays` and what becomes of them, given to `run`; the rays
-    /// kept or checked as [`Gpu::walks_then`] says.
+    /// The job of `method`'s walks of `rays` and what becomes of them, given to `run`: with
+    /// [`After::Keep`] the rays are the kept ones from now on, with [`After::Compare`] they must be
+    /// (refused otherwise).
     #[allow(clippy::too_many_arguments)]
     fn walk_job<R>(
         &self,
@@ -1539,9 +1546,9 @@ impl Gpu {
     }
 
     /// Write the CPU's walks of rays the reference walk flagged (by index in its batch) over its
-    /// endings kept on the GPU, so that the walks compared with it meet the endings the CPU judges
-    /// with.
-    pub fn amend_reference(&self, walks: &[(usize, Walk)]) -> Result<(), GpuError> {
+    /// endings kept on the GPU, so that walks compared with it from then on, and its endings read
+    /// back, meet the endings the CPU judges with; the bytes written.
+    pub fn amend_reference(&self, walks: &[(usize, Walk)]) -> Result<u64, GpuError> {
         let kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let reference = kept.get("reference").ok_or(GpuError::NoReference)?;
         let size = std::mem::size_of::<Ending>();
@@ -1550,11 +1557,12 @@ impl Gpu {
             self.queue
                 .write_buffer(reference, (i * size) as u64, bytemuck::bytes_of(&e));
         }
+        let bytes = (walks.len() * size) as u64;
         self.traffic
             .lock()
             .unwrap_or_else(|e| e.into_inner())
-            .written += (walks.len() * size) as u64;
-        Ok(())
+            .written += bytes;
+        Ok(bytes)
     }
 
     /// Every ending of the reference walk kept on the GPU for `rays` (refused for other rays), read

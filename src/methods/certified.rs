@@ -12,7 +12,6 @@ use super::plucker::{EdgeSigns, exit_by_sides};
 use super::{Arith, Exact, ExitMethod};
 use crate::tet::{EDGE_OF, Ray, Tet};
 use glam::{Vec3, Vec3A, Vec3Swizzles};
-use std::cell::Cell;
 
 /// The f32 stage's error bound for one arithmetic model: a side product `det` computed as
 /// [`f32_stage`] computes it has the sign of the exact one whenever
@@ -79,22 +78,11 @@ fn tiny(v: Vec3) -> bool {
     below(v, TINY)
 }
 
-thread_local! {
-    static EXACT_SIGNS: Cell<u64> = const { Cell::new(0) };
-}
-
-/// How many side-product signs the exact stage decided on this thread so far (every other sign was
-/// settled by the f32 stage; counting only this rare path keeps the fast one free of bookkeeping).
-pub fn exact_signs() -> u64 {
-    EXACT_SIGNS.with(Cell::get)
-}
-
-/// The exact stage: the sign of `det[a - o, b - o, d]` (f64 filter, then exact arithmetic), counted,
+/// The exact stage: the sign of `det[a - o, b - o, d]` (f64 filter, then exact arithmetic),
 /// computed in the standard floating-point environment whatever the model.
 #[cold]
 #[inline(never)]
 fn exact_side(a: Vec3, b: Vec3, ray: &Ray) -> i8 {
-    EXACT_SIGNS.with(|c| c.set(c.get() + 1));
     crate::fpenv::standard((a, b, ray), |(a, b, ray)| crate::exact::side(a, b, ray))
 }
 

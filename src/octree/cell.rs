@@ -22,12 +22,6 @@ pub fn face_named(name: &str) -> Option<usize> {
     FACE_NAMES.iter().position(|n| *n == name)
 }
 
-/// Vertex `v` of a cell: bit `k` set where it lies at the high end of axis `k`. The exit vertex of a
-/// ray (eq. 8's row) is the one its direction points to: bit `k` set where `d_k > 0`.
-pub fn vertex_high(v: usize, axis: usize) -> bool {
-    v >> axis & 1 == 1
-}
-
 /// The two axes along a face normal to `axis`, in x, y, z order.
 pub fn face_axes(axis: usize) -> [usize; 2] {
     match axis {

@@ -426,12 +426,14 @@ pub struct OctreeFacts {
     pub unconstrained_leaves: usize,
 }
 
-/// The scene's triangles facing a camera's region, their octree, made ready on the backend.
+/// The scene's triangles facing a camera's region, their octree, made ready on the backend, and the
+/// cells a walk of it may visit at most.
 pub struct Built {
     region: Vec<bool>,
     triangles: SceneTriangles,
     octree: crate::octree::Octree,
     on: OctreeOn,
+    cap: u32,
 }
 
 /// An octree walk's ending in the mesh's terms (a hit on the face its triangle came from).
@@ -473,6 +475,7 @@ impl Counted for OctreeCells {
         let on = backend.octree(&octree, &triangles.0, &sides);
         Ok(Built {
             region,
+            cap: crate::walk::octree::default_max_steps(&octree),
             triangles,
             octree,
             on,
@@ -499,10 +502,9 @@ impl Counted for OctreeCells {
         let tri = at.settings.triangle_method.method();
         let ready = at.ready;
         let (tris, from) = &ready.triangles;
-        let cap = crate::walk::octree::default_max_steps(&ready.octree);
-        let ends = at
-            .backend
-            .octree_walks(m, tri, &ready.octree, tris, &ready.on, rays, cap)?;
+        let ends =
+            at.backend
+                .octree_walks(m, tri, &ready.octree, tris, &ready.on, rays, ready.cap)?;
         Ok(ends.iter().map(|w| walked(w, from)).collect())
     }
 
@@ -515,7 +517,6 @@ impl Counted for OctreeCells {
             return Ok(None);
         }
         let ready = at.ready;
-        let cap = crate::walk::octree::default_max_steps(&ready.octree);
         let tri = at.settings.triangle_method.method();
         let pending = at.backend.octree_walks_against(
             m,
@@ -524,7 +525,7 @@ impl Counted for OctreeCells {
             &ready.on,
             rays,
             at.located,
-            cap,
+            ready.cap,
         )?;
         Ok(pending.map(|p| p.map(|w| walked(&w, &ready.triangles.1))))
     }
@@ -532,10 +533,9 @@ impl Counted for OctreeCells {
     fn audit(at: &Prepared<Self>, rays: &[Ray]) -> Result<Vec<Walk>, CountError> {
         let ready = at.ready;
         let (tris, from) = &ready.triangles;
-        let cap = crate::walk::octree::default_max_steps(&ready.octree);
         Ok(rays
             .iter()
-            .map(|r| walked(&walk_exact(&ready.octree, tris, r, cap), from))
+            .map(|r| walked(&walk_exact(&ready.octree, tris, r, ready.cap), from))
             .collect())
     }
 }
