@@ -494,6 +494,7 @@ fn count_compared(g: &Backend, family: &str, written: u64, least: u64, as_cpu: b
     let count = |backend: &str| {
         let dir = tempfile::tempdir().unwrap();
         let json = dir.path().join("count.json");
+        let dump = dir.path().join("dump.jsonl");
         let (code, _, err) = common::run_tetwalk(
             &[
                 "count",
@@ -509,15 +510,35 @@ fn count_compared(g: &Backend, family: &str, written: u64, least: u64, as_cpu: b
                 "48x48",
                 "--json",
                 json.to_str().unwrap(),
+                "--dump",
+                dump.to_str().unwrap(),
             ],
             b"",
         );
         assert_eq!(code, 0, "{family}: {err}");
         let r: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-        r
+        // Each wrong ray's view, pixel, method and kind, in the order written.
+        let wrong: Vec<_> = std::fs::read_to_string(&dump)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                let d: serde_json::Value = serde_json::from_str(l).unwrap();
+                ["view", "pixel", "method", "kind"].map(|k| d[k].clone())
+            })
+            .collect();
+        (r, wrong)
     };
-    let (cpu, gpu) = (count("cpu"), count("gpu"));
+    let ((cpu, cpu_wrong), (gpu, gpu_wrong)) = (count("cpu"), count("gpu"));
+    // A GPU count judges a view's answers while the next view's are made: every wrong ray is
+    // still written, view by view in order.
+    if as_cpu && !contracts(g) {
+        assert_eq!(cpu_wrong, gpu_wrong, "{family}");
+    }
+    assert!(
+        gpu_wrong.windows(2).all(|w| w[0][0].as_u64() <= w[1][0].as_u64()),
+        "{family}: views in order"
+    );
     let rays = gpu["rays"].as_u64().unwrap();
     let views = gpu["views_counted"].as_u64().unwrap();
     // The method rows' waits, and whether each row read nothing beyond its counters.

@@ -264,6 +264,8 @@ pub fn run<F: Counted>(
             .map_err(|e| CountError::Dump(std::io::Error::other(e)))?,
     };
     let mut ready: Option<F::Ready> = None;
+    // One view at a time, the last one answered and not yet judged.
+    let mut unjudged: Option<Unjudged> = None;
     let mut views = located_views(mesh, &s.views, |v| s.shard.holds(v), tick).peekable();
     loop {
         // The next views that one preparation serves, at most `at_once`.
@@ -279,21 +281,53 @@ pub fn run<F: Counted>(
             }
             group.extend(views.next());
         }
-        if group.is_empty() {
+        let last = group.is_empty();
+        if last && unjudged.is_none() {
             break;
         }
-        let ready = ready.as_ref().expect("made ready above");
         let t0 = Instant::now();
-        let counted: Vec<_> = group
-            .par_iter()
-            .map(|&(v, cam, located)| {
-                let c = count_view(
-                    &scene, s, answerers, reference, backend, ready, v, &cam, located,
-                );
-                tick();
-                c
-            })
-            .collect();
+        let judge = |u| judge_view(&scene, s, answerers, backend, u);
+        let counted: Vec<_> = if last {
+            unjudged.take().map(judge).into_iter().map(Ok).collect()
+        } else if at_once == 1 {
+            let ready = ready.as_ref().expect("made ready above");
+            // One view at a time (a GPU): each view's answers judged while the next one's are
+            // made, the last after the loop.
+            let view = (group[0].0, &group[0].1, group[0].2);
+            let previous = unjudged.take();
+            let (u, judged) = count_view(
+                &scene,
+                s,
+                answerers,
+                reference,
+                backend,
+                ready,
+                view,
+                || previous.map(judge),
+            )?;
+            tick();
+            unjudged = Some(u);
+            judged.into_iter().map(Ok).collect()
+        } else {
+            let ready = ready.as_ref().expect("made ready above");
+            group
+                .par_iter()
+                .map(|&(v, cam, located)| {
+                    let c = count_view(
+                        &scene,
+                        s,
+                        answerers,
+                        reference,
+                        backend,
+                        ready,
+                        (v, &cam, located),
+                        || (),
+                    );
+                    tick();
+                    c.map(|(u, ())| judge(u))
+                })
+                .collect()
+        };
         let wall = t0.elapsed().as_secs_f64();
         let summed: f64 = counted
             .iter()
@@ -302,7 +336,11 @@ pub fn run<F: Counted>(
             .sum();
         // Views counted at once overlap: where their answers' times add up to more than the wall
         // time, each is scaled down in proportion, so that the rows add up to the wall time.
-        let scale = if summed > wall { wall / summed } else { 1.0 };
+        let scale = if at_once > 1 && summed > wall {
+            wall / summed
+        } else {
+            1.0
+        };
         for c in counted {
             let c = c?;
             views_counted += 1;
@@ -350,20 +388,33 @@ pub fn run<F: Counted>(
     })
 }
 
-/// View `v`'s count: the reference walk, the audit of its picked rays, and each answerer's answers
-/// judged against the reference, with the steps and seconds of each.
+/// A view answered, its answers not judged yet ([`judge_view`]): its rays and where they start, per row
+/// the steps, seconds and traffic, per answerer the answers to judge (each beside the reference
+/// walk's ending), and the rays audited.
+struct Unjudged {
+    v: usize,
+    rays: Vec<Ray>,
+    located: u32,
+    work: Vec<(u64, f64, Option<Traffic>)>,
+    candidates: Vec<Vec<(usize, Walk, Walk)>>,
+    audits: u64,
+}
+
+/// View `v` answered: the reference walk, the audit of its picked rays, and each answerer's
+/// answers, with the steps and seconds of each; `meanwhile` runs while the GPU answers (after the
+/// view's work is queued there, before it is read back: the previous view judged), its result
+/// returned beside.
 #[allow(clippy::too_many_arguments)]
-fn count_view<F: Counted>(
+fn count_view<F: Counted, R>(
     scene: &Scene,
     s: &CountSettings<F>,
     answerers: &[Answerer<F>],
     reference: &crate::registry::Method,
     backend: &Backend,
     ready: &F::Ready,
-    v: usize,
-    cam: &Camera,
-    located: u32,
-) -> Result<ViewCount, CountError> {
+    (v, cam, located): (usize, &Camera, u32),
+    meanwhile: impl FnOnce() -> R,
+) -> Result<(Unjudged, R), CountError> {
     let (mesh, max) = (&scene.loaded.mesh, scene.max_steps);
     let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
     let rays = s.views.rays(cam);
@@ -372,7 +423,7 @@ fn count_view<F: Counted>(
         .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))
         .collect();
     let mut work = Vec::with_capacity(answerers.len() + 1);
-    let mut wrong = Vec::with_capacity(answerers.len() + 1);
+    let mut candidates = Vec::with_capacity(answerers.len());
     // What the GPU moved since `before`, on a GPU.
     let moved = |before: Option<Traffic>| backend.traffic().zip(before).map(|(a, b)| a.since(b));
     // The reference walk, and the methods whose answers are compared with it where they are made,
@@ -403,6 +454,7 @@ fn count_view<F: Counted>(
             queued.push(p);
         }
     }
+    let meanwhile = meanwhile();
     let gathered = backend.gather_view(keeping, queued)?;
     // The wall time shared by the rows read back together, the reference's first where it was.
     let kernels: Vec<_> = (gathered.reference.iter())
@@ -418,7 +470,6 @@ fn count_view<F: Counted>(
     };
     if F::reference_row() {
         work.push((kept.steps, reference_work.0, reference_work.1));
-        wrong.push(Vec::new());
     }
     if !picked.is_empty() {
         let picked_rays: Vec<Ray> = picked.iter().map(|&i| rays[i]).collect();
@@ -447,7 +498,7 @@ fn count_view<F: Counted>(
         let t0 = Instant::now();
         let before = backend.traffic();
         // Given walks were timed elsewhere, if at all: their speed is not measured here.
-        let (candidates, steps, seconds, traffic) = match compared {
+        let (answers, steps, seconds, traffic) = match compared {
             Some((Against { steps, sent }, seconds, traffic)) => {
                 (sent, steps, seconds, Some(traffic))
             }
@@ -474,36 +525,57 @@ fn count_view<F: Counted>(
             }
         };
         work.push((steps, seconds, traffic));
-        let seen = Seen {
-            scene: &scene.loaded.name,
-            view: v,
-            pixel: [0, 0],
-            name: a.name(),
-            backend: match a {
-                Answerer::Method(m) => Some(backend.for_method(*m).ran().kind),
-                Answerer::Given(..) => None,
-            },
-            walker: match a {
-                Answerer::Method(m) => F::walker(m),
-                Answerer::Given(..) => None,
-            },
-        };
-        wrong.push(wrong_rays(
-            mesh,
-            &seen,
-            s.views.width,
-            &rays,
-            &candidates,
-            located,
-            max,
-        ));
+        candidates.push(answers);
     }
-    Ok(ViewCount {
+    let audits = picked.len() as u64;
+    let unjudged = Unjudged {
+        v,
+        rays,
+        located,
         work,
+        candidates,
+        audits,
+    };
+    Ok((unjudged, meanwhile))
+}
+
+/// A view's answers judged: each answerer's wrong rays, described (none in the reference walk's row,
+/// where it is one).
+fn judge_view<F: Counted>(
+    scene: &Scene,
+    s: &CountSettings<F>,
+    answerers: &[Answerer<F>],
+    backend: &Backend,
+    u: Unjudged,
+) -> ViewCount {
+    let wrong = std::iter::repeat_with(Vec::new)
+        .take(F::reference_row() as usize)
+        .chain(answerers.iter().zip(&u.candidates).map(|(a, candidates)| {
+            let seen = Seen {
+                scene: &scene.loaded.name,
+                view: u.v,
+                pixel: [0, 0],
+                name: a.name(),
+                backend: match a {
+                    Answerer::Method(m) => Some(backend.for_method(*m).ran().kind),
+                    Answerer::Given(..) => None,
+                },
+                walker: match a {
+                    Answerer::Method(m) => F::walker(m),
+                    Answerer::Given(..) => None,
+                },
+            };
+            let mesh = &scene.loaded.mesh;
+            let (width, max) = (s.views.width, scene.max_steps);
+            wrong_rays(mesh, &seen, width, &u.rays, candidates, u.located, max)
+        }))
+        .collect();
+    ViewCount {
+        work: u.work,
         wrong,
-        audits: picked.len() as u64,
-        rays: rays.len() as u64,
-    })
+        audits: u.audits,
+        rays: u.rays.len() as u64,
+    }
 }
 
 /// `wall` seconds shared among rows run together: in proportion to their kernel times where each
