@@ -536,7 +536,9 @@ fn count_compared(g: &Backend, family: &str, written: u64, least: u64, as_cpu: b
         assert_eq!(cpu_wrong, gpu_wrong, "{family}");
     }
     assert!(
-        gpu_wrong.windows(2).all(|w| w[0][0].as_u64() <= w[1][0].as_u64()),
+        gpu_wrong
+            .windows(2)
+            .all(|w| w[0][0].as_u64() <= w[1][0].as_u64()),
         "{family}: views in order"
     );
     let rays = gpu["rays"].as_u64().unwrap();

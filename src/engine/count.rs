@@ -264,8 +264,9 @@ pub fn run<F: Counted>(
             .map_err(|e| CountError::Dump(std::io::Error::other(e)))?,
     };
     let mut ready: Option<F::Ready> = None;
-    // One view at a time, the last one answered and not yet judged.
+    // One view at a time, the last one answered and not yet judged, and the next one's rays.
     let mut unjudged: Option<Unjudged> = None;
+    let mut next_rays: Option<(usize, Vec<Ray>)> = None;
     let mut views = located_views(mesh, &s.views, |v| s.shard.holds(v), tick).peekable();
     loop {
         // The next views that one preparation serves, at most `at_once`.
@@ -291,11 +292,15 @@ pub fn run<F: Counted>(
             unjudged.take().map(judge).into_iter().map(Ok).collect()
         } else if at_once == 1 {
             let ready = ready.as_ref().expect("made ready above");
-            // One view at a time (a GPU): each view's answers judged while the next one's are
-            // made, the last after the loop.
+            // One view at a time (a GPU): while its answers are made, the previous view's are
+            // judged and the next view's rays made; the last view judged after the loop.
             let view = (group[0].0, &group[0].1, group[0].2);
-            let previous = unjudged.take();
-            let (u, judged) = count_view(
+            let (previous, next) = (unjudged.take(), views.peek().map(|&(v, cam, _)| (v, cam)));
+            let made = next_rays
+                .take()
+                .filter(|(v, _)| *v == view.0)
+                .map(|(_, r)| r);
+            let (u, (judged, next)) = count_view(
                 &scene,
                 s,
                 answerers,
@@ -303,10 +308,16 @@ pub fn run<F: Counted>(
                 backend,
                 ready,
                 view,
-                || previous.map(judge),
+                made,
+                || {
+                    rayon::join(
+                        || previous.map(judge),
+                        || next.map(|(v, cam)| (v, s.views.rays(&cam))),
+                    )
+                },
             )?;
             tick();
-            unjudged = Some(u);
+            (unjudged, next_rays) = (Some(u), next);
             judged.into_iter().map(Ok).collect()
         } else {
             let ready = ready.as_ref().expect("made ready above");
@@ -321,6 +332,7 @@ pub fn run<F: Counted>(
                         backend,
                         ready,
                         (v, &cam, located),
+                        None,
                         || (),
                     );
                     tick();
@@ -400,10 +412,10 @@ struct Unjudged {
     audits: u64,
 }
 
-/// View `v` answered: the reference walk, the audit of its picked rays, and each answerer's
-/// answers, with the steps and seconds of each; `meanwhile` runs while the GPU answers (after the
-/// view's work is queued there, before it is read back: the previous view judged), its result
-/// returned beside.
+/// View `v` answered (its rays made here unless `made`): the reference walk, the audit of its
+/// picked rays, and each answerer's answers, with the steps and seconds of each; `meanwhile` runs
+/// while the GPU answers (after the view's work is queued there, before it is read back: the
+/// previous view judged, the next one's rays made), its result returned beside.
 #[allow(clippy::too_many_arguments)]
 fn count_view<F: Counted, R>(
     scene: &Scene,
@@ -413,11 +425,12 @@ fn count_view<F: Counted, R>(
     backend: &Backend,
     ready: &F::Ready,
     (v, cam, located): (usize, &Camera, u32),
+    made: Option<Vec<Ray>>,
     meanwhile: impl FnOnce() -> R,
 ) -> Result<(Unjudged, R), CountError> {
     let (mesh, max) = (&scene.loaded.mesh, scene.max_steps);
     let total_rays = s.views.views as u64 * s.views.width as u64 * s.views.height as u64;
-    let rays = s.views.rays(cam);
+    let rays = made.unwrap_or_else(|| s.views.rays(cam));
     let first = v as u64 * rays.len() as u64;
     let picked: Vec<usize> = (0..rays.len())
         .filter(|&i| audited(s.views.seed, first + i as u64, s.audit, total_rays))

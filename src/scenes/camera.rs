@@ -115,12 +115,25 @@ impl Views {
         view(lo, hi, i, self.views, self.seed, self.fov_deg, aspect)
     }
 
-    /// One primary ray per pixel, row by row.
+    /// One primary ray per pixel, row by row (the rows made in parallel).
     pub fn rays(&self, cam: &Camera) -> Vec<Ray> {
+        use rayon::prelude::*;
         let (w, h) = (self.width, self.height);
-        (0..h)
-            .flat_map(|y| (0..w).map(move |x| cam.ray(x, y, w, h)))
-            .collect()
+        let mut rays = vec![
+            Ray {
+                org: Vec3::ZERO,
+                dir: Vec3::ZERO
+            };
+            w as usize * h as usize
+        ];
+        rays.par_chunks_mut(w.max(1) as usize)
+            .zip(0..h)
+            .for_each(|(row, y)| {
+                for (x, r) in (0..w).zip(row) {
+                    *r = cam.ray(x, y, w, h);
+                }
+            });
+        rays
     }
 }
 
