@@ -909,7 +909,7 @@ impl Keeping<'_> {
 
 /// A view's answers read back ([`Backend::gather_view`]): the reference walk, with what crossed for
 /// it where it was queued, and each method's answers with what crossed for them.
-pub struct Gathered<T> {
+pub struct GatheredView<T> {
     pub kept: Kept,
     pub reference: Option<Traffic>,
     pub answers: Vec<(Against<T>, Traffic)>,
@@ -933,9 +933,9 @@ impl Backend {
         &self,
         reference: Keeping<'a>,
         pending: Vec<Pending<'a, Against<T>>>,
-    ) -> Result<Gathered<T>, BackendError> {
+    ) -> Result<GatheredView<T>, BackendError> {
         match reference {
-            Keeping::Read(kept) => Ok(Gathered {
+            Keeping::Read(kept) => Ok(GatheredView {
                 kept,
                 reference: None,
                 answers: self.gather(pending)?,
@@ -943,7 +943,7 @@ impl Backend {
             Keeping::Queued(r) => {
                 let (reference, answers) = self.gather_all(Some(r), pending)?;
                 let ((kept, _), traffic) = reference.expect("the reference was queued");
-                Ok(Gathered {
+                Ok(GatheredView {
                     kept,
                     reference: Some(traffic),
                     answers,

@@ -32,7 +32,7 @@ use glam::Vec3;
 /// (once per ray) and `fn IDENT_exit(t: ptr<function, array<vec3f, 4>>, r: R, entry: i32) -> i32`
 /// (`IDENT` is [`Method::ident`]); or why it has none.
 #[derive(Clone, Copy, Debug)]
-pub enum Gpu {
+pub enum GpuVersion {
     Wgsl(&'static [&'static str]),
     CpuOnly(&'static str),
 }
@@ -83,12 +83,12 @@ pub struct Info {
     /// Whether it has a CPU version: every method but a user's WGSL ([`USER_WGSL`]), which the backend
     /// runs only on a GPU.
     pub runs_on_cpu: bool,
-    pub gpu: Gpu,
+    pub gpu: GpuVersion,
 }
 
 impl Info {
     /// A published method, claiming nothing, run on the CPU and (with its WGSL) the GPU.
-    pub const fn published(name: &'static str, source: &'static str, gpu: Gpu) -> Info {
+    pub const fn published(name: &'static str, source: &'static str, gpu: GpuVersion) -> Info {
         Info {
             name,
             source,
@@ -108,7 +108,7 @@ impl Info {
             reference: true,
             published: false,
             ours: true,
-            ..Info::published(name, source, Gpu::CpuOnly(why))
+            ..Info::published(name, source, GpuVersion::CpuOnly(why))
         }
     }
 
@@ -119,7 +119,7 @@ impl Info {
             ..Info::published(
                 name,
                 "a method outside tetwalk",
-                Gpu::CpuOnly("written in Rust outside tetwalk"),
+                GpuVersion::CpuOnly("written in Rust outside tetwalk"),
             )
         }
     }
@@ -262,7 +262,11 @@ impl Method {
     }
 
     /// A method of the 2-D frame family, which can also walk the compact layouts.
-    const fn planar<M: ExitMethod>(name: &'static str, source: &'static str, gpu: Gpu) -> Self
+    const fn planar<M: ExitMethod>(
+        name: &'static str,
+        source: &'static str,
+        gpu: GpuVersion,
+    ) -> Self
     where
         M::RayData: Frame,
     {
@@ -310,7 +314,11 @@ impl Method {
 }
 
 /// A published exit-face method with its WGSL.
-const fn published<M: ExitMethod>(name: &'static str, source: &'static str, gpu: Gpu) -> Method {
+const fn published<M: ExitMethod>(
+    name: &'static str,
+    source: &'static str,
+    gpu: GpuVersion,
+) -> Method {
     Method::of::<M>(Info::published(name, source, gpu))
 }
 
@@ -324,33 +332,33 @@ pub static METHODS: &[Method] = &[
     published::<RayPlane>(
         "ray-plane",
         "Lagae & Dutré 2008 after Garrity 1990: four ray/plane intersections, smallest t (reconstructed)",
-        Gpu::Wgsl(&[RAY_PLANE]),
+        GpuVersion::Wgsl(&[RAY_PLANE]),
     ),
     published::<HalfSpace>(
         "halfspace",
         "Lagae & Dutré 2008: half-space classification (reconstructed)",
-        Gpu::Wgsl(&[RAY_PLANE, HALFSPACE]),
+        GpuVersion::Wgsl(&[RAY_PLANE, HALFSPACE]),
     ),
     published::<Plucker>(
         "plucker",
         "Lagae & Dutré 2008 after Platis & Theoharis 2003: six Plücker side products (reconstructed)",
-        Gpu::Wgsl(&[PLUCKER]),
+        GpuVersion::Wgsl(&[PLUCKER]),
     ),
     published::<Stp>(
         "stp",
         "Lagae & Dutré 2008: three to six scalar triple products with early outs, on the CPU all six four at a time (the same face) (reconstructed)",
-        Gpu::Wgsl(&[STP]),
+        GpuVersion::Wgsl(&[STP]),
     ),
     published::<Ms06>(
         "ms06",
         "Marmitt & Slusallek 2006: Plücker tests from the entry face, 2.67 on average (reconstructed)",
-        Gpu::Wgsl(&[PLUCKER, MS06]),
+        GpuVersion::Wgsl(&[PLUCKER, MS06]),
     ),
     Method::of::<Maria17<MomentFirst>>(
         Info::published(
             "maria17",
             "Maria, Horna, Aveneau 2017, Algorithms 1-2, Tables 1-2, translated frame of §3.4 by its formula v' = v - V_f × u",
-            Gpu::Wgsl(&[MARIA17]),
+            GpuVersion::Wgsl(&[MARIA17]),
         )
         .claiming(Claim::Robust),
     ),
@@ -358,19 +366,19 @@ pub static METHODS: &[Method] = &[
         Info::published(
             "maria17-translated",
             "Maria, Horna, Aveneau 2017 as maria17, §3.4 by its stated order of operations v' = (o - V_f) × u",
-            Gpu::Wgsl(&[MARIA17, MARIA17_TRANSLATED]),
+            GpuVersion::Wgsl(&[MARIA17, MARIA17_TRANSLATED]),
         )
         .claiming(Claim::Robust),
     ),
     Method::planar::<Aman20>(
         "aman20",
         "Aman, Demirci, Güdükbay §4: Duff et al. 2017 2-D frame, Algorithm 1; walks Tet32/20/16",
-        Gpu::Wgsl(&[AMAN20]),
+        GpuVersion::Wgsl(&[AMAN20]),
     ),
     Method::planar::<Aman20Scaled>(
         "aman20-scaled",
         "Aman, Demirci, Güdükbay §4.1: specialised scaled basis (eqs. 1-3), Algorithm 1; walks Tet32/20/16",
-        Gpu::Wgsl(&[AMAN20, AMAN20_SCALED]),
+        GpuVersion::Wgsl(&[AMAN20, AMAN20_SCALED]),
     ),
     Method::of::<Certified>(Info {
         published: false,
@@ -379,7 +387,7 @@ pub static METHODS: &[Method] = &[
             "certified",
             "tetwalk: Maria et al.'s Algorithm 1 (Platis & Theoharis' six signs in the starting tetrahedron) with each side product's sign certified by an f32 error bound (Shewchuk's o3derrboundA), else decided exactly with exact's tie-breaking",
             // The f32 stage; what it cannot settle, the CPU finishes exactly.
-            Gpu::Wgsl(&[CERTIFIED]),
+            GpuVersion::Wgsl(&[CERTIFIED]),
         )
         .claiming(Claim::Robust)
     }),
@@ -394,7 +402,7 @@ pub static USER_WGSL: Method = Method::of::<WgslOnly>(Info {
     ..Info::published(
         "user",
         "a user's WGSL exit-face function (--wgsl FILE)",
-        Gpu::Wgsl(&[]),
+        GpuVersion::Wgsl(&[]),
     )
 });
 
@@ -691,7 +699,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         Info::published(
             "mt",
             "Möller & Trumbore 1997 as seed 004 eq. 1 describes it: front side tested first (back faces culled), then u, v, t",
-            Gpu::Wgsl(&[TRI_MT]),
+            GpuVersion::Wgsl(&[TRI_MT]),
         ),
         false,
         Some(triangle::SideError::EdgeScaled),
@@ -700,7 +708,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         Info::published(
             "mt-two-sided",
             "Möller & Trumbore 1997, seed 004 eq. 1's other reading: both sides, 1/det first",
-            Gpu::Wgsl(&[TRI_MT]),
+            GpuVersion::Wgsl(&[TRI_MT]),
         ),
         false,
         Some(triangle::SideError::EdgeScaled),
@@ -709,7 +717,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         Info::published(
             "mt-precomputed",
             "seed 004 eq. 2: N, E1, E2 precomputed per triangle (Barzel's jgt collection)",
-            Gpu::Wgsl(&[TRI_MT_PRECOMPUTED]),
+            GpuVersion::Wgsl(&[TRI_MT_PRECOMPUTED]),
         ),
         false,
         Some(triangle::SideError::EdgeScaled),
@@ -718,7 +726,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         Info::published(
             "komatsu-packet",
             "Komatsu et al., seed 004 eq. 3 and Figure 3: N·S, -S×E2, S×E1 once per packet, early termination",
-            Gpu::Wgsl(&[TRI_MT_PRECOMPUTED, TRI_KOMATSU]),
+            GpuVersion::Wgsl(&[TRI_MT_PRECOMPUTED, TRI_KOMATSU]),
         ),
         true,
         Some(triangle::SideError::EdgeScaled),
@@ -727,7 +735,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
         Info::published(
             "plucker-packet",
             "Benthin 2006 as seed 004 §2 describes it: packet origin at the coordinate origin, three dot products per ray",
-            Gpu::Wgsl(&[TRI_PLUCKER_PACKET]),
+            GpuVersion::Wgsl(&[TRI_PLUCKER_PACKET]),
         ),
         true,
         Some(triangle::SideError::OriginScaled),
@@ -738,7 +746,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             ..Info::published(
                 "woop-watertight",
                 "Woop, Benthin, Wald 2013, Listing 1: sheared ray space, f64 edge functions when one is 0 (the robustness anchor)",
-                Gpu::Wgsl(&[TRI_WOOP]),
+                GpuVersion::Wgsl(&[TRI_WOOP]),
             )
             .claiming(Claim::NoLeak)
         },
@@ -843,11 +851,11 @@ pub static OCTREE_METHODS: &[OctreeMethod] = &[
     OctreeMethod::of::<Portalez16<portalez16::Points>>(Info::published(
         "portalez16",
         "Portalez & Duguet 2016, eqs. 1 (Q = o + d rounded to f32, as printed), 4-10 and §4.2.3",
-        Gpu::Wgsl(&[PORTALEZ16]),
+        GpuVersion::Wgsl(&[PORTALEZ16]),
     )),
     OctreeMethod::of::<Portalez16<portalez16::Direction>>(Info::published(
         "portalez16-direction",
         "Portalez & Duguet 2016 as portalez16, eq. 1 read with Q - P = d substituted (pi2 = dx, ...)",
-        Gpu::Wgsl(&[PORTALEZ16]),
+        GpuVersion::Wgsl(&[PORTALEZ16]),
     )),
 ];

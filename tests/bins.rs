@@ -239,7 +239,7 @@ fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
 #[test]
 fn the_audit_stops_a_count_whose_bins_do_not_hold() {
     use tetwalk::backend::Backend;
-    use tetwalk::engine::count::{Answerer, CountSettings, ReferenceWalk, Shard, run};
+    use tetwalk::engine::count::{AnswerSource, CountSettings, ReferenceWalk, Shard, run};
     use tetwalk::family::Triangle;
     use tetwalk::family::count::CountError;
     use tetwalk::family::triangle::TriCountSettings;
@@ -276,7 +276,7 @@ fn the_audit_stops_a_count_whose_bins_do_not_hold() {
     let counted = run(
         &scene,
         &settings,
-        &[Answerer::Method(&outside)],
+        &[AnswerSource::Method(&outside)],
         &cpu,
         &|| {},
         None,
@@ -291,7 +291,7 @@ fn the_audit_stops_a_count_whose_bins_do_not_hold() {
     match run(
         &scene,
         &settings,
-        &[Answerer::Method(&claiming)],
+        &[AnswerSource::Method(&claiming)],
         &cpu,
         &|| {},
         None,

@@ -476,8 +476,11 @@ fn a_count_is_relabelled_on_its_own_scene_only() {
         model: Model::Plain,
     };
     let methods = ["maria17", "ms06"].map(|m| tetwalk::registry::by_name(m).unwrap());
-    let answerers =
-        tetwalk::engine::count::Answerer::<Walks>::judged(None, methods, ReferenceWalk::default());
+    let answerers = tetwalk::engine::count::AnswerSource::<Walks>::judged(
+        None,
+        methods,
+        ReferenceWalk::default(),
+    );
     let mut report = run(&scene, &settings, &answerers, &cpu, &|| {}, None).unwrap();
     let other = tetwalk::scenes::Loaded {
         name: "kuhn".to_string(),

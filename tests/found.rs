@@ -12,7 +12,7 @@ use tetwalk::choice::Choice;
 use tetwalk::engine::found::{Found, Hold, Replay, check, replay};
 use tetwalk::family::{ExitFace, Family, Kind, owner};
 use tetwalk::methods::Model;
-use tetwalk::registry::{Gpu, METHODS, Named, OCTREE_METHODS, TRIANGLE_METHODS};
+use tetwalk::registry::{GpuVersion, METHODS, Named, OCTREE_METHODS, TRIANGLE_METHODS};
 
 /// Every found file, with its text, sorted by path.
 fn files() -> Vec<(String, String)> {
@@ -210,7 +210,7 @@ fn claims_hold_on_the_gpu<F: Family>(gpu: &Backend) {
         let failed = &r.failure.as_ref().unwrap().method;
         for m in F::methods()
             .iter()
-            .filter(|m| matches!(m.info().gpu, Gpu::Wgsl(_)))
+            .filter(|m| matches!(m.info().gpu, GpuVersion::Wgsl(_)))
         {
             let hold = if m.info().claim.is_some() {
                 Hold::Claim

@@ -14,7 +14,7 @@ use tetwalk::exact::edge_margin;
 use tetwalk::family::{ExitFace, Family, Verdict};
 use tetwalk::methods::Model;
 use tetwalk::registry::Named;
-use tetwalk::registry::{Gpu as GpuSupport, METHODS, Method};
+use tetwalk::registry::{GpuVersion as GpuSupport, METHODS, Method};
 use tetwalk::scenes::tets::{Target, TetShape, near, stabbing_ray, tet};
 use tetwalk::scenes::{self, Generated, rng};
 use tetwalk::tet::{Case, Ray};

@@ -4,7 +4,7 @@
 //! why not.
 
 use tetwalk::gpu::shader::{self, COMMITTED, generate};
-use tetwalk::registry::{Gpu, METHODS, Named, TRIANGLE_METHODS};
+use tetwalk::registry::{GpuVersion, METHODS, Named, TRIANGLE_METHODS};
 use tetwalk::walk::OutcomeKind;
 
 #[test]
@@ -19,7 +19,7 @@ fn committed_wgsl_is_what_the_generator_writes() {
 fn every_method_has_a_gpu_version_or_says_why_not() {
     for m in METHODS {
         match m.info.gpu {
-            Gpu::Wgsl(sources) => {
+            GpuVersion::Wgsl(sources) => {
                 let id = m.ident();
                 let all = sources.concat();
                 for f in [format!("fn {id}_prepare("), format!("fn {id}_exit(")] {
@@ -33,7 +33,7 @@ fn every_method_has_a_gpu_version_or_says_why_not() {
                     );
                 }
             }
-            Gpu::CpuOnly(why) => assert!(
+            GpuVersion::CpuOnly(why) => assert!(
                 why.len() > 10,
                 "{} has no GPU version and must say why",
                 m.name()
@@ -45,7 +45,7 @@ fn every_method_has_a_gpu_version_or_says_why_not() {
 #[test]
 fn every_triangle_method_has_its_wgsl_and_entry_points() {
     for m in TRIANGLE_METHODS {
-        let Gpu::Wgsl(sources) = m.info.gpu else {
+        let GpuVersion::Wgsl(sources) = m.info.gpu else {
             panic!("{} has no WGSL", m.name());
         };
         let f = format!("fn {}_hit(", m.ident());

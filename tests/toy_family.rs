@@ -13,7 +13,7 @@ use tetwalk::engine::standing::Standings;
 use tetwalk::engine::stress::{self, StressSettings};
 use tetwalk::family::{Family, Summed, Verdict};
 use tetwalk::kit::{self, Settings};
-use tetwalk::registry::{Claim, Gpu, Info, Named};
+use tetwalk::registry::{Claim, GpuVersion, Info, Named};
 use tetwalk::tet::Ray;
 use tetwalk::walk::OutcomeKind;
 
@@ -43,7 +43,7 @@ impl Named for EndMethod {
 }
 
 const fn info(name: &'static str) -> Info {
-    Info::published(name, "a toy of this test", Gpu::CpuOnly("a toy"))
+    Info::published(name, "a toy of this test", GpuVersion::CpuOnly("a toy"))
 }
 
 /// By the direction's sign, exactly.

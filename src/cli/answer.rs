@@ -4,7 +4,7 @@
 
 use super::{BackendArg, FailArg, JsonOut, Status};
 use crate::engine::answering::{
-    AnswerTally, Answered, Line, Part, Summary, Takes, answer, batches, open_lines,
+    AnswerSummary, AnswerTally, Answered, Line, Part, Takes, answer, batches, open_lines,
     outside_standing, standing,
 };
 use crate::engine::standing::Standing;
@@ -138,11 +138,11 @@ impl<'a> Answering<'a> {
     /// Exit status 1 when a line could not be answered, or under `--fail-on`.
     pub(crate) fn run(
         self,
-        mut answer: impl FnMut(&[Line], &mut Summary) -> Result<String, super::Error>,
+        mut answer: impl FnMut(&[Line], &mut AnswerSummary) -> Result<String, super::Error>,
         after: impl FnOnce() -> Result<(), super::Error>,
     ) -> Status {
         let out = JsonOut::new(self.json)?;
-        let mut summary = Summary::new(self.backend, self.names, self.missed, self.leaks);
+        let mut summary = AnswerSummary::new(self.backend, self.names, self.missed, self.leaks);
         let input: Box<dyn BufRead + Send> = match (self.input, self.file) {
             (Some(input), _) => input,
             (None, Some(p)) => open_lines(p)?,

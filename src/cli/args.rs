@@ -201,8 +201,8 @@ pub(crate) struct AnswererArg {
     answerer_name: String,
     /// How cases and answers travel: `json` (JSON Lines, every family) or `binary` (fixed
     /// little-endian records: exit faces, triangles, octree cells).
-    #[arg(long, value_parser = choice::<crate::engine::answerer::Format>(), default_value = "json", requires = "answerer")]
-    answerer_format: crate::engine::answerer::Format,
+    #[arg(long, value_parser = choice::<crate::engine::answerer::WireFormat>(), default_value = "json", requires = "answerer")]
+    answerer_format: crate::engine::answerer::WireFormat,
     /// Seconds the answerer may take on one batch; past them it is stopped, with everything it
     /// started, and the run fails saying so.
     #[arg(long, value_name = "S", default_value_t = 60.0)]

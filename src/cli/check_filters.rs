@@ -3,7 +3,7 @@
 
 use super::{JsonOut, Status};
 use crate::choice::Choice;
-use crate::engine::filters::{Checked, Filter, FilterTally, Regime, check};
+use crate::engine::filters::{Campaign, Filter, FilterTally, Regime, check};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -51,7 +51,7 @@ pub(crate) fn run(a: Args) -> Status {
     }
     let json = JsonOut::new(a.json.as_deref())?;
     let start = std::time::Instant::now();
-    let mut total: Option<Checked> = None;
+    let mut total: Option<Campaign> = None;
     let mut rounds = 0u64;
     loop {
         let c = check(a.cases, a.seed.wrapping_add(rounds));

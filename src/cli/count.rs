@@ -2,7 +2,7 @@
 
 use super::{BackendArg, Error, FailArg, JsonOut, Status, WgslArg};
 use crate::choice::Choice;
-use crate::engine::count::{self, Answerer, CountSettings, ReferenceWalk, Shard};
+use crate::engine::count::{self, AnswerSource, CountSettings, ReferenceWalk, Shard};
 use crate::engine::standing::Standings;
 use crate::family::CountKind;
 use crate::family::count::Counted;
@@ -296,7 +296,7 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     let outside = F::start(&a.answerer)?;
     let asking = outside.as_ref().and_then(|x| F::asking(x, &scene.mesh));
     let given = outside.as_ref().zip(asking.as_deref());
-    let answerers = Answerer::<F>::judged(
+    let answerers = AnswerSource::<F>::judged(
         given.map(|(x, asking)| (x.name.as_str(), asking)),
         methods.iter().copied(),
         settings.reference,

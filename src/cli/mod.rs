@@ -89,7 +89,7 @@ enum Command {
     FuzzImport(fuzz_import::Args),
     /// Build or describe scenes.
     #[command(subcommand)]
-    Scene(scene::Scene),
+    Scene(scene::SceneCommand),
 }
 
 crate::families!(__family_commands);

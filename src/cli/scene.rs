@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Subcommand)]
-pub(crate) enum Scene {
+pub(crate) enum SceneCommand {
     /// Tetrahedralize a closed model (OFF, OBJ or ASCII PLY) in a box with the installed TetGen.
     Build {
         /// The closed model (.off, .obj or ASCII .ply).
@@ -93,11 +93,11 @@ pub(crate) enum Scene {
     },
 }
 
-impl super::Io for Scene {
+impl super::Io for SceneCommand {
     fn io(&self) -> super::Files {
         let none = super::Files::default();
         match self {
-            Scene::Build {
+            SceneCommand::Build {
                 model, out, json, ..
             } => {
                 let stem = out.clone().unwrap_or_else(|| model.with_extension(""));
@@ -108,23 +108,25 @@ impl super::Io for Scene {
                     })
                     .output("--json", json.as_deref())
             }
-            Scene::Subdivide {
+            SceneCommand::Subdivide {
                 model, out, json, ..
             } => none
                 .input("MODEL", Some(model))
                 .output("--out", Some(out))
                 .output("--json", json.as_deref()),
-            Scene::Export { scene, out, .. } => none.scene("SCENE", scene).output("OUT", Some(out)),
-            Scene::Check { scene, json, .. } | Scene::Info { scene, json, .. } => {
+            SceneCommand::Export { scene, out, .. } => {
+                none.scene("SCENE", scene).output("OUT", Some(out))
+            }
+            SceneCommand::Check { scene, json, .. } | SceneCommand::Info { scene, json, .. } => {
                 none.scene("SCENE", scene).output("--json", json.as_deref())
             }
         }
     }
 }
 
-pub(crate) fn run(s: Scene) -> Status {
+pub(crate) fn run(s: SceneCommand) -> Status {
     match s {
-        Scene::Check {
+        SceneCommand::Check {
             scene,
             no_faces,
             json,
@@ -140,7 +142,7 @@ pub(crate) fn run(s: Scene) -> Status {
                 ExitCode::FAILURE
             })
         }
-        Scene::Build {
+        SceneCommand::Build {
             model,
             quality,
             offset,
@@ -175,7 +177,7 @@ pub(crate) fn run(s: Scene) -> Status {
             json.finish(&info)?;
             Ok(ExitCode::SUCCESS)
         }
-        Scene::Subdivide {
+        SceneCommand::Subdivide {
             model,
             levels,
             out,
@@ -207,7 +209,7 @@ pub(crate) fn run(s: Scene) -> Status {
             }))?;
             Ok(ExitCode::SUCCESS)
         }
-        Scene::Export {
+        SceneCommand::Export {
             scene,
             no_faces,
             out,
@@ -225,7 +227,7 @@ pub(crate) fn run(s: Scene) -> Status {
             );
             Ok(ExitCode::SUCCESS)
         }
-        Scene::Info {
+        SceneCommand::Info {
             scene,
             depth,
             capacity,

@@ -4,7 +4,7 @@
 use super::{JsonOut, Status};
 use crate::backend::{Backend, BackendKind};
 use crate::choice::Choice;
-use crate::engine::verify::{Checked, pick, verify};
+use crate::engine::verify::{CheckResult, pick, verify};
 use crate::report::verify::{line, register_table};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -63,7 +63,7 @@ pub(crate) fn run(a: Args) -> Status {
     }
     let out = JsonOut::new(a.json.as_deref())?;
     let mut backends: HashMap<BackendKind, Result<Backend, String>> = HashMap::new();
-    let mut done: Vec<Checked> = Vec::new();
+    let mut done: Vec<CheckResult> = Vec::new();
     let mut skipped = Vec::new();
     for c in checks {
         let b = backends

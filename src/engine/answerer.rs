@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 /// How cases and answers travel.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Format {
+pub enum WireFormat {
     /// A case line as `exit`, `hit` and `box-exit` read it, with `"line": n` (cases numbered from 1
     /// over the whole run); an empty line ends each batch. One answer line per case, as `judge` reads
     /// them.
@@ -26,7 +26,7 @@ pub enum Format {
     Binary,
 }
 
-crate::choice!(Format { Json => "json", Binary => "binary" });
+crate::choice!(WireFormat { Json => "json", Binary => "binary" });
 
 /// Longest answer line read, in bytes.
 const MAX_LINE: u64 = 1 << 16;
@@ -69,7 +69,7 @@ pub struct Answerer {
     pub name: String,
     /// The shell command that starts it.
     pub cmd: String,
-    pub format: Format,
+    pub format: WireFormat,
     /// Seconds one batch may take.
     pub limit: Duration,
     /// Cases per batch.
@@ -88,7 +88,7 @@ impl Answerer {
     pub fn start(
         name: &str,
         cmd: &str,
-        format: Format,
+        format: WireFormat,
         limit: Duration,
         batch: usize,
     ) -> Result<Answerer, AnswererError> {
@@ -113,7 +113,7 @@ impl Answerer {
             let mut out = BufReader::new(out);
             loop {
                 let chunk = match format {
-                    Format::Json => {
+                    WireFormat::Json => {
                         let mut buf = Vec::new();
                         match (&mut out).take(MAX_LINE).read_until(b'\n', &mut buf) {
                             Ok(0) => Chunk::End,
@@ -129,7 +129,7 @@ impl Answerer {
                             ),
                         }
                     }
-                    Format::Binary => {
+                    WireFormat::Binary => {
                         let mut buf = vec![0; 1 << 16];
                         match out.read(&mut buf) {
                             Ok(0) | Err(_) => Chunk::End,
@@ -200,7 +200,7 @@ impl Answerer {
         let first = r.sent + 1;
         let mut bytes = Vec::new();
         match self.format {
-            Format::Json => {
+            WireFormat::Json => {
                 for (k, c) in batch.iter().enumerate() {
                     let mut obj = F::case_json(c);
                     obj.insert("line".into(), Value::from(first + k as u64));
@@ -209,7 +209,7 @@ impl Answerer {
                 }
                 bytes.push(b'\n');
             }
-            Format::Binary => {
+            WireFormat::Binary => {
                 bytes.extend((batch.len() as u32).to_le_bytes());
                 for c in batch {
                     let rec = F::case_record(c).ok_or_else(|| {

@@ -216,7 +216,7 @@ impl AnswerTally {
 
 /// What a command answering JSON Lines counted (`--json` writes it).
 #[derive(serde::Serialize)]
-pub struct Summary {
+pub struct AnswerSummary {
     backend: String,
     /// Lines read, blank ones left out.
     pub lines: u64,
@@ -226,11 +226,11 @@ pub struct Summary {
     pub methods: Vec<AnswerTally>,
 }
 
-impl Summary {
+impl AnswerSummary {
     /// Nothing counted yet for the methods `names` on `backend`; their tallies count lines missing
     /// the cell (`missed`) and leaks (`leaks`) from the start.
-    pub fn new(backend: String, names: Vec<String>, missed: bool, leaks: bool) -> Summary {
-        Summary {
+    pub fn new(backend: String, names: Vec<String>, missed: bool, leaks: bool) -> AnswerSummary {
+        AnswerSummary {
             backend,
             lines: 0,
             errors: 0,
@@ -338,7 +338,10 @@ pub trait Takes {
         given: Option<Option<Value>>,
     ) -> Result<(), String>;
     /// The verdict lines of the cases taken (by line number), each method's counted in `summary`.
-    fn answer(&mut self, summary: &mut Summary) -> Result<Vec<(usize, Value)>, AnsweringError>;
+    fn answer(
+        &mut self,
+        summary: &mut AnswerSummary,
+    ) -> Result<Vec<(usize, Value)>, AnsweringError>;
 }
 
 impl<F: Family> Takes for Part<'_, F> {
@@ -374,7 +377,10 @@ impl<F: Family> Takes for Part<'_, F> {
         Ok(())
     }
 
-    fn answer(&mut self, summary: &mut Summary) -> Result<Vec<(usize, Value)>, AnsweringError> {
+    fn answer(
+        &mut self,
+        summary: &mut AnswerSummary,
+    ) -> Result<Vec<(usize, Value)>, AnsweringError> {
         let taken = std::mem::take(&mut self.taken);
         let mut out = Vec::new();
         match &self.answered {
@@ -453,7 +459,7 @@ pub fn answer(
     parts: &mut [Box<dyn Takes + '_>],
     refuse: fn(Kind) -> String,
     given: Option<&mut HashMap<usize, Value>>,
-    summary: &mut Summary,
+    summary: &mut AnswerSummary,
 ) -> Result<String, AnsweringError> {
     let mut given = given;
     let mut out: Vec<(usize, Value)> = Vec::new();

@@ -10,7 +10,7 @@ use crate::choice::Choice;
 use crate::mesh::layout::Layout;
 use crate::methods::Model;
 use crate::registry::Named;
-use crate::registry::{Gpu, Method};
+use crate::registry::{GpuVersion, Method};
 use crate::scenes::Loaded;
 use crate::scenes::camera::Views;
 use crate::tet::Ray;
@@ -232,7 +232,7 @@ pub fn runs_on<'a>(methods: &[&'a Method], backend: &Backend) -> Vec<&'a Method>
     methods
         .iter()
         .copied()
-        .filter(|m| backend.kind() != BackendKind::Gpu || matches!(m.info.gpu, Gpu::Wgsl(_)))
+        .filter(|m| backend.kind() != BackendKind::Gpu || matches!(m.info.gpu, GpuVersion::Wgsl(_)))
         .collect()
 }
 

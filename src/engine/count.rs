@@ -157,7 +157,7 @@ through_value!(CountSettings<F: Counted>);
 through_value!(CountReport<F: Counted>);
 
 /// Whose answers a count judges.
-pub enum Answerer<'a, F: Family> {
+pub enum AnswerSource<'a, F: Family> {
     /// A method, run on the count's backend.
     Method(&'a F::Method),
     /// Walks computed elsewhere (`tetwalk judge`), named: given a view, every pixel's walk, row by row.
@@ -169,26 +169,26 @@ pub enum Answerer<'a, F: Family> {
 pub type GivenWalks<'a> =
     dyn Fn(usize, &[Ray], u32, u32) -> Result<Vec<Walk>, CountError> + Sync + 'a;
 
-impl<'a, F: Family> Answerer<'a, F> {
+impl<'a, F: Family> AnswerSource<'a, F> {
     /// Whose answers a count judges against `reference`: walks given from outside first, then each
     /// of `methods` but the family's own reference and `reference` (the count's first row).
     pub fn judged(
         given: Option<(&'a str, &'a GivenWalks<'a>)>,
         methods: impl IntoIterator<Item = &'a F::Method>,
         reference: ReferenceWalk,
-    ) -> Vec<Answerer<'a, F>> {
-        let given = given.map(|(name, walks)| Answerer::Given(name, walks));
+    ) -> Vec<AnswerSource<'a, F>> {
+        let given = given.map(|(name, walks)| AnswerSource::Given(name, walks));
         let methods = methods
             .into_iter()
             .filter(move |m| !m.is_reference() && m.name() != reference.name())
-            .map(Answerer::Method);
+            .map(AnswerSource::Method);
         given.into_iter().chain(methods).collect()
     }
 
     fn name(&self) -> &str {
         match self {
-            Answerer::Method(m) => m.name(),
-            Answerer::Given(name, _) => name,
+            AnswerSource::Method(m) => m.name(),
+            AnswerSource::Given(name, _) => name,
         }
     }
 }
@@ -227,7 +227,7 @@ struct ViewCount {
 pub fn run<F: Counted>(
     loaded: &Loaded,
     s: &CountSettings<F>,
-    answerers: &[Answerer<F>],
+    answerers: &[AnswerSource<F>],
     backend: &Backend,
     tick: &(dyn Fn() + Sync),
     mut sink: Option<&mut Sink>,
@@ -420,7 +420,7 @@ struct Unjudged {
 fn count_view<F: Counted, R>(
     scene: &Scene,
     s: &CountSettings<F>,
-    answerers: &[Answerer<F>],
+    answerers: &[AnswerSource<F>],
     reference: &crate::registry::Method,
     backend: &Backend,
     ready: &F::Ready,
@@ -460,7 +460,7 @@ fn count_view<F: Counted, R>(
     };
     let (mut rows, mut queued) = (Vec::new(), Vec::new());
     for (k, a) in answerers.iter().enumerate() {
-        if let Answerer::Method(m) = a
+        if let AnswerSource::Method(m) = a
             && let Some(p) = F::answer_against(&at, m, &rays)?
         {
             rows.push(k);
@@ -517,11 +517,11 @@ fn count_view<F: Counted, R>(
             }
             None => {
                 let (walks, seconds) = match a {
-                    Answerer::Method(m) => {
+                    AnswerSource::Method(m) => {
                         let w = F::answer_rays(&at, m, &rays)?;
                         (w, t0.elapsed().as_secs_f64())
                     }
-                    Answerer::Given(_, given) => (given(v, &rays, located, max)?, 0.0),
+                    AnswerSource::Given(_, given) => (given(v, &rays, located, max)?, 0.0),
                 };
                 let steps = walks.iter().map(|w| w.steps as u64).sum();
                 let all = match &mut all {
@@ -557,7 +557,7 @@ fn count_view<F: Counted, R>(
 fn judge_view<F: Counted>(
     scene: &Scene,
     s: &CountSettings<F>,
-    answerers: &[Answerer<F>],
+    answerers: &[AnswerSource<F>],
     backend: &Backend,
     u: Unjudged,
 ) -> ViewCount {
@@ -570,12 +570,12 @@ fn judge_view<F: Counted>(
                 pixel: [0, 0],
                 name: a.name(),
                 backend: match a {
-                    Answerer::Method(m) => Some(backend.for_method(*m).ran().kind),
-                    Answerer::Given(..) => None,
+                    AnswerSource::Method(m) => Some(backend.for_method(*m).ran().kind),
+                    AnswerSource::Given(..) => None,
                 },
                 walker: match a {
-                    Answerer::Method(m) => F::walker(m),
-                    Answerer::Given(..) => None,
+                    AnswerSource::Method(m) => F::walker(m),
+                    AnswerSource::Given(..) => None,
                 },
             };
             let mesh = &scene.loaded.mesh;
@@ -610,7 +610,7 @@ fn apportion(wall: f64, kernels: &[Option<f64>]) -> Vec<f64> {
 pub fn relabel_all<F: Counted>(
     report: &mut CountReport<F>,
     scene: &Loaded,
-    answerers: &[Answerer<F>],
+    answerers: &[AnswerSource<F>],
     backend: &Backend,
     tick: &(dyn Fn() + Sync),
 ) -> Result<(), CountError> {

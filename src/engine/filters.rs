@@ -163,14 +163,14 @@ const KEPT: usize = 16;
 
 /// A campaign's tallies, `[regime][filter]`, and the first refutations found (at most `KEPT`).
 #[derive(Clone, Debug, Default)]
-pub struct Checked {
+pub struct Campaign {
     pub tallies: Vec<(Regime, Vec<(Filter, FilterTally)>)>,
     pub refuted: Vec<Refuted>,
 }
 
-impl Checked {
+impl Campaign {
     /// Add another round of the same regimes and filters.
-    pub fn add(&mut self, other: Checked) {
+    pub fn add(&mut self, other: Campaign) {
         for ((_, acc), (_, add)) in self.tallies.iter_mut().zip(other.tallies) {
             for ((_, x), (_, y)) in acc.iter_mut().zip(add) {
                 *x += y;
@@ -328,7 +328,7 @@ fn exact_orient(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> i8 {
 type RegimeChecked = (Regime, Vec<(Filter, FilterTally)>, Vec<Refuted>);
 
 /// `cases` cases of every regime from `seed`, each sign of every filter compared with the exact one.
-pub fn check(cases: usize, seed: u64) -> Checked {
+pub fn check(cases: usize, seed: u64) -> Campaign {
     use rayon::prelude::*;
     let per_regime: Vec<RegimeChecked> = Regime::ALL
         .par_iter()
@@ -366,7 +366,7 @@ pub fn check(cases: usize, seed: u64) -> Checked {
             (regime, t, refuted)
         })
         .collect();
-    let mut out = Checked::default();
+    let mut out = Campaign::default();
     for (regime, t, r) in per_regime {
         out.tallies.push((regime, t));
         out.refuted.extend(r);

@@ -12,13 +12,13 @@ pub struct SceneCheck {
     pub scene: String,
     pub valid: bool,
     #[serde(flatten)]
-    pub checked: Checked,
+    pub checked: Validity,
 }
 
 /// A scene checked: a tetrahedralization, or not.
 #[derive(Clone, Debug, serde::Serialize)]
 #[serde(untagged)]
-pub enum Checked {
+pub enum Validity {
     Valid {
         points: usize,
         tetrahedra: usize,
@@ -39,20 +39,20 @@ impl SceneCheck {
         loaded: Result<crate::scenes::Loaded, crate::mesh::MeshError>,
     ) -> Result<SceneCheck, String> {
         let checked = match loaded.map(|s| s.mesh) {
-            Ok(m) => Checked::Valid {
+            Ok(m) => Validity::Valid {
                 points: m.points.len(),
                 tetrahedra: m.tets.len(),
                 summary: crate::mesh::valid::check(&m.points, &m.tets, &m.neighbors)
                     .map_err(|(_, what)| what)?,
                 constrained: m.constrained_faces(),
             },
-            Err(e) => Checked::Invalid {
+            Err(e) => Validity::Invalid {
                 error: e.to_string(),
             },
         };
         Ok(SceneCheck {
             scene: scene.to_string(),
-            valid: matches!(checked, Checked::Valid { .. }),
+            valid: matches!(checked, Validity::Valid { .. }),
             checked,
         })
     }

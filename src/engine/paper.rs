@@ -6,7 +6,7 @@ use crate::backend::{Backend, BackendError, Ran};
 use crate::choice::Instruction;
 use crate::engine::bench::{self, BenchReport};
 use crate::engine::count::{
-    self, Answerer, CountReport, CountSettings, ReferenceWalk, Shard, Sharded,
+    self, AnswerSource, CountReport, CountSettings, ReferenceWalk, Shard, Sharded,
 };
 use crate::engine::info::SceneInfo;
 use crate::family::count::{CountError, inconsistent};
@@ -14,7 +14,7 @@ use crate::family::octree::OctreeCountSettings;
 use crate::family::triangle::engine::SpeedReport;
 use crate::family::{OctreeCells, Walks};
 use crate::methods::Query;
-use crate::registry::{ByName, Gpu, METHODS, Named, OCTREE_METHODS, TRIANGLE_METHODS};
+use crate::registry::{ByName, GpuVersion, METHODS, Named, OCTREE_METHODS, TRIANGLE_METHODS};
 use crate::scenes::Loaded;
 
 /// Seed 003's structures as tetwalk walks them: the method, and `cells` or one of seed 003's layouts.
@@ -134,7 +134,7 @@ pub fn run(
 ) -> Result<PaperReport, PaperError> {
     // Judged against `certified`, as the default count is; the reference's own row comes first.
     let reference = ReferenceWalk::default();
-    let methods = Answerer::<Walks>::judged(None, METHODS, reference);
+    let methods = AnswerSource::<Walks>::judged(None, METHODS, reference);
     let settings = CountSettings::<Walks> {
         views: crate::scenes::camera::Views {
             views: size.views,
@@ -157,7 +157,7 @@ pub fn run(
     } else {
         None
     };
-    let octree_methods = Answerer::<OctreeCells>::judged(None, OCTREE_METHODS, reference);
+    let octree_methods = AnswerSource::<OctreeCells>::judged(None, OCTREE_METHODS, reference);
     let octree_settings = CountSettings::<OctreeCells> {
         views: settings.views,
         reference,
@@ -270,7 +270,7 @@ fn gpu_query_times(
     };
     let gpu_methods = METHODS
         .iter()
-        .filter(|m| !m.is_reference() && matches!(m.info.gpu, Gpu::Wgsl(_)));
+        .filter(|m| !m.is_reference() && matches!(m.info.gpu, GpuVersion::Wgsl(_)));
     gpu_methods
         .map(|m| {
             let first = cases(&queries[..queries.len().min(GPU_QUERY_RUN)]);

@@ -8,7 +8,7 @@
 
 use crate::backend::Backend;
 use crate::choice::{BackendKind, Choice};
-use crate::engine::answerer::{Answerer as Program, Format};
+use crate::engine::answerer::{Answerer as Program, WireFormat};
 use crate::engine::found::{Failure, Found, FoundError, Hold, check, cpu_backends};
 use crate::family::contract::Contract;
 use crate::family::wrong::WrongRay;
@@ -79,7 +79,7 @@ pub struct Shrunk<F: Family> {
 }
 
 /// Whoever answers the cases a shrink tries: a method on a backend, or a program outside tetwalk.
-pub type Answerer<'a, F> =
+pub type AnswerFn<'a, F> =
     dyn Fn(&<F as Family>::Case) -> Result<<F as Family>::Answer, FoundError> + 'a;
 
 /// Shrink `case`, on which `m` (running on `backend`) answers wrongly: the simplest case on which it
@@ -116,7 +116,7 @@ pub fn shrink_outside<F: Family>(
 /// [`shrink`] for any answerer, `name` naming it; every case tried holds `contract` (what the
 /// answerer assumes), and a failure that is no tie does not shrink into one.
 pub fn shrink_with<F: Family>(
-    answerer: &Answerer<F>,
+    answerer: &AnswerFn<F>,
     name: &str,
     case: &F::Case,
     keep: &[&F::Method],
@@ -231,7 +231,7 @@ type Failing<F> = (OutcomeKind, bool, <F as Family>::Answer, bool);
 /// oracle refuses (a flat tetrahedron, an origin outside the mesh), or outside `contract`, fails
 /// nothing.
 fn failure<F: Family>(
-    answerer: &Answerer<F>,
+    answerer: &AnswerFn<F>,
     case: &F::Case,
     contract: &Contract,
 ) -> Result<Option<Failing<F>>, FoundError> {
@@ -498,7 +498,7 @@ pub fn shrink_case_outside<F: Family>(
     let line = serde_json::Value::Object(asked.clone()).to_string();
     asked.insert("line".into(), 1.into());
     let quoted = |t: &str| format!("'{}'", t.replace('\'', "'\\''"));
-    let reproduce = (a.format == Format::Json).then(|| {
+    let reproduce = (a.format == WireFormat::Json).then(|| {
         format!(
             "printf '%s\\n\\n' {} | {} > answer.jsonl && echo {} | tetwalk judge - answer.jsonl",
             quoted(&serde_json::Value::Object(asked).to_string()),

@@ -240,7 +240,7 @@ pub struct AtScale {
 
 /// What a check found.
 #[derive(Clone, Debug, serde::Serialize)]
-pub struct Checked {
+pub struct CheckResult {
     pub name: &'static str,
     pub backend: String,
     pub expect: Expect,
@@ -275,7 +275,7 @@ pub fn verify(
     backend: &Backend,
     cases: usize,
     found: &Path,
-) -> Result<Checked, VerifyError> {
+) -> Result<CheckResult, VerifyError> {
     let fail = |why: String| VerifyError::Check {
         name: check.name,
         why,
@@ -289,7 +289,7 @@ fn verify_in<F: Family>(
     backend: &Backend,
     cases: usize,
     found: &Path,
-) -> Result<Checked, String> {
+) -> Result<CheckResult, String> {
     let m = family::by_name::<F>(c.method).map_err(|e| e.to_string())?;
     let held = [(m, Hold::Claim)];
     let on = backend.ran();
@@ -401,7 +401,7 @@ fn verify_in<F: Family>(
     };
     // On a GPU the register speaks of one adapter: another compiles and rounds differently.
     let registered = c.registered_for(on.adapter.as_deref());
-    Ok(Checked {
+    Ok(CheckResult {
         name: c.name,
         backend: on.to_string(),
         expect: c.expect,

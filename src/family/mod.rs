@@ -482,8 +482,8 @@ pub fn listed() -> Vec<Listed> {
                         claims_robust: i.claim.is_some(),
                         reference: i.reference,
                         gpu: match i.gpu {
-                            crate::registry::Gpu::Wgsl(_) => "yes".into(),
-                            crate::registry::Gpu::CpuOnly(why) => format!("no: {why}"),
+                            crate::registry::GpuVersion::Wgsl(_) => "yes".into(),
+                            crate::registry::GpuVersion::CpuOnly(why) => format!("no: {why}"),
                         },
                         implements: i.source,
                     }

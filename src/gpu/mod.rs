@@ -7,7 +7,7 @@ use crate::mesh::Mesh;
 use crate::mesh::layout::Layout;
 use crate::methods::Model;
 use crate::methods::triangle::Nearest;
-use crate::registry::{Gpu as GpuSupport, Method, Named, OctreeMethod, TriangleMethod};
+use crate::registry::{GpuVersion as GpuSupport, Method, Named, OctreeMethod, TriangleMethod};
 use crate::tet::{Ray, Tet};
 use crate::walk::layouts::{LayoutKind, LayoutOutcome, Source};
 use crate::walk::{Outcome, OutcomeKind, Walk};

@@ -12,7 +12,7 @@ use crate::mesh::HULL;
 use crate::mesh::layout::{BOUNDARY, STOP, Tet16, Tet20, Tet32};
 use crate::methods::Model;
 use crate::registry::{
-    Gpu, METHODS, Method, Named, OCTREE_METHODS, TRIANGLE_METHODS, TriangleMethod,
+    GpuVersion, METHODS, Method, Named, OCTREE_METHODS, TRIANGLE_METHODS, TriangleMethod,
 };
 use crate::tet::{EDGES, FACE_VERTICES, edge_index};
 use crate::walk::OutcomeKind;
@@ -259,7 +259,7 @@ fn dispatch<T: Named>(
         "override {constant}: u32 = 0u;\n\nfn {name}({args}) -> {ty} {{\n    switch {constant} {{\n"
     );
     for (i, m) in methods.iter().enumerate() {
-        if let Gpu::Wgsl(_) = m.info().gpu {
+        if let GpuVersion::Wgsl(_) = m.info().gpu {
             let _ = writeln!(s, "        case {i}u: {{ return {}; }}", call(&m.ident()));
         }
     }
@@ -419,7 +419,7 @@ pub fn generate() -> String {
         .chain(TRIANGLE_METHODS.iter().map(|m| m.info().gpu))
         .chain(OCTREE_METHODS.iter().map(|m| m.info().gpu));
     for g in gpus {
-        if let Gpu::Wgsl(sources) = g {
+        if let GpuVersion::Wgsl(sources) = g {
             for src in sources {
                 if !included.contains(src) {
                     included.push(src);
@@ -450,7 +450,7 @@ pub fn generate() -> String {
     let _ = writeln!(s, "const BOUNDARY: u32 = {BOUNDARY:#x}u;");
     s += include_str!("../walk/layouts.wgsl");
     for m in METHODS {
-        if let Gpu::Wgsl(_) = m.info().gpu {
+        if let GpuVersion::Wgsl(_) = m.info().gpu {
             let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
             s += &fill(EXIT_WALK, &[("ident", &m.ident())]);
             if m.layout_walk(Model::Plain).is_some() {
@@ -462,7 +462,7 @@ pub fn generate() -> String {
         }
     }
     for m in TRIANGLE_METHODS {
-        if let Gpu::Wgsl(_) = m.info().gpu {
+        if let GpuVersion::Wgsl(_) = m.info().gpu {
             let _ = write!(s, "\n// ---- {} ----\n\n", m.name());
             s += &fill(TRIANGLE, &[("ident", &m.ident())]);
         }

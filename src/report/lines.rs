@@ -2,7 +2,7 @@
 //! `exit`, `hit`, `box-exit` and `judge` write them, and the lines that sum them up per method.
 
 use super::counted;
-use crate::engine::answering::Summary;
+use crate::engine::answering::AnswerSummary;
 use crate::family::{Family, Said};
 use serde_json::{Map, Value};
 
@@ -28,7 +28,7 @@ pub fn fields(v: Value) -> Map<String, Value> {
 
 /// A line per method of what `command` answered: cases, right, wrong (of them, each kind counted),
 /// not judged, and where a 4-wide version was compared, how it answered.
-pub fn per_method(command: &str, summary: &Summary) -> Vec<String> {
+pub fn per_method(command: &str, summary: &AnswerSummary) -> Vec<String> {
     let answered = summary.answered();
     let mut out = Vec::new();
     for t in &summary.methods {
@@ -102,7 +102,7 @@ pub fn per_method(command: &str, summary: &Summary) -> Vec<String> {
 
 /// The lines that say why `command` fails whatever `--fail-on` says: a 4-wide version answering
 /// otherwise than its scalar one, lines that could not be answered.
-pub fn failures(command: &str, summary: &Summary) -> Vec<String> {
+pub fn failures(command: &str, summary: &AnswerSummary) -> Vec<String> {
     let mut out = Vec::new();
     let differ = summary.wide_differs();
     if differ > 0 {

@@ -1,14 +1,14 @@
 //! `tetwalk scene info`'s tables: seed 000 Table 3 and seed 003 Table 4 of a scene, its flatness, and
 //! seed 001's octree over its constrained faces.
 
-use crate::engine::info::{Checked, OctreeInfo, SceneCheck, SceneInfo};
+use crate::engine::info::{OctreeInfo, SceneCheck, SceneInfo, Validity};
 
 impl SceneCheck {
     /// `scene check`'s line: a tetrahedralization and its counts, or what is wrong.
     pub fn line(&self) -> String {
         let scene = &self.scene;
         match &self.checked {
-            Checked::Valid {
+            Validity::Valid {
                 points,
                 tetrahedra,
                 summary: s,
@@ -24,7 +24,7 @@ impl SceneCheck {
                     "components"
                 },
             ),
-            Checked::Invalid { error } => format!("{scene}: not a tetrahedralization: {error}"),
+            Validity::Invalid { error } => format!("{scene}: not a tetrahedralization: {error}"),
         }
     }
 }

@@ -1,6 +1,6 @@
 //! The register of claims as docs/results.md shows it, and `tetwalk verify`'s lines.
 
-use crate::engine::verify::{Checked, Expect, REGISTER};
+use crate::engine::verify::{CheckResult, Expect, REGISTER};
 
 /// The register as a markdown table, generated from [`REGISTER`] (docs/results.md holds it verbatim).
 pub fn register_table() -> String {
@@ -27,7 +27,7 @@ pub fn register_table() -> String {
 
 /// One check's line: PASS when the claim held, FAIL when it was refuted; and whether that is what the
 /// register says.
-pub fn line(c: &Checked) -> String {
+pub fn line(c: &CheckResult) -> String {
     let word = |holds: bool| if holds { "stands" } else { "refuted" };
     let register = match (c.as_registered, c.expect) {
         (Some(true), _) => "as registered".to_string(),

@@ -77,7 +77,7 @@ pub struct MethodRow {
 
 /// One method under the 12 relabellings: wrong results and cycles for each, the identity first.
 #[derive(serde::Serialize)]
-pub struct Relabelled {
+pub struct RelabelledWalks {
     pub method: String,
     pub wrong: Vec<u64>,
     pub cycles: Vec<u64>,
@@ -103,7 +103,7 @@ pub struct WalkReport {
     pub backend: crate::backend::BackendKind,
     pub methods: Vec<MethodRow>,
     /// With `--relabel all`.
-    pub relabellings: Option<Vec<Relabelled>>,
+    pub relabellings: Option<Vec<RelabelledWalks>>,
 }
 
 /// What `tetwalk walk` walks: a generated mesh of `size` (in Hilbert order with `hilbert`) moved by
@@ -301,7 +301,7 @@ fn relabellings(
     rays: &[Ray],
     methods: &[&'static Method],
     model: Model,
-) -> Result<Vec<Relabelled>, MeshError> {
+) -> Result<Vec<RelabelledWalks>, MeshError> {
     // Per method its wrong results, then its cycles.
     let measure = |k: usize| -> Result<Vec<u64>, MeshError> {
         let relabelled = mesh.relabelled(EVEN_PERMUTATIONS[k])?;
@@ -321,7 +321,7 @@ fn relabellings(
     Ok(methods
         .iter()
         .zip(all.chunks(2))
-        .map(|(m, n)| Relabelled {
+        .map(|(m, n)| RelabelledWalks {
             method: m.name().into(),
             wrong: n[0].clone(),
             cycles: n[1].clone(),
@@ -670,7 +670,7 @@ impl GivenWalksMap {
         let report = count::run(
             scene,
             &settings,
-            &[count::Answerer::Given(name, &lookup)],
+            &[count::AnswerSource::Given(name, &lookup)],
             &crate::backend::CPU,
             &|| (),
             wrong,

@@ -1,7 +1,7 @@
 //! How the walk family reads: its stress table, count table and verdict lines (the report layer:
 //! formatting only, as `crate::report` calls it).
 
-use super::engine::{Relabelled, WalkReport};
+use super::engine::{RelabelledWalks, WalkReport};
 use super::{WalkTruth, Walks};
 use crate::engine::count::CountReport;
 use crate::engine::stress::StressReport;
@@ -153,7 +153,7 @@ pub(super) fn walk_table(r: &WalkReport, checked: bool) -> String {
 
 /// `tetwalk walk --relabel all`'s table: per method its wrong results and cycles under its own
 /// labelling beside their min / median / max over the 12.
-pub(super) fn relabelled_table(r: &[Relabelled]) -> String {
+pub(super) fn relabelled_table(r: &[RelabelledWalks]) -> String {
     let mut out = "\nunder the 12 orientation-preserving relabellings of the tetrahedra\n\n| method | wrong, own | min | median | max | cycles, own | min | median | max |\n|---|---|---|---|---|---|---|---|---|\n".to_string();
     for r in r {
         out += &format!(
