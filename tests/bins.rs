@@ -178,13 +178,7 @@ fn binned_nearest_hits_equal_brute_force_on_the_default_scene() {
     let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required)
         .unwrap()
         .mesh;
-    let views = Views {
-        views: 3,
-        width: 40,
-        height: 36,
-        seed: 7,
-        fov_deg: Views::FOV_DEG,
-    };
+    let views = Views::new(3, 40, 36, 7);
     let mut fewer = 0.0;
     for (_, cam, located) in located_views(&mesh, &views, |_| true, &|| {}) {
         let (tris, _) = scene_triangles(&mesh, &region_of(&mesh, located));
@@ -254,13 +248,7 @@ fn the_audit_stops_a_count_whose_bins_do_not_hold() {
     }
     let scene = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
     let settings = CountSettings::<Triangle> {
-        views: Views {
-            views: 2,
-            width: 32,
-            height: 32,
-            seed: 1,
-            fov_deg: Views::FOV_DEG,
-        },
+        views: Views::new(2, 32, 32, 1),
         reference: ReferenceWalk::default(),
         family: TriCountSettings {
             packet: 2,

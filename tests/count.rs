@@ -422,13 +422,7 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
     use tetwalk::family::count::CountError;
     use tetwalk::scenes::camera::Views;
     let scene = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required).unwrap();
-    let views = Views {
-        views: 16,
-        width: 64,
-        height: 64,
-        seed: 1,
-        fov_deg: Views::FOV_DEG,
-    };
+    let views = Views::new(16, 64, 64, 1);
     let settings = |reference: &str| CountSettings::<Walks> {
         views,
         reference: ReferenceWalk::named(reference).unwrap(),
@@ -460,13 +454,7 @@ fn a_count_is_relabelled_on_its_own_scene_only() {
     use tetwalk::scenes::camera::Views;
     let scene = tetwalk::scenes::load("kuhn-far", tetwalk::mesh::Faces::Required).unwrap();
     let settings = CountSettings::<Walks> {
-        views: Views {
-            views: 2,
-            width: 16,
-            height: 16,
-            seed: 1,
-            fov_deg: Views::FOV_DEG,
-        },
+        views: Views::new(2, 16, 16, 1),
         reference: ReferenceWalk::default(),
         family: (),
         audit: 0,
@@ -535,13 +523,7 @@ fn a_cameras_tetrahedron_does_not_depend_on_the_views_before_it() {
     use tetwalk::engine::count::located_views;
     use tetwalk::mesh::{Mesh, RawMesh};
     use tetwalk::scenes::camera::Views;
-    let views = Views {
-        views: 8,
-        width: 4,
-        height: 4,
-        seed: 1,
-        fov_deg: Views::FOV_DEG,
-    };
+    let views = Views::new(8, 4, 4, 1);
     let mut points: Vec<Vec3> = (0..8)
         .map(|i| Vec3::new((i & 1) as f32, (i >> 1 & 1) as f32, (i >> 2 & 1) as f32))
         .collect();

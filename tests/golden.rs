@@ -33,13 +33,7 @@ fn bunny_view_is_unchanged() {
         .unwrap()
         .mesh;
     let methods: Vec<_> = METHODS.iter().filter(|m| !m.is_reference()).collect();
-    let views = Views {
-        views: 160,
-        width: 64,
-        height: 48,
-        seed: 1,
-        fov_deg: Views::FOV_DEG,
-    };
+    let views = Views::new(160, 64, 48, 1);
     let f = frame(
         &mesh,
         &views,
@@ -350,13 +344,7 @@ fn octree_heat_is_unchanged() {
     let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required)
         .unwrap()
         .mesh;
-    let views = Views {
-        views: 160,
-        width: 96,
-        height: 96,
-        seed: 1,
-        fov_deg: Views::FOV_DEG,
-    };
+    let views = Views::new(160, 96, 96, 1);
     let method =
         tetwalk::family::by_name::<tetwalk::family::OctreeCells>("portalez16-direction").unwrap();
     let hit = tetwalk::family::by_name::<tetwalk::family::Triangle>("mt")

@@ -198,13 +198,7 @@ fn bench_on_the_gpu_walks_every_ray_of_every_view_as_the_cpu_does() {
     };
     let measures = g.measures_kernels();
     let scene = scenes::load("kuhn", tetwalk::mesh::Faces::Required).unwrap();
-    let views = tetwalk::scenes::camera::Views {
-        views: 4,
-        width: 24,
-        height: 24,
-        seed: 1,
-        fov_deg: tetwalk::scenes::camera::Views::FOV_DEG,
-    };
+    let views = tetwalk::scenes::camera::Views::new(4, 24, 24, 1);
     let certified = tetwalk::registry::by_name("certified").unwrap();
     let backends = [
         Backend::Cpu {

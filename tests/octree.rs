@@ -315,13 +315,7 @@ fn the_octree_walk_on_the_gpu_ends_as_on_the_cpu() {
     let mesh = tetwalk::scenes::load("bunny-quality", tetwalk::mesh::Faces::Required)
         .unwrap()
         .mesh;
-    let views = tetwalk::scenes::camera::Views {
-        views: 160,
-        width: 64,
-        height: 64,
-        seed: 1,
-        fov_deg: tetwalk::scenes::camera::Views::FOV_DEG,
-    };
+    let views = tetwalk::scenes::camera::Views::new(160, 64, 64, 1);
     let (lo, hi) = tetwalk::mesh::bounds(&mesh.points);
     let cam = views.camera(lo, hi, 3);
     let start = tetwalk::walk::locate(&mesh, cam.eye, 0).unwrap();

@@ -239,13 +239,7 @@ fn the_fast_exact_walk_equals_the_complete_one() {
         .unwrap()
         .mesh;
     let (lo, hi) = tetwalk::mesh::bounds(&bunny.points);
-    let views = tetwalk::scenes::camera::Views {
-        views: 4,
-        width: 48,
-        height: 48,
-        seed: 1,
-        fov_deg: tetwalk::scenes::camera::Views::FOV_DEG,
-    };
+    let views = tetwalk::scenes::camera::Views::new(4, 48, 48, 1);
     let rays: Vec<Ray> = (0..4)
         .flat_map(|v| views.rays(&views.camera(lo, hi, v)))
         .collect();

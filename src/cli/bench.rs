@@ -1,7 +1,6 @@
 //! `tetwalk bench`: walk speed per method and backend on a scene's primary rays.
 
 use super::Status;
-use crate::scenes::camera::Views;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -79,15 +78,4 @@ macro_rules! __bench_families {
             Err(format!("--family {}: no family is timed so", a.family).into())
         }
     };
-}
-
-/// The views of a bench of `width × height`.
-pub(crate) fn views(a: &Args, width: u32, height: u32) -> Views {
-    Views {
-        views: a.views,
-        width,
-        height,
-        seed: a.seed,
-        fov_deg: Views::FOV_DEG,
-    }
 }

@@ -371,11 +371,5 @@ pub(crate) fn views<F: Counted>(a: &Args) -> Result<Views, super::Error> {
         &format!("--size {width}x{height}"),
         width as u128 * height as u128 * crate::engine::count::BYTES_PER_RAY as u128,
     )?;
-    Ok(Views {
-        views,
-        width,
-        height,
-        seed: a.seed,
-        fov_deg: Views::FOV_DEG,
-    })
+    Ok(Views::new(views, width, height, a.seed))
 }

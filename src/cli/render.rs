@@ -9,7 +9,6 @@ use crate::family::{self, Family};
 use crate::methods::Model;
 use crate::registry::Named;
 use crate::render::{self, Image};
-use crate::scenes::camera::Views;
 use crate::scenes::closed::{MeshShape, TriPlace};
 use crate::scenes::tets::TetShape;
 use std::io::Write;
@@ -250,17 +249,6 @@ impl Maps<'_> {
             sheets.push(sheet);
         }
         write(out, &render::stacked(&sheets, 8), drawn)
-    }
-}
-
-/// The views `--views` and `--seed` place, of `w × h` pixels, as `count` places them.
-pub(crate) fn views_of(a: &Args, w: u32, h: u32) -> Views {
-    Views {
-        views: a.views,
-        width: w,
-        height: h,
-        seed: a.seed,
-        fov_deg: Views::FOV_DEG,
     }
 }
 

@@ -136,13 +136,7 @@ pub fn run(
     let reference = ReferenceWalk::default();
     let methods = AnswerSource::<Walks>::judged(None, METHODS, reference);
     let settings = CountSettings::<Walks> {
-        views: crate::scenes::camera::Views {
-            views: size.views,
-            width: size.side,
-            height: size.side,
-            seed: 1,
-            fov_deg: crate::scenes::camera::Views::FOV_DEG,
-        },
+        views: crate::scenes::camera::Views::new(size.views, size.side, size.side, 1),
         reference,
         family: (),
         audit: 1000,

@@ -109,6 +109,17 @@ impl Views {
     /// Most viewpoints a count, render or bench places (seed 000's runs have 1,282).
     pub const MOST: usize = 1 << 20;
 
+    /// `views` viewpoints of `width × height` placed by `seed`, with [`Views::FOV_DEG`].
+    pub fn new(views: usize, width: u32, height: u32, seed: u64) -> Views {
+        Views {
+            views,
+            width,
+            height,
+            seed,
+            fov_deg: Views::FOV_DEG,
+        }
+    }
+
     /// View `i`'s camera around the points bounded by `lo` and `hi`.
     pub fn camera(&self, lo: Vec3, hi: Vec3, i: usize) -> Camera {
         let aspect = self.width as f32 / self.height as f32;

@@ -8,7 +8,7 @@ use super::{CellRows, OctreeCells, OctreeCountSettings};
 use crate::cli::answer::{Answering, methods_part};
 use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
-use crate::cli::render::{Args as RenderArgs, Drawn, finish, views_of, write};
+use crate::cli::render::{Args as RenderArgs, Drawn, finish, write};
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{JsonOut, size};
 use crate::cli::{Status, choice, registered};
@@ -153,7 +153,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     let json = JsonOut::new(a.json.as_deref())?;
     let (w, h) = size(&a.size, false, 4096)?;
     let scene = a.scene.load()?;
-    let views = views_of(&a, w, h);
+    let views = crate::scenes::camera::Views::new(a.views, w, h, a.seed);
     let hit = family::by_name::<Triangle>("mt")?.hit(Model::Plain);
     let cells = cells_per_pixel(
         &scene.mesh,

@@ -179,7 +179,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
     let (width, height) = crate::cli::size(a.size.as_deref().unwrap_or("256x256"), false, 4096)?;
     let out = JsonOut::new(a.json.as_deref())?;
     let scene = a.scene.load()?;
-    let views = crate::cli::bench::views(&a, width, height);
+    let views = crate::scenes::camera::Views::new(a.views, width, height, a.seed);
     let report = super::engine::speed(&scene, &views, &methods, 3)?;
     print!("{}", report.markdown());
     out.finish(&report)?;

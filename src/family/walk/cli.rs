@@ -12,9 +12,7 @@ use crate::cli::choice;
 use crate::cli::count::Dump;
 use crate::cli::count::{Args as CountArgs, FamilyFlags, Flags, held, views};
 use crate::cli::judge::Args as JudgeArgs;
-use crate::cli::render::{
-    Args as RenderArgs, Drawn, What, beside, drawn_methods, finish, views_of, write,
-};
+use crate::cli::render::{Args as RenderArgs, Drawn, What, beside, drawn_methods, finish, write};
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{AnswererArg, BackendArg, Error, Files, Io, Status, WgslArg, fits};
 use crate::engine::answerer::Answerer;
@@ -278,7 +276,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
     if a.hilbert {
         scene.mesh = crate::mesh::reorder::hilbert_sorted(&scene.mesh);
     }
-    let views = crate::cli::bench::views(&a, width, height);
+    let views = crate::scenes::camera::Views::new(a.views, width, height, a.seed);
     let bar = crate::cli::progress("bench", a.views as u64, "views");
     let report = crate::engine::bench::run(
         &scene,
@@ -318,7 +316,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     let mut drawn = Drawn::default();
     let backend = a.backend.open()?;
     let scene = a.scene.load()?;
-    let views = views_of(&a, d.width, d.height);
+    let views = crate::scenes::camera::Views::new(a.views, d.width, d.height, a.seed);
     let f = frame(&scene.mesh, &views, a.view, &d.methods, &backend)?;
     match a.what {
         What::Shaded => write(&a.out, &f.shaded(), &mut drawn)?,
