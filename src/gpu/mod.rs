@@ -248,6 +248,33 @@ impl<I> Clone for Job<'_, I> {
 
 impl<I> Copy for Job<'_, I> {}
 
+impl<'a, I> Job<'a, I> {
+    /// `count` items made by `input.1` uploaded to binding `input.0`, run at `entry` with `limit`
+    /// and the buffers `bound`, binding `out_at` read back ([`After::Read`], [`Items::Upload`]).
+    fn read(
+        entry: Entry<'a>,
+        count: usize,
+        limit: u32,
+        input: (u32, &'a (dyn Fn(usize) -> I + Sync)),
+        bound: &'a [(u32, &'a wgpu::Buffer)],
+        out_at: u32,
+    ) -> Self {
+        Job {
+            entry,
+            count,
+            limit,
+            input,
+            bound,
+            out_at,
+            after: After::Read,
+            items: Items::Upload,
+            hits: None,
+            picked: &[],
+            first: 0,
+        }
+    }
+}
+
 /// The override constant choosing `m` ([`shader::place`]), or why `m` has no GPU version.
 fn chooser<T: Named>(
     constant: &'static str,
@@ -1192,19 +1219,15 @@ impl Gpu {
         cases: &[shader::Case],
     ) -> Result<Dispatched<i32>, GpuError> {
         let [exit, _] = Self::entry_points(method)?;
-        self.dispatch(Job {
-            entry: Entry::plain(&exit),
-            count: cases.len(),
-            limit: 0,
-            input: (CASES, &|i| cases[i]),
-            bound: &[],
-            out_at: FACES,
-            after: After::Read,
-            items: Items::Upload,
-            hits: None,
-            picked: &[],
-            first: 0,
-        })
+        let input = |i| cases[i];
+        self.dispatch(Job::read(
+            Entry::plain(&exit),
+            cases.len(),
+            0,
+            (CASES, &input),
+            &[],
+            FACES,
+        ))
     }
 
     /// The exit face and quarter of each octree cell case (`v0`, `v1` the corners) with `method`:
@@ -1219,19 +1242,8 @@ impl Gpu {
             name: shader::CELL_EXIT,
             constants: &constants,
         };
-        let job = Job {
-            entry,
-            count: cases.len(),
-            limit: 0,
-            input: (CASES, &|i| cases[i]),
-            bound: &[],
-            out_at: FACES,
-            after: After::Read,
-            items: Items::Upload,
-            hits: None,
-            picked: &[],
-            first: 0,
-        };
+        let input = |i| cases[i];
+        let job = Job::read(entry, cases.len(), 0, (CASES, &input), &[], FACES);
         Ok(self.dispatch(job)?.items)
     }
 
@@ -1360,12 +1372,6 @@ impl Gpu {
             (POINTS, &o.tris.points),
         ];
         run(Job {
-            entry,
-            count,
-            limit: max_steps,
-            input: (RAYS, ray),
-            bound: &bound,
-            out_at: ENDINGS,
             after: if hits.is_some() {
                 After::Compare
             } else {
@@ -1373,8 +1379,7 @@ impl Gpu {
             },
             items,
             hits,
-            picked: &[],
-            first: 0,
+            ..Job::read(entry, count, max_steps, (RAYS, ray), &bound, ENDINGS)
         })
     }
 
@@ -1526,22 +1531,16 @@ impl Gpu {
         let [_, walk] = Self::entry_points(method)?;
         let ray = |i: usize| shader::WalkRay::new(&rays[i].0, rays[i].1);
         let mesh = [(CELLS, &mesh.cells), (FACEINFO, &mesh.info)];
+        let walk = Entry::plain(&walk);
         run(Job {
-            entry: Entry::plain(&walk),
-            count: rays.len(),
-            limit: max_steps,
-            input: (RAYS, &ray),
-            bound: &mesh,
-            out_at: ENDINGS,
             after,
             items: if after == After::Compare {
                 Items::Reference
             } else {
                 Items::Upload
             },
-            hits: None,
             picked,
-            first: 0,
+            ..Job::read(walk, rays.len(), max_steps, (RAYS, &ray), &mesh, ENDINGS)
         })
     }
 
@@ -1627,19 +1626,16 @@ impl Gpu {
         let [hit, _] = Self::triangle_entry_points(method)?;
         let points = self.triangle_points(tris);
         let ray = |i: usize| shader::WalkRay::new(&pairs[i].0, pairs[i].1);
-        let out: Dispatched<Ending> = self.dispatch(Job {
-            entry: Entry::plain(&hit),
-            count: pairs.len(),
-            limit: 0,
-            input: (RAYS, &ray),
-            bound: &[(POINTS, &points)],
-            out_at: ENDINGS,
-            after: After::Read,
-            items: Items::Upload,
-            hits: None,
-            picked: &[],
-            first: 0,
-        })?;
+        let bound = [(POINTS, &points)];
+        let job = Job::read(
+            Entry::plain(&hit),
+            pairs.len(),
+            0,
+            (RAYS, &ray),
+            &bound,
+            ENDINGS,
+        );
+        let out: Dispatched<Ending> = self.dispatch(job)?;
         out.items
             .iter()
             .map(|e| Ok(e.triangle_hit()?.map(|(_, t)| t)))
@@ -1713,13 +1709,8 @@ impl Gpu {
         run: impl FnOnce(Job<shader::WalkRay>) -> Result<R, GpuError>,
     ) -> Result<R, GpuError> {
         let [_, nearest] = Self::triangle_entry_points(method)?;
+        let (nearest, bound) = (Entry::plain(&nearest), [(POINTS, points)]);
         run(Job {
-            entry: Entry::plain(&nearest),
-            count,
-            limit: triangles as u32,
-            input: (RAYS, ray),
-            bound: &[(POINTS, points)],
-            out_at: ENDINGS,
             after: if hits.is_some() {
                 After::Compare
             } else {
@@ -1731,8 +1722,14 @@ impl Gpu {
                 Items::Upload
             },
             hits,
-            picked: &[],
-            first: 0,
+            ..Job::read(
+                nearest,
+                count,
+                triangles as u32,
+                (RAYS, ray),
+                &bound,
+                ENDINGS,
+            )
         })
     }
 
@@ -1790,19 +1787,16 @@ impl Gpu {
             }
         };
         let mesh = [(LAYOUT_WORDS, words), (POINTS, &layout.points)];
-        self.dispatch(Job {
-            entry: Entry::plain(&entry),
-            count: rays.len(),
-            limit: max_steps,
-            input: (LAYOUT_RAYS, &ray),
-            bound: &mesh,
-            out_at: ENDINGS,
-            after: After::Read,
-            items: Items::Upload,
-            hits: None,
-            picked: &[],
-            first: 0,
-        })
+        let entry = Entry::plain(&entry);
+        let input = (LAYOUT_RAYS, &ray as &(dyn Fn(usize) -> _ + Sync));
+        self.dispatch(Job::read(
+            entry,
+            rays.len(),
+            max_steps,
+            input,
+            &mesh,
+            ENDINGS,
+        ))
     }
 }
 
