@@ -406,6 +406,33 @@ pub struct Dispatched<T> {
     pub steps: u64,
 }
 
+impl<T> Dispatched<T> {
+    /// Nothing yet: no items, records or steps, the kernel time 0 where it is `measured`.
+    fn none(measured: bool) -> Self {
+        Dispatched {
+            items: Vec::new(),
+            kernel_seconds: measured.then_some(0.0),
+            sent: Vec::new(),
+            steps: 0,
+        }
+    }
+
+    /// `d` after these: its items and records after theirs, its steps and kernel time added.
+    fn add(&mut self, d: Dispatched<T>) {
+        self.kernel_seconds = self
+            .kernel_seconds
+            .zip(d.kernel_seconds)
+            .map(|(a, b)| a + b);
+        self.sent.extend(d.sent);
+        self.steps += d.steps;
+        if self.items.is_empty() {
+            self.items = d.items;
+        } else {
+            self.items.extend(d.items);
+        }
+    }
+}
+
 impl Dispatched<Ending> {
     /// The same, refused where an ending or a record sent back has a code `known` refuses.
     fn checked(self, known: impl Fn(u32) -> bool + Sync) -> Result<Self, GpuError> {
@@ -1119,25 +1146,12 @@ impl Gpu {
         &self,
         job: Job<I>,
     ) -> Result<Dispatched<T>, GpuError> {
-        let mut out = Dispatched {
-            items: Vec::new(),
-            kernel_seconds: self.measures_kernels().then_some(0.0),
-            sent: Vec::new(),
-            steps: 0,
-        };
+        let mut out = Dispatched::none(self.measures_kernels());
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         self.runs::<I, T>(&mut kept, job, |kept, run| {
             let submitted = self.submit_once::<I, T>(kept, run)?;
             // Read at once, with the scratch held: its records are the last sent.
-            let d = self.collect::<T>(kept, vec![submitted])?.remove(0).done;
-            out.kernel_seconds = out.kernel_seconds.zip(d.kernel_seconds).map(|(a, b)| a + b);
-            out.sent.extend(d.sent);
-            out.steps += d.steps;
-            if out.items.is_empty() {
-                out.items = d.items;
-            } else {
-                out.items.extend(d.items);
-            }
+            out.add(self.collect::<T>(kept, vec![submitted])?.remove(0).done);
             Ok(())
         })?;
         Ok(out)
@@ -1177,12 +1191,7 @@ impl Gpu {
         let mut collected = self.collect::<Ending>(&mut kept, all)?.into_iter();
         let mut gathered = Vec::with_capacity(sizes.len());
         for (n, (known, uploaded)) in sizes.into_iter().zip(known) {
-            let mut done = Dispatched {
-                items: Vec::new(),
-                kernel_seconds: self.measures_kernels().then_some(0.0),
-                sent: Vec::new(),
-                steps: 0,
-            };
+            let mut done = Dispatched::none(self.measures_kernels());
             let (mut complete, mut traffic) = (
                 true,
                 Traffic {
@@ -1194,13 +1203,7 @@ impl Gpu {
             for c in collected.by_ref().take(n) {
                 complete &= c.complete;
                 traffic = traffic.plus(&c.traffic);
-                done.kernel_seconds = done
-                    .kernel_seconds
-                    .zip(c.done.kernel_seconds)
-                    .map(|(a, b)| a + b);
-                done.items.extend(c.done.items);
-                done.sent.extend(c.done.sent);
-                done.steps += c.done.steps;
+                done.add(c.done);
             }
             let done = match complete {
                 true => Some(done.checked(known)?),
