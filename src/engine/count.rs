@@ -456,11 +456,12 @@ fn count_view<F: Counted, R>(
         view: v,
         camera: cam,
         audited: &picked,
-        reference_kept,
     };
+    // Compared there only where the reference's endings are kept there.
     let (mut rows, mut queued) = (Vec::new(), Vec::new());
     for (k, a) in answerers.iter().enumerate() {
-        if let AnswerSource::Method(m) = a
+        if reference_kept
+            && let AnswerSource::Method(m) = a
             && let Some(p) = F::answer_against(&at, m, &rays)?
         {
             rows.push(k);
@@ -896,7 +897,6 @@ fn rerun<F: Counted>(
             view: d.view,
             camera: &camera,
             audited: &[],
-            reference_kept: false,
         };
         *walks = F::answer_rays(&at, m, &views.rays(&camera))?;
         *held = view;

@@ -105,9 +105,6 @@ pub struct Prepared<'a, C: Counted> {
     pub view: usize,
     pub camera: &'a Camera,
     pub audited: &'a [usize],
-    /// Whether the reference walk's endings are kept where the methods run (a GPU), to be compared
-    /// there ([`Counted::answer_against`]).
-    pub reference_kept: bool,
 }
 
 /// A family whose methods answer a scene's primary rays.
@@ -172,9 +169,9 @@ pub trait Counted: Family {
     ) -> Result<Vec<Walk>, CountError>;
 
     /// `m`'s answers compared with the reference walk where they are made, where the backend can
-    /// ([`Backend::walks_against`]: a GPU holding the reference's endings), queued there: the
-    /// engine reads a view's back at once with the reference walk ([`Backend::gather_view`]), the
-    /// steps summed and only
+    /// ([`Backend::walks_against`]: a GPU holding the reference's endings; the engine asks only
+    /// where the reference walk's endings are kept there), queued there: the engine reads a view's
+    /// back at once with the reference walk ([`Backend::gather_view`]), the steps summed and only
     /// the rays not settled there, each with its walk; `None` where every answer comes back
     /// ([`Counted::answer_rays`]). The count is the same either way, ray for ray.
     fn answer_against<'a>(

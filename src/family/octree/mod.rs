@@ -513,9 +513,6 @@ impl Counted for OctreeCells {
         m: &'a OctreeMethod,
         rays: &'a [Ray],
     ) -> Result<Option<Pending<'a>>, CountError> {
-        if !at.reference_kept {
-            return Ok(None);
-        }
         let ready = at.ready;
         let tri = at.settings.triangle_method.method();
         let pending = at.backend.octree_walks_against(

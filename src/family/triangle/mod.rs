@@ -761,9 +761,6 @@ impl Counted for Triangle {
         m: &'a TriangleMethod,
         rays: &'a [Ray],
     ) -> Result<Option<Pending<'a>>, CountError> {
-        if !at.reference_kept {
-            return Ok(None);
-        }
         let from = &at.ready.triangles.1;
         let pending = at
             .backend

@@ -594,9 +594,6 @@ impl Counted for Walks {
         m: &'a Method,
         rays: &'a [Ray],
     ) -> Result<Option<Pending<'a>>, CountError> {
-        if !at.reference_kept {
-            return Ok(None);
-        }
         let scene = at.scene;
         Ok(at
             .backend
