@@ -3,7 +3,7 @@
 //! mixed scales inside one case included; and the checker is not vacuous: it refutes a bound without
 //! its underflow terms (the bug issue 24 found), and the exact stage is reached in every regime.
 
-use tetwalk::engine::filters::{Filter, Regime, check, draw};
+use tetwalk::engine::filters::{Filter, Regime, Rounds, check, draw};
 use tetwalk::methods::certified::{Bound, GRADUAL, f32_stage};
 use tetwalk::tet::Ray;
 
@@ -64,4 +64,35 @@ fn the_checker_refutes_a_bound_without_its_underflow_terms() {
         }
     }
     assert!(refuted > 0, "the old bound was not refuted");
+}
+
+/// `check-filters`' rounds: seeds `S`, `S + 1`, ... summed (two rounds of one seed each equal
+/// `check` of those seeds added), and the table and JSON report every regime and filter once.
+#[test]
+fn rounds_sum_their_seeds_and_the_report_shows_every_regime_and_filter() {
+    let r = Rounds::run(300, 5, 0);
+    assert_eq!(r.rounds, 1);
+    let one = check(300, 5);
+    assert_eq!(
+        format!("{:?}", r.campaign.tallies),
+        format!("{:?}", one.tallies)
+    );
+    let mut two = check(300, 5);
+    two.add(check(300, 6));
+    for ((_, x), (_, y)) in two.tallies.iter().zip(&one.tallies) {
+        for ((_, a), (_, b)) in x.iter().zip(y) {
+            assert_eq!(a.asked, 2 * b.asked);
+        }
+    }
+    let table = tetwalk::report::filters::table(&r);
+    assert!(table.starts_with("1 round from seed 5, 300 cases per regime and round"));
+    let rows = Regime::ALL.len() * Filter::ALL.len();
+    assert_eq!(
+        table.lines().filter(|l| l.starts_with("| ")).count(),
+        rows + 1
+    );
+    let json = serde_json::to_value(tetwalk::report::filters::report(&r)).unwrap();
+    assert_eq!(json["rows"].as_array().unwrap().len(), rows);
+    assert_eq!(json["cases_per_regime"], 300);
+    assert_eq!(json["refuted"].as_array().unwrap().len(), 0);
 }

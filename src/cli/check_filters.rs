@@ -2,8 +2,8 @@
 //! filtered sign beside the exact sign, per exponent regime, with how often the exact stage was needed.
 
 use super::{JsonOut, Status};
-use crate::choice::Choice;
-use crate::engine::filters::{Campaign, Filter, FilterTally, Regime, check};
+use crate::engine::filters::Rounds;
+use crate::report::filters;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -28,81 +28,18 @@ impl super::Io for Args {
     }
 }
 
-#[derive(serde::Serialize)]
-struct Row {
-    regime: Regime,
-    filter: Filter,
-    #[serde(flatten)]
-    tally: FilterTally,
-}
-
-#[derive(serde::Serialize)]
-struct Report {
-    rounds: u64,
-    first_seed: u64,
-    cases_per_regime: u64,
-    rows: Vec<Row>,
-    refuted: Vec<String>,
-}
-
 pub(crate) fn run(a: Args) -> Status {
     if a.cases == 0 {
         return Err("--cases 0 checks nothing: give at least 1".into());
     }
     let json = JsonOut::new(a.json.as_deref())?;
-    let start = std::time::Instant::now();
-    let mut total: Option<Campaign> = None;
-    let mut rounds = 0u64;
-    loop {
-        let c = check(a.cases, a.seed.wrapping_add(rounds));
-        rounds += 1;
-        match &mut total {
-            None => total = Some(c),
-            Some(t) => t.add(c),
-        }
-        if start.elapsed().as_secs() >= a.seconds {
-            break;
-        }
+    let r = Rounds::run(a.cases, a.seed, a.seconds);
+    print!("{}", filters::table(&r));
+    for line in filters::refuted(&r) {
+        eprintln!("refuted: {line}");
     }
-    let total = total.expect("one round ran");
-    println!(
-        "{} from seed {}, {} cases per regime and round, {:.0} s\n",
-        crate::report::counted(rounds, "round", "rounds"),
-        a.seed,
-        a.cases,
-        start.elapsed().as_secs_f64()
-    );
-    println!("| regime | filter | signs | exact stage | wrong |\n|---|---|---|---|---|");
-    let mut rows = Vec::new();
-    for (regime, tallies) in &total.tallies {
-        for (filter, t) in tallies {
-            println!(
-                "| {} | {} | {} | {:.2}% | {} |",
-                regime.name(),
-                filter.name(),
-                t.asked,
-                100.0 * t.exact_stage as f64 / t.asked.max(1) as f64,
-                t.wrong
-            );
-            rows.push(Row {
-                regime: *regime,
-                filter: *filter,
-                tally: *t,
-            });
-        }
-    }
-    let refuted: Vec<String> = total.refuted.iter().map(|r| format!("{r:?}")).collect();
-    for r in &refuted {
-        eprintln!("refuted: {r}");
-    }
-    json.finish(&Report {
-        rounds,
-        first_seed: a.seed,
-        cases_per_regime: a.cases as u64 * rounds,
-        rows,
-        refuted,
-    })?;
-    let wrong = total.wrong();
+    json.finish(&filters::report(&r))?;
+    let wrong = r.campaign.wrong();
     if wrong > 0 {
         eprintln!(
             "tetwalk check-filters: {} from the exact sign",

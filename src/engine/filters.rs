@@ -188,6 +188,37 @@ impl Campaign {
     }
 }
 
+/// Rounds of [`check`] (seeds `first_seed`, `first_seed + 1`, ...) summed: `tetwalk check-filters`.
+pub struct Rounds {
+    pub campaign: Campaign,
+    pub rounds: u64,
+    pub first_seed: u64,
+    /// Cases per regime and round.
+    pub cases: usize,
+    /// Wall time of all rounds.
+    pub seconds: f64,
+}
+
+impl Rounds {
+    /// Rounds of `cases` cases per regime from `seed` on, until `seconds` have passed (one at least).
+    pub fn run(cases: usize, seed: u64, seconds: u64) -> Rounds {
+        let start = std::time::Instant::now();
+        let mut campaign = check(cases, seed);
+        let mut rounds = 1u64;
+        while start.elapsed().as_secs() < seconds {
+            campaign.add(check(cases, seed.wrapping_add(rounds)));
+            rounds += 1;
+        }
+        Rounds {
+            campaign,
+            rounds,
+            first_seed: seed,
+            cases,
+            seconds: start.elapsed().as_secs_f64(),
+        }
+    }
+}
+
 /// An f32 of random sign and mantissa with binary exponent in `lo..=hi` (subnormal below -126),
 /// sometimes zero.
 fn coordinate(lo: i32, hi: i32, rng: &mut Rng) -> f32 {

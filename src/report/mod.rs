@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod count;
+pub mod filters;
 pub mod lines;
 pub mod methods;
 pub mod paper;
