@@ -2,11 +2,9 @@
 //! (`crate::engine::verify`); exit status 1 when a claim does not go as the register says.
 
 use super::{JsonOut, Status};
-use crate::backend::{Backend, BackendKind};
 use crate::choice::Choice;
-use crate::engine::verify::{CheckResult, pick, verify};
-use crate::report::verify::{line, register_table};
-use std::collections::HashMap;
+use crate::engine::verify::{Verified, pick, verify_all};
+use crate::report::verify::{against, register_table, summary, verified_line};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -62,58 +60,17 @@ pub(crate) fn run(a: Args) -> Status {
         return Err(format!("--found {}: not a folder of found cases", a.found.display()).into());
     }
     let out = JsonOut::new(a.json.as_deref())?;
-    let mut backends: HashMap<BackendKind, Result<Backend, String>> = HashMap::new();
-    let mut done: Vec<CheckResult> = Vec::new();
-    let mut skipped = Vec::new();
-    for c in checks {
-        let b = backends
-            .entry(c.backend)
-            .or_insert_with(|| Backend::open(c.backend).map_err(|e| e.to_string()));
-        let b = match b {
-            Ok(b) => b,
-            Err(why) => {
-                println!("SKIP  {:<26} {why}", c.name);
-                skipped.push(c.name);
-                continue;
-            }
-        };
-        let adapter = b.ran().adapter;
-        if c.elsewhere(adapter.as_deref()) {
-            let here = adapter.unwrap_or_default();
-            let word = c.adapter.unwrap_or_default();
-            println!(
-                "SKIP  {:<26} registered for {word}; {here} has its own check",
-                c.name
-            );
-            skipped.push(c.name);
-            continue;
-        }
-        let checked = verify(c, b, a.cases, &a.found)?;
-        println!("{}", line(&checked));
-        done.push(checked);
-    }
+    let all = verify_all(&checks, a.cases, &a.found, |v| {
+        println!("{}", verified_line(v))
+    })?;
+    let done: Vec<_> = all.iter().filter_map(Verified::checked).collect();
+    let skipped: Vec<_> = all.iter().filter_map(Verified::skipped).collect();
     if done.is_empty() {
         return Err("no claim could be checked here (every one skipped)".into());
     }
-    let against: Vec<&str> = done
-        .iter()
-        .filter(|c| c.as_registered == Some(false))
-        .map(|c| c.name)
-        .collect();
-    eprintln!(
-        "tetwalk verify: {} claims checked, {} stand, {} refuted, {} skipped; {}",
-        done.len(),
-        done.iter().filter(|c| c.holds).count(),
-        done.iter().filter(|c| !c.holds).count(),
-        skipped.len(),
-        if against.is_empty() {
-            "every one as the register says".to_string()
-        } else {
-            format!("against the register: {}", against.join(", "))
-        }
-    );
+    eprintln!("tetwalk verify: {}", summary(&all));
     out.finish(&serde_json::json!({ "checks": done, "skipped": skipped }))?;
-    Ok(if against.is_empty() {
+    Ok(if against(&all).is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE

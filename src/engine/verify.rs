@@ -9,6 +9,7 @@ use crate::backend::{Backend, BackendKind};
 use crate::engine::found::{Found, FoundError, Hold, check};
 use crate::engine::stress::{StressSettings, Who, run};
 use crate::family::{self, Family, Kind, Scale};
+use std::collections::HashMap;
 use std::path::Path;
 
 /// What the register says of a claim on a backend.
@@ -430,6 +431,72 @@ fn scales(s: &[Scale]) -> String {
         out += &format!(", directions {}", range(|x| x.direction));
     }
     out
+}
+
+/// One picked check: what it found, or why it was not run here.
+pub enum Verified {
+    Checked(CheckResult),
+    Skipped { name: &'static str, why: String },
+}
+
+impl Verified {
+    /// What it found, where it ran.
+    pub fn checked(&self) -> Option<&CheckResult> {
+        match self {
+            Verified::Checked(c) => Some(c),
+            Verified::Skipped { .. } => None,
+        }
+    }
+
+    /// Its name, where it was skipped.
+    pub fn skipped(&self) -> Option<&'static str> {
+        match self {
+            Verified::Skipped { name, .. } => Some(name),
+            Verified::Checked(_) => None,
+        }
+    }
+}
+
+/// Run `checks` in order (as [`verify`]), each backend opened once; a check whose backend cannot be
+/// opened, or registered for another adapter than this one where the same claim has a check of its
+/// own here, is skipped. `each` sees every one as it ends.
+pub fn verify_all(
+    checks: &[&'static Check],
+    cases: usize,
+    found: &Path,
+    mut each: impl FnMut(&Verified),
+) -> Result<Vec<Verified>, VerifyError> {
+    let mut backends: HashMap<BackendKind, Result<Backend, String>> = HashMap::new();
+    let mut all = Vec::new();
+    for &c in checks {
+        let b = backends
+            .entry(c.backend)
+            .or_insert_with(|| Backend::open(c.backend).map_err(|e| e.to_string()));
+        let v = match b {
+            Err(why) => Verified::Skipped {
+                name: c.name,
+                why: why.clone(),
+            },
+            Ok(b) => {
+                let adapter = b.ran().adapter;
+                if c.elsewhere(adapter.as_deref()) {
+                    let word = c.adapter.unwrap_or_default();
+                    Verified::Skipped {
+                        name: c.name,
+                        why: format!(
+                            "registered for {word}; {} has its own check",
+                            adapter.unwrap_or_default()
+                        ),
+                    }
+                } else {
+                    Verified::Checked(verify(c, b, cases, found)?)
+                }
+            }
+        };
+        each(&v);
+        all.push(v);
+    }
+    Ok(all)
 }
 
 /// Checks picked by `--run` (names or their start before `@`, none for all) less `--skip`'s; an

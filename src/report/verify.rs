@@ -1,6 +1,6 @@
 //! The register of claims as docs/results.md shows it, and `tetwalk verify`'s lines.
 
-use crate::engine::verify::{CheckResult, Expect, REGISTER};
+use crate::engine::verify::{CheckResult, Expect, REGISTER, Verified};
 
 /// The register as a markdown table, generated from [`REGISTER`] (docs/results.md holds it verbatim).
 pub fn register_table() -> String {
@@ -48,4 +48,39 @@ pub fn line(c: &CheckResult) -> String {
         word(c.holds),
         c.seen
     )
+}
+
+/// A picked check's line: [`line()`] where it ran, `SKIP` and why where it did not.
+pub fn verified_line(v: &Verified) -> String {
+    match v {
+        Verified::Checked(c) => line(c),
+        Verified::Skipped { name, why } => format!("SKIP  {name:<26} {why}"),
+    }
+}
+
+/// The checks run, those that hold, are refuted and skipped, and which go against the register.
+pub fn summary(all: &[Verified]) -> String {
+    let done: Vec<&CheckResult> = all.iter().filter_map(Verified::checked).collect();
+    let against = against(all);
+    format!(
+        "{} claims checked, {} stand, {} refuted, {} skipped; {}",
+        done.len(),
+        done.iter().filter(|c| c.holds).count(),
+        done.iter().filter(|c| !c.holds).count(),
+        all.len() - done.len(),
+        if against.is_empty() {
+            "every one as the register says".to_string()
+        } else {
+            format!("against the register: {}", against.join(", "))
+        }
+    )
+}
+
+/// The checks whose result is not what the register says.
+pub fn against(all: &[Verified]) -> Vec<&'static str> {
+    all.iter()
+        .filter_map(Verified::checked)
+        .filter(|c| c.as_registered == Some(false))
+        .map(|c| c.name)
+        .collect()
 }
