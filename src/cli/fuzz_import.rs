@@ -6,7 +6,6 @@ use crate::choice::Choice;
 use crate::engine::filing;
 use crate::engine::found::Found;
 use crate::engine::fuzz::{find, held};
-use crate::engine::shrink::{CHECKS, shrink_found};
 use crate::family::{Family, Kind};
 use crate::registry::Named;
 use std::path::{Path, PathBuf};
@@ -27,7 +26,7 @@ macro_rules! __more_fuzz_targets {
         fn import_more(
             target: &str,
             a: &Args,
-            filed: &mut Vec<String>,
+            filed: &mut Vec<PathBuf>,
         ) -> Option<Result<(), super::Error>> {
             $(
                 if target == stringify!($t) {
@@ -114,7 +113,7 @@ type Finding<F> = fn(&Path, &[u8]) -> Result<Option<Found<F>>, super::Error>;
 /// held them on (`TETWALK_FUZZ_BACKEND`), as the fuzz targets do.
 fn import<F: Family>(
     a: &Args,
-    filed: &mut Vec<String>,
+    filed: &mut Vec<PathBuf>,
     finding: Finding<F>,
 ) -> Result<(), super::Error> {
     let held: Vec<&str> = held::<F>()?.iter().map(|(m, _)| m.name()).collect();
@@ -129,23 +128,11 @@ fn import<F: Family>(
             );
             continue;
         };
-        for record in found.with_claim_failures()? {
-            // Named by the case as found; filed shrunk, the case as found beside it (as found where
-            // its backend is not here).
-            let file = filing::path(&a.out, &a.target, &record);
-            if filed.contains(&file.display().to_string()) {
-                // Another artifact of this run held the same case.
-                continue;
-            }
-            let record = match shrink_found(&record, CHECKS)? {
-                Ok((shrunk, _)) => shrunk,
-                Err(_) => record,
-            };
+        for (file, record) in filing::file_finding(&a.out, &a.target, found, filed)? {
             let f = record
                 .failure
                 .as_ref()
                 .expect("a found case records its failure");
-            filing::write(&file, &record)?;
             println!(
                 "{}: {} {} ({})",
                 file.display(),
@@ -153,7 +140,7 @@ fn import<F: Family>(
                 f.kind().wrong(),
                 crate::choice::Choice::name(f.backend)
             );
-            filed.push(file.display().to_string());
+            filed.push(file);
         }
     }
     Ok(())

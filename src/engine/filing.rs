@@ -108,30 +108,64 @@ impl Filing {
             return Ok(());
         }
         self.kept.insert(key, n + 1);
-        // The same case for every method that claims and fails it too (on the CPU): a failure of a
-        // claim is a finding of its own, as `fuzz-import` files it. An answerer's cases are its own.
-        let records = match &w.who {
-            Who::Outside(_) => vec![found],
-            _ => found.with_claim_failures()?,
-        };
-        for (i, r) in records.into_iter().enumerate() {
-            // Named by the case as found, so that it is filed once; written shrunk, the original
-            // beside it.
-            let file = path(&self.dir, &origin, &r);
-            if file.exists() {
-                continue;
-            }
-            let shrunk = if let Who::Outside(x) = &w.who {
+        // An answerer's cases are its own: the methods that claim and fail them too are not asked.
+        let claims = !matches!(w.who, Who::Outside(_));
+        let filed = file_with_claims(&self.dir, &origin, found, claims, Path::exists, |i, r| {
+            Ok(if let Who::Outside(x) = &w.who {
                 shrink::shrink_outside::<F>(x, &r.case, shrink::CHECKS, &self.contract)
-                    .map(|s| shrink::shrunk(&r, &s))?
+                    .map(|s| shrink::shrunk(r, &s))?
             } else if let (0, Who::Method(m)) = (i, &w.who) {
-                shrink::shrink_on(&r, m, w.on, shrink::CHECKS)?.0
+                shrink::shrink_on(r, m, w.on, shrink::CHECKS)?.0
             } else {
-                shrink::shrink_found(&r, shrink::CHECKS)?.map_or(r.clone(), |(s, _)| s)
-            };
-            write(&file, &shrunk)?;
-            self.filed.push(file);
-        }
+                shrink::shrink_found(r, shrink::CHECKS)?.map_or(r.clone(), |(s, _)| s)
+            })
+        })?;
+        self.filed.extend(filed.into_iter().map(|(file, _)| file));
         Ok(())
     }
+}
+
+/// A fuzz run's finding filed as [`Filing`] files a campaign's (by `target`, its fuzz target), shrunk
+/// where it can be; a name in `filed` (this run's) is not written twice. The files written, each with
+/// what it holds.
+pub fn file_finding<F: Family>(
+    dir: &Path,
+    target: &str,
+    found: Found<F>,
+    filed: &[PathBuf],
+) -> Result<Vec<(PathBuf, Found<F>)>, FilingError> {
+    let again = |file: &Path| filed.iter().any(|f| f == file);
+    file_with_claims(dir, target, found, true, again, |_, r| {
+        Ok(shrink::shrink_found(r, shrink::CHECKS)?.map_or(r.clone(), |(s, _)| s))
+    })
+}
+
+/// `found`, and with `claims` the same case for every method that claims and fails it too (on the
+/// CPU: a failure of a claim is a finding of its own), filed under `dir` by `origin`: each named by
+/// the case as found (so that it is filed once), written as `shrunk` makes it (given its place in
+/// that list; the original kept beside it), a name `skip` says is there left alone.
+fn file_with_claims<F: Family>(
+    dir: &Path,
+    origin: &str,
+    found: Found<F>,
+    claims: bool,
+    skip: impl Fn(&Path) -> bool,
+    shrunk: impl Fn(usize, &Found<F>) -> Result<Found<F>, FilingError>,
+) -> Result<Vec<(PathBuf, Found<F>)>, FilingError> {
+    let records = if claims {
+        found.with_claim_failures()?
+    } else {
+        vec![found]
+    };
+    let mut written: Vec<(PathBuf, Found<F>)> = Vec::new();
+    for (i, r) in records.iter().enumerate() {
+        let file = path(dir, origin, r);
+        if skip(&file) || written.iter().any(|(f, _)| *f == file) {
+            continue;
+        }
+        let s = shrunk(i, r)?;
+        write(&file, &s)?;
+        written.push((file, s));
+    }
+    Ok(written)
 }
