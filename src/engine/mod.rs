@@ -13,6 +13,7 @@ pub mod found;
 pub mod fuzz;
 pub mod info;
 pub mod paper;
+pub mod replay;
 pub mod shrink;
 pub mod standing;
 pub mod stress;
