@@ -326,14 +326,7 @@ impl ContractArg {
             orientation: self.orientation,
             tolerance: self.tolerance,
         };
-        k.check()?;
-        if !F::CONTRACTS && !k.is_general() {
-            return Err(format!(
-                "--origin, --entry, --orientation and --tolerance state what an exit-face kernel assumes; {} cases take --unit-direction only",
-                F::NAME
-            )
-            .into());
-        }
+        k.check_for::<F>()?;
         Ok(k)
     }
 }

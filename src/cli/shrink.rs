@@ -4,13 +4,9 @@
 //! with `--in-place` written back over its file, the original kept in the line.
 
 use super::{JsonOut, Status};
-use crate::cases::object;
 use crate::choice::Choice;
-use crate::engine::found::{Found, FoundError};
-use crate::engine::shrink::{
-    Backends, CHECKS, Place, ShrinkReport, shrink_case, shrink_case_outside, shrink_dump_line,
-};
-use crate::family::{Family, Kind, owner};
+use crate::engine::shrink::{Backends, CHECKS, ShrinkLines, ShrinkReport, shrink_lines};
+use crate::family::{Family, Kind};
 use crate::report::shrink::{case_lines, summary};
 use std::io::Write;
 use std::path::PathBuf;
@@ -70,8 +66,13 @@ pub(crate) fn run(a: Args) -> Status {
         if a.answerer.answerer.is_none() && contract != Default::default() {
             return Err("--origin, --unit-direction, --entry, --orientation and --tolerance state an --answerer's contract; tetwalk's own methods are shrunk as they fail".into());
         }
-        a.answerer.start::<F>(&contract)?
+        a.answerer.start::<F>(&contract)?.map(|x| (x, contract))
     });
+    let how = ShrinkLines {
+        checks: a.checks,
+        outside: answerer.as_ref().map(|(x, k)| (x, *k)),
+        in_place: a.in_place,
+    };
     let mut backends = Backends::default();
     let mut report = ShrinkReport::default();
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
@@ -79,62 +80,21 @@ pub(crate) fn run(a: Args) -> Status {
     let mut rewrites: Vec<(PathBuf, String)> = Vec::new();
     for path in &a.files {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let mut rewritten = String::new();
-        for (n, line) in text.lines().enumerate() {
-            let at = Place {
-                file: path.display().to_string(),
-                line: n + 1,
-            };
-            let place = |e: &dyn std::fmt::Display| format!("{} line {}: {e}", at.file, at.line);
-            if line.trim().is_empty() {
-                rewritten += line;
-                rewritten += "\n";
-                continue;
-            }
-            let obj = object(line).map_err(|e| place(&e))?;
-            let dump = obj.contains_key("pixel") && obj.contains_key("scene");
-            if dump && a.in_place {
-                return Err(place(
-                    &"a count's dump is not rewritten: leave out --in-place (its shrunk cases are printed)",
-                )
-                .into());
-            }
-            let result = if let Some(x) = &answerer {
-                if dump {
-                    return Err(place(
-                        &"--answerer shrinks cases (one per line), not a count's dump",
-                    )
-                    .into());
-                }
-                crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
-                .and_then(|found| {
-                    let contract = a.contract.contract::<F>().map_err(|e| FoundError::Field {
-                        field: "contract",
-                        why: e.to_string(),
-                    })?;
-                    shrink_case_outside::<F>(&found, x, &contract, &at, a.checks)
-                }))
-            } else if dump {
-                shrink_dump_line(obj, &at, &mut backends, a.checks)
-            } else {
-                crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
-                    .and_then(|found| shrink_case::<F>(&found, &at, &mut backends, a.checks)))
-            }
-            .map_err(|e| place(&e))?;
-            match result {
-                Ok(done) => {
-                    w.write_all(case_lines(&place(&"case"), &done).as_bytes())?;
-                    rewritten += &done.shrunk.to_string();
-                    report.cases.push(done);
-                }
+        let file = path.display().to_string();
+        let rewritten = shrink_lines(
+            &file,
+            &text,
+            &how,
+            &mut backends,
+            &mut report,
+            |at, done| match done {
+                Ok(done) => w.write_all(case_lines(at, done).as_bytes()),
                 Err(why) => {
-                    eprintln!("tetwalk shrink: {} left as it is: {why}", place(&"case"));
-                    rewritten += line;
-                    report.left.push((at.clone(), why));
+                    eprintln!("tetwalk shrink: {at} left as it is: {why}");
+                    Ok(())
                 }
-            }
-            rewritten += "\n";
-        }
+            },
+        )?;
         if a.in_place {
             rewrites.push((path.clone(), rewritten));
         }

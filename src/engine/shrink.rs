@@ -600,3 +600,93 @@ mod tests {
         assert_eq!(simpler(1.0), vec![0.0]);
     }
 }
+
+/// How `tetwalk shrink` shrinks a file's lines: the checks each shrink may make, the program outside
+/// tetwalk the cases are shrunk for (with the contract it assumes, checked for each case's family), and
+/// whether the file is to be rewritten with its lines shrunk.
+pub struct ShrinkLines<'a> {
+    pub checks: usize,
+    pub outside: Option<(&'a Program, Contract)>,
+    pub in_place: bool,
+}
+
+/// Every line of `text` (the file named `file`) shrunk as `how` says, blank lines kept: a found case
+/// on the backend it was found on (or for the program outside), a `count --dump` line as its diverging
+/// step. Each case's place and what became of it (shrunk, or left as it is and why) is given to `each`
+/// and kept in `report`. The text with every shrunk case's line in place of its own; an error names
+/// the line.
+pub fn shrink_lines(
+    file: &str,
+    text: &str,
+    how: &ShrinkLines,
+    backends: &mut Backends,
+    report: &mut ShrinkReport,
+    mut each: impl FnMut(&str, Result<&CaseShrunk, &str>) -> std::io::Result<()>,
+) -> Result<String, ShrinkLinesError> {
+    let mut rewritten = String::new();
+    for (n, line) in text.lines().enumerate() {
+        let at = Place {
+            file: file.to_string(),
+            line: n + 1,
+        };
+        let place = |e: &dyn std::fmt::Display| format!("{} line {}: {e}", at.file, at.line);
+        let fail = |e: &dyn std::fmt::Display| ShrinkLinesError::Line(place(e));
+        if line.trim().is_empty() {
+            rewritten += line;
+            rewritten += "\n";
+            continue;
+        }
+        let obj = crate::cases::object(line).map_err(|e| fail(&e))?;
+        let dump = obj.contains_key("pixel") && obj.contains_key("scene");
+        if dump && how.in_place {
+            return Err(fail(
+                &"a count's dump is not rewritten: leave out --in-place (its shrunk cases are printed)",
+            ));
+        }
+        let result = if let Some((x, contract)) = &how.outside {
+            if dump {
+                return Err(fail(
+                    &"--answerer shrinks cases (one per line), not a count's dump",
+                ));
+            }
+            crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
+            .and_then(|found| {
+                contract.check_for::<F>().map_err(|why| FoundError::Field {
+                    field: "contract",
+                    why,
+                })?;
+                shrink_case_outside::<F>(&found, x, contract, &at, how.checks)
+            }))
+        } else if dump {
+            shrink_dump_line(obj, &at, backends, how.checks)
+        } else {
+            crate::with_family!(owner(&obj), F => Found::<F>::from_object(obj)
+                .and_then(|found| shrink_case::<F>(&found, &at, backends, how.checks)))
+        }
+        .map_err(|e| fail(&e))?;
+        match result {
+            Ok(done) => {
+                each(&place(&"case"), Ok(&done))?;
+                rewritten += &done.shrunk.to_string();
+                report.cases.push(done);
+            }
+            Err(why) => {
+                each(&place(&"case"), Err(&why))?;
+                rewritten += line;
+                report.left.push((at.clone(), why));
+            }
+        }
+        rewritten += "\n";
+    }
+    Ok(rewritten)
+}
+
+/// Why [`shrink_lines`] stopped: a line (named) that could not be read or shrunk, or what `each`
+/// returned.
+#[derive(Debug, thiserror::Error)]
+pub enum ShrinkLinesError {
+    #[error("{0}")]
+    Line(String),
+    #[error(transparent)]
+    Write(#[from] std::io::Error),
+}

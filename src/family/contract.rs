@@ -95,6 +95,19 @@ impl Contract {
         Ok(())
     }
 
+    /// An error naming what is not a contract, or what family `F`'s cases cannot hold (only exit
+    /// faces hold more than a unit direction).
+    pub fn check_for<F: super::Family>(&self) -> Result<(), String> {
+        self.check()?;
+        if !F::CONTRACTS && !self.is_general() {
+            return Err(format!(
+                "--origin, --entry, --orientation and --tolerance state what an exit-face kernel assumes; {} cases take --unit-direction only",
+                F::NAME
+            ));
+        }
+        Ok(())
+    }
+
     /// The contract in words, for reports.
     pub fn describe(&self) -> String {
         use crate::choice::Choice;
