@@ -114,31 +114,12 @@ pub(crate) fn run(a: Args) -> Status {
             Err(format!(
                 "{}: answers for {}, with no case in {}",
                 a.answers.display(),
-                line_runs(&extra),
+                crate::engine::line_runs(&extra),
                 a.cases.display()
             )
             .into())
         },
     )
-}
-
-/// Line numbers (sorted) in runs, `line 7` or `lines 3, 7-9 and 12`: the first [`RUNS`] runs, then how
-/// many lines are left.
-fn line_runs(lines: &[usize]) -> String {
-    const RUNS: usize = 8;
-    let runs = crate::engine::runs(lines);
-    let shown: Vec<String> = runs
-        .iter()
-        .take(RUNS)
-        .map(crate::engine::run_text)
-        .collect();
-    let left: usize = runs.iter().skip(RUNS).map(|r| r.clone().count()).sum();
-    match (shown.as_slice(), left) {
-        ([one], 0) if lines.len() == 1 => format!("line {one}"),
-        ([one], 0) => format!("lines {one}"),
-        ([init @ .., last], 0) => format!("lines {} and {last}", init.join(", ")),
-        _ => format!("lines {} and {left} more", shown.join(", ")),
-    }
 }
 
 /// `judge` judges no walk case: answers to walks come as a scene's rays.

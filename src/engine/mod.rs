@@ -61,8 +61,37 @@ pub fn run_text(r: &std::ops::RangeInclusive<usize>) -> String {
     }
 }
 
+/// Line numbers (sorted) in runs, `line 7` or `lines 3, 7-9 and 12`: the first 8 runs, then how many
+/// lines are left.
+pub fn line_runs(lines: &[usize]) -> String {
+    const RUNS: usize = 8;
+    let runs = runs(lines);
+    let shown: Vec<String> = runs.iter().take(RUNS).map(run_text).collect();
+    let left: usize = runs.iter().skip(RUNS).map(|r| r.clone().count()).sum();
+    match (shown.as_slice(), left) {
+        ([one], 0) if lines.len() == 1 => format!("line {one}"),
+        ([one], 0) => format!("lines {one}"),
+        ([init @ .., last], 0) => format!("lines {} and {last}", init.join(", ")),
+        _ => format!("lines {} and {left} more", shown.join(", ")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    /// Line numbers read as a person writes them: one line, one run, several runs joined by `and`,
+    /// and past 8 runs how many lines are left.
+    #[test]
+    fn line_runs_read_as_written() {
+        assert_eq!(super::line_runs(&[7]), "line 7");
+        assert_eq!(super::line_runs(&[3, 4]), "lines 3-4");
+        assert_eq!(super::line_runs(&[3, 7, 8, 9, 12]), "lines 3, 7-9 and 12");
+        let many: Vec<usize> = (0..12).map(|i| 3 * i).chain([40, 41]).collect();
+        assert_eq!(
+            super::line_runs(&many),
+            "lines 0, 3, 6, 9, 12, 15, 18, 21 and 6 more"
+        );
+    }
+
     /// Each number keeps its place: the own labelling's first, then labelling 1, 2, … in order; the
     /// first error stops the runs.
     #[test]

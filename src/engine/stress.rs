@@ -198,6 +198,32 @@ pub fn cases_of<F: Family>(
     (cases, counts)
 }
 
+/// [`cases_of`]'s cases, every one of the first `count` (what `gen-cases` writes); an error saying how
+/// many can be made where some cannot.
+pub fn every_case_of<F: Family>(
+    rows: &F::Rows,
+    row: F::Row,
+    seed: u64,
+    count: usize,
+    scale: Scale,
+    contract: &Contract,
+) -> Result<Judged<F>, String> {
+    let (made, _) = cases_of::<F>(rows, row, seed, count, scale, contract);
+    if made.len() < count {
+        return Err(format!(
+            "only {} of the row's first {count} cases can be made at scale {scale}{} (the others round there, or the oracle refuses them; stress judges the same {}): nothing was written",
+            made.len(),
+            if contract.is_default() {
+                String::new()
+            } else {
+                format!(" within the contract ({})", contract.describe())
+            },
+            made.len()
+        ));
+    }
+    Ok(made)
+}
+
 /// Each method's answers to `cases` on `backend`, as the methods see them under the rows' labelling
 /// and mapped back.
 fn answered<F: Family>(
