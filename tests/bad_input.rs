@@ -4,6 +4,8 @@
 use std::io::Write;
 use std::path::Path;
 use std::process::{Command, Stdio};
+use tetwalk::family::{ExitFace, Family, OctreeCells, Triangle, Walks};
+use tetwalk::registry::Named;
 
 mod common;
 
@@ -705,4 +707,154 @@ fn gen_cases_writes_its_count_or_fails_and_renders_need_a_view() {
     assert_eq!(code, 0, "{err}");
     assert_eq!(out.lines().count(), 5);
     refused(&["render", "shaded", "--views", "0"], &["--views 0"]);
+}
+
+// The memory figures by which runs that would hold more than tetwalk plans to (`MEMORY_BUDGET`) are
+// refused are at least what the runs hold: each family's `BYTES_PER_CASE` (stress, campaigns,
+// gen-cases, verify) per case of a stress row, and `engine::count::bytes_per_ray` per ray of a
+// counted view with one method and with every one. Measured as the growth of the peak resident
+// memory of `tetwalk` (each child's own, `wait4`) between two sizes of one run. A figure set too low
+// would let a run the budget admits abort on memory.
+
+/// Peak resident bytes of `tetwalk ARGS`, which must succeed.
+fn peak(args: &[&str]) -> u64 {
+    // Reaped by `wait4` below, which gives the child's own peak.
+    #[allow(clippy::zombie_processes)]
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut status = 0;
+    // SAFETY: a zeroed rusage is a valid value for wait4 to fill.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: the child is ours and not yet waited for; both pointers are to live locals.
+    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
+    assert_eq!(pid, child.id() as libc::pid_t, "wait4 failed");
+    assert!(
+        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
+        "tetwalk {args:?} failed ({status})"
+    );
+    // Linux reports ru_maxrss in KiB.
+    usage.ru_maxrss as u64 * 1024
+}
+
+/// Bytes per ray of a count of one view, `tetwalk count ARGS`: the growth of the peak from 256² to
+/// 512² rays.
+fn per_ray(args: &[&str]) -> f64 {
+    let run = |size: &str| {
+        let mut all = vec!["count", "--views", "1", "--size", size];
+        all.extend_from_slice(args);
+        peak(&all)
+    };
+    let (a, b) = (run("256x256"), run("512x512"));
+    let bytes = b.saturating_sub(a) as f64 / (512.0 * 512.0 - 256.0 * 256.0);
+    eprintln!("count {args:?}: {bytes:.0} bytes per ray held");
+    bytes
+}
+
+#[test]
+fn a_counts_bytes_per_ray_is_at_least_what_a_view_holds() {
+    use tetwalk::engine::count::bytes_per_ray;
+    // The methods a count runs by default: every one but the reference.
+    fn counted<F: Family>() -> usize {
+        F::methods().iter().filter(|m| !m.is_reference()).count()
+    }
+    for (family, methods) in [
+        ("walk", 1),
+        ("walk", counted::<Walks>()),
+        ("triangle", counted::<Triangle>()),
+        ("octree", counted::<OctreeCells>()),
+    ] {
+        let args: Vec<&str> = if methods == 1 {
+            vec!["--family", family, "--methods", "maria17"]
+        } else {
+            vec!["--family", family]
+        };
+        let bytes = per_ray(&args);
+        assert!(
+            bytes <= bytes_per_ray(methods) as f64,
+            "count {args:?}: a view holds {bytes:.0} bytes per ray, more than bytes_per_ray({methods}) = {}",
+            bytes_per_ray(methods)
+        );
+    }
+}
+
+/// Bytes per case a row of family `F` holds: the growth of the peak from `small` to `large` cases.
+fn per_case<F: Family>(row: &[&str], small: u64, large: u64) -> f64 {
+    let run = |n: u64| {
+        let n = n.to_string();
+        let mut args = vec!["stress", "--family", F::NAME, "--cases", &n];
+        args.extend_from_slice(row);
+        peak(&args)
+    };
+    let (a, b) = (run(small), run(large));
+    let bytes = b.saturating_sub(a) as f64 / (large - small) as f64;
+    eprintln!(
+        "{}: {bytes:.0} bytes per case held (declared {})",
+        F::NAME,
+        F::BYTES_PER_CASE
+    );
+    bytes
+}
+
+#[test]
+fn each_familys_bytes_per_case_is_at_least_what_a_stress_row_holds() {
+    let measured = [
+        (
+            ExitFace::NAME,
+            per_case::<ExitFace>(
+                &["--rows", "sliver", "--methods", "maria17"],
+                250_000,
+                1_000_000,
+            ),
+            ExitFace::BYTES_PER_CASE,
+        ),
+        (
+            Walks::NAME,
+            per_case::<Walks>(&["--scenes", "kuhn", "--methods", "maria17"], 5_000, 20_000),
+            Walks::BYTES_PER_CASE,
+        ),
+        (
+            Triangle::NAME,
+            per_case::<Triangle>(
+                &[
+                    "--shapes",
+                    "tetrahedron",
+                    "--aims",
+                    "edge",
+                    "--places",
+                    "origin",
+                    "--methods",
+                    "mt",
+                ],
+                20_000,
+                80_000,
+            ),
+            Triangle::BYTES_PER_CASE,
+        ),
+        (
+            OctreeCells::NAME,
+            per_case::<OctreeCells>(
+                &[
+                    "--cell-aims",
+                    "edge",
+                    "--cell-places",
+                    "origin",
+                    "--methods",
+                    "exact",
+                ],
+                20_000,
+                80_000,
+            ),
+            OctreeCells::BYTES_PER_CASE,
+        ),
+    ];
+    for (family, bytes, declared) in measured {
+        assert!(
+            bytes <= declared as f64,
+            "{family}: a stress row holds {bytes:.0} bytes per case, more than BYTES_PER_CASE = {declared}"
+        );
+    }
 }

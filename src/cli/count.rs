@@ -273,7 +273,10 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     let methods = if list == "none" { Vec::new() } else { methods };
     let out = JsonOut::new(a.json.as_deref())?;
     let mut dump = Dump::new(a.dump.as_deref())?;
-    let views = views::<F>(&a)?;
+    let views = views::<F>(
+        &a,
+        methods.len() + usize::from(a.answerer.answerer.is_some()),
+    )?;
     held(shard, &views)?;
     let scene = a.scene.load()?;
     let settings = CountSettings::<F> {
@@ -356,9 +359,9 @@ pub(crate) fn held(shard: Shard, views: &Views) -> Result<(), super::Error> {
     Ok(())
 }
 
-/// The views a count asks for: `--views` and `--size`, else seed 000's with `--preset paper`, else the
-/// family's.
-pub(crate) fn views<F: Counted>(a: &Args) -> Result<Views, super::Error> {
+/// The views a count of `methods` methods asks for: `--views` and `--size`, else seed 000's with
+/// `--preset paper`, else the family's; a view larger than the memory it needs allows is refused.
+pub(crate) fn views<F: Counted>(a: &Args, methods: usize) -> Result<Views, super::Error> {
     let (views, size) = F::DEFAULT_VIEWS;
     let paper = a.preset.is_some();
     let views = super::view_count(a.views.unwrap_or(if paper { 1282 } else { views }), "count")?;
@@ -369,7 +372,7 @@ pub(crate) fn views<F: Counted>(a: &Args) -> Result<Views, super::Error> {
     let (width, height) = super::size(&size, false, 65536)?;
     super::fits(
         &format!("--size {width}x{height}"),
-        width as u128 * height as u128 * crate::engine::count::BYTES_PER_RAY as u128,
+        width as u128 * height as u128 * crate::engine::count::bytes_per_ray(methods) as u128,
     )?;
     Ok(Views::new(views, width, height, a.seed))
 }

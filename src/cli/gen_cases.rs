@@ -57,10 +57,13 @@ pub(crate) fn row<F: Family>(
     contract: &Contract,
     line: impl Fn(&F::Case, &F::Truth) -> Option<serde_json::Map<String, serde_json::Value>> + Sync,
 ) -> Result<usize, super::Error> {
-    // Every case made before a line is written: a short run writes nothing.
-    let made = crate::engine::stress::every_case_of::<F>(
-        rows, row, a.seed, a.count, a.scale, contract,
+    // Every case made before a line is written: a short run writes nothing; they are held at once.
+    super::fits(
+        &format!("--count {}", a.count),
+        a.count as u128 * F::BYTES_PER_CASE,
     )?;
+    let made =
+        crate::engine::stress::every_case_of::<F>(rows, row, a.seed, a.count, a.scale, contract)?;
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     let mut written = 0;
     for (c, x) in &made {

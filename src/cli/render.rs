@@ -169,9 +169,7 @@ pub(crate) fn drawn_methods<F: Family>(a: &Args) -> Result<Drawing<F>, super::Er
     let (w, h) = super::size(&a.size, true, 65536)?;
     super::fits(
         &format!("--size {w}x{h}"),
-        w as u128
-            * h as u128
-            * (crate::engine::count::BYTES_PER_RAY as u128 + methods.len() as u128),
+        w as u128 * h as u128 * crate::engine::count::bytes_per_ray(methods.len()) as u128,
     )?;
     if methods.is_empty() && matches!(a.what, What::Failures | What::Predicate) {
         return Err(format!(

@@ -201,14 +201,24 @@ pub type Sink<'a> = dyn FnMut(&WrongRay) -> std::io::Result<()> + 'a;
 /// threads walk another's.
 const VIEWS_PER_THREAD: usize = 2;
 
-/// Memory the views counted at once may take, at about [`BYTES_PER_RAY`] each ray: fewer views at
-/// once where images are large (four of 1024² here).
+/// Memory the views counted at once may take, at about [`bytes_per_ray`] each ray: fewer views at
+/// once where images are large or methods many (four of 1024² here for one method).
 const VIEWS_MEMORY: u64 = 512 << 20;
 
-/// A view's bytes per ray while it is counted, rendered or its walks given: the ray (24), the
-/// reference walk's and one method's walks (16 each), the ray with its start as the backend takes it
-/// (28), with room to spare. The views planned at once, and the largest view accepted, follow from it.
-pub const BYTES_PER_RAY: u64 = 128;
+/// A view's bytes per ray while it is counted, rendered or its walks given, beside [`WALK_BYTES`] per
+/// method: the ray (24), the reference walk (16), the ray with its start as the backend takes it
+/// (28), the pixel's tallies, with room to spare (about 88 measured, `tests/bad_input.rs`).
+pub const RAY_BYTES: u64 = 160;
+
+/// A view's bytes per ray for each method counted beside the reference: its walks and their
+/// judging, all kept until the view is judged (about 36 measured).
+pub const WALK_BYTES: u64 = 48;
+
+/// A view's bytes per ray with `methods` methods counted, rendered or given: the views planned at
+/// once, and the largest view accepted, follow from it.
+pub fn bytes_per_ray(methods: usize) -> u64 {
+    RAY_BYTES + WALK_BYTES * methods as u64
+}
 
 /// One view's tallies: per row (the reference walk's first where it is one), the steps, the seconds
 /// its answers took and its wrong rays, described; and the rays audited.
@@ -252,7 +262,7 @@ pub fn run<F: Counted>(
         crate::choice::BackendKind::Gpu => 1,
         _ => {
             let rays = s.views.width as u64 * s.views.height as u64;
-            let fit = VIEWS_MEMORY / (rays * BYTES_PER_RAY).max(1);
+            let fit = VIEWS_MEMORY / (rays * bytes_per_ray(answerers.len())).max(1);
             (VIEWS_PER_THREAD * rayon::current_num_threads()).min(fit.max(1) as usize)
         }
     };
@@ -721,7 +731,8 @@ pub enum RerunError {
         height: u32,
     },
     #[error(
-        "{views} views of {width}x{height}: more than a count takes (at most {most} views, a view of at most {gib} GiB at {BYTES_PER_RAY} bytes a ray)",
+        "{views} views of {width}x{height}: more than a count takes (at most {most} views, a view of at most {gib} GiB at {bytes} bytes a ray)",
+        bytes = bytes_per_ray(1),
         most = Views::MOST,
         gib = super::MEMORY_BUDGET >> 30
     )]
@@ -848,7 +859,7 @@ fn rerun<F: Counted>(
     }
     // Views no count takes (more viewpoints, or a view larger than a run may hold) are refused
     // before a view is placed or its rays made.
-    let bytes = views.width as u128 * views.height as u128 * BYTES_PER_RAY as u128;
+    let bytes = views.width as u128 * views.height as u128 * bytes_per_ray(1) as u128;
     if views.views > Views::MOST || bytes > super::MEMORY_BUDGET as u128 {
         return Err(RerunError::Views {
             views: views.views,

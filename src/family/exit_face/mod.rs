@@ -204,7 +204,7 @@ fn face(v: &Value) -> Result<Face, String> {
 impl Family for ExitFace {
     const NAME: &'static str = "exit-face";
     const FUZZ_TARGET: &'static str = "exit_face";
-    const BYTES_PER_CASE: u128 = 112;
+    const BYTES_PER_CASE: u128 = 256;
     const LABELLINGS: usize = 12;
 
     type Method = Method;

@@ -108,7 +108,7 @@ fn as_judged(a: &CellExit) -> Option<(usize, [i8; 2])> {
 impl Family for OctreeCells {
     const NAME: &'static str = "octree";
     const FUZZ_TARGET: &'static str = "octree_cell";
-    const BYTES_PER_CASE: u128 = 256;
+    const BYTES_PER_CASE: u128 = 1024;
 
     type Method = OctreeMethod;
     type Case = BoxCase;

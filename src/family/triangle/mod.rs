@@ -188,7 +188,7 @@ impl Family for Triangle {
     const NAME: &'static str = "triangle";
     const FUZZ_TARGET: &'static str = "triangle_hit";
     const STRESS_CASES: usize = 2_000;
-    const BYTES_PER_CASE: u128 = 2048;
+    const BYTES_PER_CASE: u128 = 4096;
 
     type Method = TriangleMethod;
     type Case = HitCase;

@@ -203,7 +203,7 @@ impl Flags for Walks {
         judge_scene(a, header, input)
     }
     fn rays_out(a: &CountArgs, shard: Shard, path: &std::path::Path) -> Status {
-        let views = views::<Walks>(a)?;
+        let views = views::<Walks>(a, 0)?;
         held(shard, &views)?;
         let scene = a.scene.load()?;
         let mut staged = crate::cli::Staged::new("--rays-out", path)?;
@@ -265,7 +265,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
     let per_view = width as u128 * height as u128;
     crate::cli::fits(
         &format!("--size {width}x{height} --batch {}", a.batch),
-        per_view.max(a.batch as u128) * crate::engine::count::BYTES_PER_RAY as u128,
+        per_view.max(a.batch as u128) * crate::engine::count::bytes_per_ray(1) as u128,
     )?;
     let out = JsonOut::new(a.json.as_deref())?;
     let backends = kinds

@@ -172,7 +172,7 @@ impl Family for Walks {
     const NAME: &'static str = "walk";
     const FUZZ_TARGET: &'static str = "walk";
     const STRESS_CASES: usize = 10_000;
-    const BYTES_PER_CASE: u128 = 256;
+    const BYTES_PER_CASE: u128 = 384;
 
     type Method = Method;
     type Case = WalkCase;
