@@ -781,6 +781,19 @@ fn a_counts_bytes_per_ray_is_at_least_what_a_view_holds() {
     }
 }
 
+#[test]
+fn walks_bytes_per_ray_is_at_least_what_tetwalk_walk_holds() {
+    let run = |n: u64| peak(&["walk", "--rays", &n.to_string(), "--methods", "maria17"]);
+    let (a, b) = (run(50_000), run(200_000));
+    let bytes = b.saturating_sub(a) as f64 / 150_000.0;
+    let planned = tetwalk::family::walk::engine::bytes_per_walked_ray(1);
+    eprintln!("walk: {bytes:.0} bytes per ray held (planned {planned})");
+    assert!(
+        bytes <= planned as f64,
+        "tetwalk walk holds {bytes:.0} bytes per ray, more than bytes_per_walked_ray(1) = {planned}"
+    );
+}
+
 /// Bytes per case a row of family `F` holds: the growth of the peak from `small` to `large` cases.
 fn per_case<F: Family>(row: &[&str], small: u64, large: u64) -> f64 {
     let run = |n: u64| {

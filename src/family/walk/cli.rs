@@ -93,7 +93,7 @@ pub(crate) fn run(a: Args) -> Status {
     // Every ray keeps one tally per method until the table is made.
     fits(
         &format!("--rays {}", a.rays),
-        a.rays as u128 * (32 + 64 * methods.len() as u128),
+        a.rays as u128 * super::engine::bytes_per_walked_ray(methods.len()) as u128,
     )?;
     let out = JsonOut::new(a.json.as_deref())?;
     let walker = match &backend {

@@ -45,6 +45,13 @@ pub enum Walker<'a> {
     Gpu(&'a Backend),
 }
 
+/// Bytes `tetwalk walk` holds per ray with `methods` methods: the ray and the exact walk (about 56
+/// measured), and per method its walk's tally kept until the table is made (about 72 measured,
+/// `tests/bad_input.rs`), with room to spare.
+pub fn bytes_per_walked_ray(methods: usize) -> u64 {
+    64 + 96 * methods as u64
+}
+
 /// One method's walks: how they ended ([`OutcomeKind::ALL`] order), how many ended elsewhere than the
 /// `exact` walk, how many took a step outside the exact exit set, and the steps.
 #[derive(Default, Clone, Copy, Debug, serde::Serialize)]
