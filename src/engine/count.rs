@@ -202,8 +202,9 @@ pub type Sink<'a> = dyn FnMut(&WrongRay) -> std::io::Result<()> + 'a;
 const VIEWS_PER_THREAD: usize = 2;
 
 /// Memory the views counted at once may take, at about [`bytes_per_ray`] each ray: fewer views at
-/// once where images are large or methods many (four of 1024² here for one method).
-const VIEWS_MEMORY: u64 = 512 << 20;
+/// once where images are large or methods many (three of 1024² with the ten walk methods, about the
+/// 0.9 GB they held at once before the figure was measured).
+const VIEWS_MEMORY: u64 = 2 << 30;
 
 /// A view's bytes per ray while it is counted, rendered or its walks given, beside [`WALK_BYTES`] per
 /// method: the ray (24), the reference walk (16), the ray with its start as the backend takes it
