@@ -5,7 +5,8 @@
 
 use super::{JsonOut, Status};
 use crate::choice::Choice;
-use crate::engine::shrink::{Backends, CHECKS, ShrinkLines, ShrinkReport, shrink_lines};
+use crate::engine::Backends;
+use crate::engine::shrink::{CHECKS, ShrinkLines, ShrinkReport, shrink_lines};
 use crate::family::{Family, Kind};
 use crate::report::shrink::{case_lines, summary};
 use std::io::Write;

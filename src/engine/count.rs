@@ -768,7 +768,7 @@ pub enum RerunError {
 pub struct Dumped {
     faces: Faces,
     scenes: HashMap<String, Loaded>,
-    backends: HashMap<BackendKind, Result<Backend, String>>,
+    backends: super::Backends,
     /// The view (scene, count, index, method, backend) whose answers `walks` holds.
     held: Option<(String, Counting, usize, String, BackendKind)>,
     walks: Vec<Walk>,
@@ -786,7 +786,7 @@ impl Dumped {
         Dumped {
             faces,
             scenes: HashMap::new(),
-            backends: HashMap::new(),
+            backends: Default::default(),
             held: None,
             walks: Vec::new(),
         }
@@ -804,12 +804,8 @@ impl Dumped {
             let scene = crate::scenes::load(&d.scene, self.faces)?;
             self.scenes.insert(d.scene.clone(), scene);
         }
-        let backend = self
-            .backends
-            .entry(kind)
-            .or_insert_with(|| Backend::open(kind).map_err(|e| e.to_string()));
-        let backend = match backend {
-            Ok(b) => &*b,
+        let backend = match self.backends.open(kind) {
+            Ok(b) => b,
             Err(why) => return Ok(Redone::Skipped(format!("recorded on {kind:?}: {why}"))),
         };
         let c = d.count.as_ref().ok_or(RerunError::NoCount)?;

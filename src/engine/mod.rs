@@ -20,6 +20,27 @@ pub mod stress;
 pub mod verify;
 pub mod view;
 
+/// Backends opened once each, or why one cannot be here: for runs that meet the same backend many
+/// times (found cases, a dump's lines, the register's checks).
+#[derive(Default)]
+pub struct Backends(
+    std::collections::HashMap<crate::choice::BackendKind, Result<crate::backend::Backend, String>>,
+);
+
+impl Backends {
+    /// `kind`, opened the first time it is asked for, or why it cannot be.
+    pub fn open(
+        &mut self,
+        kind: crate::choice::BackendKind,
+    ) -> Result<&crate::backend::Backend, String> {
+        self.0
+            .entry(kind)
+            .or_insert_with(|| crate::backend::Backend::open(kind).map_err(|e| e.to_string()))
+            .as_ref()
+            .map_err(Clone::clone)
+    }
+}
+
 /// Most memory a run may plan to hold at once; larger runs are refused with the figure they need.
 pub const MEMORY_BUDGET: u64 = 8 << 30;
 

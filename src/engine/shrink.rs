@@ -8,6 +8,7 @@
 
 use crate::backend::Backend;
 use crate::choice::{BackendKind, Choice};
+use crate::engine::Backends;
 use crate::engine::answerer::{Answerer as Program, WireFormat};
 use crate::engine::found::{Failure, Found, FoundError, Hold, check, cpu_backends};
 use crate::family::contract::Contract;
@@ -15,7 +16,6 @@ use crate::family::wrong::WrongRay;
 use crate::family::{self, Family, Verdict, owner};
 use crate::registry::Named;
 use crate::walk::OutcomeKind;
-use std::collections::HashMap;
 
 /// Checks one shrink may make at most (each judges one candidate exactly and answers it once).
 pub const CHECKS: usize = 20_000;
@@ -278,7 +278,7 @@ fn shrink_found_with<F: Family>(
     budget: usize,
 ) -> Result<ShrunkOrLeft<F>, FoundError> {
     let f = found.failed("shrink")?;
-    let backend = match backends.get(f) {
+    let backend = match found_on(backends, f) {
         Ok(b) => b,
         Err(why) => return Ok(Err(why)),
     };
@@ -439,22 +439,14 @@ impl ShrinkReport {
     }
 }
 
-/// The backends findings were made on, each opened once, or why it could not be.
-#[derive(Default)]
-pub struct Backends(HashMap<BackendKind, Result<Backend, String>>);
-
-impl Backends {
-    /// Where `f` was found, opened here (a GPU finding only on its own adapter), or why not.
-    fn get<F: Family>(&mut self, f: &Failure<F>) -> Result<&Backend, String> {
-        let b = self
-            .0
-            .entry(f.backend)
-            .or_insert_with(|| Backend::open(f.backend).map_err(|e| e.to_string()))
-            .as_ref()
-            .map_err(Clone::clone)?;
-        f.runs_on(b)?;
-        Ok(b)
-    }
+/// Where `f` was found, opened here (a GPU finding only on its own adapter), or why not.
+fn found_on<'b, F: Family>(
+    backends: &'b mut Backends,
+    f: &Failure<F>,
+) -> Result<&'b Backend, String> {
+    let b = backends.open(f.backend)?;
+    f.runs_on(b)?;
+    Ok(b)
 }
 
 /// A found case at `at` shrunk on the backend it was found on, or why it is left as it is.

@@ -9,7 +9,6 @@ use crate::backend::{Backend, BackendKind};
 use crate::engine::found::{Found, FoundError, Hold, check};
 use crate::engine::stress::{StressSettings, Who, run};
 use crate::family::{self, Family, Kind, Scale};
-use std::collections::HashMap;
 use std::path::Path;
 
 /// What the register says of a claim on a backend.
@@ -466,17 +465,11 @@ pub fn verify_all(
     found: &Path,
     mut each: impl FnMut(&Verified),
 ) -> Result<Vec<Verified>, VerifyError> {
-    let mut backends: HashMap<BackendKind, Result<Backend, String>> = HashMap::new();
+    let mut backends = super::Backends::default();
     let mut all = Vec::new();
     for &c in checks {
-        let b = backends
-            .entry(c.backend)
-            .or_insert_with(|| Backend::open(c.backend).map_err(|e| e.to_string()));
-        let v = match b {
-            Err(why) => Verified::Skipped {
-                name: c.name,
-                why: why.clone(),
-            },
+        let v = match backends.open(c.backend) {
+            Err(why) => Verified::Skipped { name: c.name, why },
             Ok(b) => {
                 let adapter = b.ran().adapter;
                 if c.elsewhere(adapter.as_deref()) {
