@@ -190,8 +190,11 @@ impl Campaign {
 
 /// Rounds of [`check`] (seeds `first_seed`, `first_seed + 1`, ...) summed: `tetwalk check-filters`.
 pub struct Rounds {
+    /// The rounds' tallies summed.
     pub campaign: Campaign,
+    /// Rounds run.
     pub rounds: u64,
+    /// The first round's seed.
     pub first_seed: u64,
     /// Cases per regime and round.
     pub cases: usize,

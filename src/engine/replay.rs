@@ -12,8 +12,10 @@ use std::path::PathBuf;
 /// Why a replay stopped: a file or a line (named) that could not be read, or what `each` returned.
 #[derive(Debug, thiserror::Error)]
 pub enum ReplayError {
+    /// A file or line that could not be read or answered again, named.
     #[error("{0}")]
     Place(String),
+    /// What `each` returned.
     #[error(transparent)]
     Write(#[from] std::io::Error),
 }

@@ -597,8 +597,11 @@ mod tests {
 /// tetwalk the cases are shrunk for (with the contract it assumes, checked for each case's family), and
 /// whether the file is to be rewritten with its lines shrunk.
 pub struct ShrinkLines<'a> {
+    /// Candidates one shrink may check.
     pub checks: usize,
+    /// The program the cases are shrunk for, and its contract; `None`: each case's own method.
     pub outside: Option<(&'a Program, Contract)>,
+    /// Whether the file is rewritten (a dump's lines are refused then).
     pub in_place: bool,
 }
 
@@ -677,8 +680,10 @@ pub fn shrink_lines(
 /// returned.
 #[derive(Debug, thiserror::Error)]
 pub enum ShrinkLinesError {
+    /// A line that could not be read or shrunk, named with its file and number.
     #[error("{0}")]
     Line(String),
+    /// What `each` returned.
     #[error(transparent)]
     Write(#[from] std::io::Error),
 }

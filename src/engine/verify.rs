@@ -434,7 +434,9 @@ fn scales(s: &[Scale]) -> String {
 
 /// One picked check: what it found, or why it was not run here.
 pub enum Verified {
+    /// It ran: what it found.
     Checked(CheckResult),
+    /// It did not run here: the check, and why.
     Skipped { name: &'static str, why: String },
 }
 
