@@ -117,7 +117,7 @@ impl Filing {
             } else if let (0, Who::Method(m)) = (i, &w.who) {
                 shrink::shrink_on(r, m, w.on, shrink::CHECKS)?.0
             } else {
-                shrink::shrink_found(r, shrink::CHECKS)?.map_or(r.clone(), |(s, _)| s)
+                as_shrunk_as_can_be(r)?
             })
         })?;
         self.filed.extend(filed.into_iter().map(|(file, _)| file));
@@ -136,8 +136,13 @@ pub fn file_finding<F: Family>(
 ) -> Result<Vec<(PathBuf, Found<F>)>, FilingError> {
     let again = |file: &Path| filed.iter().any(|f| f == file);
     file_with_claims(dir, target, found, true, again, |_, r| {
-        Ok(shrink::shrink_found(r, shrink::CHECKS)?.map_or(r.clone(), |(s, _)| s))
+        as_shrunk_as_can_be(r)
     })
+}
+
+/// `r` shrunk on the backend it was found on, or as found where that backend is not here.
+fn as_shrunk_as_can_be<F: Family>(r: &Found<F>) -> Result<Found<F>, FilingError> {
+    Ok(shrink::shrink_found(r, shrink::CHECKS)?.map_or(r.clone(), |(s, _)| s))
 }
 
 /// `found`, and with `claims` the same case for every method that claims and fails it too (on the
