@@ -720,10 +720,10 @@ fn gen_cases_writes_its_count_or_fails_and_renders_need_a_view() {
 fn peak(args: &[&str]) -> u64 {
     // Reaped by `wait4` below, which gives the child's own peak.
     #[allow(clippy::zombie_processes)]
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+    let child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
         .args(args)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
         .spawn()
         .unwrap();
     let mut status = 0;
@@ -740,18 +740,23 @@ fn peak(args: &[&str]) -> u64 {
     usage.ru_maxrss as u64 * 1024
 }
 
+/// Bytes held per unit (case, ray): the growth of the peak from `tetwalk SMALL` (`small` units) to
+/// `tetwalk LARGE` (`large` units), said on standard error.
+fn per_unit(what: &str, small: (&[&str], u64), large: (&[&str], u64)) -> f64 {
+    let bytes = peak(large.0).saturating_sub(peak(small.0)) as f64 / (large.1 - small.1) as f64;
+    eprintln!("{what}: {bytes:.0} bytes held per unit");
+    bytes
+}
+
 /// Bytes per ray of a count of one view, `tetwalk count ARGS`: the growth of the peak from 256² to
 /// 512² rays.
 fn per_ray(args: &[&str]) -> f64 {
-    let run = |size: &str| {
-        let mut all = vec!["count", "--views", "1", "--size", size];
-        all.extend_from_slice(args);
-        peak(&all)
-    };
-    let (a, b) = (run("256x256"), run("512x512"));
-    let bytes = b.saturating_sub(a) as f64 / (512.0 * 512.0 - 256.0 * 256.0);
-    eprintln!("count {args:?}: {bytes:.0} bytes per ray held");
-    bytes
+    let run = |size: &'static str| [&["count", "--views", "1", "--size", size], args].concat();
+    per_unit(
+        &format!("count {args:?}, per ray"),
+        (&run("256x256"), 256 * 256),
+        (&run("512x512"), 512 * 512),
+    )
 }
 
 #[test]
@@ -783,11 +788,13 @@ fn a_counts_bytes_per_ray_is_at_least_what_a_view_holds() {
 
 #[test]
 fn walks_bytes_per_ray_is_at_least_what_tetwalk_walk_holds() {
-    let run = |n: u64| peak(&["walk", "--rays", &n.to_string(), "--methods", "maria17"]);
-    let (a, b) = (run(50_000), run(200_000));
-    let bytes = b.saturating_sub(a) as f64 / 150_000.0;
+    let run = |n: &'static str| ["walk", "--rays", n, "--methods", "maria17"];
+    let bytes = per_unit(
+        "walk, per ray",
+        (&run("50000"), 50_000),
+        (&run("200000"), 200_000),
+    );
     let planned = tetwalk::family::walk::engine::bytes_per_walked_ray(1);
-    eprintln!("walk: {bytes:.0} bytes per ray held (planned {planned})");
     assert!(
         bytes <= planned as f64,
         "tetwalk walk holds {bytes:.0} bytes per ray, more than bytes_per_walked_ray(1) = {planned}"
@@ -796,20 +803,15 @@ fn walks_bytes_per_ray_is_at_least_what_tetwalk_walk_holds() {
 
 /// Bytes per case a row of family `F` holds: the growth of the peak from `small` to `large` cases.
 fn per_case<F: Family>(row: &[&str], small: u64, large: u64) -> f64 {
-    let run = |n: u64| {
-        let n = n.to_string();
-        let mut args = vec!["stress", "--family", F::NAME, "--cases", &n];
-        args.extend_from_slice(row);
-        peak(&args)
-    };
-    let (a, b) = (run(small), run(large));
-    let bytes = b.saturating_sub(a) as f64 / (large - small) as f64;
-    eprintln!(
-        "{}: {bytes:.0} bytes per case held (declared {})",
-        F::NAME,
-        F::BYTES_PER_CASE
-    );
-    bytes
+    fn run<'a>(family: &'a str, n: &'a str, row: &[&'a str]) -> Vec<&'a str> {
+        [&["stress", "--family", family, "--cases", n], row].concat()
+    }
+    let (s, l) = (small.to_string(), large.to_string());
+    per_unit(
+        &format!("stress {}, per case", F::NAME),
+        (&run(F::NAME, &s, row), small),
+        (&run(F::NAME, &l, row), large),
+    )
 }
 
 #[test]
