@@ -87,6 +87,8 @@ pub(crate) fn run(a: Args) -> Status {
     )
 }
 
+/// Write the tally, say it, and end: an error when nothing was replayed, status 1 when a line
+/// changed.
 fn finish(t: ReplayTally, out: JsonOut, nothing: &str, what: &str) -> Status {
     if t.lines == 0 {
         return Err(nothing.into());
