@@ -15,8 +15,8 @@ pub enum ReplayError {
     /// A file or line that could not be read or answered again, named.
     #[error("{0}")]
     Place(String),
-    /// What `each` returned.
-    #[error(transparent)]
+    /// What `each` returned (its source, so that a closed standard output is told apart).
+    #[error("{0}")]
     Write(#[from] std::io::Error),
 }
 

@@ -683,7 +683,7 @@ pub enum ShrinkLinesError {
     /// A line that could not be read or shrunk, named with its file and number.
     #[error("{0}")]
     Line(String),
-    /// What `each` returned.
-    #[error(transparent)]
+    /// What `each` returned (its source, so that a closed standard output is told apart).
+    #[error("{0}")]
     Write(#[from] std::io::Error),
 }
