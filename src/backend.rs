@@ -158,7 +158,7 @@ impl Backend {
     /// The GPU with a user's WGSL exit-face functions spliced in as method
     /// [`crate::registry::USER_WGSL`] (`--wgsl`; `path` names the file in compiler messages).
     #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
-    pub fn gpu_with_user(path: &str, source: &str) -> Result<Backend, BackendError> {
+    pub(crate) fn gpu_with_user(path: &str, source: &str) -> Result<Backend, BackendError> {
         #[cfg(feature = "gpu")]
         return Ok(Backend::Gpu(Box::new(gpu::Gpu::with_user(path, source)?)));
         #[cfg(not(feature = "gpu"))]
@@ -210,7 +210,7 @@ impl Backend {
     }
 
     /// Where `method` runs on this backend: here, or on the plain CPU for its family's reference.
-    pub fn for_method(&self, method: &impl Named) -> &Backend {
+    pub(crate) fn for_method(&self, method: &impl Named) -> &Backend {
         if method.is_reference() { &CPU } else { self }
     }
 
@@ -298,7 +298,7 @@ impl Backend {
     }
 
     /// [`Backend::exit_faces`], with the GPU's kernel time where it measures one.
-    pub fn exit_faces_timed(
+    pub(crate) fn exit_faces_timed(
         &self,
         method: &Method,
         cases: &[Case],
@@ -613,7 +613,7 @@ impl Backend {
     /// steps summed and the endings of `picked` (indices into `rays`, ascending) to be read back
     /// ([`Backend::gather_view`], with the methods' answers queued after it), the rays it flagged
     /// then walked on the CPU and written over their endings there; elsewhere every ending, now.
-    pub fn keep_walks<'a>(
+    pub(crate) fn keep_walks<'a>(
         &'a self,
         method: &'a Method,
         mesh: &'a MeshOn,
@@ -829,7 +829,7 @@ pub struct Against<T = Walk> {
 
 impl<T> Against<T> {
     /// The same, each answer sent back as `f` says.
-    pub fn map<U>(self, f: impl Fn(T) -> U) -> Against<U> {
+    pub(crate) fn map<U>(self, f: impl Fn(T) -> U) -> Against<U> {
         Against {
             steps: self.steps,
             sent: self
@@ -876,7 +876,7 @@ impl<'a, R: 'a> Pending<'a, R> {
 impl<'a, T: 'a> Pending<'a, Against<T>> {
     /// The same, each answer sent back as `f` says.
     #[cfg_attr(not(feature = "gpu"), allow(unused_variables))]
-    pub fn map<U>(self, f: impl Fn(T) -> U + 'a) -> Pending<'a, Against<U>> {
+    pub(crate) fn map<U>(self, f: impl Fn(T) -> U + 'a) -> Pending<'a, Against<U>> {
         #[cfg(feature = "gpu")]
         {
             let finish = self.finish;
@@ -893,7 +893,7 @@ impl<'a, T: 'a> Pending<'a, Against<T>> {
 
 /// A view's reference walk ([`Backend::keep_walks`]): queued where the methods run (a GPU), to be
 /// read back with their answers ([`Backend::gather_view`]), or walked and read back whole.
-pub enum Keeping<'a> {
+pub(crate) enum Keeping<'a> {
     /// Kept on the GPU; read back as the walk and the rays it flagged, walked on the CPU (written
     /// over their endings there when read back).
     Queued(Pending<'a, (Kept, Vec<(usize, Walk)>)>),
@@ -902,14 +902,14 @@ pub enum Keeping<'a> {
 
 impl Keeping<'_> {
     /// Whether the reference walk's endings are kept where the methods run.
-    pub fn kept_there(&self) -> bool {
+    pub(crate) fn kept_there(&self) -> bool {
         matches!(self, Keeping::Queued(_))
     }
 }
 
 /// A view's answers read back ([`Backend::gather_view`]): the reference walk, with what crossed for
 /// it where it was queued, and each method's answers with what crossed for them.
-pub struct GatheredView<T> {
+pub(crate) struct GatheredView<T> {
     pub kept: Kept,
     pub reference: Option<Traffic>,
     pub answers: Vec<(Against<T>, Traffic)>,
@@ -929,7 +929,7 @@ impl Backend {
     /// where the reference is queued: the rays it flagged are walked on the CPU, written over its
     /// endings there, and set as the reference's ending of every answer sent back for them (none
     /// settled there: a flagged ending settles nothing).
-    pub fn gather_view<'a, T>(
+    pub(crate) fn gather_view<'a, T>(
         &self,
         reference: Keeping<'a>,
         pending: Vec<Pending<'a, Against<T>>>,

@@ -2,8 +2,7 @@
 //! time limit, and ended with tetwalk — its whole group is killed when it runs past the limit, when it
 //! is done (nothing it started is left running), and when tetwalk is interrupted ([`kill_all`]).
 
-use std::io::{Read, Write};
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Child, Command, ExitStatus};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -12,7 +11,7 @@ static LIVE: Mutex<Vec<u32>> = Mutex::new(Vec::new());
 
 /// Why a program did not run to its end.
 #[derive(Debug, thiserror::Error)]
-pub enum ChildError {
+pub(crate) enum ChildError {
     /// It could not be started (not installed, not executable).
     #[error("cannot start it: {0}")]
     Spawn(std::io::Error),
@@ -25,7 +24,7 @@ pub enum ChildError {
 }
 
 /// Start `cmd` in a process group of its own, known to [`kill_all`].
-pub fn spawn(cmd: &mut Command) -> Result<Child, ChildError> {
+pub(crate) fn spawn(cmd: &mut Command) -> Result<Child, ChildError> {
     #[cfg(unix)]
     std::os::unix::process::CommandExt::process_group(cmd, 0);
     let child = cmd.spawn().map_err(ChildError::Spawn)?;
@@ -46,7 +45,7 @@ fn kill_group(group: u32) {
 
 /// Wait for `child` at most `limit`; its group is killed then, or once it has ended (what it left
 /// running goes with it).
-pub fn wait(child: &mut Child, limit: Duration) -> Result<ExitStatus, ChildError> {
+pub(crate) fn wait(child: &mut Child, limit: Duration) -> Result<ExitStatus, ChildError> {
     let start = Instant::now();
     let mut pause = Duration::from_micros(200);
     let outcome = loop {
@@ -72,7 +71,7 @@ pub fn wait(child: &mut Child, limit: Duration) -> Result<ExitStatus, ChildError
 }
 
 /// Kill `child` and everything it started now, and reap it.
-pub fn kill(child: &mut Child) {
+pub(crate) fn kill(child: &mut Child) {
     kill_group(child.id());
     let _ = child.wait();
     if let Ok(mut live) = LIVE.lock() {
@@ -80,38 +79,8 @@ pub fn kill(child: &mut Child) {
     }
 }
 
-/// Run `cmd` with `input` on its standard input and its standard output read whole, within `limit`.
-pub fn run(
-    cmd: &mut Command,
-    input: &[u8],
-    limit: Duration,
-) -> Result<(ExitStatus, Vec<u8>), ChildError> {
-    let mut child = spawn(cmd.stdin(Stdio::piped()).stdout(Stdio::piped()))?;
-    let mut out = child.stdout.take().expect("piped");
-    let reader = std::thread::spawn(move || {
-        let mut buf = Vec::new();
-        out.read_to_end(&mut buf).map(|_| buf)
-    });
-    // A program that does not read its input is not waited for here: the write fails or fills the
-    // pipe's buffer (a case line is far smaller), and the time limit still holds.
-    let mut stdin = child.stdin.take().expect("piped");
-    let written = stdin.write_all(input);
-    drop(stdin);
-    let status = wait(&mut child, limit)?;
-    let stdout = reader
-        .join()
-        .map_err(|_| ChildError::Io(std::io::Error::other("the reader stopped")))?
-        .map_err(ChildError::Io)?;
-    if let Err(e) = written
-        && e.kind() != std::io::ErrorKind::BrokenPipe
-    {
-        return Err(ChildError::Io(e));
-    }
-    Ok((status, stdout))
-}
-
 /// Kill every program still running (an interrupted run's), with everything it started.
-pub fn kill_all() {
+pub(crate) fn kill_all() {
     if let Ok(mut live) = LIVE.lock() {
         for g in live.drain(..) {
             kill_group(g);

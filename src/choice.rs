@@ -141,12 +141,12 @@ arithmetic_models!(model_and_backends);
 impl BackendKind {
     /// Whether it computes f32 as written: the plain CPU, and a GPU (whatever its compiler makes of the
     /// WGSL); not with products fused or subnormals flushed.
-    pub fn as_written(self) -> bool {
+    pub(crate) fn as_written(self) -> bool {
         self == Model::Plain.backend() || self == BackendKind::Gpu
     }
 
     /// The backends tetwalk opens, `a|b|…` (for messages).
-    pub fn names() -> String {
+    pub(crate) fn names() -> String {
         let opened = BackendKind::ALL
             .iter()
             .filter(|k| **k != BackendKind::Outside);
@@ -215,7 +215,7 @@ pub struct Traffic {
 
 impl Traffic {
     /// Both summed (two GPUs', or one's over two spans).
-    pub fn plus(self, o: &Traffic) -> Traffic {
+    pub(crate) fn plus(self, o: &Traffic) -> Traffic {
         Traffic {
             written: self.written + o.written,
             read: self.read + o.read,
@@ -230,7 +230,7 @@ impl Traffic {
     }
 
     /// What crossed since `before` (an earlier reading of the same GPU).
-    pub fn since(self, before: Traffic) -> Traffic {
+    pub(crate) fn since(self, before: Traffic) -> Traffic {
         Traffic {
             written: self.written - before.written,
             read: self.read - before.read,

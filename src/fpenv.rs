@@ -9,20 +9,20 @@
 use std::hint::black_box;
 
 /// Whether this processor can run the flush-to-zero model.
-pub const FLUSH_AVAILABLE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
+pub(crate) const FLUSH_AVAILABLE: bool = cfg!(any(target_arch = "x86_64", target_arch = "aarch64"));
 
 #[cfg(target_arch = "x86_64")]
 mod reg {
-    pub const FLUSH: u64 = (1 << 15) | (1 << 6);
+    pub(crate) const FLUSH: u64 = (1 << 15) | (1 << 6);
     #[inline(always)]
-    pub fn read() -> u64 {
+    pub(crate) fn read() -> u64 {
         let mut csr: u32 = 0;
         // SAFETY: stores MXCSR into a local.
         unsafe { std::arch::asm!("stmxcsr [{}]", in(reg) &mut csr, options(nostack)) };
         csr as u64
     }
     #[inline(always)]
-    pub fn write(v: u64) {
+    pub(crate) fn write(v: u64) {
         let csr = v as u32;
         // SAFETY: loads MXCSR from a local holding a valid value (only the flush bits changed).
         unsafe { std::arch::asm!("ldmxcsr [{}]", in(reg) &csr, options(nostack)) };
@@ -31,16 +31,16 @@ mod reg {
 
 #[cfg(target_arch = "aarch64")]
 mod reg {
-    pub const FLUSH: u64 = 1 << 24;
+    pub(crate) const FLUSH: u64 = 1 << 24;
     #[inline(always)]
-    pub fn read() -> u64 {
+    pub(crate) fn read() -> u64 {
         let v: u64;
         // SAFETY: reads FPCR.
         unsafe { std::arch::asm!("mrs {}, fpcr", out(reg) v, options(nostack)) };
         v
     }
     #[inline(always)]
-    pub fn write(v: u64) {
+    pub(crate) fn write(v: u64) {
         // SAFETY: writes FPCR with only the flush bit changed.
         unsafe { std::arch::asm!("msr fpcr, {}", in(reg) v, options(nostack)) };
     }
@@ -48,11 +48,11 @@ mod reg {
 
 #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
 mod reg {
-    pub const FLUSH: u64 = 0;
-    pub fn read() -> u64 {
+    pub(crate) const FLUSH: u64 = 0;
+    pub(crate) fn read() -> u64 {
         0
     }
-    pub fn write(_: u64) {}
+    pub(crate) fn write(_: u64) {}
 }
 
 /// Restores the caller's environment when dropped, also when the work panics.
@@ -93,7 +93,7 @@ pub fn flushed<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
 /// `f(input)` in the standard environment (gradual underflow), whatever the caller's: the oracle's
 /// filters widen f32 inputs and must read a subnormal as itself.
 #[inline(always)]
-pub fn standard<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+pub(crate) fn standard<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
     with(false, input, f)
 }
 
@@ -127,7 +127,7 @@ fn used(feature: Feature) -> bool {
 
 /// Whether the fused model runs on the processor's fused multiply-add instruction (FMA3; without it
 /// `f32::mul_add`, a library call: the same answers, slower).
-pub fn has_fma() -> bool {
+pub(crate) fn has_fma() -> bool {
     used(Feature::Fma)
 }
 
@@ -143,7 +143,7 @@ pub fn has_avx2() -> bool {
 /// multiply-add: that takes the FMA feature, which this does not enable), encoded with three
 /// operands, so with fewer register copies.
 #[inline(always)]
-pub fn wide<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
+pub(crate) fn wide<T, R>(input: T, f: impl FnOnce(T) -> R) -> R {
     #[cfg(target_arch = "x86_64")]
     if has_avx2() {
         // SAFETY: the processor has AVX2, checked just above.

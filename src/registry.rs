@@ -50,7 +50,7 @@ pub enum Claim {
 
 impl Claim {
     /// `robust`, `no leak`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Claim::Robust => "robust",
             Claim::NoLeak => "no leak",
@@ -59,7 +59,7 @@ impl Claim {
 
     /// Whether it is claimed only of f32 as written (plain on the CPU, or whatever a GPU's compiler
     /// makes of the WGSL), not with products fused or subnormals flushed.
-    pub fn as_written_only(self) -> bool {
+    pub(crate) fn as_written_only(self) -> bool {
         self == Claim::NoLeak
     }
 }
@@ -219,12 +219,12 @@ macro_rules! model_flushes {
 }
 
 /// Whether model `m` flushes subnormals to zero (so needs a processor whose flushing mode tetwalk sets).
-pub fn flushes(m: Model) -> bool {
+pub(crate) fn flushes(m: Model) -> bool {
     crate::arithmetic_models!(model_flushes, m)
 }
 
 /// A method's exit function with its arithmetic fixed, for callers that pick methods at run time.
-pub type ExitFn = fn(&Tet, &Ray, Option<usize>) -> Option<usize>;
+pub(crate) type ExitFn = fn(&Tet, &Ray, Option<usize>) -> Option<usize>;
 
 fn exit_fn<M: ExitMethod, A: Arith>(tet: &Tet, ray: &Ray, entry: Option<usize>) -> Option<usize> {
     A::run(
@@ -246,7 +246,7 @@ pub struct Method {
 }
 
 /// [`crate::methods::time_queries`] for one method, plain f32.
-pub type TimeQueriesFn = fn(&[Tet], &[Query], usize) -> (f64, usize);
+pub(crate) type TimeQueriesFn = fn(&[Tet], &[Query], usize) -> (f64, usize);
 
 impl Method {
     const fn of<M: ExitMethod>(info: Info) -> Self {
@@ -278,7 +278,7 @@ impl Method {
 
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's): judged
     /// on the CPU, plain or fused, like the registered ones.
-    pub fn outside<M: ExitMethod>(name: &'static str) -> Self {
+    pub(crate) fn outside<M: ExitMethod>(name: &'static str) -> Self {
         Self::of::<M>(Info::outside(name))
     }
 
@@ -396,7 +396,7 @@ pub static METHODS: &[Method] = &[
 /// A user's WGSL exit-face functions (`--wgsl FILE`; the signature is `gpu::shader::USER_SIGNATURE`), spliced
 /// into the GPU's module as method `user` when the backend is opened with them; judged like every
 /// method, on the GPU only.
-pub static USER_WGSL: Method = Method::of::<WgslOnly>(Info {
+pub(crate) static USER_WGSL: Method = Method::of::<WgslOnly>(Info {
     published: false,
     runs_on_cpu: false,
     ..Info::published(
@@ -490,7 +490,7 @@ impl<T: Registered> ByName<T> {
     }
 
     /// The method.
-    pub fn method(self) -> &'static T {
+    pub(crate) fn method(self) -> &'static T {
         self.0
     }
 
@@ -548,7 +548,7 @@ pub struct UnknownMethod {
 }
 
 /// The method of `all` called `name`.
-pub fn find<T: Named>(all: &'static [T], name: &str) -> Result<&'static T, UnknownMethod> {
+pub(crate) fn find<T: Named>(all: &'static [T], name: &str) -> Result<&'static T, UnknownMethod> {
     all.iter()
         .find(|m| m.name() == name)
         .ok_or_else(|| UnknownMethod {
@@ -559,7 +559,10 @@ pub fn find<T: Named>(all: &'static [T], name: &str) -> Result<&'static T, Unkno
 
 /// Methods of `all` from a comma-separated list, where `all` stands for every one; each named once, in
 /// the order given.
-pub fn list<T: Named>(all: &'static [T], list: &str) -> Result<Vec<&'static T>, UnknownMethod> {
+pub(crate) fn list<T: Named>(
+    all: &'static [T],
+    list: &str,
+) -> Result<Vec<&'static T>, UnknownMethod> {
     let mut out: Vec<&'static T> = Vec::new();
     for n in list.split(',').map(str::trim) {
         let add: Vec<&'static T> = if n == "all" {
@@ -594,12 +597,13 @@ pub fn reference() -> &'static Method {
 }
 
 /// One method's answer for a ray and a triangle: the `t` of a hit that counts ([`triangle::hit`]).
-pub type HitFn = fn(&Tri, &Ray) -> Option<f32>;
+pub(crate) type HitFn = fn(&Tri, &Ray) -> Option<f32>;
 /// The nearest hit of each ray of runs of rays among the triangles each run names, rays taken in
 /// packets ([`triangle::trace`]).
-pub type TraceFn = fn(&[Tri], &[u32], &triangle::Groups, &[Ray], usize) -> Vec<Option<(u32, f32)>>;
+pub(crate) type TraceFn =
+    fn(&[Tri], &[u32], &triangle::Groups, &[Ray], usize) -> Vec<Option<(u32, f32)>>;
 /// Every hit of one ray among triangles, in triangle order ([`triangle::hits`]).
-pub type HitsFn = fn(&[Tri], &Ray) -> Vec<(u32, f32)>;
+pub(crate) type HitsFn = fn(&[Tri], &Ray) -> Vec<(u32, f32)>;
 
 /// A method's 4-wide version ([`triangle::Wide`]): the nearest hits of rays in packets, and every hit
 /// of one ray, as its scalar [`TriangleMethod::trace`] and [`TriangleMethod::hits`] give them in the
@@ -757,7 +761,7 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
 
 /// One octree method's answer for a cell `[lo, hi]` and a ray: the exit face (seed 001's numbering,
 /// [`crate::octree::cell`]) and the quarter of it (the neighbour index), or `None` for no exit face.
-pub type BoxExitFn = fn(Vec3, Vec3, &Ray) -> Option<(usize, usize)>;
+pub(crate) type BoxExitFn = fn(Vec3, Vec3, &Ray) -> Option<(usize, usize)>;
 
 fn cell_exit<M: CellMethod, A: Arith>(lo: Vec3, hi: Vec3, ray: &Ray) -> Option<(usize, usize)> {
     A::run(
@@ -776,14 +780,14 @@ fn exact_box_exit(lo: Vec3, hi: Vec3, ray: &Ray) -> Option<(usize, usize)> {
 
 /// One octree method's walk of a ray through an octree over `tris`, each leaf's triangles tested with
 /// a ray–triangle method's [`HitFn`], at most so many cells.
-pub type OctreeWalkFn = fn(&Octree, &[Tri], HitFn, &Ray, u32) -> OctreeWalk;
+pub(crate) type OctreeWalkFn = fn(&Octree, &[Tri], HitFn, &Ray, u32) -> OctreeWalk;
 
 fn exact_octree_walk(o: &Octree, tris: &[Tri], _: HitFn, ray: &Ray, max: u32) -> OctreeWalk {
     walk_octree::walk_exact(o, tris, ray, max)
 }
 
 /// [`OctreeWalkFn`], also listing each cell's exit as the method chose it.
-pub type OctreeTracedFn =
+pub(crate) type OctreeTracedFn =
     fn(&Octree, &[Tri], HitFn, &Ray, u32) -> (OctreeWalk, Vec<walk_octree::Step>);
 
 fn exact_octree_traced(
@@ -816,12 +820,12 @@ impl OctreeMethod {
     }
 
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
-    pub fn outside<M: CellMethod>(name: &'static str) -> Self {
+    pub(crate) fn outside<M: CellMethod>(name: &'static str) -> Self {
         Self::of::<M>(Info::outside(name))
     }
 
     /// The exit face and quarter of one cell, in an arithmetic model.
-    pub fn exit(&self, model: Model) -> BoxExitFn {
+    pub(crate) fn exit(&self, model: Model) -> BoxExitFn {
         self.exit.get(model)
     }
 
@@ -831,7 +835,7 @@ impl OctreeMethod {
     }
 
     /// The walk, also listing each cell's exit as the method chose it (none for the reference).
-    pub fn walk_traced(&self, model: Model) -> OctreeTracedFn {
+    pub(crate) fn walk_traced(&self, model: Model) -> OctreeTracedFn {
         self.traced.get(model)
     }
 }

@@ -11,7 +11,7 @@ static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// A staging file: removed when dropped unpersisted, and by [`remove_all`]. Where the target is not a
 /// regular file (a device such as `/dev/stdout`, a FIFO), there is nothing to rename onto: the output
 /// is written straight into it.
-pub struct Staging {
+pub(crate) struct Staging {
     file: std::fs::File,
     /// Where it is renamed to: the target, its symbolic links followed (a link stays a link).
     target: PathBuf,
@@ -22,7 +22,7 @@ pub struct Staging {
 
 impl Staging {
     /// Rename it onto its target (or, written straight into it, flush).
-    pub fn persist(mut self) -> std::io::Result<()> {
+    pub(crate) fn persist(mut self) -> std::io::Result<()> {
         std::io::Write::flush(&mut self.file)?;
         match self.guard.take() {
             Some(g) => {
@@ -62,7 +62,7 @@ fn forget(path: &Path) {
 /// followed, dangling ones too, the real target's folder: [`resolve`]), for renaming onto it with [`Staging::persist`] once complete;
 /// an error when `dest` is a folder. A target that exists and is not a regular file (a device, a
 /// FIFO) is opened and written straight into: renaming over it would replace it.
-pub fn beside(dest: &Path) -> std::io::Result<Staging> {
+pub(crate) fn beside(dest: &Path) -> std::io::Result<Staging> {
     if dest.is_dir() {
         return Err(std::io::Error::new(
             std::io::ErrorKind::IsADirectory,
@@ -107,7 +107,7 @@ const MAX_LINKS: usize = 40;
 /// Where a path leads: the real file, its symbolic links followed (a dangling one too, to the file it
 /// names, which writing then makes), as an absolute path; for a path that does not exist, its real
 /// folder joined with its name.
-pub fn resolve(p: &Path) -> PathBuf {
+pub(crate) fn resolve(p: &Path) -> PathBuf {
     let mut p = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
     for _ in 0..MAX_LINKS {
         match std::fs::read_link(&p) {
@@ -132,7 +132,7 @@ pub fn resolve(p: &Path) -> PathBuf {
 /// Whether two paths name the same regular file (by identity: links, other spellings and hard links
 /// alike), or the same place where neither exists yet. Devices and pipes (`/dev/stdout`) are never
 /// the same file as anything: they are written into, not replaced.
-pub fn same_file(a: &Path, b: &Path) -> bool {
+pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     let (ra, rb) = (resolve(a), resolve(b));
     match (std::fs::metadata(&ra), std::fs::metadata(&rb)) {
         (Ok(ma), Ok(mb)) => {
@@ -154,7 +154,7 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
 }
 
 /// Write `bytes` to `dest` whole or not at all (staged beside it, then renamed).
-pub fn write(dest: &Path, bytes: &[u8]) -> std::io::Result<()> {
+pub(crate) fn write(dest: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut s = beside(dest)?;
     std::io::Write::write_all(&mut s, bytes)?;
     s.persist()
@@ -162,11 +162,11 @@ pub fn write(dest: &Path, bytes: &[u8]) -> std::io::Result<()> {
 
 /// A working folder (TetGen's, while a scene is built) that an interrupted run removes too: made
 /// when tracked, removed with everything in it when dropped, or by [`remove_all`].
-pub struct WorkDir(PathBuf);
+pub(crate) struct WorkDir(PathBuf);
 
 impl WorkDir {
     /// A fresh folder under the temporary directory, tracked.
-    pub fn new() -> std::io::Result<WorkDir> {
+    pub(crate) fn new() -> std::io::Result<WorkDir> {
         let path = tempfile::Builder::new()
             .prefix(".tetwalk-")
             .tempdir()?
@@ -178,7 +178,7 @@ impl WorkDir {
     }
 
     /// The folder.
-    pub fn path(&self) -> &Path {
+    pub(crate) fn path(&self) -> &Path {
         &self.0
     }
 }
@@ -192,7 +192,7 @@ impl Drop for WorkDir {
 
 /// Remove every staging file and working folder alive (an interrupted run's); returns how many were
 /// removed.
-pub fn remove_all() -> usize {
+pub(crate) fn remove_all() -> usize {
     let Ok(mut live) = LIVE.lock() else {
         return 0;
     };

@@ -37,7 +37,7 @@ const EXIT_GRACE: Duration = Duration::from_secs(2);
 /// Why an answerer gave no answers.
 #[derive(Debug, thiserror::Error)]
 #[error("answerer {name} ({cmd}): {why}")]
-pub struct AnswererError {
+pub(crate) struct AnswererError {
     pub name: String,
     pub cmd: String,
     pub why: String,
@@ -85,7 +85,7 @@ pub struct Answerer {
 
 impl Answerer {
     /// Start `cmd` (through `sh -c`) in a process group of its own.
-    pub fn start(
+    pub(crate) fn start(
         name: &str,
         cmd: &str,
         format: WireFormat,
@@ -176,7 +176,10 @@ impl Answerer {
 
     /// Its answers to `cases`, batch by batch, each answer checked as `judge` checks one and read in
     /// the case's own numbering ([`Answerer::faces`]).
-    pub fn answers<F: Family>(&self, cases: &[F::Case]) -> Result<Vec<F::Answer>, AnswererError> {
+    pub(crate) fn answers<F: Family>(
+        &self,
+        cases: &[F::Case],
+    ) -> Result<Vec<F::Answer>, AnswererError> {
         let mut out = Vec::with_capacity(cases.len());
         for batch in cases.chunks(self.batch) {
             out.extend(
@@ -367,7 +370,7 @@ impl Answerer {
 impl Answerer {
     /// Its standing in `standings` given the claim it makes, if it makes one: `refuted` answers of this
     /// run refute it.
-    pub fn claim<F: Family>(
+    pub(crate) fn claim<F: Family>(
         &self,
         standings: &mut [crate::engine::standing::Standing],
         refuted: u64,
@@ -398,7 +401,7 @@ impl Drop for Answerer {
 /// ([`Family::numbering_cases`]): every relabelling of the four faces tried ([`Family::renumbered`]),
 /// the one it answers rightly on at least 99% of judged cases, and no other within 1%; an error
 /// saying the best where none fits.
-pub fn find_numbering<F: Family>(
+pub(crate) fn find_numbering<F: Family>(
     a: &Answerer,
     cases: &[(F::Case, F::Truth)],
 ) -> Result<[u8; 4], AnswererError> {
@@ -461,7 +464,7 @@ fn permutations() -> Vec<[u8; 4]> {
 
 /// A face numbering `--faces` gives: four distinct faces, `a,b,c,d` (answered face i is case face
 /// the i-th).
-pub fn parse_faces(s: &str) -> Result<[u8; 4], String> {
+pub(crate) fn parse_faces(s: &str) -> Result<[u8; 4], String> {
     let f: Vec<u8> = s
         .split(',')
         .map(|x| x.trim().parse::<u8>().ok().filter(|&f| f < 4))

@@ -20,7 +20,7 @@ use std::sync::mpsc;
 
 /// Why lines could not be answered.
 #[derive(Debug, thiserror::Error)]
-pub enum AnsweringError {
+pub(crate) enum AnsweringError {
     /// The file of lines cannot be opened.
     #[error("{file}: {why}")]
     File {
@@ -39,7 +39,7 @@ pub enum AnsweringError {
 
 /// A file of JSON lines opened for reading (a pipe too: `/dev/stdin`; `-` is standard input); a
 /// folder is refused.
-pub fn open_lines(p: &Path) -> Result<Box<dyn BufRead + Send>, AnsweringError> {
+pub(crate) fn open_lines(p: &Path) -> Result<Box<dyn BufRead + Send>, AnsweringError> {
     if p == Path::new("-") {
         return Ok(Box::new(std::io::BufReader::new(std::io::stdin())));
     }
@@ -56,18 +56,18 @@ pub fn open_lines(p: &Path) -> Result<Box<dyn BufRead + Send>, AnsweringError> {
 }
 
 /// The key under which an answer line that is not JSON keeps why, for its case line (`judge`).
-pub const NOT_JSON: &str = "not JSON";
+pub(crate) const NOT_JSON: &str = "not JSON";
 
 /// Longest line read, in bytes; a longer one is an error for that line.
-pub const MAX_LINE: u64 = 1 << 20;
+pub(crate) const MAX_LINE: u64 = 1 << 20;
 /// Most lines answered as one batch.
 const BATCH: usize = 4096;
 
 /// One input line: its number and its text, or why it could not be read.
-pub type Line = (usize, Result<String, String>);
+pub(crate) type Line = (usize, Result<String, String>);
 
 /// Read lines on a thread, each at most [`MAX_LINE`] bytes, invalid UTF-8 an error for its line.
-pub fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
+pub(crate) fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
     let (tx, rx) = mpsc::sync_channel(BATCH);
     std::thread::spawn(move || {
         let mut n = 0;
@@ -104,7 +104,7 @@ pub fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line> {
 
 /// The lines of `input` batch by batch as they arrive: block for one line, take whatever else has
 /// arrived (at most a batch), hand them to `each`.
-pub fn batches<E>(
+pub(crate) fn batches<E>(
     input: Box<dyn BufRead + Send>,
     mut each: impl FnMut(&[Line]) -> Result<(), E>,
 ) -> Result<(), E> {
@@ -125,7 +125,7 @@ pub fn batches<E>(
 /// Per method: lines judged right, wrong, (`exit`, `box-exit`) whose line missed the cell, and (`hit`,
 /// `judge` on closed meshes) leaks.
 #[derive(Clone, Default, serde::Serialize)]
-pub struct AnswerTally {
+pub(crate) struct AnswerTally {
     /// The method's name (or the answers' given from outside).
     pub method: String,
     /// Answers judged right.
@@ -142,7 +142,7 @@ pub struct AnswerTally {
     /// ([`crate::exact::hit::HitTruth::back_face`]), which a method that culls back faces passes by
     /// design.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub back_faces: Option<u64>,
+    pub(crate) back_faces: Option<u64>,
     /// Wrong answers on closed meshes by kind ([`crate::exact::hit::HitTruth::wrong_kind`]), the stress
     /// rows' classification.
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
@@ -155,7 +155,7 @@ pub struct AnswerTally {
     pub no_exit_face: Option<u64>,
     /// Tetrahedra: answers to ties (more than one face right).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub at_tie: Option<u64>,
+    pub(crate) at_tie: Option<u64>,
     /// Tetrahedra: wrong answers to ties.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wrong_at_tie: Option<u64>,
@@ -171,7 +171,7 @@ pub struct AnswerTally {
     pub wide_differs: Option<u64>,
     /// With `hit --wide`: the cases compared.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub wide_compared: Option<u64>,
+    pub(crate) wide_compared: Option<u64>,
 }
 
 impl AnswerTally {
@@ -216,7 +216,7 @@ impl AnswerTally {
 
 /// What a command answering JSON Lines counted (`--json` writes it).
 #[derive(serde::Serialize)]
-pub struct AnswerSummary {
+pub(crate) struct AnswerSummary {
     backend: String,
     /// Lines read, blank ones left out.
     pub lines: u64,
@@ -229,7 +229,12 @@ pub struct AnswerSummary {
 impl AnswerSummary {
     /// Nothing counted yet for the methods `names` on `backend`; their tallies count lines missing
     /// the cell (`missed`) and leaks (`leaks`) from the start.
-    pub fn new(backend: String, names: Vec<String>, missed: bool, leaks: bool) -> AnswerSummary {
+    pub(crate) fn new(
+        backend: String,
+        names: Vec<String>,
+        missed: bool,
+        leaks: bool,
+    ) -> AnswerSummary {
         AnswerSummary {
             backend,
             lines: 0,
@@ -249,19 +254,19 @@ impl AnswerSummary {
     }
 
     /// Lines answered (read, less those that could not be).
-    pub fn answered(&self) -> u64 {
+    pub(crate) fn answered(&self) -> u64 {
         self.lines - self.errors
     }
 
     /// Cases a 4-wide version answered otherwise than its scalar version.
-    pub fn wide_differs(&self) -> u64 {
+    pub(crate) fn wide_differs(&self) -> u64 {
         self.methods.iter().filter_map(|t| t.wide_differs).sum()
     }
 }
 
 /// Who answers a family's lines: methods on a backend, or answers given from outside (`judge`),
 /// named.
-pub enum Answered<'a, F: Family> {
+pub(crate) enum Answered<'a, F: Family> {
     /// tetwalk's methods, on a backend.
     Methods(&'a [&'static F::Method], &'a Backend),
     /// Answers given with the cases (`judge`), under this name.
@@ -272,7 +277,7 @@ pub enum Answered<'a, F: Family> {
 
 /// The fields of a verdict line after `line`, `method` and `backend`: the answer beside the exact
 /// one, as the family's printer writes them for the verdict it is given.
-pub type Printer<F> = fn(
+pub(crate) type Printer<F> = fn(
     &<F as Family>::Case,
     &<F as Family>::Truth,
     &<F as Family>::Answer,
@@ -290,7 +295,7 @@ type Taken<F> = (
 /// One family's part of a command: who answers its cases, how its verdict lines are printed, the
 /// bound on a hit's `t`, whether methods with a 4-wide version are answered by it too and compared
 /// (`hit --wide`), and the cases of a batch taken so far.
-pub struct Part<'a, F: Family> {
+pub(crate) struct Part<'a, F: Family> {
     answered: Answered<'a, F>,
     printer: Printer<F>,
     t_ulps: f64,
@@ -302,7 +307,7 @@ pub struct Part<'a, F: Family> {
 impl<'a, F: Family> Part<'a, F> {
     /// A part answered as `answered` says, its lines printed by `printer`, a hit's `t` right within
     /// `t_ulps` ulps.
-    pub fn new(answered: Answered<'a, F>, printer: Printer<F>, t_ulps: f64) -> Self {
+    pub(crate) fn new(answered: Answered<'a, F>, printer: Printer<F>, t_ulps: f64) -> Self {
         Part {
             answered,
             printer,
@@ -325,7 +330,7 @@ impl<'a, F: Family> Part<'a, F> {
 }
 
 /// A family's part, whatever the family.
-pub trait Takes {
+pub(crate) trait Takes {
     /// The family's name.
     fn name(&self) -> &'static str;
     /// Take line `n`'s object (a case of this family), with its answer given from outside where the
@@ -454,7 +459,7 @@ fn line(n: usize, method: &str, backend: &str, fields: Map<String, Value>) -> Va
 /// The output lines for a batch of input lines: each line's family's part takes it (or `refuse`
 /// says why no part answers that family here), with its answer taken out of `given` where the command
 /// judges answers given from outside; then each part answers what it took, the lines in input order.
-pub fn answer(
+pub(crate) fn answer(
     batch: &[Line],
     parts: &mut [Box<dyn Takes + '_>],
     refuse: fn(Kind) -> String,
@@ -495,13 +500,13 @@ pub fn answer(
 }
 
 /// Each method's tally's standing, as `F`'s claims have it ([`AnswerTally::refuting`]).
-pub fn standing<F: Family>(t: &AnswerTally) -> Standing {
+pub(crate) fn standing<F: Family>(t: &AnswerTally) -> Standing {
     Standing::named::<F>(&t.method, t.right + t.wrong, t.wrong, |c| t.refuting(c))
 }
 
 /// A program's tally's standing, with the claim it makes (`--answerer-claims`), if it makes one, held
 /// to its answers as `F`'s claim is ([`AnswerTally::refuting`]; leaks not counted refute nothing).
-pub fn outside_standing<F: Family>(
+pub(crate) fn outside_standing<F: Family>(
     x: &crate::engine::answerer::Answerer,
     t: &AnswerTally,
 ) -> Standing {
@@ -513,7 +518,7 @@ pub fn outside_standing<F: Family>(
 impl AnswerTally {
     /// The answers that refute `claim`: a robust method's every wrong answer, a watertight one's
     /// leaks (where they are counted).
-    pub fn refuting(&self, claim: crate::registry::Claim) -> Option<u64> {
+    pub(crate) fn refuting(&self, claim: crate::registry::Claim) -> Option<u64> {
         match claim {
             crate::registry::Claim::Robust => Some(self.wrong),
             crate::registry::Claim::NoLeak => self.leaks,
@@ -523,7 +528,9 @@ impl AnswerTally {
 
 /// The cases file opened once (a pipe, `/dev/stdin`, cannot be read twice): its first line read to
 /// see whether it is a `count --rays-out` header, then put back in front of the rest.
-pub fn open_cases(path: &Path) -> Result<(Option<Value>, Box<dyn BufRead + Send>), AnsweringError> {
+pub(crate) fn open_cases(
+    path: &Path,
+) -> Result<(Option<Value>, Box<dyn BufRead + Send>), AnsweringError> {
     let file = path.display().to_string();
     let mut input = open_lines(path)?;
     // The first line only, at most a line's length bound (a longer one is no header).
@@ -544,7 +551,7 @@ pub fn open_cases(path: &Path) -> Result<(Option<Value>, Box<dyn BufRead + Send>
 
 /// Why an answers file cannot be read.
 #[derive(Debug, thiserror::Error)]
-pub enum AnswersError {
+pub(crate) enum AnswersError {
     #[error("{file}:{line}: {why}")]
     Answer {
         file: String,
@@ -557,7 +564,7 @@ pub enum AnswersError {
 
 /// Each non-blank line of an answers file as a JSON value, with its line number, handed to `take`,
 /// read through `exit`'s reader (each line at most its length bound); an error names file and line.
-pub fn each_answer(
+pub(crate) fn each_answer(
     path: &Path,
     mut take: impl FnMut(usize, Value) -> Result<(), String>,
 ) -> Result<(), AnswersError> {
@@ -609,7 +616,7 @@ fn line_number(text: &str) -> Option<usize> {
 }
 
 /// The answers by case line, read whole (each a JSON object with a `line`).
-pub fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, AnswersError> {
+pub(crate) fn read_answers(path: &Path) -> Result<HashMap<usize, Value>, AnswersError> {
     let mut out = HashMap::new();
     each_answer(path, |_, v| {
         let n = v

@@ -55,9 +55,9 @@ pub struct BenchRow {
     /// On a GPU, bytes written to it and read back per ray walked (the pipeline measured on any
     /// adapter).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bytes_written_per_ray: Option<f64>,
+    pub(crate) bytes_written_per_ray: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bytes_read_per_ray: Option<f64>,
+    pub(crate) bytes_read_per_ray: Option<f64>,
     /// What the timed passes moved, summed (the figures per ray are made from it).
     #[serde(skip)]
     traffic: Option<Traffic>,
@@ -82,7 +82,7 @@ pub struct Spread {
 }
 
 impl Spread {
-    pub fn of(samples: &[f64]) -> Option<Spread> {
+    pub(crate) fn of(samples: &[f64]) -> Option<Spread> {
         let mut s: Vec<f64> = samples.iter().copied().filter(|x| x.is_finite()).collect();
         s.sort_by(f64::total_cmp);
         let n = s.len();
@@ -112,12 +112,12 @@ const NOISE: f64 = 0.02;
 /// that side of 1 and their median more than `NOISE` from it, else within noise.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Change {
-    pub baseline_median: f64,
+    pub(crate) baseline_median: f64,
     /// The median of the batches' ratios, now over the baseline.
     pub ratio: f64,
     /// The lowest and highest of the batches' ratios.
     #[serde(default)]
-    pub ratio_range: (f64, f64),
+    pub(crate) ratio_range: (f64, f64),
     pub verdict: String,
 }
 
@@ -132,7 +132,7 @@ fn per_batch(samples: &[f64], repeat: usize) -> Vec<f64> {
 impl BenchReport {
     /// Why `baseline` cannot be compared with this run: the settings that make its batches other
     /// rays (scene, mesh, views, batch, order), each named with both values.
-    pub fn differs_from(&self, baseline: &BenchReport) -> Option<String> {
+    pub(crate) fn differs_from(&self, baseline: &BenchReport) -> Option<String> {
         let mut d = Vec::new();
         let mut differ = |what: &str, now: String, then: String| {
             if now != then {
@@ -161,7 +161,7 @@ impl BenchReport {
 
     /// Each row's change against the same method, layout and backend in `baseline` ([`Change`]);
     /// rows it lacks have none. How many rows were compared.
-    pub fn compare(&mut self, baseline: &BenchReport) -> usize {
+    pub(crate) fn compare(&mut self, baseline: &BenchReport) -> usize {
         let mut compared = 0;
         for r in &mut self.rows {
             let same = baseline
@@ -203,7 +203,7 @@ impl BenchReport {
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BenchReport {
     pub scene: String,
-    pub tetrahedra_in_mesh: usize,
+    pub(crate) tetrahedra_in_mesh: usize,
     pub views: Views,
     /// Views whose camera lies inside the mesh (the others are skipped, as `count` skips them).
     pub views_timed: usize,
@@ -223,12 +223,12 @@ pub struct BenchReport {
     /// Whether `cpu` and `cpu-ftz` ran compiled for AVX2, or for SSE2 alone (no AVX2 here, or
     /// `TETWALK_NO_AVX2=1`): the same answers, not the same speed.
     #[serde(default)]
-    pub avx2: bool,
+    pub(crate) avx2: bool,
     pub rows: Vec<BenchRow>,
 }
 
 /// Methods a backend can time: on a GPU, those with a GPU version (the others would time the CPU).
-pub fn runs_on<'a>(methods: &[&'a Method], backend: &Backend) -> Vec<&'a Method> {
+pub(crate) fn runs_on<'a>(methods: &[&'a Method], backend: &Backend) -> Vec<&'a Method> {
     methods
         .iter()
         .copied()

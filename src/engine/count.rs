@@ -61,18 +61,18 @@ pub struct Shard {
 impl Shard {
     pub const ALL: Shard = Shard { index: 0, count: 1 };
 
-    pub fn holds(self, view: usize) -> bool {
+    pub(crate) fn holds(self, view: usize) -> bool {
         view % self.count == self.index
     }
 
     /// How many of `views` views this shard holds.
-    pub fn held(self, views: usize) -> usize {
+    pub(crate) fn held(self, views: usize) -> usize {
         (0..views).filter(|&v| self.holds(v)).count()
     }
 }
 
 /// Whether ray `index` (counted over all views) is audited: about `audit` of `total`, chosen by `seed`.
-pub fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
+pub(crate) fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
     let mut z = seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
@@ -166,7 +166,7 @@ pub enum AnswerSource<'a, F: Family> {
 
 /// Walks given from outside for one view: its index, its rays, the tetrahedron they start in and the
 /// steps a walk may take.
-pub type GivenWalks<'a> =
+pub(crate) type GivenWalks<'a> =
     dyn Fn(usize, &[Ray], u32, u32) -> Result<Vec<Walk>, CountError> + Sync + 'a;
 
 impl<'a, F: Family> AnswerSource<'a, F> {
@@ -194,7 +194,7 @@ impl<'a, F: Family> AnswerSource<'a, F> {
 }
 
 /// Where each wrong ray goes besides the tallies (`count --dump`).
-pub type Sink<'a> = dyn FnMut(&WrongRay) -> std::io::Result<()> + 'a;
+pub(crate) type Sink<'a> = dyn FnMut(&WrongRay) -> std::io::Result<()> + 'a;
 
 /// Views counted at once per thread on the CPU (each view's walks split between the threads as
 /// well): while one view's serial steps run (its rays, its audit) or its last walks end, the
@@ -209,11 +209,11 @@ const VIEWS_MEMORY: u64 = 2 << 30;
 /// A view's bytes per ray while it is counted, rendered or its walks given, beside [`WALK_BYTES`] per
 /// method: the ray (24), the reference walk (16), the ray with its start as the backend takes it
 /// (28), the pixel's tallies, with room to spare (about 88 measured, `tests/bad_input.rs`).
-pub const RAY_BYTES: u64 = 160;
+pub(crate) const RAY_BYTES: u64 = 160;
 
 /// A view's bytes per ray for each method counted beside the reference: its walks and their
 /// judging, all kept until the view is judged (about 36 measured).
-pub const WALK_BYTES: u64 = 48;
+pub(crate) const WALK_BYTES: u64 = 48;
 
 /// A view's bytes per ray with `methods` methods counted, rendered or given: the views planned at
 /// once, and the largest view accepted, follow from it.
@@ -688,17 +688,17 @@ pub fn wrong_rays(
 
 /// A count's wrong ray answered again ([`Dumped::line`]): where the method stops now, and whether it is
 /// still wrong, and wrong the same way (stopping where it was recorded to).
-pub struct Rerun {
+pub(crate) struct Rerun {
     /// The method's name, as its family's registry spells it.
     pub method: String,
     pub now: Walk,
-    pub still_wrong: bool,
+    pub(crate) still_wrong: bool,
     pub same: bool,
 }
 
 /// Why a wrong ray cannot be answered again.
 #[derive(Debug, thiserror::Error)]
-pub enum RerunError {
+pub(crate) enum RerunError {
     #[error(
         "a wrong ray of walks given to tetwalk judge (by {0}): tetwalk replay cannot answer it again"
     )]
@@ -765,7 +765,7 @@ pub enum RerunError {
 /// A count's dump answered again line by line ([`Dumped::line`]): each scene loaded once (its
 /// constrained faces as `faces` asks), each backend opened once, and the answers of the last view
 /// kept, since a dump holds a view's wrong rays together (its lines answer the view once per method).
-pub struct Dumped {
+pub(crate) struct Dumped {
     faces: Faces,
     scenes: HashMap<String, Loaded>,
     backends: super::Backends,
@@ -776,13 +776,13 @@ pub struct Dumped {
 
 /// A dump's line answered again ([`Rerun`], and the backend described), or skipped: the backend it
 /// records cannot be opened here (why).
-pub enum Redone {
+pub(crate) enum Redone {
     Rerun(Rerun, String),
     Skipped(String),
 }
 
 impl Dumped {
-    pub fn new(faces: Faces) -> Dumped {
+    pub(crate) fn new(faces: Faces) -> Dumped {
         Dumped {
             faces,
             scenes: HashMap::new(),
@@ -796,7 +796,7 @@ impl Dumped {
     /// made ready with the family's settings the line records ([`Counting`]), answered by its method
     /// on the backend `d` records, and judged against the exact walk as the count judged it. Walks
     /// given from outside record no backend and are [`RerunError::NotWalked`].
-    pub fn line(&mut self, d: &WrongRay) -> Result<Redone, RerunError> {
+    pub(crate) fn line(&mut self, d: &WrongRay) -> Result<Redone, RerunError> {
         let Some(kind) = d.backend else {
             return Err(RerunError::NotWalked(d.method.clone()));
         };
@@ -989,7 +989,7 @@ fn counted_families() -> String {
 }
 
 /// The family of a sharded count's reports, read as JSON (each named by its file): the same for all.
-pub fn shards_family(read: &[(String, serde_json::Value)]) -> Result<CountKind, MergeError> {
+pub(crate) fn shards_family(read: &[(String, serde_json::Value)]) -> Result<CountKind, MergeError> {
     let mut kind: Option<CountKind> = None;
     for (file, r) in read {
         let named = r
@@ -1014,7 +1014,7 @@ pub fn shards_family(read: &[(String, serde_json::Value)]) -> Result<CountKind, 
 
 /// A count's reports of family `F` from their JSON, each named by its file (an error names the file
 /// and the field).
-pub fn read_shards<F: Counted>(
+pub(crate) fn read_shards<F: Counted>(
     read: Vec<(String, serde_json::Value)>,
 ) -> Result<Vec<(String, CountReport<F>)>, MergeError> {
     read.into_iter()
@@ -1120,7 +1120,7 @@ pub fn merge<R: Sharded>(reports: &[(String, R)]) -> Result<R, MergeError> {
 /// The checks every sharded count's totals share: its shard is one of its views' slices, at least
 /// one view counted and no more than the shard holds, every pixel of each counted view judged,
 /// audited rays among them.
-pub fn check_totals(
+pub(crate) fn check_totals(
     shard: Shard,
     views: &Views,
     views_counted: usize,
@@ -1161,7 +1161,7 @@ pub fn check_totals(
 
 /// The checks of one method's wrong rays: the kinds add up to the total, no more than the rays, and
 /// the reference row (the first) wrong nowhere.
-pub fn check_wrong(
+pub(crate) fn check_wrong(
     at: &str,
     total: u64,
     kinds: &[u64; 5],

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 /// Why a found case could not be filed.
 #[derive(Debug, thiserror::Error)]
-pub enum FilingError {
+pub(crate) enum FilingError {
     /// Checking or shrinking it failed.
     #[error(transparent)]
     Found(#[from] crate::engine::found::FoundError),
@@ -29,7 +29,7 @@ pub enum FilingError {
 
 /// Where a found case is filed under `dir`: by method, `origin` (what found it: a stress row, a fuzz
 /// target), kind and an FNV-1a hash of its line (the case as found, before any shrink).
-pub fn path<F: Family>(dir: &Path, origin: &str, r: &Found<F>) -> PathBuf {
+pub(crate) fn path<F: Family>(dir: &Path, origin: &str, r: &Found<F>) -> PathBuf {
     let line = r.to_json();
     let hash = line.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
         (h ^ b as u64).wrapping_mul(0x100_0000_01b3)
@@ -43,7 +43,7 @@ pub fn path<F: Family>(dir: &Path, origin: &str, r: &Found<F>) -> PathBuf {
 }
 
 /// `r` written to `file` (its folder made), whole or not at all.
-pub fn write<F: Family>(file: &Path, r: &Found<F>) -> Result<(), FilingError> {
+pub(crate) fn write<F: Family>(file: &Path, r: &Found<F>) -> Result<(), FilingError> {
     file.parent()
         .map_or(Ok(()), std::fs::create_dir_all)
         .and_then(|_| crate::staged::write(file, (r.to_json() + "\n").as_bytes()))
@@ -56,7 +56,7 @@ pub fn write<F: Family>(file: &Path, r: &Found<F>) -> Result<(), FilingError> {
 /// A campaign's filing of failures as found cases: new ones only, at most `keep` per method, row and
 /// kind (each with the same case for the methods that claim and fail it too); the first error stops
 /// filing and is kept.
-pub struct Filing {
+pub(crate) struct Filing {
     /// What an answerer's found cases are shrunk inside.
     contract: Contract,
     /// Where they are filed.
@@ -75,7 +75,7 @@ pub struct Filing {
 impl Filing {
     /// Filing under `dir`, at most `keep` per method, row and kind; an answerer's cases shrunk inside
     /// `contract`.
-    pub fn new(dir: PathBuf, keep: usize, contract: Contract) -> Filing {
+    pub(crate) fn new(dir: PathBuf, keep: usize, contract: Contract) -> Filing {
         Filing {
             contract,
             dir,
@@ -88,7 +88,7 @@ impl Filing {
     }
 
     /// A wrong answer of a row.
-    pub fn file<F: Family>(&mut self, w: Wrong<F>) {
+    pub(crate) fn file<F: Family>(&mut self, w: Wrong<F>) {
         self.seen += 1;
         if self.error.is_none()
             && let Err(e) = self.try_file(w)
@@ -128,7 +128,7 @@ impl Filing {
 /// A fuzz run's finding filed as [`Filing`] files a campaign's (by `target`, its fuzz target), shrunk
 /// where it can be; a name in `filed` (this run's) is not written twice. The files written, each with
 /// what it holds.
-pub fn file_finding<F: Family>(
+pub(crate) fn file_finding<F: Family>(
     dir: &Path,
     target: &str,
     found: Found<F>,

@@ -109,7 +109,7 @@ impl Filter {
         Filter::CertifiedGpuFtz,
     ];
 
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Filter::OracleSide => "oracle side (f64)",
             Filter::OracleNormal => "oracle normal (f64)",
@@ -317,7 +317,7 @@ fn exact_det(p: Vec3, r: Vec3, s: Vec3, t: Vec3, d: Vec3) -> i8 {
 }
 
 /// Each filter's decided sign (`None`: undecided) and the exact sign, for one case.
-pub fn signs(x: &Inputs) -> Vec<(Filter, Option<i8>, i8)> {
+pub(crate) fn signs(x: &Inputs) -> Vec<(Filter, Option<i8>, i8)> {
     let Inputs { a, b, c, org, dir } = *x;
     let ray = Ray { org, dir };
     let side = exact_det(a, org, b, org, dir);

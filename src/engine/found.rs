@@ -35,7 +35,7 @@ pub enum FoundError {
 
 /// The backends a finding is checked on when it is filed for the methods that claim: the CPU in
 /// every arithmetic model ([`CPUS`]).
-pub fn cpu_backends() -> Vec<&'static Backend> {
+pub(crate) fn cpu_backends() -> Vec<&'static Backend> {
     CPUS.iter().collect()
 }
 
@@ -52,7 +52,7 @@ pub struct Failure<F: Family> {
 impl<F: Family> Failure<F> {
     /// What `m` answered wrongly where `b` runs it (the reference on the CPU), with the adapter where
     /// that is a GPU.
-    pub fn of(m: &F::Method, b: &Backend, answer: F::Answer) -> Failure<F> {
+    pub(crate) fn of(m: &F::Method, b: &Backend, answer: F::Answer) -> Failure<F> {
         let on = b.for_method(m);
         let ran = on.ran();
         Failure {
@@ -70,7 +70,7 @@ impl<F: Family> Failure<F> {
 
     /// Whether it can be run again on `b`: a GPU finding only on the adapter and driver it was found
     /// on (another compiles the methods differently), or why not.
-    pub fn runs_on(&self, b: &Backend) -> Result<(), String> {
+    pub(crate) fn runs_on(&self, b: &Backend) -> Result<(), String> {
         match (&self.adapter, b.ran().adapter) {
             (Some(want), Some(here)) if *want != here => {
                 Err(format!("found on {want}; this GPU is {here}"))
@@ -80,7 +80,7 @@ impl<F: Family> Failure<F> {
     }
 
     /// The backend it was found on, opened here, or why it cannot be.
-    pub fn backend_here(&self) -> Result<Backend, String> {
+    pub(crate) fn backend_here(&self) -> Result<Backend, String> {
         let b = Backend::open(self.backend).map_err(|e| e.to_string())?;
         self.runs_on(&b)?;
         Ok(b)
@@ -236,7 +236,7 @@ impl<F: Family> Found<F> {
     }
 
     /// What failed on it, or an error saying that the line records no failure to `doing`.
-    pub fn failed(&self, doing: &str) -> Result<&Failure<F>, FoundError> {
+    pub(crate) fn failed(&self, doing: &str) -> Result<&Failure<F>, FoundError> {
         self.failure.as_ref().ok_or_else(|| FoundError::Field {
             field: "method",
             why: format!("not a found case (it records no failure to {doing})"),
@@ -249,7 +249,7 @@ impl<F: Family> Found<F> {
     }
 
     /// The same case filed for another failure.
-    pub fn with_failure(&self, f: Failure<F>) -> Found<F> {
+    pub(crate) fn with_failure(&self, f: Failure<F>) -> Found<F> {
         Found {
             failure: Some(f),
             ..self.clone()
@@ -279,7 +279,7 @@ impl<F: Family> Found<F> {
 
 /// Every case of family `F` in the found corpus `dir` (`corpora/found/`: a folder per method, files of
 /// found-case lines), in file order; a line that does not read is an error naming it.
-pub fn corpus<F: Family>(dir: &std::path::Path) -> Result<Vec<F::Case>, FoundError> {
+pub(crate) fn corpus<F: Family>(dir: &std::path::Path) -> Result<Vec<F::Case>, FoundError> {
     let read = |p: &std::path::Path| {
         std::fs::read_to_string(p).map_err(|e| FoundError::Field {
             field: "file",
@@ -384,7 +384,9 @@ pub enum Replay {
 
 /// A found case of any family, as a line's JSON object, replayed ([`replay`]): how it replays now,
 /// and the method that failed on it.
-pub fn replay_object(obj: Map<String, Value>) -> Result<(Replay, Option<String>), FoundError> {
+pub(crate) fn replay_object(
+    obj: Map<String, Value>,
+) -> Result<(Replay, Option<String>), FoundError> {
     crate::with_family!(family::owner(&obj), F => {
         let r = Found::<F>::from_object(obj)?;
         Ok((replay(&r)?, r.failure.map(|f| f.method)))
@@ -394,7 +396,7 @@ pub fn replay_object(obj: Map<String, Value>) -> Result<(Replay, Option<String>)
 /// What a replay found: lines replayed, failing again the same way, changed, skipped (their backend
 /// is not here).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct ReplayTally {
+pub(crate) struct ReplayTally {
     pub lines: u64,
     pub same: u64,
     pub changed: u64,
@@ -403,7 +405,7 @@ pub struct ReplayTally {
 
 impl ReplayTally {
     /// Count a line that failed again the same way (`same`), changed, or was skipped.
-    pub fn add(&mut self, same: Option<bool>) {
+    pub(crate) fn add(&mut self, same: Option<bool>) {
         self.lines += 1;
         match same {
             Some(true) => self.same += 1,
@@ -415,7 +417,7 @@ impl ReplayTally {
 
 impl Replay {
     /// Whether it fails again the same way; none when skipped.
-    pub fn same(&self) -> Option<bool> {
+    pub(crate) fn same(&self) -> Option<bool> {
         match self {
             Replay::Holds => Some(true),
             Replay::Skipped(_) => None,

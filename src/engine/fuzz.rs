@@ -10,7 +10,7 @@ use crate::tet::Ray;
 use glam::Vec3;
 
 /// The variable naming a user's WGSL exit-face function to fuzz (`--wgsl`'s file, on the GPU).
-pub const FUZZ_WGSL: &str = "TETWALK_FUZZ_WGSL";
+pub(crate) const FUZZ_WGSL: &str = "TETWALK_FUZZ_WGSL";
 
 /// What `TETWALK_FUZZ_METHOD` says, or the default compiled in with `TETWALK_FUZZ_DEFAULT`
 /// (ClusterFuzzLite's build uses `ours`), else `robust`.
@@ -58,7 +58,7 @@ static FUZZ_GPU: std::sync::OnceLock<Result<Backend, String>> = std::sync::OnceL
 /// The backends a fuzz run holds the methods to, from `TETWALK_FUZZ_BACKEND`: `cpu` (the default: the
 /// CPU plain, fused and flushed) or `gpu` (the adapter `WGPU_ADAPTER_NAME` names, or the default one;
 /// opened with the `TETWALK_FUZZ_WGSL` function spliced in, when set).
-pub fn backends() -> Result<Vec<&'static Backend>, FoundError> {
+pub(crate) fn backends() -> Result<Vec<&'static Backend>, FoundError> {
     match std::env::var("TETWALK_FUZZ_BACKEND").as_deref() {
         Err(_) | Ok("cpu") if std::env::var_os(FUZZ_WGSL).is_some() => {
             Err(FoundError::FuzzBackend(format!(
@@ -87,7 +87,7 @@ pub fn backends() -> Result<Vec<&'static Backend>, FoundError> {
 /// in one batch (one dispatch per method), so that each input does a dispatch's worth of work. A method
 /// held to a claim made only of f32 as written is held on the plain CPU and the GPU alone. The exact
 /// judge runs on the CPU.
-pub fn find<F: Family>(case: &F::Case) -> Result<Option<Found<F>>, FoundError> {
+pub(crate) fn find<F: Family>(case: &F::Case) -> Result<Option<Found<F>>, FoundError> {
     let backends = backends()?;
     let cases = if backends.iter().any(|b| b.ran().kind == BackendKind::Gpu) {
         neighbourhood::<F>(case)
@@ -116,7 +116,7 @@ pub fn find<F: Family>(case: &F::Case) -> Result<Option<Found<F>>, FoundError> {
 }
 
 /// A fuzz target's check of one decoded case ([`find`]); a bad environment stops the run.
-pub fn check_one<F: Family>(case: &F::Case) -> Option<Found<F>> {
+pub(crate) fn check_one<F: Family>(case: &F::Case) -> Option<Found<F>> {
     find::<F>(case).unwrap_or_else(|e| match e {
         FoundError::FuzzMethod(_) | FoundError::FuzzBackend(_) => panic!("{e}"),
         _ => None,

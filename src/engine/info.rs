@@ -8,7 +8,7 @@ use crate::tet::{EDGES, FACE_VERTICES};
 /// Whether a scene loads as a tetrahedralization (`tetwalk scene check`): its counts and what it is
 /// made of, or what is wrong, and where.
 #[derive(Clone, Debug, serde::Serialize)]
-pub struct SceneCheck {
+pub(crate) struct SceneCheck {
     pub scene: String,
     pub valid: bool,
     #[serde(flatten)]
@@ -18,7 +18,7 @@ pub struct SceneCheck {
 /// A scene checked: a tetrahedralization, or not.
 #[derive(Clone, Debug, serde::Serialize)]
 #[serde(untagged)]
-pub enum Validity {
+pub(crate) enum Validity {
     Valid {
         points: usize,
         tetrahedra: usize,
@@ -34,7 +34,7 @@ pub enum Validity {
 impl SceneCheck {
     /// The scene `scene` as it loaded (`loaded`), checked; an error where a loaded mesh fails the
     /// rules (loading checks them).
-    pub fn of(
+    pub(crate) fn of(
         scene: &str,
         loaded: Result<crate::scenes::Loaded, crate::mesh::MeshError>,
     ) -> Result<SceneCheck, String> {
@@ -83,19 +83,19 @@ pub struct SceneInfo {
 pub struct OctreeInfo {
     pub settings: crate::octree::Settings,
     pub triangles: usize,
-    pub leaves_unconstrained: usize,
+    pub(crate) leaves_unconstrained: usize,
     pub leaves: usize,
     /// Mean neighbour links per leaf.
-    pub mean_neighbors: f64,
+    pub(crate) mean_neighbors: f64,
     /// Mean bytes of a leaf in eq. 3: four words and its neighbour addresses.
-    pub bytes_per_cell: f64,
+    pub(crate) bytes_per_cell: f64,
     /// Bytes of the cube map, the octree (eq. 3), the triangles (three f32 points per reference) and
     /// the boxes.
     pub bytes: [(String, usize); 4],
 }
 
 impl OctreeInfo {
-    pub fn of(mesh: &Mesh, settings: crate::octree::Settings) -> Option<OctreeInfo> {
+    pub(crate) fn of(mesh: &Mesh, settings: crate::octree::Settings) -> Option<OctreeInfo> {
         let (tris, _) = crate::mesh::surface::scene_triangles(mesh, &vec![false; mesh.tets.len()]);
         let o = crate::octree::Octree::build(&tris, settings).ok()?;
         let [octree, triangles, boxes, cube_map] = o.bytes();
@@ -117,7 +117,7 @@ impl OctreeInfo {
 }
 
 /// The smallest dihedral angle of a tetrahedron, in degrees (f64).
-pub fn min_dihedral(t: &crate::tet::Tet) -> f64 {
+pub(crate) fn min_dihedral(t: &crate::tet::Tet) -> f64 {
     let p = t.map(|v| v.as_dvec3());
     let normal = |f: usize| {
         let [a, b, c] = FACE_VERTICES[f].map(|i| p[i]);

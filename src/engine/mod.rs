@@ -23,13 +23,13 @@ pub mod view;
 /// Backends opened once each, or why one cannot be here: for runs that meet the same backend many
 /// times (found cases, a dump's lines, the register's checks).
 #[derive(Default)]
-pub struct Backends(
+pub(crate) struct Backends(
     std::collections::HashMap<crate::choice::BackendKind, Result<crate::backend::Backend, String>>,
 );
 
 impl Backends {
     /// `kind`, opened the first time it is asked for, or why it cannot be.
-    pub fn open(
+    pub(crate) fn open(
         &mut self,
         kind: crate::choice::BackendKind,
     ) -> Result<&crate::backend::Backend, String> {
@@ -42,12 +42,12 @@ impl Backends {
 }
 
 /// Most memory a run may plan to hold at once; larger runs are refused with the figure they need.
-pub const MEMORY_BUDGET: u64 = 8 << 30;
+pub(crate) const MEMORY_BUDGET: u64 = 8 << 30;
 
 /// Numbers measured under every labelling, written once for `stress`, `count` and `walk`: `own`
 /// (under the cases' or mesh's own labelling, the identity) each beside the same numbers under
 /// labellings `1..n`, which `again(k)` measures in the same order.
-pub fn under_labellings<E>(
+pub(crate) fn under_labellings<E>(
     own: Vec<u64>,
     n: usize,
     mut again: impl FnMut(usize) -> Result<Vec<u64>, E>,
@@ -62,7 +62,7 @@ pub fn under_labellings<E>(
 }
 
 /// Sorted numbers as runs of consecutive ones: `0, 1, 2, 4` as `0..=2` and `4..=4`.
-pub fn runs(sorted: &[usize]) -> Vec<std::ops::RangeInclusive<usize>> {
+pub(crate) fn runs(sorted: &[usize]) -> Vec<std::ops::RangeInclusive<usize>> {
     let mut out: Vec<std::ops::RangeInclusive<usize>> = Vec::new();
     for &n in sorted {
         match out.last_mut() {
@@ -74,7 +74,7 @@ pub fn runs(sorted: &[usize]) -> Vec<std::ops::RangeInclusive<usize>> {
 }
 
 /// A run written `a-b`, or `a` alone.
-pub fn run_text(r: &std::ops::RangeInclusive<usize>) -> String {
+pub(crate) fn run_text(r: &std::ops::RangeInclusive<usize>) -> String {
     if r.start() == r.end() {
         r.start().to_string()
     } else {
@@ -84,7 +84,7 @@ pub fn run_text(r: &std::ops::RangeInclusive<usize>) -> String {
 
 /// Line numbers (sorted) in runs, `line 7` or `lines 3, 7-9 and 12`: the first 8 runs, then how many
 /// lines are left.
-pub fn line_runs(lines: &[usize]) -> String {
+pub(crate) fn line_runs(lines: &[usize]) -> String {
     const RUNS: usize = 8;
     let runs = runs(lines);
     let shown: Vec<String> = runs.iter().take(RUNS).map(run_text).collect();

@@ -18,7 +18,7 @@ use crate::registry::{ByName, GpuVersion, METHODS, Named, OCTREE_METHODS, TRIANG
 use crate::scenes::Loaded;
 
 /// Seed 003's structures as tetwalk walks them: the method, and `cells` or one of seed 003's layouts.
-pub const SEED003_STRUCTURES: [(&str, &str, &str); 5] = [
+pub(crate) const SEED003_STRUCTURES: [(&str, &str, &str); 5] = [
     ("Tet-mesh-ScTP", "stp", "cells"),
     ("Tet-mesh-80", "maria17", "cells"),
     ("Tet-mesh-32", "aman20", "tet32"),
@@ -66,7 +66,7 @@ impl Size {
     };
     /// The papers' sizes, but Table 5 at a tenth of the rays per tetrahedron (the whole would hold
     /// about 40 GB of queries at once).
-    pub const FULL: Size = Size {
+    pub(crate) const FULL: Size = Size {
         views: 1282,
         side: 1024,
         tets: 10_000,

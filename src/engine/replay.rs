@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 /// Why a replay stopped: a file or a line (named) that could not be read, or what `each` returned.
 #[derive(Debug, thiserror::Error)]
-pub enum ReplayError {
+pub(crate) enum ReplayError {
     /// A file or line that could not be read or answered again, named.
     #[error("{0}")]
     Place(String),
@@ -22,7 +22,7 @@ pub enum ReplayError {
 
 /// Found cases replayed ([`replay_object`]), each given to `each` with its file, line number and
 /// method.
-pub fn found(
+pub(crate) fn found(
     files: &[PathBuf],
     mut each: impl FnMut(&str, usize, &Replay, Option<&str>) -> std::io::Result<()>,
 ) -> Result<ReplayTally, ReplayError> {
@@ -39,7 +39,7 @@ pub fn found(
 
 /// A count's dumped wrong rays answered again ([`Dumped::line`], scenes loaded with `faces`), each
 /// given to `each` with its file, line number and the line read.
-pub fn dumped(
+pub(crate) fn dumped(
     files: &[PathBuf],
     faces: Faces,
     mut each: impl FnMut(&str, usize, &WrongRay, &Redone) -> std::io::Result<()>,

@@ -18,14 +18,14 @@ use crate::registry::Named;
 use crate::walk::OutcomeKind;
 
 /// Checks one shrink may make at most (each judges one candidate exactly and answers it once).
-pub const CHECKS: usize = 20_000;
+pub(crate) const CHECKS: usize = 20_000;
 
 /// Passes over the numbers at most (each after the first only where the one before changed some).
 const PASSES: usize = 8;
 
 /// Significant bits of an f32: from the leading to the last set bit of its significand, 0 for zero
 /// (a subnormal counts its own bits; infinities and NaN the full 24).
-pub fn significant_bits(x: f32) -> u32 {
+pub(crate) fn significant_bits(x: f32) -> u32 {
     if x == 0.0 {
         return 0;
     }
@@ -79,7 +79,7 @@ pub struct Shrunk<F: Family> {
 }
 
 /// Whoever answers the cases a shrink tries: a method on a backend, or a program outside tetwalk.
-pub type AnswerFn<'a, F> =
+pub(crate) type AnswerFn<'a, F> =
     dyn Fn(&<F as Family>::Case) -> Result<<F as Family>::Answer, FoundError> + 'a;
 
 /// Shrink `case`, on which `m` (running on `backend`) answers wrongly: the simplest case on which it
@@ -97,7 +97,7 @@ pub fn shrink<F: Family>(
 }
 
 /// [`shrink_with`] for a program outside tetwalk, each case tried asked of it alone, inside `contract`.
-pub fn shrink_outside<F: Family>(
+pub(crate) fn shrink_outside<F: Family>(
     x: &crate::engine::answerer::Answerer,
     case: &F::Case,
     budget: usize,
@@ -115,7 +115,7 @@ pub fn shrink_outside<F: Family>(
 
 /// [`shrink`] for any answerer, `name` naming it; every case tried holds `contract` (what the
 /// answerer assumes), and a failure that is no tie does not shrink into one.
-pub fn shrink_with<F: Family>(
+pub(crate) fn shrink_with<F: Family>(
     answerer: &AnswerFn<F>,
     name: &str,
     case: &F::Case,
@@ -259,7 +259,7 @@ fn failure<F: Family>(
 }
 
 /// A found case shrunk (with what the shrink took), or why it was left as it is.
-pub type ShrunkOrLeft<F> = Result<(Found<F>, Shrunk<F>), String>;
+pub(crate) type ShrunkOrLeft<F> = Result<(Found<F>, Shrunk<F>), String>;
 
 /// A found case shrunk on the backend it was found on, the original kept ([`Found::original`]); a
 /// GPU finding made on another adapter, or on a backend that cannot be opened here, is left as it is
@@ -289,7 +289,7 @@ fn shrink_found_with<F: Family>(
 /// `found` shrunk with its method `m` on `backend` (where it was found), the original kept; every
 /// other method of the registry that claims and holds its claim on the case as found still holds it
 /// on the shrunk one (so that a finding stays one method's).
-pub fn shrink_on<F: Family>(
+pub(crate) fn shrink_on<F: Family>(
     found: &Found<F>,
     m: &F::Method,
     backend: &Backend,
@@ -310,7 +310,7 @@ pub fn shrink_on<F: Family>(
 }
 
 /// `found` with its case replaced by the shrunk one `s` and its answer there, the case as found kept.
-pub fn shrunk<F: Family>(found: &Found<F>, s: &Shrunk<F>) -> Found<F> {
+pub(crate) fn shrunk<F: Family>(found: &Found<F>, s: &Shrunk<F>) -> Found<F> {
     Found {
         case: s.case,
         failure: found.failure.clone().map(|f| Failure {
@@ -333,7 +333,7 @@ pub fn bits<F: Family>(case: &F::Case) -> (u32, u32) {
 /// One shell line that reproduces a found case: its case piped into the command that answers its
 /// family's cases, with its method and backend (`tetwalk replay --found FILE` where no command reads
 /// them).
-pub fn reproduce<F: Family>(found: &Found<F>) -> Option<String> {
+pub(crate) fn reproduce<F: Family>(found: &Found<F>) -> Option<String> {
     let f = found.failure.as_ref()?;
     let cmd = F::COMMAND?;
     Some(format!(
@@ -346,7 +346,7 @@ pub fn reproduce<F: Family>(found: &Found<F>) -> Option<String> {
 
 /// Where a case is: its file and 1-based line.
 #[derive(Clone, Debug, serde::Serialize)]
-pub struct Place {
+pub(crate) struct Place {
     /// The file, as given.
     pub file: String,
     /// Its line, from 1.
@@ -355,7 +355,7 @@ pub struct Place {
 
 /// One case shrunk, as `tetwalk shrink` reports it.
 #[derive(Debug, serde::Serialize)]
-pub struct CaseShrunk {
+pub(crate) struct CaseShrunk {
     /// Where the case was.
     pub file: String,
     /// Its line, from 1.
@@ -370,8 +370,8 @@ pub struct CaseShrunk {
     pub bits_before: u32,
     pub bits_after: u32,
     /// The most significant bits of any one number, before and after.
-    pub largest_before: u32,
-    pub largest_after: u32,
+    pub(crate) largest_before: u32,
+    pub(crate) largest_after: u32,
     /// Candidates checked.
     pub checks: usize,
     /// Whether the check budget ran out first (a simpler case may exist).
@@ -413,7 +413,7 @@ impl CaseShrunk {
     }
 
     /// Whether the search found a simpler case (fewer significant bits in all, or in the largest).
-    pub fn simpler(&self) -> bool {
+    pub(crate) fn simpler(&self) -> bool {
         self.bits_after < self.bits_before || self.largest_after < self.largest_before
     }
 }
@@ -421,7 +421,7 @@ impl CaseShrunk {
 /// What `tetwalk shrink` did: the cases shrunk, and those left as they were, with why (found on a GPU
 /// not here, a dump line without a diverging step).
 #[derive(Debug, Default, serde::Serialize)]
-pub struct ShrinkReport {
+pub(crate) struct ShrinkReport {
     /// The cases shrunk (or found as simple as the search finds).
     pub cases: Vec<CaseShrunk>,
     /// The cases left as they were, and why.
@@ -430,7 +430,7 @@ pub struct ShrinkReport {
 
 impl ShrinkReport {
     /// Significant bits per number before and after, over every case shrunk; `None` where none was.
-    pub fn mean_bits(&self) -> Option<(f64, f64)> {
+    pub(crate) fn mean_bits(&self) -> Option<(f64, f64)> {
         let numbers: usize = self.cases.iter().map(|d| d.numbers).sum();
         let mean = |f: fn(&CaseShrunk) -> u32| {
             self.cases.iter().map(|d| f(d) as f64).sum::<f64>() / numbers as f64
@@ -450,7 +450,7 @@ fn found_on<'b, F: Family>(
 }
 
 /// A found case at `at` shrunk on the backend it was found on, or why it is left as it is.
-pub fn shrink_case<F: Family>(
+pub(crate) fn shrink_case<F: Family>(
     found: &Found<F>,
     at: &Place,
     backends: &mut Backends,
@@ -474,7 +474,7 @@ pub fn shrink_case<F: Family>(
 
 /// A case at `at` shrunk for a program outside tetwalk, inside its contract, or why it is left as it
 /// is (the case breaks the contract).
-pub fn shrink_case_outside<F: Family>(
+pub(crate) fn shrink_case_outside<F: Family>(
     found: &Found<F>,
     a: &Program,
     contract: &Contract,
@@ -533,7 +533,7 @@ fn from_dump<F: Family>(
 
 /// A `count --dump` line at `at` shrunk: the found case of its diverging step (`from_dump`), or
 /// why it has none.
-pub fn shrink_dump_line(
+pub(crate) fn shrink_dump_line(
     obj: serde_json::Map<String, serde_json::Value>,
     at: &Place,
     backends: &mut Backends,
@@ -596,7 +596,7 @@ mod tests {
 /// How `tetwalk shrink` shrinks a file's lines: the checks each shrink may make, the program outside
 /// tetwalk the cases are shrunk for (with the contract it assumes, checked for each case's family), and
 /// whether the file is to be rewritten with its lines shrunk.
-pub struct ShrinkLines<'a> {
+pub(crate) struct ShrinkLines<'a> {
     /// Candidates one shrink may check.
     pub checks: usize,
     /// The program the cases are shrunk for, and its contract; `None`: each case's own method.
@@ -610,7 +610,7 @@ pub struct ShrinkLines<'a> {
 /// step. Each case's place and what became of it (shrunk, or left as it is and why) is given to `each`
 /// and kept in `report`. The text with every shrunk case's line in place of its own; an error names
 /// the line.
-pub fn shrink_lines(
+pub(crate) fn shrink_lines(
     file: &str,
     text: &str,
     how: &ShrinkLines,
@@ -679,7 +679,7 @@ pub fn shrink_lines(
 /// Why [`shrink_lines`] stopped: a line (named) that could not be read or shrunk, or what `each`
 /// returned.
 #[derive(Debug, thiserror::Error)]
-pub enum ShrinkLinesError {
+pub(crate) enum ShrinkLinesError {
     /// A line that could not be read or shrunk, named with its file and number.
     #[error("{0}")]
     Line(String),

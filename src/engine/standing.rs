@@ -29,7 +29,7 @@ pub struct Standing {
 
 impl Standing {
     /// A method that claims nothing (answers given from outside).
-    pub fn unclaimed(method: &str, judged: u64, wrong: u64) -> Standing {
+    pub(crate) fn unclaimed(method: &str, judged: u64, wrong: u64) -> Standing {
         Standing {
             method: method.to_string(),
             judged,
@@ -40,7 +40,7 @@ impl Standing {
 
     /// A method's standing, its claim (if it makes one) refuted as `refuted` says of that claim: a
     /// robust method by every wrong answer, a watertight one by its leaks where the run counts them.
-    pub fn of(
+    pub(crate) fn of(
         method: &impl Named,
         judged: u64,
         wrong: u64,
@@ -57,7 +57,7 @@ impl Standing {
 
     /// The standing of the method of family `F` called `name` (a method outside the registry claims
     /// nothing).
-    pub fn named<F: Family>(
+    pub(crate) fn named<F: Family>(
         name: &str,
         judged: u64,
         wrong: u64,
@@ -103,7 +103,7 @@ impl Standing {
 
 /// The standings of several runs of the same methods (rows of a table, labellings) added up by method,
 /// in first-seen order.
-pub fn summed(all: impl IntoIterator<Item = Standing>) -> Vec<Standing> {
+pub(crate) fn summed(all: impl IntoIterator<Item = Standing>) -> Vec<Standing> {
     let mut out: Vec<Standing> = Vec::new();
     for s in all {
         match out.iter_mut().find(|o| o.method == s.method) {

@@ -111,7 +111,7 @@ impl<'a, F: Family> Who<'a, F> {
     }
 
     /// Its answers to `cases` (a method's on `backend`).
-    pub fn answers(
+    pub(crate) fn answers(
         &self,
         backend: &Backend,
         cases: &[F::Case],
@@ -125,7 +125,7 @@ impl<'a, F: Family> Who<'a, F> {
     }
 
     /// A wrong answer of its where it ran, as a found case records it.
-    pub fn failure(&self, backend: &Backend, answer: F::Answer) -> Failure<F> {
+    pub(crate) fn failure(&self, backend: &Backend, answer: F::Answer) -> Failure<F> {
         match self {
             Who::Method(m) => Failure::<F>::of(m, backend, answer),
             Who::Outside(a) => Failure {
@@ -149,7 +149,7 @@ pub struct Wrong<'a, F: Family> {
 }
 
 /// What [`run`] shows of each wrong answer.
-pub type OnWrong<'a, F> = dyn FnMut(Wrong<F>) + 'a;
+pub(crate) type OnWrong<'a, F> = dyn FnMut(Wrong<F>) + 'a;
 
 /// `F::case` with the oracle's stage counts on this thread.
 fn counted<T>(f: impl FnOnce() -> T) -> (T, SignCounts) {
@@ -159,7 +159,7 @@ fn counted<T>(f: impl FnOnce() -> T) -> (T, SignCounts) {
 }
 
 /// Cases of family `F` with their exact truths.
-pub type Judged<F> = Vec<(<F as Family>::Case, <F as Family>::Truth)>;
+pub(crate) type Judged<F> = Vec<(<F as Family>::Case, <F as Family>::Truth)>;
 
 /// A row's cases with their truths, and the oracle's counts making them ([`cases_of`] with the
 /// settings' rows, seed, cases, scale and contract).
@@ -171,7 +171,7 @@ pub fn row_cases<F: Family>(s: &StressSettings<F>, row: F::Row) -> (Judged<F>, S
 /// their truths, and the oracle's counts making them (the cases `stress` judges there, and
 /// `gen-cases` writes); case `i` a pure function of the seed, the row and `i`, generated in
 /// parallel.
-pub fn cases_of<F: Family>(
+pub(crate) fn cases_of<F: Family>(
     rows: &F::Rows,
     row: F::Row,
     seed: u64,
@@ -200,7 +200,7 @@ pub fn cases_of<F: Family>(
 
 /// [`cases_of`]'s cases, every one of the first `count` (what `gen-cases` writes); an error saying how
 /// many can be made where some cannot.
-pub fn every_case_of<F: Family>(
+pub(crate) fn every_case_of<F: Family>(
     rows: &F::Rows,
     row: F::Row,
     seed: u64,
@@ -241,7 +241,7 @@ fn answered<F: Family>(
 
 /// `m`'s answers to a row's cases on `backend`, judged and tallied; `each` sees every answer with its
 /// verdict. The stress table and the conformance kit judge with this.
-pub fn judge<F: Family>(
+pub(crate) fn judge<F: Family>(
     s: &StressSettings<F>,
     m: Who<F>,
     backend: &Backend,
@@ -312,7 +312,7 @@ pub fn run<F: Family>(
 
 impl<F: Family> StressReport<F> {
     /// Another round's report of the same run added to this one.
-    pub fn add(&mut self, more: &StressReport<F>) {
+    pub(crate) fn add(&mut self, more: &StressReport<F>) {
         for (a, b) in self.rows.iter_mut().zip(&more.rows) {
             a.facts.add(&b.facts);
             for (x, y) in a.tallies.iter_mut().zip(&b.tallies) {
@@ -325,7 +325,7 @@ impl<F: Family> StressReport<F> {
 
     /// Run again under every other labelling ([`Family::LABELLINGS`]; the cases' own is this report)
     /// and keep each row's and method's wrong answers under all of them.
-    pub fn relabel_all(
+    pub(crate) fn relabel_all(
         &mut self,
         methods: &[Who<F>],
         backend: &Backend,

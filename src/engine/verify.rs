@@ -52,7 +52,7 @@ pub struct Check {
 /// A row of the register: the methods, the claim quoted, the verdict and the counterexample (as the
 /// docs/results.md writes them), and the checks behind the verdict.
 #[derive(Clone, Copy, Debug)]
-pub struct Entry {
+pub(crate) struct Entry {
     pub methods: &'static str,
     pub claim: &'static str,
     pub verdict: &'static str,
@@ -125,7 +125,7 @@ macro_rules! checks {
 use Evidence::{Counterexample, Domain};
 
 /// The register.
-pub const REGISTER: &[Entry] = &[
+pub(crate) const REGISTER: &[Entry] = &[
     Entry {
         methods: "`maria17`, `maria17-translated` (both readings of §3.4)",
         claim: "seed 000, abstract: \"it is robust with 32-bits floats\"; §1: \"It is robust, since it does not cause any error due to numerical instability, either on CPU or on GPU\"; §4.3: \"we did not obtain wrong results using our method\"",
@@ -433,7 +433,7 @@ fn scales(s: &[Scale]) -> String {
 }
 
 /// One picked check: what it found, or why it was not run here.
-pub enum Verified {
+pub(crate) enum Verified {
     /// It ran: what it found.
     Checked(CheckResult),
     /// It did not run here: the check, and why.
@@ -442,7 +442,7 @@ pub enum Verified {
 
 impl Verified {
     /// What it found, where it ran.
-    pub fn checked(&self) -> Option<&CheckResult> {
+    pub(crate) fn checked(&self) -> Option<&CheckResult> {
         match self {
             Verified::Checked(c) => Some(c),
             Verified::Skipped { .. } => None,
@@ -450,7 +450,7 @@ impl Verified {
     }
 
     /// Its name, where it was skipped.
-    pub fn skipped(&self) -> Option<&'static str> {
+    pub(crate) fn skipped(&self) -> Option<&'static str> {
         match self {
             Verified::Skipped { name, .. } => Some(name),
             Verified::Checked(_) => None,
@@ -461,7 +461,7 @@ impl Verified {
 /// Run `checks` in order (as [`verify`]), each backend opened once; a check whose backend cannot be
 /// opened, or registered for another adapter than this one where the same claim has a check of its
 /// own here, is skipped. `each` sees every one as it ends.
-pub fn verify_all(
+pub(crate) fn verify_all(
     checks: &[&'static Check],
     cases: usize,
     found: &Path,

@@ -33,7 +33,11 @@ pub struct Frame {
 }
 
 /// View `index`'s camera (placed as `tetwalk count` places it) and the tetrahedron holding it.
-pub fn located_view(mesh: &Mesh, views: &Views, index: usize) -> Result<(Camera, u32), ViewError> {
+pub(crate) fn located_view(
+    mesh: &Mesh,
+    views: &Views,
+    index: usize,
+) -> Result<(Camera, u32), ViewError> {
     if index >= views.views {
         return Err(ViewError::NoSuchView {
             view: index,

@@ -71,12 +71,12 @@ pub struct Contract {
 
 impl Contract {
     /// Whether it asks nothing beyond what the rows make.
-    pub fn is_default(&self) -> bool {
+    pub(crate) fn is_default(&self) -> bool {
         *self == Contract::default()
     }
 
     /// Whether it asks only what every family's cases can give (a unit direction).
-    pub fn is_general(&self) -> bool {
+    pub(crate) fn is_general(&self) -> bool {
         Contract {
             unit_direction: false,
             ..*self
@@ -85,7 +85,7 @@ impl Contract {
     }
 
     /// An error naming what is not a contract (a tolerance out of range).
-    pub fn check(&self) -> Result<(), String> {
+    pub(crate) fn check(&self) -> Result<(), String> {
         if !(self.tolerance.is_finite() && (0.0..1.0).contains(&self.tolerance)) {
             return Err(format!(
                 "--tolerance {} is not a relative distance in [0, 1)",
@@ -97,7 +97,7 @@ impl Contract {
 
     /// An error naming what is not a contract, or what family `F`'s cases cannot hold (only exit
     /// faces hold more than a unit direction).
-    pub fn check_for<F: super::Family>(&self) -> Result<(), String> {
+    pub(crate) fn check_for<F: super::Family>(&self) -> Result<(), String> {
         self.check()?;
         if !F::CONTRACTS && !self.is_general() {
             return Err(format!(
@@ -109,7 +109,7 @@ impl Contract {
     }
 
     /// The contract in words, for reports.
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         use crate::choice::Choice;
         let mut s = vec![
             format!("origin {}", self.origin.name()),
@@ -127,26 +127,26 @@ impl Contract {
 }
 
 /// A direction of length 1: the exact unit vector rounded to f32 (`None` for a zero direction).
-pub fn unit(d: Vec3) -> Option<Vec3> {
+pub(crate) fn unit(d: Vec3) -> Option<Vec3> {
     let u = d.as_dvec3().normalize_or_zero().as_vec3();
     (u != Vec3::ZERO).then_some(u)
 }
 
 /// Whether `d` has length 1 to f32 rounding: within 4 ulps of 1 (a unit vector rounded per
 /// coordinate is within about 2).
-pub fn is_unit(d: Vec3) -> bool {
+pub(crate) fn is_unit(d: Vec3) -> bool {
     (d.as_dvec3().length() - 1.0).abs() <= 4.0 * f32::EPSILON as f64
 }
 
 /// The side of face `f`'s plane `p` lies on, as vertex `f` does (+1), the other side (-1) or on it
 /// (0): exactly.
-pub fn face_side(tet: &Tet, f: usize, p: Vec3) -> i8 {
+pub(crate) fn face_side(tet: &Tet, f: usize, p: Vec3) -> i8 {
     let [a, b, c] = FACE_VERTICES[f].map(|i| tet[i]);
     orientation(&[a, b, c, p]) * orientation(&[a, b, c, tet[f]])
 }
 
 /// Whether `p` lies strictly inside the tetrahedron.
-pub fn strictly_inside(tet: &Tet, p: Vec3) -> bool {
+pub(crate) fn strictly_inside(tet: &Tet, p: Vec3) -> bool {
     (0..4).all(|f| face_side(tet, f, p) > 0)
 }
 
@@ -168,7 +168,7 @@ fn line_segment_distance(o: DVec3, d: DVec3, a: DVec3, b: DVec3) -> f64 {
 
 /// The distance from the case's line to the nearest edge, relative to the longest edge (f64: a
 /// contract's border, never a verdict).
-pub fn edge_distance(tet: &Tet, org: Vec3, dir: Vec3) -> f64 {
+pub(crate) fn edge_distance(tet: &Tet, org: Vec3, dir: Vec3) -> f64 {
     let longest = crate::tet::EDGES
         .iter()
         .map(|&[a, b]| (tet[b] - tet[a]).as_dvec3().length())
@@ -188,7 +188,7 @@ pub fn edge_distance(tet: &Tet, org: Vec3, dir: Vec3) -> f64 {
 
 /// `case` made to hold a contract other than the default one ([`Family::contracted`], with `key`),
 /// judged again as it then is, and kept where it holds: the case and its truth.
-pub fn within<F: Family>(
+pub(crate) fn within<F: Family>(
     contract: &Contract,
     case: &F::Case,
     key: u64,
@@ -202,7 +202,7 @@ pub fn within<F: Family>(
 /// `i` of the row is tried, made to hold it ([`Family::contracted`], with key `i`), judged again as it
 /// then is, and kept where it holds; at most eight times `count` are tried. The first `count` kept,
 /// in order of `i`; a pure function of the row, the seed and the contract.
-pub fn cases_within<F: Family>(
+pub(crate) fn cases_within<F: Family>(
     contract: &Contract,
     count: usize,
     make: impl Fn(usize) -> Option<(F::Case, F::Truth)> + Sync,

@@ -232,15 +232,15 @@ pub struct Transfer {
     #[serde(flatten)]
     pub total: Traffic,
     /// Per ray counted ([`CountRow::finish`]).
-    pub bytes_written_per_ray: f64,
-    pub bytes_read_per_ray: f64,
+    pub(crate) bytes_written_per_ray: f64,
+    pub(crate) bytes_read_per_ray: f64,
     /// The kernels' share of the row's wall time.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kernel_share: Option<f64>,
 }
 
 impl<C: Counts> CountRow<C> {
-    pub fn new(method: &str) -> Self {
+    pub(crate) fn new(method: &str) -> Self {
         CountRow {
             method: method.to_string(),
             counts: C::default(),
@@ -252,7 +252,7 @@ impl<C: Counts> CountRow<C> {
     }
 
     /// Count what a view's answers moved between the CPU and the GPU.
-    pub fn add_traffic(&mut self, t: &Traffic) {
+    pub(crate) fn add_traffic(&mut self, t: &Traffic) {
         let total = self.transfer.as_ref().map_or(*t, |s| s.total.plus(t));
         self.transfer = Some(Transfer {
             total,
@@ -261,13 +261,13 @@ impl<C: Counts> CountRow<C> {
     }
 
     /// Count a view's work: steps (tetrahedra or cells visited) and seconds answering.
-    pub fn add_work(&mut self, steps: u64, seconds: f64) {
+    pub(crate) fn add_work(&mut self, steps: u64, seconds: f64) {
         self.counts.add_steps(steps);
         self.seconds += seconds;
     }
 
     /// Another shard's totals.
-    pub fn add(&mut self, o: &Self) {
+    pub(crate) fn add(&mut self, o: &Self) {
         self.counts.add(&o.counts);
         self.seconds += o.seconds;
         if let Some(t) = &o.transfer {
@@ -281,7 +281,7 @@ impl<C: Counts> CountRow<C> {
     }
 
     /// The per-image and per-second figures, once every view is counted.
-    pub fn finish(&mut self, views: usize, rays: u64) {
+    pub(crate) fn finish(&mut self, views: usize, rays: u64) {
         self.counts.finish(views);
         self.mrays_per_second = if self.seconds > 0.0 {
             rays as f64 / self.seconds / 1e6
@@ -303,7 +303,7 @@ impl<C: Counts> CountRow<C> {
 
     /// Whether its own numbers agree with each other (beyond the kinds adding up, which the engine
     /// checks): the field that does not, and why.
-    pub fn check(&self, at: &str, views: usize) -> Result<(), (String, String)> {
+    pub(crate) fn check(&self, at: &str, views: usize) -> Result<(), (String, String)> {
         let total = self.counts.wrong_total();
         if let Some(r) = &self.relabelled
             && r.first() != Some(&total)
@@ -342,7 +342,7 @@ pub trait Counts:
 }
 
 /// A failed check: `field`, and why.
-pub fn inconsistent(
+pub(crate) fn inconsistent(
     field: impl Into<String>,
     why: impl Into<String>,
 ) -> Result<(), (String, String)> {
@@ -351,7 +351,12 @@ pub fn inconsistent(
 
 /// The check of a per-image figure `figure` (`wrong_per_image`) against its total over `views`, as
 /// `finish` makes it.
-pub fn per_image(at: &str, figure: f64, total: u64, views: usize) -> Result<(), (String, String)> {
+pub(crate) fn per_image(
+    at: &str,
+    figure: f64,
+    total: u64,
+    views: usize,
+) -> Result<(), (String, String)> {
     if figure != total as f64 / views.max(1) as f64 {
         return inconsistent(
             format!("{at}.wrong_per_image"),
@@ -362,7 +367,7 @@ pub fn per_image(at: &str, figure: f64, total: u64, views: usize) -> Result<(), 
 }
 
 /// The first field (a dotted path) where `a` and `b` differ, with both values.
-pub fn first_difference(
+pub(crate) fn first_difference(
     a: &serde_json::Value,
     b: &serde_json::Value,
 ) -> Option<(String, String, String)> {

@@ -42,7 +42,7 @@ pub enum Verdict {
 
 impl Verdict {
     /// A verdict line's `correct`: `None` (`null`) where the case is not judged.
-    pub fn correct(self) -> Option<bool> {
+    pub(crate) fn correct(self) -> Option<bool> {
         match self {
             Verdict::Right => Some(true),
             Verdict::Wrong(_) => Some(false),
@@ -108,12 +108,12 @@ impl Scale {
         }
     }
 
-    pub fn is_one(&self) -> bool {
+    pub(crate) fn is_one(&self) -> bool {
         *self == Scale::default()
     }
 
     /// Read `E` (points and direction at 2^E) or `E/D` (points at 2^E, direction at 2^D).
-    pub fn parse(s: &str) -> Result<Scale, String> {
+    pub(crate) fn parse(s: &str) -> Result<Scale, String> {
         let e = |t: &str| {
             t.trim()
                 .parse::<i32>()
@@ -131,7 +131,7 @@ impl Scale {
     }
 
     /// `x` times 2^`e`, rounded once (to a subnormal, zero or infinity where it leaves f32's range).
-    pub fn times(x: f32, e: i32) -> f32 {
+    pub(crate) fn times(x: f32, e: i32) -> f32 {
         (x as f64 * 2f64.powi(e)) as f32
     }
 }
@@ -423,14 +423,17 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
 
 /// Whether a case's own line reads back as the case (no zero direction, no number out of f32's range,
 /// nothing else the case format refuses).
-pub fn readable<F: Family>(case: &F::Case) -> bool {
+pub(crate) fn readable<F: Family>(case: &F::Case) -> bool {
     let mut obj = F::case_json(case);
     F::take_case(&mut obj).is_ok_and(|c| c == *case && obj.is_empty())
 }
 
 /// `case` at `scale` ([`Family::scaled`]), judged again as it then is: none where it no longer reads
 /// back ([`readable`]: a number overflowed) or the oracle refuses it.
-pub fn scaled_judged<F: Family>(case: &F::Case, scale: Scale) -> Option<(F::Case, F::Truth)> {
+pub(crate) fn scaled_judged<F: Family>(
+    case: &F::Case,
+    scale: Scale,
+) -> Option<(F::Case, F::Truth)> {
     let c = F::scaled(case, scale).filter(readable::<F>)?;
     Some((c, F::truth(&c).ok()?))
 }
@@ -452,10 +455,10 @@ pub fn by_name<F: Family>(name: &str) -> Result<&'static F::Method, UnknownMetho
 
 /// One registered method, as `tetwalk methods` lists it.
 #[derive(Clone, Debug, serde::Serialize)]
-pub struct Listed {
+pub(crate) struct Listed {
     pub name: &'static str,
     pub family: &'static str,
-    pub claims_robust: bool,
+    pub(crate) claims_robust: bool,
     pub reference: bool,
     /// `yes`, or `no: ` and why.
     pub gpu: String,
@@ -465,7 +468,7 @@ pub struct Listed {
 
 /// Every registered method, each registry once: families that share one (exit faces and walks)
 /// list it under the first.
-pub fn listed() -> Vec<Listed> {
+pub(crate) fn listed() -> Vec<Listed> {
     use crate::choice::Choice;
     let mut seen: Vec<*const ()> = Vec::new();
     let mut rows: Vec<Listed> = Vec::new();
@@ -495,7 +498,7 @@ pub fn listed() -> Vec<Listed> {
 }
 
 /// Methods of family `F` from a comma-separated list (`all` for every one).
-pub fn parse_list<F: Family>(names: &str) -> Result<Vec<&'static F::Method>, UnknownMethod> {
+pub(crate) fn parse_list<F: Family>(names: &str) -> Result<Vec<&'static F::Method>, UnknownMethod> {
     crate::registry::list(F::methods(), names)
 }
 
@@ -676,7 +679,7 @@ pub fn owner(obj: &Map<String, Value>) -> Kind {
 /// An answer given from outside, its fields checked as strictly as a case's: only the keys
 /// `allowed` for this kind of case (and `line`), each of `required` present (null allowed where the
 /// kind allows no answer).
-pub fn given_fields<'a>(
+pub(crate) fn given_fields<'a>(
     o: &'a Map<String, Value>,
     kind: &str,
     allowed: &[&str],

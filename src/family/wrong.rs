@@ -23,7 +23,7 @@ pub struct Stop {
 }
 
 impl Stop {
-    pub fn of(mesh: &Mesh, w: &Walk) -> Stop {
+    pub(crate) fn of(mesh: &Mesh, w: &Walk) -> Stop {
         let vertices = match w.outcome {
             Outcome::Hit { tet, face } | Outcome::LeftMesh { tet, face } => {
                 Some(mesh.face(tet, face as usize))
@@ -137,7 +137,7 @@ pub struct WrongRay {
     /// arithmetic; none for a GPU run or given walks, whose steps are not observed).
     pub divergence: Option<Divergence>,
     /// Distance of the exact hit point from the nearest edge of the method's triangle, in f32 ulps.
-    pub ulps_from_edge: Option<f64>,
+    pub(crate) ulps_from_edge: Option<f64>,
     /// The one-tetrahedron case of the step where the walk diverged (the case format `exit` reads:
     /// that tetrahedron, the ray, the face it was entered through), which the method fails as it
     /// failed there; `tetwalk shrink` shrinks it.
@@ -174,7 +174,7 @@ pub struct Seen<'a> {
 
 impl WrongRay {
     /// Describe a wrong walk `w` of `ray` beside the `exact` walk `reference`, from `start`.
-    pub fn of(
+    pub(crate) fn of(
         mesh: &Mesh,
         seen: &Seen,
         ray: &Ray,
@@ -231,7 +231,7 @@ impl WrongRay {
     }
 
     /// The ray.
-    pub fn ray(&self) -> Ray {
+    pub(crate) fn ray(&self) -> Ray {
         Ray {
             org: self.org.into(),
             dir: self.dir.into(),

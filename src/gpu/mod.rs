@@ -24,7 +24,7 @@ use wgpu::util::DeviceExt;
 pub mod shader;
 
 /// What the shader writes for "no exit face".
-pub const NONE: i32 = -1;
+pub(crate) const NONE: i32 = -1;
 
 /// Why the GPU cannot be used, or what went wrong on it.
 #[derive(Debug, thiserror::Error)]
@@ -112,7 +112,7 @@ fn user_module(path: &str, source: &str) -> Result<String, GpuError> {
 
 impl shader::Case {
     /// A case as the shader reads it.
-    pub fn new(tet: &Tet, ray: &Ray, entry: Option<usize>) -> shader::Case {
+    pub(crate) fn new(tet: &Tet, ray: &Ray, entry: Option<usize>) -> shader::Case {
         let [v0, v1, v2, v3] = tet.map(|p| p.extend(0.0).to_array());
         shader::Case {
             v0,
@@ -130,7 +130,7 @@ impl shader::Case {
 }
 
 /// Adapters found, one line each: name, backend, device type, driver.
-pub fn adapters() -> Vec<String> {
+pub(crate) fn adapters() -> Vec<String> {
     let instance =
         wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
     pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
@@ -216,7 +216,7 @@ struct Job<'a, I> {
 
 /// What becomes of a dispatch's output (walk endings, for the last two).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum After {
+pub(crate) enum After {
     /// Read back.
     Read,
     /// Kept on the GPU as the reference walk's endings (`compare_endings` and `compare_hits` read
@@ -379,7 +379,7 @@ struct Collected<T> {
 
 /// Walks compared on the GPU, submitted and not yet read back: [`Gpu::gather`] reads several at
 /// once, in one wait.
-pub struct Queued {
+pub(crate) struct Queued {
     parts: Vec<Submitted>,
     /// Bytes uploaded for them beyond their dispatches' (an octree walk's rays with their entry
     /// cells, once for every method of a view).
@@ -391,7 +391,7 @@ pub struct Queued {
 /// Queued walks read back ([`Gpu::gather`]): the steps summed and the walks sent back, or `None`
 /// where a later dispatch sent its records over theirs before they were read; what crossed for
 /// them.
-pub struct Gathered {
+pub(crate) struct Gathered {
     pub done: Option<Dispatched<Ending>>,
     pub traffic: Traffic,
 }
@@ -452,14 +452,14 @@ impl Dispatched<Ending> {
 
 impl Gpu {
     /// Open the adapter named by `WGPU_ADAPTER_NAME` (substring, any case), or the default one.
-    pub fn new() -> Result<Gpu, GpuError> {
+    pub(crate) fn new() -> Result<Gpu, GpuError> {
         Self::with_module(shader::COMMITTED.into(), "")
     }
 
     /// The same with a user's exit-face functions spliced in as method `user`
     /// ([`shader::with_user`]), checked first by the WGSL compiler: its message names `path` and the
     /// user's own line numbers.
-    pub fn with_user(path: &str, source: &str) -> Result<Gpu, GpuError> {
+    pub(crate) fn with_user(path: &str, source: &str) -> Result<Gpu, GpuError> {
         Self::with_module(user_module(path, source)?, shader::USER_PREFIX)
     }
 
@@ -587,7 +587,7 @@ impl Gpu {
     }
 
     /// Adapter, backend and driver, for reports.
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         describe(&self.info)
     }
 
@@ -602,7 +602,7 @@ impl Gpu {
     }
 
     /// What crossed between the CPU and this GPU since it was opened.
-    pub fn traffic(&self) -> Traffic {
+    pub(crate) fn traffic(&self) -> Traffic {
         *self.traffic.lock().unwrap_or_else(|e| e.into_inner())
     }
 
@@ -1183,7 +1183,7 @@ impl Gpu {
     /// the steps summed, the picked endings and the walks sent back, all read back in one wait; `done` is `None` for one whose records
     /// a later one sent over before they were read (queue it again alone). Traffic is each one's,
     /// the wait counted on the first.
-    pub fn gather(&self, queued: Vec<Queued>) -> Result<Vec<Gathered>, GpuError> {
+    pub(crate) fn gather(&self, queued: Vec<Queued>) -> Result<Vec<Gathered>, GpuError> {
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let sizes: Vec<usize> = queued.iter().map(|q| q.parts.len()).collect();
         let known: Vec<_> = queued.iter().map(|q| (q.known, q.uploaded)).collect();
@@ -1235,7 +1235,7 @@ impl Gpu {
 
     /// The exit face and quarter of each octree cell case (`v0`, `v1` the corners) with `method`:
     /// `4 f + q`, or negative for none.
-    pub fn box_exits(
+    pub(crate) fn box_exits(
         &self,
         method: &OctreeMethod,
         cases: &[shader::Case],
@@ -1253,7 +1253,7 @@ impl Gpu {
     /// Upload a scene's triangles and the constrained face each came from (tetrahedron and face,
     /// from both sides: [`crate::mesh::surface::both_sides`]; a count compares hits on them,
     /// [`Gpu::nearest_against`], [`Gpu::octree_walks_against`]; empty where nothing is compared).
-    pub fn upload_triangles(
+    pub(crate) fn upload_triangles(
         &self,
         tris: &[crate::tet::Tri],
         from: &[[(u32, u8); 2]],
@@ -1271,7 +1271,7 @@ impl Gpu {
     }
 
     /// Upload an octree over triangles uploaded for it, for [`Gpu::octree_walks`].
-    pub fn upload_octree(&self, o: &crate::octree::Octree, tris: GpuTriangles) -> GpuOctree {
+    pub(crate) fn upload_octree(&self, o: &crate::octree::Octree, tris: GpuTriangles) -> GpuOctree {
         let boxes: Vec<[f32; 4]> = o
             .boxes
             .iter()
@@ -1288,7 +1288,7 @@ impl Gpu {
 
     /// Walk every ray from its entry cell's address (`HULL`: a miss) through the uploaded octree with
     /// `method`, each leaf's triangles tested with `tri`.
-    pub fn octree_walks(
+    pub(crate) fn octree_walks(
         &self,
         method: &OctreeMethod,
         tri: &TriangleMethod,
@@ -1310,7 +1310,7 @@ impl Gpu {
     /// the walks not settled there come back ([`Dispatched::sent`]), queued ([`Gpu::gather`]). The
     /// rays with their entry cells (`entered`, called once for the kept rays) are uploaded once for
     /// every method compared.
-    pub fn octree_walks_against(
+    pub(crate) fn octree_walks_against(
         &self,
         method: &OctreeMethod,
         tri: &TriangleMethod,
@@ -1413,7 +1413,7 @@ impl Gpu {
     }
 
     /// Upload a mesh for [`Gpu::walks`].
-    pub fn upload(&self, mesh: &Mesh) -> GpuMesh {
+    pub(crate) fn upload(&self, mesh: &Mesh) -> GpuMesh {
         let cells: Vec<shader::Cell> = mesh
             .cells
             .iter()
@@ -1451,7 +1451,7 @@ impl Gpu {
 
     /// Walk every ray from its starting tetrahedron with `method` on the GPU: each ray's ending, its
     /// code checked ([`Ending::walk`] reads it).
-    pub fn walks(
+    pub(crate) fn walks(
         &self,
         method: &Method,
         mesh: &GpuMesh,
@@ -1466,7 +1466,7 @@ impl Gpu {
 
     /// Whether a batch of `rays` rays can be kept on the GPU as a reference walk (its rays fit one
     /// binding, which the compared walks read whole).
-    pub fn keeps(&self, rays: usize) -> bool {
+    pub(crate) fn keeps(&self, rays: usize) -> bool {
         (rays * std::mem::size_of::<shader::WalkRay>()) as u64 <= self.max_binding
     }
 
@@ -1474,7 +1474,7 @@ impl Gpu {
     /// ([`Gpu::gather`]): only the endings of `picked` are read back ([`Dispatched::items`]), with
     /// the steps summed and the walks flagged ([`Dispatched::sent`]). A batch kept must fit one
     /// binding ([`Gpu::keeps`]): refused otherwise.
-    pub fn walks_keeping(
+    pub(crate) fn walks_keeping(
         &self,
         method: &Method,
         mesh: &GpuMesh,
@@ -1491,7 +1491,7 @@ impl Gpu {
     /// each ending compared there with the kept one (`compare_endings`), queued ([`Gpu::gather`]):
     /// the steps summed, and only the walks not settled as ending where the reference ends come
     /// back ([`Dispatched::sent`]).
-    pub fn walks_against(
+    pub(crate) fn walks_against(
         &self,
         method: &Method,
         mesh: &GpuMesh,
@@ -1550,7 +1550,7 @@ impl Gpu {
     /// Write the CPU's walks of rays the reference walk flagged (by index in its batch) over its
     /// endings kept on the GPU, so that walks compared with it from then on, and its endings read
     /// back, meet the endings the CPU judges with; the bytes written.
-    pub fn amend_reference(&self, walks: &[(usize, Walk)]) -> Result<u64, GpuError> {
+    pub(crate) fn amend_reference(&self, walks: &[(usize, Walk)]) -> Result<u64, GpuError> {
         let kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let reference = kept.get("reference").ok_or(GpuError::NoReference)?;
         let size = std::mem::size_of::<Ending>();
@@ -1569,7 +1569,7 @@ impl Gpu {
 
     /// Every ending of the reference walk kept on the GPU for `rays` (refused for other rays), read
     /// back.
-    pub fn kept_endings(&self, rays: &[(Ray, u32)]) -> Result<Vec<Ending>, GpuError> {
+    pub(crate) fn kept_endings(&self, rays: &[(Ray, u32)]) -> Result<Vec<Ending>, GpuError> {
         self.check_kept(rays)?;
         let mut kept = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
         let reference = kept.get("reference").ok_or(GpuError::NoReference)?.clone();
@@ -1620,7 +1620,7 @@ impl Gpu {
 
     /// `method`'s answer for each (ray, triangle) pair, the triangle an index into `tris`: the `t` of a
     /// hit that counts, or `None`.
-    pub fn triangle_pairs(
+    pub(crate) fn triangle_pairs(
         &self,
         method: &TriangleMethod,
         tris: &[crate::tet::Tri],
@@ -1646,7 +1646,7 @@ impl Gpu {
     }
 
     /// `method`'s nearest hit among `tris` (every one tried) for each ray: the triangle and its `t`.
-    pub fn nearest_triangles(
+    pub(crate) fn nearest_triangles(
         &self,
         method: &TriangleMethod,
         tris: &[crate::tet::Tri],
@@ -1681,7 +1681,7 @@ impl Gpu {
     /// hit taken as the face its triangle came from): only the rays not settled there come back
     /// ([`Dispatched::sent`]: HIT with the triangle and the bits of `t`, or LEFT_MESH), queued
     /// ([`Gpu::gather`]).
-    pub fn nearest_against(
+    pub(crate) fn nearest_against(
         &self,
         method: &TriangleMethod,
         tris: &GpuTriangles,
@@ -1737,7 +1737,7 @@ impl Gpu {
     }
 
     /// Upload seed 003's three layouts of a mesh and its points for [`Gpu::layout_walks`].
-    pub fn upload_layout(&self, layout: &Layout, points: &[glam::Vec3]) -> GpuLayout {
+    pub(crate) fn upload_layout(&self, layout: &Layout, points: &[glam::Vec3]) -> GpuLayout {
         let tet32: Vec<u32> = layout
             .tet32
             .iter()
@@ -1764,7 +1764,7 @@ impl Gpu {
     /// Walk every ray from its source tetrahedron over layout `kind` with `method` (seed 003
     /// Algorithms 2-7); each ray's ending ([`Ending::layout_walk`] reads it), a face named by the
     /// vertex across it.
-    pub fn layout_walks(
+    pub(crate) fn layout_walks(
         &self,
         method: &Method,
         kind: LayoutKind,
@@ -1804,7 +1804,7 @@ impl Gpu {
 }
 
 /// Seed 003's layouts of a mesh and its points, uploaded to the GPU.
-pub struct GpuLayout {
+pub(crate) struct GpuLayout {
     /// Tet32, Tet20, Tet16, in [`LayoutKind::ALL`] order.
     words: [wgpu::Buffer; 3],
     points: wgpu::Buffer,
@@ -1813,7 +1813,7 @@ pub struct GpuLayout {
 
 impl Ending {
     /// The layout walk this ending says (a face named by the vertex across it), and its steps.
-    pub fn layout_walk(&self) -> Option<(LayoutOutcome, u32)> {
+    pub(crate) fn layout_walk(&self) -> Option<(LayoutOutcome, u32)> {
         Some((
             LayoutOutcome {
                 kind: OutcomeKind::from_code(self.kind)?,
@@ -1827,7 +1827,7 @@ impl Ending {
 
 impl Ending {
     /// A ray–triangle answer: `HIT` with the triangle and the bits of its `t`, or `LEFT_MESH` for none.
-    pub fn triangle_hit(&self) -> Result<Nearest, GpuError> {
+    pub(crate) fn triangle_hit(&self) -> Result<Nearest, GpuError> {
         match OutcomeKind::from_code(self.kind) {
             Some(OutcomeKind::Hit) => Ok(Some((self.tet, f32::from_bits(self.x)))),
             Some(OutcomeKind::LeftMesh) => Ok(None),
@@ -1836,7 +1836,7 @@ impl Ending {
     }
 
     /// The octree walk this ending says (its code checked by [`Gpu::octree_walks`]).
-    pub fn octree_walk(&self) -> crate::walk::octree::OctreeWalk {
+    pub(crate) fn octree_walk(&self) -> crate::walk::octree::OctreeWalk {
         use crate::walk::octree::End;
         let end = match OutcomeKind::from_code(self.kind) {
             Some(OutcomeKind::Hit) => End::Hit {
@@ -1859,7 +1859,7 @@ impl Ending {
 
     /// The walk this ending says, or `None` for a ray the method flagged (a step its f32 stage could
     /// not settle), which the CPU must walk. Codes are checked by [`Gpu::walks`].
-    pub fn walk(&self) -> Option<Walk> {
+    pub(crate) fn walk(&self) -> Option<Walk> {
         let kind = OutcomeKind::from_code(self.kind)?;
         Some(Walk {
             outcome: Outcome::from_parts(kind, self.tet, self.x),
@@ -1885,7 +1885,7 @@ fn fingerprint(rays: &[(Ray, u32)]) -> u64 {
 
 impl shader::Sent {
     /// The walk's ending as the walk kernel wrote it.
-    pub fn ending(&self) -> Ending {
+    pub(crate) fn ending(&self) -> Ending {
         Ending {
             kind: self.kind,
             tet: self.tet,
@@ -1896,7 +1896,7 @@ impl shader::Sent {
 
     /// The reference walk's ending beside it (without its steps), or `None` where it is not one
     /// the CPU can read.
-    pub fn reference(&self) -> Option<Walk> {
+    pub(crate) fn reference(&self) -> Option<Walk> {
         Ending {
             kind: self.r_kind,
             tet: self.r_tet,
@@ -1909,7 +1909,7 @@ impl shader::Sent {
 
 impl Ending {
     /// A walk as the shader writes its ending.
-    pub fn of(w: &Walk) -> Ending {
+    pub(crate) fn of(w: &Walk) -> Ending {
         let (kind, tet, x) = w.outcome.parts();
         Ending {
             kind: kind.code(),
@@ -1922,7 +1922,7 @@ impl Ending {
 
 impl shader::WalkRay {
     /// A ray to walk from tetrahedron `start`.
-    pub fn new(ray: &Ray, start: u32) -> shader::WalkRay {
+    pub(crate) fn new(ray: &Ray, start: u32) -> shader::WalkRay {
         shader::WalkRay {
             org: ray.org.to_array(),
             start,
@@ -1933,14 +1933,14 @@ impl shader::WalkRay {
 }
 
 /// A mesh uploaded to the GPU.
-pub struct GpuMesh {
+pub(crate) struct GpuMesh {
     cells: wgpu::Buffer,
     info: wgpu::Buffer,
     pub tetrahedra: usize,
 }
 
 /// An octree uploaded for [`Gpu::octree_walks`], over its triangles.
-pub struct GpuOctree {
+pub(crate) struct GpuOctree {
     words: wgpu::Buffer,
     boxes: wgpu::Buffer,
     triangles: wgpu::Buffer,
@@ -1952,7 +1952,7 @@ pub struct GpuOctree {
 
 /// A scene's triangles uploaded ([`Gpu::upload_triangles`]): three `points` each, and the face each
 /// came from (tetrahedron and face, from both sides), which `compare_hits` settles a hit on.
-pub struct GpuTriangles {
+pub(crate) struct GpuTriangles {
     points: wgpu::Buffer,
     faces: wgpu::Buffer,
     count: usize,

@@ -20,14 +20,14 @@ use crate::walk::layouts::LayoutKind;
 use std::fmt::Write;
 
 /// Threads per workgroup.
-pub const GROUP: u32 = 64;
+pub(crate) const GROUP: u32 = 64;
 
 /// What a method's WGSL answers when its f32 stage cannot settle a case (`certified`): the CPU then
 /// answers it.
-pub const UNSETTLED: i32 = -2;
+pub(crate) const UNSETTLED: i32 = -2;
 
 /// The walk code of a ray a method flagged ([`UNSETTLED`] at some step); the CPU walks it.
-pub const FLAGGED: u32 = 255;
+pub(crate) const FLAGGED: u32 = 255;
 
 /// A `#[repr(C)]` struct shared with the shader: the Rust type and its WGSL declaration from one list.
 macro_rules! shared_struct {
@@ -216,7 +216,7 @@ pub fn entry_points(m: &Method) -> [String; 2] {
 }
 
 /// The layout entry point of `m` over `kind`: `layout_IDENT_KIND`.
-pub fn layout_entry_point(m: &Method, kind: LayoutKind) -> String {
+pub(crate) fn layout_entry_point(m: &Method, kind: LayoutKind) -> String {
     format!("layout_{}_{}", m.ident(), kind.name())
 }
 
@@ -228,18 +228,18 @@ pub fn triangle_entry_points(m: &TriangleMethod) -> [String; 2] {
 }
 
 /// The octree's entry points: the exit of each cell case, and the walk.
-pub const CELL_EXIT: &str = "cell_exit";
-pub const OCTREE_WALK: &str = "octree_walk";
+pub(crate) const CELL_EXIT: &str = "cell_exit";
+pub(crate) const OCTREE_WALK: &str = "octree_walk";
 
 /// The override constant choosing the octree method of [`CELL_EXIT`] and [`OCTREE_WALK`].
-pub const OCTREE_METHOD: &str = "OCTREE_METHOD";
+pub(crate) const OCTREE_METHOD: &str = "OCTREE_METHOD";
 
 /// The override constant choosing the ray–triangle test of [`OCTREE_WALK`].
-pub const TRIANGLE_METHOD: &str = "TRIANGLE_METHOD";
+pub(crate) const TRIANGLE_METHOD: &str = "TRIANGLE_METHOD";
 
 /// The value of the override constant that chooses `m` among `all`: its place in the registry, or
 /// `None` for a method the registry does not hold.
-pub fn place<T: Named>(m: &T, all: &[T]) -> Option<f64> {
+pub(crate) fn place<T: Named>(m: &T, all: &[T]) -> Option<f64> {
     all.iter()
         .position(|x| x.name() == m.name())
         .map(|i| i as f64)
@@ -500,18 +500,18 @@ pub fn generate() -> String {
 /// tetrahedron) the exit face `0..3`, or `-1` for none. It may call tetwalk's WGSL helpers under their
 /// names prefixed with [`USER_PREFIX`] (`tw_face_vertices`, `tw_edge_of`, `tw_leaves`, …); no other
 /// name of the module is tetwalk's.
-pub const USER_SIGNATURE: &str = "fn user_prepare(o: vec3f, d: vec3f) -> R\n\
+pub(crate) const USER_SIGNATURE: &str = "fn user_prepare(o: vec3f, d: vec3f) -> R\n\
      fn user_exit(t: ptr<function, array<vec3f, 4>>, r: R, entry: i32) -> i32";
 
 /// Prefix of every module-scope name of tetwalk's in the module built around a user's WGSL, so that
 /// none can clash with theirs.
-pub const USER_PREFIX: &str = "tw_";
+pub(crate) const USER_PREFIX: &str = "tw_";
 
 /// The module with a user's exit-face functions spliced in as method `user`: their source first, so
 /// that the compiler's line numbers are theirs, then tetwalk's module and the entry points of
 /// [`crate::registry::USER_WGSL`], with every module-scope name of tetwalk's but the entry points
 /// prefixed with [`USER_PREFIX`] (the names naga finds in tetwalk's module).
-pub fn with_user(source: &str) -> String {
+pub(crate) fn with_user(source: &str) -> String {
     let ours = format!(
         "{COMMITTED}\n// ---- user ----\n\n{}",
         fill(EXIT_WALK, &[("ident", "user")])

@@ -5,7 +5,7 @@ use super::Mesh;
 
 /// A mesh as `scene export` writes it.
 #[derive(serde::Serialize)]
-pub struct Exported<'a> {
+pub(crate) struct Exported<'a> {
     /// The scene's name.
     pub scene: &'a str,
     /// The conventions below, in words.
@@ -22,7 +22,7 @@ pub struct Exported<'a> {
 
 impl<'a> Exported<'a> {
     /// `mesh`, the scene called `scene`, as `scene export` writes it.
-    pub fn of(scene: &'a str, mesh: &'a Mesh) -> Exported<'a> {
+    pub(crate) fn of(scene: &'a str, mesh: &'a Mesh) -> Exported<'a> {
         Exported {
             scene,
             convention: format!(

@@ -116,13 +116,13 @@ impl Layout {
     }
 
     /// Bytes per tetrahedron of each layout, and Maria et al.'s Tet80 (seed 000 §3.2) for comparison.
-    pub const BYTES: [(&'static str, usize); 4] =
+    pub(crate) const BYTES: [(&'static str, usize); 4] =
         [("Tet80", 80), ("Tet32", 32), ("Tet20", 20), ("Tet16", 16)];
 }
 
 /// Algorithm 3 (GETNEXTTET32): the neighbour across vertex `exit` of tetrahedron `t`.
 #[inline(always)]
-pub fn next_tet32(tet: &Tet32, exit: u32) -> u32 {
+pub(crate) fn next_tet32(tet: &Tet32, exit: u32) -> u32 {
     let mut next = tet.n[3];
     for i in 0..3 {
         if exit == tet.v[i] {
@@ -134,7 +134,7 @@ pub fn next_tet32(tet: &Tet32, exit: u32) -> u32 {
 
 /// Algorithm 5 (GETNEXTTET20): the neighbour at the exit vertex's rank.
 #[inline(always)]
-pub fn next_tet20(tet: &Tet20, order: usize) -> u32 {
+pub(crate) fn next_tet20(tet: &Tet20, order: usize) -> u32 {
     tet.n[order]
 }
 

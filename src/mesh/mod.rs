@@ -54,29 +54,29 @@ pub struct Link(u32);
 
 impl Link {
     /// The most tetrahedra a [`Link`] can name (one index is kept for [`HULL`]).
-    pub const MAX_TETS: usize = (1 << 29) - 1;
+    pub(crate) const MAX_TETS: usize = (1 << 29) - 1;
     const HULL: u32 = HULL >> 3;
 
     /// `neighbor` below [`Link::MAX_TETS`] or [`HULL`], `mirror` in `0..4`.
-    pub fn new(neighbor: u32, mirror: u8, constrained: bool) -> Link {
+    pub(crate) fn new(neighbor: u32, mirror: u8, constrained: bool) -> Link {
         debug_assert!(neighbor == HULL || (neighbor as usize) < Link::MAX_TETS);
         Link(neighbor << 3 | (mirror as u32 & 3) << 1 | constrained as u32)
     }
 
     #[inline(always)]
-    pub fn constrained(self) -> bool {
+    pub(crate) fn constrained(self) -> bool {
         self.0 & 1 != 0
     }
 
     /// The neighbour's face that is this one.
     #[inline(always)]
-    pub fn mirror(self) -> usize {
+    pub(crate) fn mirror(self) -> usize {
         (self.0 >> 1 & 3) as usize
     }
 
     /// The neighbour; `None` on the mesh boundary.
     #[inline(always)]
-    pub fn neighbor(self) -> Option<u32> {
+    pub(crate) fn neighbor(self) -> Option<u32> {
         let n = self.0 >> 3;
         (n != Link::HULL).then_some(n)
     }
@@ -125,7 +125,7 @@ pub struct MeshError {
 }
 
 /// Where an item of the mesh came from, for error messages.
-pub enum Item {
+pub(crate) enum Item {
     Point(usize),
     Tet(usize),
     Neighbors(usize),
@@ -161,7 +161,10 @@ impl Mesh {
     /// this happens); no face shared by more than two tetrahedra; given neighbours the ones the
     /// tetrahedra's shared faces make; every constrained face a face of the mesh; and the mesh a
     /// tetrahedralization of its region, decided exactly ([`valid`]: no overlap, fold or crack).
-    pub fn build_at(raw: RawMesh, place: &dyn Fn(Item) -> String) -> Result<Mesh, MeshError> {
+    pub(crate) fn build_at(
+        raw: RawMesh,
+        place: &dyn Fn(Item) -> String,
+    ) -> Result<Mesh, MeshError> {
         let err = |item, what: String| MeshError {
             place: place(item),
             what,
@@ -328,7 +331,7 @@ impl Mesh {
     }
 
     /// Every face of the mesh once: `(t, f)` with `t` the lower-numbered of the tetrahedra that share it.
-    pub fn faces_once(&self) -> impl Iterator<Item = (u32, usize)> + '_ {
+    pub(crate) fn faces_once(&self) -> impl Iterator<Item = (u32, usize)> + '_ {
         (0..self.tets.len() as u32).flat_map(move |t| {
             (0..4).filter_map(move |f| {
                 let nb = self.neighbors[t as usize][f];
@@ -338,7 +341,7 @@ impl Mesh {
     }
 
     /// How many faces are constrained (each counted once).
-    pub fn constrained_faces(&self) -> usize {
+    pub(crate) fn constrained_faces(&self) -> usize {
         self.faces_once()
             .filter(|&(t, f)| self.is_constrained(t, f))
             .count()
@@ -350,7 +353,7 @@ impl Mesh {
     }
 
     /// The same mesh with every point moved by `offset` (rounded to f32), checked again.
-    pub fn translated(&self, offset: Vec3) -> Result<Mesh, MeshError> {
+    pub(crate) fn translated(&self, offset: Vec3) -> Result<Mesh, MeshError> {
         let mut raw = self.to_raw();
         raw.points.iter_mut().for_each(|p| *p += offset);
         Mesh::build(raw)
@@ -358,7 +361,7 @@ impl Mesh {
 
     /// The mesh with every point times 2^`e`, exactly: an error names the first point that would
     /// round (underflow to a subnormal or zero, or overflow).
-    pub fn scaled(&self, e: i32) -> Result<Mesh, MeshError> {
+    pub(crate) fn scaled(&self, e: i32) -> Result<Mesh, MeshError> {
         let mut raw = self.to_raw();
         for (i, p) in raw.points.iter_mut().enumerate() {
             let q = p.to_array().map(|x| crate::tet::times_two_to(x, e));
@@ -374,7 +377,7 @@ impl Mesh {
     }
 
     /// Back to unchecked form (neighbours kept).
-    pub fn to_raw(&self) -> RawMesh {
+    pub(crate) fn to_raw(&self) -> RawMesh {
         let neighbors = self
             .neighbors
             .iter()

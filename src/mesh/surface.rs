@@ -5,7 +5,7 @@ use super::{HULL, Mesh};
 use crate::tet::Tri;
 
 /// A scene's triangles, and the `(tetrahedron, face)` each came from.
-pub type SceneTriangles = (Vec<Tri>, Vec<(u32, u8)>);
+pub(crate) type SceneTriangles = (Vec<Tri>, Vec<(u32, u8)>);
 
 /// The scene's constrained faces once each as triangles facing `region` (the camera's, [`region_of`]):
 /// a face between that region and another is seen from it, as a renderer's outward normal would have

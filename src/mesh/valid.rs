@@ -27,7 +27,7 @@ use rug::Rational;
 use std::collections::HashMap;
 
 /// What is wrong, and where: the item and why.
-pub type Invalid = (Item, String);
+pub(crate) type Invalid = (Item, String);
 
 /// The exact sign of `orient3d(a, b, c, d)`: positive when `d` lies below the plane of `a, b, c`
 /// (counter-clockwise seen from above), as `crate::tet::orientation` reads it.
@@ -338,17 +338,17 @@ const MAX_WINDING_WORK: u64 = 1 << 30;
 
 /// What a mesh that meets the rule is made of.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-pub struct Summary {
+pub(crate) struct Summary {
     /// Faces shared by two tetrahedra.
-    pub interior_faces: usize,
+    pub(crate) interior_faces: usize,
     /// Faces of one tetrahedron: the region's boundary.
-    pub boundary_faces: usize,
+    pub(crate) boundary_faces: usize,
     /// Connected components of the boundary (an outer surface, cavities, separate parts).
-    pub boundary_components: usize,
+    pub(crate) boundary_components: usize,
 }
 
 /// Check rules 1 to 5 on positively oriented `tets` over `points` with their `neighbors`.
-pub fn check(
+pub(crate) fn check(
     points: &[Vec3],
     tets: &[[u32; 4]],
     neighbors: &[[u32; 4]],

@@ -42,6 +42,6 @@ pub fn quarter_signs(j: usize) -> [i8; 2] {
 }
 
 /// The quarter with signs `s` ([`quarter_signs`]).
-pub fn quarter_of(s: [i8; 2]) -> usize {
+pub(crate) fn quarter_of(s: [i8; 2]) -> usize {
     (s[0] < 0) as usize | ((s[1] < 0) as usize) << 1
 }

@@ -26,7 +26,7 @@ pub struct Settings {
 
 impl Settings {
     /// Whether an octree can be built with these settings (checked before any work).
-    pub fn check(&self) -> Result<(), OctreeError> {
+    pub(crate) fn check(&self) -> Result<(), OctreeError> {
         match (self.depth, self.capacity) {
             (0, _) => Err(OctreeError::NoDepth),
             (d, _) if d > MAX_DEPTH => Err(OctreeError::TooDeep(d)),
@@ -43,7 +43,7 @@ impl Settings {
 }
 
 /// Deepest level an octree may have (the cube map holds `6 · 4^depth` cells).
-pub const MAX_DEPTH: u32 = 10;
+pub(crate) const MAX_DEPTH: u32 = 10;
 
 /// A node: its level and integer coordinates at that level.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -122,7 +122,7 @@ pub struct Octree {
     pub leaves: Vec<Key>,
     /// Leaf `i`'s Morton code at the deepest level and its level, ascending: what
     /// [`Octree::leaf_holding`] searches (one code per level tried, none per comparison).
-    pub leaf_keys: Vec<(u64, u32)>,
+    pub(crate) leaf_keys: Vec<(u64, u32)>,
     /// Leaf `i`'s box (eq. 3's `i` indexes it).
     pub boxes: Vec<[Vec3; 2]>,
     /// Eq. 3, every leaf in turn.
@@ -133,13 +133,13 @@ pub struct Octree {
     pub triangles: Vec<u32>,
     /// §4.1's cube map: per root face, `2^depth × 2^depth` addresses of the boundary leaves, indexed
     /// `u + v · 2^depth` along the face's axes ([`face_axes`]).
-    pub cube_map: [Vec<u32>; 6],
+    pub(crate) cube_map: [Vec<u32>; 6],
     /// Leaves before the regularity constraint (seed 001 Table 1's "non contraint").
     pub unconstrained_leaves: usize,
 }
 
 /// Words of eq. 3 before a leaf's neighbour addresses.
-pub const HEADER_WORDS: usize = 4;
+pub(crate) const HEADER_WORDS: usize = 4;
 
 /// Whether the triangle meets the closed box (Akenine-Möller's separating-axis test in f64, the box
 /// grown by 2^-20 of its side so that rounding can only add triangles, never drop one).
@@ -478,7 +478,7 @@ impl Octree {
 
     /// The leaf holding point `p` (its lowest corner's cell where `p` lies on a boundary), if `p` is
     /// in the root cube: by descending levels from the deepest.
-    pub fn leaf_holding(&self, p: Vec3) -> Option<u32> {
+    pub(crate) fn leaf_holding(&self, p: Vec3) -> Option<u32> {
         let n = 1u32 << self.settings.depth;
         let rel = (p - self.lo) / self.size * n as f32;
         if !(0..3).all(|a| rel[a] >= 0.0 && rel[a] <= n as f32) {
@@ -505,7 +505,7 @@ impl Octree {
 
     /// Bytes of the four arrays (seed 001 Table 3): octree words, triangles (as three f32 points each,
     /// per reference), boxes, cube map.
-    pub fn bytes(&self) -> [usize; 4] {
+    pub(crate) fn bytes(&self) -> [usize; 4] {
         [
             self.words.len() * 4,
             self.triangles.len() * 36,
@@ -515,7 +515,7 @@ impl Octree {
     }
 
     /// Mean neighbours per leaf (seed 001 §5.1: about 7).
-    pub fn mean_neighbors(&self) -> f64 {
+    pub(crate) fn mean_neighbors(&self) -> f64 {
         let links = self.words.len() - HEADER_WORDS * self.leaves.len();
         links as f64 / self.leaves.len().max(1) as f64
     }

@@ -42,14 +42,14 @@ impl Image {
     }
 
     /// [`Image::set`], doing nothing outside the image.
-    pub fn set_clipped(&mut self, x: u32, y: u32, c: [u8; 3]) {
+    pub(crate) fn set_clipped(&mut self, x: u32, y: u32, c: [u8; 3]) {
         if x < self.width && y < self.height {
             self.set(x, y, c);
         }
     }
 
     /// `im` copied in with its top-left corner at `(x0, y0)` (what falls outside is left out).
-    pub fn paste(&mut self, im: &Image, x0: u32, y0: u32) {
+    pub(crate) fn paste(&mut self, im: &Image, x0: u32, y0: u32) {
         for y in 0..im.height {
             for x in 0..im.width {
                 let i = ((y * im.width + x) * 3) as usize;
@@ -59,7 +59,7 @@ impl Image {
     }
 
     /// A scale for markers and labels: 1 up to 256 pixels on the short side, then one more per 256.
-    pub fn scale(&self) -> u32 {
+    pub(crate) fn scale(&self) -> u32 {
         (self.width.min(self.height) / 256).max(1)
     }
 
@@ -119,7 +119,7 @@ impl Image {
 const DARK: [u8; 3] = [16, 16, 16];
 
 /// `im` under a dark bar holding `title` in white.
-pub fn titled(im: &Image, title: &str) -> Image {
+pub(crate) fn titled(im: &Image, title: &str) -> Image {
     let scale = im.scale();
     let bar = text::line_height(scale);
     let width = im.width.max(text::width(title, scale) + 2 * scale);
@@ -133,13 +133,13 @@ pub fn titled(im: &Image, title: &str) -> Image {
 }
 
 /// Images one above another, left-aligned, `gap` pixels of white between them.
-pub fn stacked(images: &[Image], gap: u32) -> Image {
+pub(crate) fn stacked(images: &[Image], gap: u32) -> Image {
     Image::arranged(images, gap, false)
 }
 
 /// A legend `width` pixels wide (at least its widest entry): for each entry a swatch of its colour
 /// (outlined, so that black shows) and its words, as many to a line as fit.
-pub fn legend(entries: &[(&str, [u8; 3])], width: u32, scale: u32) -> Image {
+pub(crate) fn legend(entries: &[(&str, [u8; 3])], width: u32, scale: u32) -> Image {
     let line = text::line_height(scale);
     let entry_w = |words: &str| line + text::width(words, scale) + 4 * scale;
     let width = entries
@@ -176,7 +176,7 @@ pub fn legend(entries: &[(&str, [u8; 3])], width: u32, scale: u32) -> Image {
 }
 
 /// A method's sheet: its name, its panels side by side each under its title, and the legend.
-pub fn sheet(heading: &str, panels: &[(String, Image)], key: &[(&str, [u8; 3])]) -> Image {
+pub(crate) fn sheet(heading: &str, panels: &[(String, Image)], key: &[(&str, [u8; 3])]) -> Image {
     let row: Vec<Image> = panels.iter().map(|(t, im)| titled(im, t)).collect();
     let row = Image::sheet(&row, 4);
     let scale = row.scale();
@@ -184,7 +184,7 @@ pub fn sheet(heading: &str, panels: &[(String, Image)], key: &[(&str, [u8; 3])])
 }
 
 /// A panel's title for a backend: its kind, and a GPU's adapter up to its first parenthesis.
-pub fn backend_title(b: &Backend) -> String {
+pub(crate) fn backend_title(b: &Backend) -> String {
     let ran = b.ran();
     match ran.adapter {
         Some(a) => format!(
@@ -197,7 +197,7 @@ pub fn backend_title(b: &Backend) -> String {
 }
 
 /// Colours of faces 0..3 in predicate maps; black for no exit face.
-pub const FACE_COLOURS: [[u8; 3]; 4] =
+pub(crate) const FACE_COLOURS: [[u8; 3]; 4] =
     [[228, 26, 28], [55, 126, 184], [77, 175, 74], [255, 127, 0]];
 
 impl Frame {
@@ -281,7 +281,7 @@ impl Frame {
 
 /// A count per pixel (row-major), black (few) to yellow (most), with a colour scale on the right
 /// labelled with the fewest and the most, under `title` (what is counted, and per what: its unit).
-pub fn heat_map(width: u32, height: u32, counts: &[u32], title: &str) -> Image {
+pub(crate) fn heat_map(width: u32, height: u32, counts: &[u32], title: &str) -> Image {
     let (fewest, most) = (
         counts.iter().copied().min().unwrap_or(0),
         counts.iter().copied().max().unwrap_or(1).max(1),
@@ -336,7 +336,7 @@ pub fn octree_heat(width: u32, height: u32, cells: &[u32], method: &str) -> Imag
 }
 
 /// The predicate maps' key: each face's colour, black for none.
-pub fn predicate_key() -> Vec<(&'static str, [u8; 3])> {
+pub(crate) fn predicate_key() -> Vec<(&'static str, [u8; 3])> {
     const FACES: [&str; 4] = ["face 0", "face 1", "face 2", "face 3"];
     FACES
         .iter()
@@ -347,7 +347,7 @@ pub fn predicate_key() -> Vec<(&'static str, [u8; 3])> {
 }
 
 /// A key in words, for standard output: `name: words rgb(…); …`.
-pub fn key_line(name: &str, key: &[(&str, [u8; 3])]) -> String {
+pub(crate) fn key_line(name: &str, key: &[(&str, [u8; 3])]) -> String {
     let parts: Vec<String> = key.iter().map(|(w, c)| format!("{w} rgb{c:?}")).collect();
     format!("{name}: {}\n", parts.join("; "))
 }
@@ -386,12 +386,12 @@ pub fn failure_legend(drawn: &[OutcomeKind]) -> String {
 }
 
 /// The predicate maps' legend, in words.
-pub fn predicate_legend() -> String {
+pub(crate) fn predicate_legend() -> String {
     key_line("predicate maps", &predicate_key())
 }
 
 /// The heat maps' legend.
-pub const HEAT_LEGEND: &str = "heat maps: tetrahedra traversed by the exact walk, black (few) to yellow (most); the scale on the right is labelled with the fewest and the most\n";
+pub(crate) const HEAT_LEGEND: &str = "heat maps: tetrahedra traversed by the exact walk, black (few) to yellow (most); the scale on the right is labelled with the fewest and the most\n";
 
 /// What an octree heat map shows.
-pub const OCTREE_HEAT_LEGEND: &str = "octree heat maps: seed 001's octree cells visited per pixel, black (few) to yellow (most); the scale on the right is labelled with the fewest and the most\n";
+pub(crate) const OCTREE_HEAT_LEGEND: &str = "octree heat maps: seed 001's octree cells visited per pixel, black (few) to yellow (most); the scale on the right is labelled with the fewest and the most\n";

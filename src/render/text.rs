@@ -60,17 +60,17 @@ fn glyph(c: char) -> [u8; 7] {
 }
 
 /// Height of a line of text at `scale`, with a pixel of space above and below.
-pub fn line_height(scale: u32) -> u32 {
+pub(crate) fn line_height(scale: u32) -> u32 {
     9 * scale
 }
 
 /// Width of `text` at `scale` (6 columns a character, the last without its space).
-pub fn width(text: &str, scale: u32) -> u32 {
+pub(crate) fn width(text: &str, scale: u32) -> u32 {
     (text.chars().count() as u32 * 6).saturating_sub(1) * scale
 }
 
 /// Draw `text` with its top-left corner at `(x, y)`, on a dark box so it reads over any picture.
-pub fn label(im: &mut Image, x: u32, y: u32, text: &str, scale: u32, colour: [u8; 3]) {
+pub(crate) fn label(im: &mut Image, x: u32, y: u32, text: &str, scale: u32, colour: [u8; 3]) {
     let (w, h) = (width(text, scale) + 2 * scale, line_height(scale));
     for yy in y..y + h {
         for xx in x..x + w {

@@ -4,7 +4,7 @@ use crate::choice::Choice;
 use crate::engine::bench::BenchReport;
 
 impl BenchReport {
-    pub fn markdown(&self) -> String {
+    pub(crate) fn markdown(&self) -> String {
         let mut out = format!(
             "walk speed on {} ({} tetrahedra{}): {} of {} of {}x{} inside the mesh, {} rays at most per batch\n\n",
             self.scene,

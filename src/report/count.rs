@@ -12,13 +12,13 @@ pub trait CountFormats: Counted {
 
 impl<F: CountFormats> CountReport<F> {
     /// The count's table, as its family reads it ([`CountFormats::count_table`]).
-    pub fn table(&self) -> String {
+    pub(crate) fn table(&self) -> String {
         F::count_table(self)
     }
 }
 
 /// A count's last line: each method's wrong rays over all the rays counted.
-pub fn totals<F: Counted>(r: &CountReport<F>) -> String {
+pub(crate) fn totals<F: Counted>(r: &CountReport<F>) -> String {
     let each: Vec<String> = r
         .methods
         .iter()
@@ -28,7 +28,7 @@ pub fn totals<F: Counted>(r: &CountReport<F>) -> String {
 }
 
 /// The wrong rays under the 12 relabellings, per method that has them.
-pub fn relabellings<F: Counted>(r: &CountReport<F>) -> String {
+pub(crate) fn relabellings<F: Counted>(r: &CountReport<F>) -> String {
     let mut out = String::new();
     for m in &r.methods {
         if let Some(w) = &m.relabelled {
@@ -44,7 +44,7 @@ pub fn relabellings<F: Counted>(r: &CountReport<F>) -> String {
 /// On a GPU, what each row's answers moved between the CPU and the GPU, per ray, its dispatches, the
 /// times the CPU waited for the GPU, the answers sent back to be judged, and the kernels' share of
 /// its wall time.
-pub fn transfers<F: Counted>(r: &CountReport<F>) -> String {
+pub(crate) fn transfers<F: Counted>(r: &CountReport<F>) -> String {
     let mut out = String::new();
     for m in &r.methods {
         if let Some(t) = &m.transfer {
@@ -69,7 +69,7 @@ pub fn transfers<F: Counted>(r: &CountReport<F>) -> String {
 }
 
 /// `(audited against … on N rays, all agreeing)`, or nothing when no ray was audited.
-pub fn audited<F: Counted>(r: &CountReport<F>, against: &str) -> String {
+pub(crate) fn audited<F: Counted>(r: &CountReport<F>, against: &str) -> String {
     if r.audited > 0 {
         format!(
             " (audited against {against} on {} rays, all agreeing)",

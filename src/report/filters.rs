@@ -6,7 +6,7 @@ use crate::engine::filters::{Filter, FilterTally, Regime, Rounds};
 
 /// One regime's tally of one filter.
 #[derive(serde::Serialize)]
-pub struct Row {
+pub(crate) struct Row {
     regime: Regime,
     filter: Filter,
     #[serde(flatten)]
@@ -24,7 +24,7 @@ pub struct Report {
 }
 
 /// The refutations found, one line each.
-pub fn refuted(r: &Rounds) -> Vec<String> {
+pub(crate) fn refuted(r: &Rounds) -> Vec<String> {
     r.campaign
         .refuted
         .iter()

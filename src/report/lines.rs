@@ -19,7 +19,7 @@ pub trait Lines: Family {
 }
 
 /// The object of `v`.
-pub fn fields(v: Value) -> Map<String, Value> {
+pub(crate) fn fields(v: Value) -> Map<String, Value> {
     match v {
         Value::Object(m) => m,
         _ => Map::new(),
@@ -28,7 +28,7 @@ pub fn fields(v: Value) -> Map<String, Value> {
 
 /// A line per method of what `command` answered: cases, right, wrong (of them, each kind counted),
 /// not judged, and where a 4-wide version was compared, how it answered.
-pub fn per_method(command: &str, summary: &AnswerSummary) -> Vec<String> {
+pub(crate) fn per_method(command: &str, summary: &AnswerSummary) -> Vec<String> {
     let answered = summary.answered();
     let mut out = Vec::new();
     for t in &summary.methods {
@@ -102,7 +102,7 @@ pub fn per_method(command: &str, summary: &AnswerSummary) -> Vec<String> {
 
 /// The lines that say why `command` fails whatever `--fail-on` says: a 4-wide version answering
 /// otherwise than its scalar one, lines that could not be answered.
-pub fn failures(command: &str, summary: &AnswerSummary) -> Vec<String> {
+pub(crate) fn failures(command: &str, summary: &AnswerSummary) -> Vec<String> {
     let mut out = Vec::new();
     let differ = summary.wide_differs();
     if differ > 0 {

@@ -4,7 +4,7 @@
 use crate::family::Listed;
 
 /// The methods as a markdown table.
-pub fn table(rows: &[Listed]) -> String {
+pub(crate) fn table(rows: &[Listed]) -> String {
     let mut s = String::from(
         "| method | family | claims robust | GPU | implements |\n|---|---|---|---|---|\n",
     );

@@ -24,7 +24,7 @@ pub trait Formats: Family {
 
 /// Counts under each labelling (the own first) as table cells: own | min | median | max (the median
 /// of an even number is the mean of the middle two, rounded down).
-pub fn relabel_spread(v: &[u64]) -> String {
+pub(crate) fn relabel_spread(v: &[u64]) -> String {
     let mut s = v.to_vec();
     s.sort_unstable();
     let n = s.len();
@@ -43,7 +43,7 @@ pub fn relabel_spread(v: &[u64]) -> String {
 }
 
 /// `n` and its noun, singular for one: `counted(1, "view", "views")` is "1 view".
-pub fn counted(n: impl Into<u64>, one: &str, many: &str) -> String {
+pub(crate) fn counted(n: impl Into<u64>, one: &str, many: &str) -> String {
     let n = n.into();
     format!("{n} {}", if n == 1 { one } else { many })
 }

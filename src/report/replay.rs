@@ -7,7 +7,7 @@ use crate::walk::Outcome;
 use serde_json::{Value, json};
 
 /// A found case at `line` of `file`, failed by `method`, as it replays now.
-pub fn found_line(file: &str, line: usize, method: Option<&str>, now: &Replay) -> Value {
+pub(crate) fn found_line(file: &str, line: usize, method: Option<&str>, now: &Replay) -> Value {
     let replay = match now {
         Replay::Holds => "holds".to_string(),
         Replay::Skipped(_) => "skipped".to_string(),
@@ -19,7 +19,13 @@ pub fn found_line(file: &str, line: usize, method: Option<&str>, now: &Replay) -
 
 /// A dumped wrong ray at `line` of `file`, answered again on `backend`, beside where it was recorded
 /// to stop.
-pub fn dumped_line(file: &str, line: usize, r: &Rerun, backend: &str, recorded: &Outcome) -> Value {
+pub(crate) fn dumped_line(
+    file: &str,
+    line: usize,
+    r: &Rerun,
+    backend: &str,
+    recorded: &Outcome,
+) -> Value {
     json!({
         "file": file, "line": line, "method": r.method, "backend": backend, "still_wrong": r.still_wrong,
         "same": r.same, "now": r.now.outcome, "recorded": recorded,
@@ -27,7 +33,7 @@ pub fn dumped_line(file: &str, line: usize, r: &Rerun, backend: &str, recorded: 
 }
 
 /// The summary line: how many of the lines `what` (fail again …), changed and skipped.
-pub fn summary(t: &ReplayTally, what: &str) -> String {
+pub(crate) fn summary(t: &ReplayTally, what: &str) -> String {
     format!(
         "{} of {} {what} ({} changed, {} skipped)",
         t.same, t.lines, t.changed, t.skipped

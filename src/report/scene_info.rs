@@ -5,7 +5,7 @@ use crate::engine::info::{OctreeInfo, SceneCheck, SceneInfo, Validity};
 
 impl SceneCheck {
     /// `scene check`'s line: a tetrahedralization and its counts, or what is wrong.
-    pub fn line(&self) -> String {
+    pub(crate) fn line(&self) -> String {
         let scene = &self.scene;
         match &self.checked {
             Validity::Valid {
@@ -30,7 +30,7 @@ impl SceneCheck {
 }
 
 impl OctreeInfo {
-    pub fn markdown(&self) -> String {
+    pub(crate) fn markdown(&self) -> String {
         let mb = |b: usize| b as f64 / 1e6;
         let total: usize = self.bytes.iter().map(|(_, b)| b).sum();
         let mut s = format!(
@@ -63,10 +63,11 @@ impl OctreeInfo {
 }
 
 /// Seed 000 Table 3, the BUNNY column: tetrahedra, occlusive faces, non-occlusive faces, memory (MB).
-pub const SEED000_TABLE3_BUNNY: (usize, usize, usize, f64) = (682_733, 222_775, 1_142_650, 62.0);
+pub(crate) const SEED000_TABLE3_BUNNY: (usize, usize, usize, f64) =
+    (682_733, 222_775, 1_142_650, 62.0);
 
 impl SceneInfo {
-    pub fn markdown(&self) -> String {
+    pub(crate) fn markdown(&self) -> String {
         let (t, occl, other, mb) = SEED000_TABLE3_BUNNY;
         let tet80 = self
             .layout_bytes

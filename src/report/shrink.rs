@@ -6,7 +6,7 @@ use crate::engine::shrink::{CaseShrunk, ShrinkReport};
 
 /// A case shrunk, `at` naming where it was: what it took, the shrunk case, and the line that
 /// reproduces it, each line ending in a newline.
-pub fn case_lines(at: &str, done: &CaseShrunk) -> String {
+pub(crate) fn case_lines(at: &str, done: &CaseShrunk) -> String {
     let mut out = format!(
         "{at}: {} on {}: {} -> {} significant bits in {} numbers (at most {} -> {} in one), {} checks{}{}\n  {}\n",
         done.method,
@@ -33,7 +33,7 @@ pub fn case_lines(at: &str, done: &CaseShrunk) -> String {
 
 /// The run summed up: cases shrunk (and written back, `in_place`), already simple, left; the mean
 /// significant bits per number before and after, where a case was shrunk.
-pub fn summary(r: &ShrinkReport, in_place: bool) -> String {
+pub(crate) fn summary(r: &ShrinkReport, in_place: bool) -> String {
     let simpler = r.cases.iter().filter(|d| d.simpler()).count();
     let bits = match r.mean_bits() {
         None => String::new(),

@@ -9,7 +9,7 @@ use crate::family::Family;
 
 /// Failures per million of `of` judged, rounded, or "—" where nothing was judged (a row whose every
 /// case left f32's range at its scale): not a rate of zero.
-pub fn per_million(n: u64, of: u64) -> String {
+pub(crate) fn per_million(n: u64, of: u64) -> String {
     match of {
         0 => "—".into(),
         _ => format!("{:.0}", n as f64 * 1e6 / of as f64),
@@ -17,7 +17,7 @@ pub fn per_million(n: u64, of: u64) -> String {
 }
 
 /// `" in each of R rounds"` for a campaign's summed report, else nothing.
-pub fn rounds<F: Family>(r: &StressReport<F>) -> String {
+pub(crate) fn rounds<F: Family>(r: &StressReport<F>) -> String {
     match r.rounds {
         1 => String::new(),
         n => format!(" in each of {n} rounds"),
@@ -26,7 +26,7 @@ pub fn rounds<F: Family>(r: &StressReport<F>) -> String {
 
 /// `seed S`, or over a campaign's rounds `seeds S to T`; and the scale the cases were taken at,
 /// unless 1.
-pub fn seeds<F: Family>(r: &StressReport<F>) -> String {
+pub(crate) fn seeds<F: Family>(r: &StressReport<F>) -> String {
     let seed = r.settings.seed;
     let seeds = match r.rounds {
         1 => format!("seed {seed}"),
@@ -39,7 +39,7 @@ pub fn seeds<F: Family>(r: &StressReport<F>) -> String {
 }
 
 /// A table with a row per stress row and a column per method, each cell `cell(tally)`.
-pub fn table<F: Family>(r: &StressReport<F>, cell: impl Fn(&F::Tally) -> String) -> String {
+pub(crate) fn table<F: Family>(r: &StressReport<F>, cell: impl Fn(&F::Tally) -> String) -> String {
     let mut out = format!("| row | judged | {} |\n", r.methods.join(" | "));
     out += &format!("|---|---|{}\n", "---|".repeat(r.methods.len()));
     for row in &r.rows {
@@ -59,7 +59,7 @@ pub fn table<F: Family>(r: &StressReport<F>, cell: impl Fn(&F::Tally) -> String)
 }
 
 /// `what` under every labelling, per row and method where any is wrong.
-pub fn relabellings<F: Family>(r: &StressReport<F>, what: &str) -> String {
+pub(crate) fn relabellings<F: Family>(r: &StressReport<F>, what: &str) -> String {
     let Some(all) = &r.relabelled else {
         return String::new();
     };
@@ -80,7 +80,7 @@ pub fn relabellings<F: Family>(r: &StressReport<F>, what: &str) -> String {
 }
 
 /// The comparison's table: per row and method, cases cpu ≠ cpu-fma / cpu ≠ gpu / cpu-fma ≠ gpu.
-pub fn disagreements<F: Family>(d: &Disagreements<F>) -> String {
+pub(crate) fn disagreements<F: Family>(d: &Disagreements<F>) -> String {
     let models: Vec<&str> = d
         .rows
         .first()
@@ -118,7 +118,7 @@ pub fn disagreements<F: Family>(d: &Disagreements<F>) -> String {
 
 /// What a campaign filed, after its table: wrong answers seen in its rounds, the new found cases and
 /// where.
-pub fn filed(f: &Filing, rounds: u64) -> String {
+pub(crate) fn filed(f: &Filing, rounds: u64) -> String {
     let mut out = format!(
         "\n{} in {}; {} filed under {} (at most {} per method, row and kind):\n",
         counted(f.seen, "wrong answer", "wrong answers"),

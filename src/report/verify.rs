@@ -27,7 +27,7 @@ pub fn register_table() -> String {
 
 /// One check's line: PASS when the claim held, FAIL when it was refuted; and whether that is what the
 /// register says.
-pub fn line(c: &CheckResult) -> String {
+pub(crate) fn line(c: &CheckResult) -> String {
     let word = |holds: bool| if holds { "stands" } else { "refuted" };
     let register = match (c.as_registered, c.expect) {
         (Some(true), _) => "as registered".to_string(),
@@ -51,7 +51,7 @@ pub fn line(c: &CheckResult) -> String {
 }
 
 /// A picked check's line: [`line()`] where it ran, `SKIP` and why where it did not.
-pub fn verified_line(v: &Verified) -> String {
+pub(crate) fn verified_line(v: &Verified) -> String {
     match v {
         Verified::Checked(c) => line(c),
         Verified::Skipped { name, why } => format!("SKIP  {name:<26} {why}"),
@@ -59,7 +59,7 @@ pub fn verified_line(v: &Verified) -> String {
 }
 
 /// The checks run, those that hold, are refuted and skipped, and which go against the register.
-pub fn summary(all: &[Verified]) -> String {
+pub(crate) fn summary(all: &[Verified]) -> String {
     let done: Vec<&CheckResult> = all.iter().filter_map(Verified::checked).collect();
     let against = against(all);
     format!(
@@ -77,7 +77,7 @@ pub fn summary(all: &[Verified]) -> String {
 }
 
 /// The checks whose result is not what the register says.
-pub fn against(all: &[Verified]) -> Vec<&'static str> {
+pub(crate) fn against(all: &[Verified]) -> Vec<&'static str> {
     all.iter()
         .filter_map(Verified::checked)
         .filter(|c| c.as_registered == Some(false))

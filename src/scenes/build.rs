@@ -13,13 +13,13 @@ use std::time::Duration;
 
 /// TetGen switches: a pure CDT keeping every input triangle as one face (`-pzAnYQ`), or a quality CDT
 /// (`-pzAnYq1.414Q`).
-pub fn switches(quality: bool) -> &'static str {
+pub(crate) fn switches(quality: bool) -> &'static str {
     if quality { "-pzAnYq1.414Q" } else { "-pzAnYQ" }
 }
 
 /// Largest coordinate magnitude a scene may have: TetGen's predicates square and cube coordinate
 /// differences in f64, so stay far below its range (and the box needs room beyond the model).
-pub const MAX_COORDINATE: f64 = 1e30;
+pub(crate) const MAX_COORDINATE: f64 = 1e30;
 
 /// The six faces of a box whose corner `k` has bit 0, 1 and 2 of `k` for its x, y and z (low or
 /// high), each counterclockwise seen from outside.
@@ -36,7 +36,7 @@ pub const BOX_FACES: [[u32; 4]; 6] = [
 /// half-diagonal away from its centre on every side: the points and triangles TetGen gets, box corners
 /// last. Refused when the moved model or its box cannot be represented: a coordinate not finite or
 /// beyond [`MAX_COORDINATE`], or a box that f32 cannot place strictly around the model.
-pub fn boxed(model: &Surface, offset: Vec3) -> Result<Surface, SceneError> {
+pub(crate) fn boxed(model: &Surface, offset: Vec3) -> Result<Surface, SceneError> {
     let bad = |why: String| SceneError::Unrepresentable(why);
     if !offset.is_finite() {
         return Err(bad(format!("the offset {offset} is not finite")));
@@ -182,7 +182,7 @@ const ROUNDS: usize = 6;
 /// its input as points, and TetGen is run again, until every point is exactly an f32; the mesh is loaded and
 /// checked before anything is written. Fails, writing nothing, when that does not happen within a few
 /// rounds, or TetGen fails or runs past `limit`.
-pub fn build_scene(
+pub(crate) fn build_scene(
     model: &Surface,
     quality: bool,
     offset: Vec3,

@@ -40,7 +40,7 @@ impl Camera {
 
     /// Where the centre of pixel `(x, y)` lies on the screen, `(sx, sy)` in (-1, 1)², in f32: `sx`
     /// grows with `x` and `sy` falls with `y` (rounding is monotonic).
-    pub fn screen(x: u32, y: u32, w: u32, h: u32) -> (f32, f32) {
+    pub(crate) fn screen(x: u32, y: u32, w: u32, h: u32) -> (f32, f32) {
         let sx = 2.0 * (x as f32 + 0.5) / w as f32 - 1.0;
         let sy = 1.0 - 2.0 * (y as f32 + 0.5) / h as f32;
         (sx, sy)
@@ -105,9 +105,9 @@ pub struct Views {
 
 impl Views {
     /// The vertical field of view of every count and render.
-    pub const FOV_DEG: f32 = 40.0;
+    pub(crate) const FOV_DEG: f32 = 40.0;
     /// Most viewpoints a count, render or bench places (seed 000's runs have 1,282).
-    pub const MOST: usize = 1 << 20;
+    pub(crate) const MOST: usize = 1 << 20;
 
     /// `views` viewpoints of `width × height` placed by `seed`, with [`Views::FOV_DEG`].
     pub fn new(views: usize, width: u32, height: u32, seed: u64) -> Views {

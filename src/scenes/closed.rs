@@ -60,7 +60,7 @@ pub enum TriPlace {
 crate::choice!(TriPlace { Origin => "origin", Far => "far", Embree => "embree" });
 
 impl TriPlace {
-    pub fn offset(self) -> Vec3 {
+    pub(crate) fn offset(self) -> Vec3 {
         match self {
             TriPlace::Origin => Vec3::ZERO,
             TriPlace::Far => Vec3::splat(65536.0),

@@ -30,7 +30,7 @@ fn offset(u: &mut Unstructured) -> Result<f32> {
 }
 
 /// A (tetrahedron, ray) case; `None` when the bytes make a flat tetrahedron or a zero direction.
-pub fn exit_case(u: &mut Unstructured) -> Result<Option<Case>> {
+pub(crate) fn exit_case(u: &mut Unstructured) -> Result<Option<Case>> {
     let e = u.int_in_range(-12..=8)?;
     let off = offset(u)?;
     let mut tet = [Vec3::ZERO; 4];
@@ -104,7 +104,7 @@ fn is_zero(e: &i32) -> bool {
 
 impl WalkCase {
     /// The case's ray.
-    pub fn ray(&self) -> Ray {
+    pub(crate) fn ray(&self) -> Ray {
         Ray {
             org: Vec3::from(self.org),
             dir: Vec3::from(self.dir),
@@ -114,7 +114,7 @@ impl WalkCase {
 
 /// A walk case: a fan, Kuhn grid or jittered grid, small, near or far, and a ray from a dyadic point
 /// inside it aimed at a mesh vertex or lattice point, moved by a few ulps.
-pub fn walk_case(u: &mut Unstructured) -> Result<WalkCase> {
+pub(crate) fn walk_case(u: &mut Unstructured) -> Result<WalkCase> {
     let mesh = *u.choose(&[
         super::Generated::Fan,
         super::Generated::Kuhn,
@@ -162,7 +162,7 @@ pub fn walk_case(u: &mut Unstructured) -> Result<WalkCase> {
 
 /// A closed triangle mesh and a ray from outside it ([`super::closed::case`]: shape, aim and place from
 /// the bytes, the rest from a seed they give), the origin and direction then moved by a few ulps.
-pub fn hit_case(u: &mut Unstructured) -> Result<(Vec<crate::tet::Tri>, Ray)> {
+pub(crate) fn hit_case(u: &mut Unstructured) -> Result<(Vec<crate::tet::Tri>, Ray)> {
     use super::closed::{MeshShape, TriAim, TriPlace, case};
     use crate::choice::Choice;
     let shape = *u.choose(MeshShape::ALL)?;
@@ -180,7 +180,7 @@ pub fn hit_case(u: &mut Unstructured) -> Result<(Vec<crate::tet::Tri>, Ray)> {
 
 /// An octree cell and a ray ([`super::cells::case`]: aim and place from the bytes, the rest from a seed
 /// they give), the origin and direction then moved by a few ulps.
-pub fn cell_case(u: &mut Unstructured) -> Result<(Vec3, Vec3, Ray)> {
+pub(crate) fn cell_case(u: &mut Unstructured) -> Result<(Vec3, Vec3, Ray)> {
     use super::cells::{CellAim, CellPlace, case};
     use crate::choice::Choice;
     let aim = *u.choose(CellAim::ALL)?;

@@ -87,7 +87,7 @@ pub fn kuhn_grid(n: u32) -> RawMesh {
 
 /// [`kuhn_grid`] with every point off the outer boundary moved by up to `amount` (≤ 0.15) per axis, in
 /// steps of 1/16 so that translating it by up to 2^20 stays exact.
-pub fn jittered_grid(n: u32, amount: f32, rng: &mut Rng) -> RawMesh {
+pub(crate) fn jittered_grid(n: u32, amount: f32, rng: &mut Rng) -> RawMesh {
     let mut m = kuhn_grid(n);
     let top = n as f32;
     let k = (amount.clamp(0.0, 0.15) * 16.0).floor() as i32;
@@ -105,7 +105,7 @@ pub fn jittered_grid(n: u32, amount: f32, rng: &mut Rng) -> RawMesh {
 /// `k` thin tetrahedra around the edge from `(0, 0, -1)` to `(0, 0, 1)`, their outer vertices on a circle
 /// of `radius` in the plane `z = 0`, rounded to multiples of 1/1024. The lower hull faces are
 /// constrained; rays through the axis edge meet every tetrahedron at once.
-pub fn edge_fan(k: u32, radius: f32) -> RawMesh {
+pub(crate) fn edge_fan(k: u32, radius: f32) -> RawMesh {
     let k = k.max(3);
     let mut points = vec![Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0)];
     for i in 0..k {

@@ -62,7 +62,7 @@ pub enum SceneError {
 
 impl SceneError {
     /// An I/O error at `path`.
-    pub fn io(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> SceneError + '_ {
+    pub(crate) fn io(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> SceneError + '_ {
         move |source| SceneError::Io {
             path: path.display().to_string(),
             source,
@@ -91,14 +91,14 @@ include!(concat!(env!("OUT_DIR"), "/built_in_scenes.rs"));
 
 /// Scenes too large to ship, built on the user's machine by a script of the repository (byte for byte
 /// the same wherever it runs) into the folder [`built_here_dir`] names: name and script.
-pub const BUILT_HERE: [(&str, &str); 1] = [("bunny-paper", "corpora/scenes/bunny-paper.sh")];
+pub(crate) const BUILT_HERE: [(&str, &str); 1] = [("bunny-paper", "corpora/scenes/bunny-paper.sh")];
 
 /// The environment variable naming the folder of the scenes built on this machine ([`BUILT_HERE`]).
-pub const SCENES_VAR: &str = "TETWALK_SCENES";
+pub(crate) const SCENES_VAR: &str = "TETWALK_SCENES";
 
 /// Where the scenes built on this machine are looked for: the folder `TETWALK_SCENES` names, else
 /// `corpora/scenes` under the current directory (a checkout's root, where the script writes them).
-pub fn built_here_dir() -> std::path::PathBuf {
+pub(crate) fn built_here_dir() -> std::path::PathBuf {
     std::env::var_os(SCENES_VAR)
         .filter(|v| !v.is_empty())
         .map_or_else(|| "corpora/scenes".into(), Into::into)
@@ -139,7 +139,7 @@ fn built_in(name: &str) -> Option<Result<Mesh, MeshError>> {
 }
 
 /// The scene names a user may give besides files: the built-in, built-here and generated ones.
-pub fn names() -> String {
+pub(crate) fn names() -> String {
     let mut all: Vec<String> = BUILT_IN.iter().map(|s| s.to_string()).collect();
     all.extend(BUILT_HERE.iter().map(|(n, _)| format!("{n} (once built)")));
     for g in Generated::ALL {
@@ -191,7 +191,7 @@ fn source(name: &str) -> Result<Source, MeshError> {
 
 /// The files the scene `name` is read from: none for a built-in or generated scene, the mesh file, or
 /// a TetGen mesh's four.
-pub fn files_of(name: &str) -> Vec<std::path::PathBuf> {
+pub(crate) fn files_of(name: &str) -> Vec<std::path::PathBuf> {
     match source(name) {
         Ok(Source::File(path)) => {
             #[cfg(feature = "formats")]
@@ -259,7 +259,7 @@ fn mesh_of(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
 }
 
 /// Most tetrahedra a generated mesh may have (about 3 GiB while it is built).
-pub const MAX_GENERATED_TETS: u64 = 1 << 25;
+pub(crate) const MAX_GENERATED_TETS: u64 = 1 << 25;
 /// Bytes a tetrahedron takes while a mesh is built and walked, roughly (its cell included).
 const BYTES_PER_TET: u64 = 176;
 
@@ -319,7 +319,13 @@ pub fn rays(kind: Generated, mesh: &Mesh, offset: Vec3, n: usize, seed: u64) -> 
 
 /// One ray of [`rays`] for a mesh within `(lo, hi)`: aimed exactly through vertices and edges when
 /// `tie`, else in a random direction.
-pub fn ray(kind: Generated, (lo, hi): (Vec3, Vec3), offset: Vec3, tie: bool, r: &mut Rng) -> Ray {
+pub(crate) fn ray(
+    kind: Generated,
+    (lo, hi): (Vec3, Vec3),
+    offset: Vec3,
+    tie: bool,
+    r: &mut Rng,
+) -> Ray {
     let (lo, hi) = (lo - offset, hi - offset);
     let q = |x: f32| (x * 16.0).round() / 16.0;
     let (org, dir) = match kind {
@@ -363,7 +369,7 @@ pub fn ray(kind: Generated, (lo, hi): (Vec3, Vec3), offset: Vec3, tie: bool, r: 
 
 /// The random source of case `i` of the stress row keyed `row` (a value fixed per row, whichever rows
 /// run beside it) under `seed`.
-pub fn row_rng(seed: u64, row: u64, i: usize) -> Rng {
+pub(crate) fn row_rng(seed: u64, row: u64, i: usize) -> Rng {
     rng(seed
         .wrapping_mul(0x9E37_79B9_7F4A_7C15)
         .wrapping_add(row << 32 | i as u64))

@@ -28,7 +28,7 @@ impl Surface {
     /// One level of Loop subdivision of a closed model: every triangle split into four, each old point
     /// moved to `(1 - nβ) p + β Σ neighbours` and each edge point `3/8 (a + b) + 1/8 (c + d)` (`c`, `d`
     /// the far corners of the edge's two triangles). Refuses a model that is not closed.
-    pub fn loop_subdivided(&self) -> Result<Surface, SceneError> {
+    pub(crate) fn loop_subdivided(&self) -> Result<Surface, SceneError> {
         self.check_closed()?;
         // Each directed edge a → b names the third corner of its triangle; each point its neighbours,
         // in the order the triangles list them.
@@ -82,7 +82,7 @@ impl Surface {
     }
 
     /// The model as OFF text, each coordinate the shortest decimal that reads back as its f32.
-    pub fn off_text(&self) -> String {
+    pub(crate) fn off_text(&self) -> String {
         use std::fmt::Write;
         let mut s = format!("OFF\n{} {} 0\n", self.points.len(), self.triangles.len());
         for q in &self.points {

@@ -110,7 +110,7 @@ pub fn tet(shape: TetShape, flatness: f32, rng: &mut Rng) -> Tet {
 }
 
 /// A point inside the tetrahedron (random barycentric weights, kept away from the faces).
-pub fn interior_point(t: &Tet, rng: &mut Rng) -> Vec3 {
+pub(crate) fn interior_point(t: &Tet, rng: &mut Rng) -> Vec3 {
     let w: [f32; 4] = std::array::from_fn(|_| rng.random_range(0.2..1.0));
     let s: f32 = w.iter().sum();
     (0..4).map(|i| t[i] * (w[i] / s)).sum()
@@ -191,7 +191,7 @@ pub fn through(
 }
 
 /// `x` moved by `k` ulps (towards +∞ for positive `k`).
-pub fn ulps(x: f32, k: i32) -> f32 {
+pub(crate) fn ulps(x: f32, k: i32) -> f32 {
     let mut y = x;
     for _ in 0..k.unsigned_abs() {
         y = if k > 0 { y.next_up() } else { y.next_down() };
@@ -211,7 +211,7 @@ fn ulp_of(scale: f32) -> f64 {
 /// coordinate moves as far as the others, not by a subnormal. The generators' coordinates are
 /// integers or dyadic, so the step is exact (a multiple of each coordinate's ulp); where moving away
 /// from zero would leave the binade and round, it moves towards zero instead.
-pub fn nudge(org: Vec3, scale: f32, k: i32, rng: &mut Rng) -> Vec3 {
+pub(crate) fn nudge(org: Vec3, scale: f32, k: i32, rng: &mut Rng) -> Vec3 {
     let axis = rng.random_range(0..3);
     let by = rng.random_range(1..=k.max(1)) * if rng.random_bool(0.5) { 1 } else { -1 };
     let step = by as f64 * ulp_of(scale);
@@ -224,7 +224,7 @@ pub fn nudge(org: Vec3, scale: f32, k: i32, rng: &mut Rng) -> Vec3 {
 }
 
 /// The largest magnitude among points' coordinates.
-pub fn scale_of<'a>(points: impl IntoIterator<Item = &'a Vec3>) -> f32 {
+pub(crate) fn scale_of<'a>(points: impl IntoIterator<Item = &'a Vec3>) -> f32 {
     points
         .into_iter()
         .map(|p| p.abs().max_element())

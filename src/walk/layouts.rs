@@ -159,11 +159,11 @@ where
 }
 
 /// A layout walk specialised to one method and arithmetic, for callers that pick methods at run time.
-pub type LayoutWalkFn =
+pub(crate) type LayoutWalkFn =
     fn(LayoutKind, &Layout, &[Vec3], &Ray, &Source, u32) -> (LayoutOutcome, u32);
 
 /// [`walk_layout`] with nothing observing it.
-pub fn walk_layout_unobserved<M, A>(
+pub(crate) fn walk_layout_unobserved<M, A>(
     kind: LayoutKind,
     layout: &Layout,
     points: &[Vec3],

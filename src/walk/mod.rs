@@ -97,7 +97,7 @@ impl OutcomeKind {
     }
 
     /// `hit`, `left_mesh`, `no_exit_face`, `cycle`, `step_limit`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         self.row().name
     }
 
@@ -107,12 +107,12 @@ impl OutcomeKind {
     }
 
     /// [`OutcomeKind::wrong`] as a key (found cases, JSON): `wrong_face`, `false_miss`, ….
-    pub fn wrong_key(self) -> &'static str {
+    pub(crate) fn wrong_key(self) -> &'static str {
         self.row().wrong_key
     }
 
     /// The kind whose [`OutcomeKind::wrong_key`] is `key`.
-    pub fn from_wrong_key(key: &str) -> Option<OutcomeKind> {
+    pub(crate) fn from_wrong_key(key: &str) -> Option<OutcomeKind> {
         KIND_TABLE
             .iter()
             .find(|r| r.wrong_key == key)
@@ -120,7 +120,7 @@ impl OutcomeKind {
     }
 
     /// The kind called `name`.
-    pub fn from_name(name: &str) -> Option<OutcomeKind> {
+    pub(crate) fn from_name(name: &str) -> Option<OutcomeKind> {
         KIND_TABLE.iter().find(|r| r.name == name).map(|r| r.kind)
     }
 
@@ -140,7 +140,7 @@ impl OutcomeKind {
     }
 
     /// Its colour in failure maps.
-    pub fn colour(self) -> [u8; 3] {
+    pub(crate) fn colour(self) -> [u8; 3] {
         self.row().colour
     }
 }
@@ -212,7 +212,7 @@ impl Outcome {
     }
 
     /// Kind, tetrahedron, and the face (hit, left mesh) or period (cycle), else 0: the GPU's record.
-    pub fn parts(&self) -> (OutcomeKind, u32, u32) {
+    pub(crate) fn parts(&self) -> (OutcomeKind, u32, u32) {
         match *self {
             Outcome::Hit { tet, face } => (OutcomeKind::Hit, tet, face as u32),
             Outcome::LeftMesh { tet, face } => (OutcomeKind::LeftMesh, tet, face as u32),
@@ -223,7 +223,7 @@ impl Outcome {
     }
 
     /// The outcome from its [`Outcome::parts`].
-    pub fn from_parts(kind: OutcomeKind, tet: u32, x: u32) -> Outcome {
+    pub(crate) fn from_parts(kind: OutcomeKind, tet: u32, x: u32) -> Outcome {
         match kind {
             OutcomeKind::Hit => Outcome::Hit { tet, face: x as u8 },
             OutcomeKind::LeftMesh => Outcome::LeftMesh { tet, face: x as u8 },
@@ -243,7 +243,7 @@ pub struct Walk {
 
 impl Walk {
     /// A place for a walk not made yet: no step taken.
-    pub const NONE: Walk = Walk {
+    pub(crate) const NONE: Walk = Walk {
         outcome: Outcome::StepLimit { tet: 0 },
         steps: 0,
     };
@@ -264,11 +264,11 @@ pub struct Divergence {
 }
 
 /// A walk specialised to one method and arithmetic: `(mesh, ray, start tetrahedron, max_steps)`.
-pub type WalkFn = fn(&Mesh, &Ray, u32, u32) -> Walk;
+pub(crate) type WalkFn = fn(&Mesh, &Ray, u32, u32) -> Walk;
 /// The same over many rays, each with its start ([`walks`]).
-pub type WalksFn = fn(&Mesh, &[(Ray, u32)], u32) -> Vec<Walk>;
+pub(crate) type WalksFn = fn(&Mesh, &[(Ray, u32)], u32) -> Vec<Walk>;
 /// The same, checking every step against the oracle.
-pub type CheckedWalkFn = fn(&Mesh, &Ray, u32, u32) -> (Walk, Option<Divergence>);
+pub(crate) type CheckedWalkFn = fn(&Mesh, &Ray, u32, u32) -> (Walk, Option<Divergence>);
 
 /// A generous step cap for `mesh`: a walk has at most `4 × tetrahedra` distinct states, so any walk
 /// longer than that has cycled, and cycle detection stops it within twice that.
@@ -322,7 +322,7 @@ fn walk_unwatched_first<M: ExitMethod, A: Arith>(
 }
 
 /// [`walk`], judging every step with the exact oracle and reporting the first wrong one.
-pub fn walk_checked<M: ExitMethod, A: Arith>(
+pub(crate) fn walk_checked<M: ExitMethod, A: Arith>(
     mesh: &Mesh,
     ray: &Ray,
     start: u32,
@@ -428,7 +428,7 @@ fn walk_watched<M: ExitMethod, A: Arith>(
 }
 
 /// The most walks in flight at once on one thread ([`walks`]).
-pub const MAX_LANES: usize = 4;
+pub(crate) const MAX_LANES: usize = 4;
 
 /// `$body` once for each lane `$k` in `0..MAX_LANES`, written out with the lane a constant, so that each
 /// lane's walker is a variable of its own (a loop over the lanes ran 7–9 % more instructions).
@@ -459,7 +459,7 @@ macro_rules! each_lane {
 /// step waits on the tetrahedron it reads and on the face it computes, so one thread advances several
 /// independent walks in turn, and neighbouring rays mostly take the same steps, so a group ends
 /// together and its walks read the same cells (each ends exactly as [`walk`] would end it).
-pub fn walks<M: ExitMethod, A: Arith>(
+pub(crate) fn walks<M: ExitMethod, A: Arith>(
     mesh: &Mesh,
     rays: &[(Ray, u32)],
     max_steps: u32,
@@ -616,7 +616,7 @@ impl<M: ExitMethod> Walker<M> {
 /// through) — for a program outside tetwalk (`count --answerer`); the walks end as a method's do:
 /// on a constrained face, out of the mesh, without an exit face, in a cycle (Brent, over tetrahedron
 /// and entry face) or at `max_steps`.
-pub fn walks_asking<E>(
+pub(crate) fn walks_asking<E>(
     mesh: &Mesh,
     rays: &[Ray],
     start: u32,
@@ -719,7 +719,7 @@ pub fn same_result(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> bool {
 }
 
 /// Which kind of wrong `w` is (the kind of its ending), or `None` when it is right ([`same_result`]).
-pub fn judge(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> Option<OutcomeKind> {
+pub(crate) fn judge(mesh: &Mesh, ray: &Ray, w: &Walk, reference: &Walk) -> Option<OutcomeKind> {
     (!same_result(mesh, ray, w, reference)).then(|| w.outcome.kind())
 }
 

@@ -43,7 +43,7 @@ impl End {
     }
 
     /// As a tetrahedral walk's outcome, with the `(tetrahedron, face)` each triangle came from.
-    pub fn outcome(&self, from: &[(u32, u8)]) -> Outcome {
+    pub(crate) fn outcome(&self, from: &[(u32, u8)]) -> Outcome {
         match *self {
             End::Hit { tri, .. } => {
                 let (tet, face) = from[tri as usize];
@@ -72,7 +72,7 @@ pub fn default_max_steps(o: &Octree) -> u32 {
 /// §4.1: the address of the first cell the ray enters, from the cube map: the ray against the root
 /// box (slabs, in f32), the entry point's texel on the entry face; a ray starting inside the root
 /// starts in the leaf holding its origin (the paper's primary rays start outside). `None`: a miss.
-pub fn entry(o: &Octree, ray: &Ray) -> Option<u32> {
+pub(crate) fn entry(o: &Octree, ray: &Ray) -> Option<u32> {
     let (lo, hi) = (o.lo, o.lo + Vec3::splat(o.size));
     if (0..3).all(|a| ray.org[a] >= lo[a] && ray.org[a] <= hi[a]) {
         return o.leaf_holding(ray.org);
@@ -118,7 +118,7 @@ fn next(o: &Octree, address: u32, f: usize, q: usize) -> Option<u32> {
 }
 
 /// Seed 001 §4.2.3 with cell method `M` in arithmetic `A`, and `hit` for each leaf's triangles.
-pub fn walk<M: CellMethod, A: Arith>(
+pub(crate) fn walk<M: CellMethod, A: Arith>(
     o: &Octree,
     tris: &[Tri],
     hit: fn(&Tri, &Ray) -> Option<f32>,
@@ -133,10 +133,10 @@ pub fn walk<M: CellMethod, A: Arith>(
 }
 
 /// One step of a walk: the leaf and the exit face and quarter the method chose there (none: no face).
-pub type Step = (u32, Option<(usize, usize)>);
+pub(crate) type Step = (u32, Option<(usize, usize)>);
 
 /// [`walk`], also listing each cell's exit as the method chose it.
-pub fn walk_traced<M: CellMethod, A: Arith>(
+pub(crate) fn walk_traced<M: CellMethod, A: Arith>(
     o: &Octree,
     tris: &[Tri],
     hit: fn(&Tri, &Ray) -> Option<f32>,
@@ -223,7 +223,7 @@ fn walk_observed<M: CellMethod, A: Arith>(
 /// origin symbolically perturbed, [`perturbed_crossing`]) and only up to where the ray leaves the
 /// leaf, the exit face and quarter exactly ([`box_exit`], the first of several at a tie). The hit's
 /// `t` is rounded to f32.
-pub fn walk_exact(o: &Octree, tris: &[Tri], ray: &Ray, max_steps: u32) -> OctreeWalk {
+pub(crate) fn walk_exact(o: &Octree, tris: &[Tri], ray: &Ray, max_steps: u32) -> OctreeWalk {
     let miss = OctreeWalk {
         end: End::Miss,
         cells: 0,

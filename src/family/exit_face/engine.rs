@@ -16,7 +16,7 @@ use crate::tet::{Ray, Tet};
 /// direction, a tetrahedron not flat in f32); with `with_entry` given its exact entry face (the
 /// lowest); at `scale`, kept where it still reads back and the oracle still judges it; made to hold
 /// `contract` (keyed by the cases kept before it), kept where it then does.
-pub fn free_cases<'a>(
+pub(crate) fn free_cases<'a>(
     tries: usize,
     mut make: impl FnMut() -> Option<(Tet, Ray)> + 'a,
     offset: f32,

@@ -108,7 +108,7 @@ pub struct ExitTally {
     /// Of the wrong answers: at a tie (the line leaves through an edge or vertex, more than one face
     /// right), and on a line that only touches the tetrahedron.
     pub wrong_at_tie: u64,
-    pub wrong_touch_only: u64,
+    pub(crate) wrong_touch_only: u64,
 }
 
 impl super::Summed for ExitTally {
@@ -122,7 +122,7 @@ impl super::Summed for ExitTally {
 }
 
 /// The face (0..3, in the case's own numbering) a method answers, or none.
-pub type Face = Option<u8>;
+pub(crate) type Face = Option<u8>;
 
 /// Case `i` of `row`: a pure function of `(seed, row, i)`, moved by the rows' offset.
 fn generate(rows: &ExitRows, row: TetRow, seed: u64, i: usize) -> Option<(crate::tet::Tet, Ray)> {

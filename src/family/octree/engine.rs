@@ -24,7 +24,7 @@ pub fn octree_walk(bytes: &[u8]) -> Result<Option<Found<OctreeCells>>, FoundErro
 }
 
 /// The octree over a fuzz case's closed mesh: deep and fine, so that rays meet many cells.
-pub const FUZZ_OCTREE: crate::octree::Settings = crate::octree::Settings {
+pub(crate) const FUZZ_OCTREE: crate::octree::Settings = crate::octree::Settings {
     depth: 6,
     capacity: 1,
 };
@@ -35,7 +35,10 @@ pub const FUZZ_OCTREE: crate::octree::Settings = crate::octree::Settings {
 /// exact reference's walk lists no choices). A walk that cycles or reaches the step limit without a
 /// wrong cell (its wrong choice was where the line only touches a cell, which no answer is judged on)
 /// is [`FoundError::EndlessWalk`].
-pub fn octree_walk_find(tris: &[Tri], ray: &Ray) -> Result<Option<Found<OctreeCells>>, FoundError> {
+pub(crate) fn octree_walk_find(
+    tris: &[Tri],
+    ray: &Ray,
+) -> Result<Option<Found<OctreeCells>>, FoundError> {
     use crate::cases::BoxCase;
     use crate::octree::cell::quarter_signs;
     use crate::walk::octree::End;

@@ -30,7 +30,7 @@ use serde_json::{Map, Value, json};
 pub struct OctreeCells;
 
 /// An exit face (seed 001's numbering) and the quarter of it as signs `[su, sv]`, or none.
-pub type CellExit = Option<(u8, [i8; 2])>;
+pub(crate) type CellExit = Option<(u8, [i8; 2])>;
 
 /// A stress row of octree cells: where the ray leaves the cell and where the cell is.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -65,7 +65,7 @@ pub struct CellTally {
     /// A face through which the line does not leave, or the wrong quarter of one it does.
     pub wrong: u64,
     /// Of those, the right face but a wrong quarter (a wrong neighbour among four).
-    pub wrong_quarter: u64,
+    pub(crate) wrong_quarter: u64,
     /// No exit face (eq. 8's 7).
     pub no_exit_face: u64,
 }
@@ -80,7 +80,7 @@ impl Summed for CellTally {
 }
 
 /// A cell's answer: `{"face": "-x"|"+x"|…, "quarter": [su, sv]}` (signs −1 or +1) or null.
-pub fn cell_answer(v: &Value) -> Result<CellExit, String> {
+pub(crate) fn cell_answer(v: &Value) -> Result<CellExit, String> {
     if v.is_null() {
         return Ok(None);
     }
@@ -414,7 +414,7 @@ impl Counts for OctreeCount {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OctreeCountSettings {
     pub octree: crate::octree::Settings,
-    pub triangle_method: ByName<TriangleMethod>,
+    pub(crate) triangle_method: ByName<TriangleMethod>,
 }
 
 /// What an octree count's report says of its scene.

@@ -68,7 +68,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 /// Fewest pixels per tile side: each tile's rays share one list of candidates.
-pub const MIN_TILE: u32 = 2;
+pub(crate) const MIN_TILE: u32 = 2;
 
 /// The lemma's `K` for an error scale (module doc).
 fn k(scale: SideError) -> f64 {
@@ -107,7 +107,7 @@ impl Bins {
 
     /// The rays of a `width × height` view in [`packet_order`](crate::scenes::camera::packet_order)
     /// with these tiles, each tile's run of rays with its candidates.
-    pub fn among(self, width: u32, height: u32) -> Among {
+    pub(crate) fn among(self, width: u32, height: u32) -> Among {
         let mut groups = Vec::with_capacity(self.start.len() - 1);
         let mut first = 0;
         for ty in 0..self.tiles_y {
@@ -133,7 +133,7 @@ pub fn tile_of(x: u32, y: u32, width: u32, tile: u32) -> usize {
 }
 
 /// The error scales, in the order `Reach::bounds` and [`ByScale`] keep them.
-pub const SCALES: [SideError; 2] = [SideError::EdgeScaled, SideError::OriginScaled];
+pub(crate) const SCALES: [SideError; 2] = [SideError::EdgeScaled, SideError::OriginScaled];
 
 /// A triangle's three linear side-product functions on the screen, `c + a·sx + b·sy`, their sum
 /// (`d·N`: where all three are at least `-B` it is at least `-3B`, a bound one line alone can prove

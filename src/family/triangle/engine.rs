@@ -30,7 +30,7 @@ pub struct SpeedRow {
     /// Packet side `p` (packets of `p × p` rays).
     pub packet: u32,
     /// Nanoseconds per ray–triangle test, the best of the repeats.
-    pub ns_per_test: f64,
+    pub(crate) ns_per_test: f64,
     /// `mt-precomputed`'s time per test in packets of the same side, scalar or 4-wide as this row is,
     /// over this one's: seed 004's speedup, the loops alike (triangles outer, the packet's rays inner).
     pub speedup: f64,
@@ -51,13 +51,13 @@ pub struct SpeedReport {
 }
 
 /// The packet sides timed.
-pub const PACKETS: [u32; 4] = [1, 2, 4, 8];
+pub(crate) const PACKETS: [u32; 4] = [1, 2, 4, 8];
 
 /// Time every method (and its 4-wide version) at every packet side of [`PACKETS`] on the primary rays
 /// of `views`' first view that lies inside the mesh, each ray against its tile's candidates for the
 /// method's error scale, the best of `repeats` runs each, all in one run; speedups per test relative
 /// to `mt-precomputed` at the same packet side and width.
-pub fn speed(
+pub(crate) fn speed(
     scene: &Loaded,
     views: &Views,
     methods: &[&TriangleMethod],
@@ -158,7 +158,7 @@ impl EdgeHit {
         }
     }
 
-    pub const ALL: [EdgeHit; 6] = [
+    pub(crate) const ALL: [EdgeHit; 6] = [
         EdgeHit::First,
         EdgeHit::Second,
         EdgeHit::Both,
@@ -184,7 +184,7 @@ impl EdgeHit {
     }
 
     /// What it means, for the legend.
-    pub fn words(self) -> &'static str {
+    pub(crate) fn words(self) -> &'static str {
         [
             "the first triangle only",
             "the second only",
@@ -196,7 +196,7 @@ impl EdgeHit {
     }
 
     /// The leak maps' key: each kind of cell, its words and colour.
-    pub fn key() -> Vec<(&'static str, [u8; 3])> {
+    pub(crate) fn key() -> Vec<(&'static str, [u8; 3])> {
         EdgeHit::ALL
             .iter()
             .map(|c| (c.words(), c.colour()))

@@ -47,7 +47,7 @@ impl Hits {
         Hits { len: len as u8, at }
     }
 
-    pub fn all(&self) -> &[(u32, f32)] {
+    pub(crate) fn all(&self) -> &[(u32, f32)] {
         &self.at[..self.len as usize]
     }
 
@@ -115,10 +115,10 @@ pub struct HitTally {
     pub leaks: u64,
     /// Rays that cross the surface but pass beside the object as the method rounds them
     /// ([`Missed::Beside`]).
-    pub misses_beside: u64,
+    pub(crate) misses_beside: u64,
     /// Rays with a hit on a triangle holding the first crossing point and another on a triangle the
     /// exact ray misses (near a shared edge, both neighbours report it).
-    pub double_hits: u64,
+    pub(crate) double_hits: u64,
     /// Rays whose nearest hit is on a wrong triangle, or a miss where the ray crosses
     /// ([`HitTruth::right`]).
     pub wrong_first_hits: u64,
@@ -616,7 +616,7 @@ pub struct TriCountSettings {
 
 /// Whether a count with `settings` on a backend of `kind` tests each tile's candidates ([`bins`])
 /// for the methods that obey the bins' lemma: on a CPU backend, unless `--brute-force`.
-pub fn binned_on(settings: &TriCountSettings, kind: BackendKind) -> bool {
+pub(crate) fn binned_on(settings: &TriCountSettings, kind: BackendKind) -> bool {
     !settings.brute_force && kind.model().is_some()
 }
 

@@ -173,7 +173,7 @@ fn ratio(q: &rug::Rational) -> String {
 
 impl SpeedReport {
     /// Seed 004 Figure 5's measure as a table, with what it measured.
-    pub fn markdown(&self) -> String {
+    pub(crate) fn markdown(&self) -> String {
         let mut out = format!(
             "seed 004 Figure 5's measure: scene {} ({} triangles), one view of {}x{} ({} primary rays), \
              each ray against its tile's candidate triangles (src/family/triangle/bins.rs, as the triangle count tests \

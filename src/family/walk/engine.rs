@@ -28,7 +28,7 @@ use std::io::{BufRead, Write};
 
 /// Why a walk run stopped.
 #[derive(Debug, thiserror::Error)]
-pub enum WalkRunError {
+pub(crate) enum WalkRunError {
     #[error(transparent)]
     Backend(#[from] BackendError),
     #[error(transparent)]
@@ -38,7 +38,7 @@ pub enum WalkRunError {
 /// How the walks are judged: every step on the CPU under an arithmetic model, or (a `--wgsl`
 /// function's walks) by their endings, walked on the GPU.
 #[derive(Clone, Copy)]
-pub enum Walker<'a> {
+pub(crate) enum Walker<'a> {
     /// Every step judged by the oracle, so that "diverged" is measured.
     Checked(Model),
     /// Walked on this GPU backend, judged by their endings ("diverged" unmeasured).
@@ -55,7 +55,7 @@ pub fn bytes_per_walked_ray(methods: usize) -> u64 {
 /// One method's walks: how they ended ([`OutcomeKind::ALL`] order), how many ended elsewhere than the
 /// `exact` walk, how many took a step outside the exact exit set, and the steps.
 #[derive(Default, Clone, Copy, Debug, serde::Serialize)]
-pub struct MethodWalks {
+pub(crate) struct MethodWalks {
     pub rays: u64,
     pub kinds: [u64; 5],
     pub wrong: u64,
@@ -75,7 +75,7 @@ impl Summed for MethodWalks {
 
 /// One method's row: its walks, and the compact layout it walked over (if it did).
 #[derive(serde::Serialize)]
-pub struct MethodRow {
+pub(crate) struct MethodRow {
     pub method: String,
     pub layout: Option<LayoutKind>,
     #[serde(flatten)]
@@ -84,7 +84,7 @@ pub struct MethodRow {
 
 /// One method under the 12 relabellings: wrong results and cycles for each, the identity first.
 #[derive(serde::Serialize)]
-pub struct RelabelledWalks {
+pub(crate) struct RelabelledWalks {
     pub method: String,
     pub wrong: Vec<u64>,
     pub cycles: Vec<u64>,
@@ -92,14 +92,14 @@ pub struct RelabelledWalks {
 
 /// Every method's walks over one mesh's rays: the rays starting outside it (skipped), and one row per
 /// method, in the order asked.
-pub struct MethodWalksTable {
+pub(crate) struct MethodWalksTable {
     pub outside: usize,
     pub rows: Vec<MethodRow>,
 }
 
 /// `tetwalk walk`'s report (its JSON): the mesh, the rays, and each method's row.
 #[derive(serde::Serialize)]
-pub struct WalkReport {
+pub(crate) struct WalkReport {
     pub mesh: crate::scenes::Generated,
     pub size: u32,
     pub offset: f32,
@@ -116,7 +116,7 @@ pub struct WalkReport {
 /// What `tetwalk walk` walks: a generated mesh of `size` (in Hilbert order with `hilbert`) moved by
 /// `offset`, and `rays` of its rays, both from `seed`; the methods over `layout` where they can, and
 /// under every relabelling with `relabel`.
-pub struct WalkSettings {
+pub(crate) struct WalkSettings {
     pub mesh: crate::scenes::Generated,
     pub size: u32,
     pub offset: f32,
@@ -130,7 +130,7 @@ pub struct WalkSettings {
 /// `tetwalk walk`: the mesh and its rays made as `s` says, each method's walks judged by `walker`
 /// against the `exact` ones, and with `s.relabel` under each relabelling (every step judged under
 /// `walker`'s model).
-pub fn walk_run(
+pub(crate) fn walk_run(
     s: &WalkSettings,
     methods: &[&'static Method],
     walker: Walker,
@@ -388,7 +388,7 @@ pub fn frame(
 
 /// The header line of `count --rays-out`, which `tetwalk judge` reads back.
 #[derive(serde::Serialize, serde::Deserialize)]
-pub struct RaysHeader {
+pub(crate) struct RaysHeader {
     /// The scene's name.
     pub scene: String,
     /// Its views, as the count made them.
@@ -404,7 +404,7 @@ pub struct RaysHeader {
 
 /// Why a scene's rays, or the walks given for them, cannot be judged.
 #[derive(Debug, thiserror::Error)]
-pub enum RaysError {
+pub(crate) enum RaysError {
     /// The scene loaded here is not the one the rays were made in.
     #[error(
         "{file}: scene {scene} has {here} tetrahedra here, {there} where the rays were written"
@@ -450,7 +450,12 @@ pub enum RaysError {
 
 /// The lines of `count --rays-out` for view `v` (camera `cam`, starting tetrahedron `start`): each
 /// ray's view, pixel, origin, direction and start.
-pub fn ray_lines(views: &Views, v: usize, cam: &Camera, start: u32) -> impl Iterator<Item = Value> {
+pub(crate) fn ray_lines(
+    views: &Views,
+    v: usize,
+    cam: &Camera,
+    start: u32,
+) -> impl Iterator<Item = Value> {
     let width = views.width;
     views.rays(cam).into_iter().enumerate().map(move |(i, r)| {
         json!({
@@ -463,7 +468,7 @@ pub fn ray_lines(views: &Views, v: usize, cam: &Camera, start: u32) -> impl Iter
 impl RaysHeader {
     /// The header of `scene`'s rays over `views`, those `shard` holds (`no_faces`: the scene loaded
     /// without constrained faces).
-    pub fn of(scene: &Loaded, views: Views, shard: Shard, no_faces: bool) -> RaysHeader {
+    pub(crate) fn of(scene: &Loaded, views: Views, shard: Shard, no_faces: bool) -> RaysHeader {
         RaysHeader {
             scene: scene.name.clone(),
             views,
@@ -476,7 +481,7 @@ impl RaysHeader {
     /// `count --rays-out`'s file written to `w`: this header's line, then every ray line
     /// ([`RaysHeader::each_line`]); the rays and the views written. A shard none of whose views has
     /// its camera inside `mesh` is [`CountError::NoView`].
-    pub fn write(&self, mesh: &Mesh, w: impl Write) -> Result<(u64, usize), RaysError> {
+    pub(crate) fn write(&self, mesh: &Mesh, w: impl Write) -> Result<(u64, usize), RaysError> {
         let mut w = std::io::BufWriter::new(w);
         serde_json::to_writer(&mut w, self).map_err(std::io::Error::from)?;
         w.write_all(b"\n")?;
@@ -495,7 +500,7 @@ impl RaysHeader {
 
     /// Each ray line of the views the header's shard holds whose camera is inside `mesh`, in order,
     /// handed to `each` with its view; the views walked.
-    pub fn each_line<E>(
+    pub(crate) fn each_line<E>(
         &self,
         mesh: &Mesh,
         mut each: impl FnMut(usize, Value) -> Result<(), E>,
@@ -512,7 +517,7 @@ impl RaysHeader {
 
     /// Whether `scene` is the scene the rays were made in (as many tetrahedra); `file` names the
     /// rays.
-    pub fn check_scene(&self, scene: &Loaded, file: &str) -> Result<(), RaysError> {
+    pub(crate) fn check_scene(&self, scene: &Loaded, file: &str) -> Result<(), RaysError> {
         match scene.mesh.tets.len() == self.tetrahedra {
             true => Ok(()),
             false => Err(RaysError::Tetrahedra {
@@ -528,7 +533,7 @@ impl RaysHeader {
     /// rays the header names, line by line (a file cut short, edited, or of another run is refused,
     /// the line named): the answers are judged for the rays the header rebuilds, so those must be the
     /// rays that were walked.
-    pub fn check_rays(
+    pub(crate) fn check_rays(
         &self,
         file: &str,
         input: Box<dyn BufRead + Send>,
@@ -596,12 +601,12 @@ fn same_ray(got: &Value, want: &Value) -> bool {
 
 /// Walks given for a scene's rays, by (view, pixel x, pixel y).
 #[derive(Default)]
-pub struct GivenWalksMap(HashMap<(usize, u32, u32), Walk>);
+pub(crate) struct GivenWalksMap(HashMap<(usize, u32, u32), Walk>);
 
 impl GivenWalksMap {
     /// Take one walk answer (`view`, `pixel`, optional `steps`, the rest an [`Outcome`] in its serde
     /// form) for a ray of `mesh`: an error names what is wrong with it.
-    pub fn take(&mut self, mut v: Value, mesh: &Mesh) -> Result<(), String> {
+    pub(crate) fn take(&mut self, mut v: Value, mesh: &Mesh) -> Result<(), String> {
         let o = v.as_object_mut().ok_or("an answer is a JSON object")?;
         let view = o
             .remove("view")
@@ -645,7 +650,7 @@ impl GivenWalksMap {
     /// The walks judged as `count` judges a method's, named `name` (each wrong ray handed to
     /// `wrong`): every ray of the header's views needs one walk (`file` names the answers, `cases`
     /// the rays), and no walk is for a ray not counted.
-    pub fn judge(
+    pub(crate) fn judge(
         &self,
         scene: &Loaded,
         header: &RaysHeader,

@@ -29,7 +29,7 @@ use std::sync::Arc;
 pub struct Walks;
 
 /// Largest grid or fan size of a walk case (a Kuhn grid of this size has 6·64³ tetrahedra).
-pub const MAX_WALK_SIZE: u32 = 64;
+pub(crate) const MAX_WALK_SIZE: u32 = 64;
 
 /// The stress rows of walks: the lattice-tie scenes, each a generated mesh of a size at an offset
 /// along (1, 1, 1), half of its rays aimed exactly through vertices and edges.
@@ -55,7 +55,7 @@ crate::choice!(WalkScene {
 
 impl WalkScene {
     /// Its mesh, size and offset.
-    pub fn mesh(self) -> (Generated, u32, f32) {
+    pub(crate) fn mesh(self) -> (Generated, u32, f32) {
         match self {
             WalkScene::Kuhn => (Generated::Kuhn, 8, 0.0),
             WalkScene::Kuhn1048576 => (Generated::Kuhn, 8, 1_048_576.0),
@@ -102,7 +102,7 @@ impl Summed for WalkTally {
 }
 
 /// A walk case's mesh with its bounds, built once per thread.
-pub struct GeneratedMesh {
+pub(crate) struct GeneratedMesh {
     pub mesh: Arc<Mesh>,
     pub bounds: (Vec3, Vec3),
 }
@@ -116,7 +116,7 @@ thread_local! {
 
 /// A walk case's mesh (kind, size, offset, then scaled by 2^`scale`), built once per thread and
 /// kept (the last 64).
-pub fn generated(
+pub(crate) fn generated(
     mesh: Generated,
     size: u32,
     offset: f32,

@@ -25,7 +25,7 @@ pub enum Format {
 
 impl Format {
     /// The format of `path`, by its extension (`.msh`, `.vtk`, `.vtu`, `.mesh`).
-    pub fn of(path: &Path) -> Option<Format> {
+    pub(crate) fn of(path: &Path) -> Option<Format> {
         match path.extension()?.to_str()? {
             "msh" => Some(Format::Gmsh),
             "vtk" => Some(Format::Vtk),
@@ -130,7 +130,7 @@ fn guarded<T>(reader: &str, file: &str, read: impl FnOnce() -> T) -> Result<T, M
 }
 
 /// Load a mesh of `format` from `path` ([`parse`]).
-pub fn load(path: &Path, format: Format, faces: Faces) -> Result<Mesh, MeshError> {
+pub(crate) fn load(path: &Path, format: Format, faces: Faces) -> Result<Mesh, MeshError> {
     let file = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| MeshError {
         place: file.clone(),
