@@ -99,8 +99,8 @@ pub enum Backend {
 
 /// Seed 003's layouts of a mesh where a backend walks them (uploaded once to a GPU).
 pub struct LayoutOn<'a> {
-    pub layout: &'a Layout,
-    pub points: &'a [glam::Vec3],
+    pub(crate) layout: &'a Layout,
+    pub(crate) points: &'a [glam::Vec3],
     #[cfg(feature = "gpu")]
     gpu: Option<gpu::GpuLayout>,
 }
@@ -108,7 +108,7 @@ pub struct LayoutOn<'a> {
 /// Layout walks from a backend (each outcome and its steps), with the GPU's kernel time.
 pub struct LayoutWalked {
     pub walks: Vec<(LayoutOutcome, u32)>,
-    pub kernel_seconds: Option<f64>,
+    pub(crate) kernel_seconds: Option<f64>,
 }
 
 /// A scene's triangles as a backend compares nearest hits on them: uploaded once to a GPU with the
@@ -910,9 +910,9 @@ impl Keeping<'_> {
 /// A view's answers read back ([`Backend::gather_view`]): the reference walk, with what crossed for
 /// it where it was queued, and each method's answers with what crossed for them.
 pub(crate) struct GatheredView<T> {
-    pub kept: Kept,
-    pub reference: Option<Traffic>,
-    pub answers: Vec<(Against<T>, Traffic)>,
+    pub(crate) kept: Kept,
+    pub(crate) reference: Option<Traffic>,
+    pub(crate) answers: Vec<(Against<T>, Traffic)>,
 }
 
 impl Backend {
@@ -1079,5 +1079,5 @@ fn entry_cells(o: &Octree, rays: &[Ray]) -> Vec<(Ray, u32)> {
 pub struct Walked {
     pub walks: Vec<Walk>,
     pub kernel_seconds: Option<f64>,
-    pub flagged: usize,
+    pub(crate) flagged: usize,
 }

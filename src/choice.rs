@@ -158,7 +158,7 @@ impl BackendKind {
 /// a CPU backend's name or `gpu: ADAPTER (…, driver …)`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Ran {
-    pub kind: BackendKind,
+    pub(crate) kind: BackendKind,
     pub adapter: Option<String>,
 }
 
@@ -201,16 +201,16 @@ impl<'de> serde::Deserialize<'de> for Ran {
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Traffic {
     #[serde(rename = "bytes_written")]
-    pub written: u64,
+    pub(crate) written: u64,
     #[serde(rename = "bytes_read")]
-    pub read: u64,
+    pub(crate) read: u64,
     pub dispatches: u64,
     #[serde(default)]
     pub waits: u64,
     #[serde(default)]
     pub sent_back: u64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub kernel_seconds: Option<f64>,
+    pub(crate) kernel_seconds: Option<f64>,
 }
 
 impl Traffic {

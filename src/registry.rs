@@ -69,7 +69,7 @@ impl Claim {
 pub struct Info {
     pub name: &'static str,
     /// Paper and algorithm it implements.
-    pub source: &'static str,
+    pub(crate) source: &'static str,
     /// Its claim, which fuzzing, replay and `--fail-on claims` hold it to.
     pub claim: Option<Claim>,
     /// Whether it is its family's reference (exact; never judged itself, and run on the CPU
@@ -79,7 +79,7 @@ pub struct Info {
     pub published: bool,
     /// Whether tetwalk vouches for its claim: `TETWALK_FUZZ_METHOD=ours` (CI, ClusterFuzzLite) holds
     /// it to that claim, and any failure there is a bug.
-    pub ours: bool,
+    pub(crate) ours: bool,
     /// Whether it has a CPU version: every method but a user's WGSL ([`USER_WGSL`]), which the backend
     /// runs only on a GPU.
     pub runs_on_cpu: bool,
@@ -543,7 +543,7 @@ impl<'de, T: Registered> serde::Deserialize<'de> for ByName<T> {
 #[derive(Debug, thiserror::Error)]
 #[error("unknown method '{name}' (known: {known})")]
 pub struct UnknownMethod {
-    pub name: String,
+    pub(crate) name: String,
     known: String,
 }
 
@@ -803,7 +803,7 @@ fn exact_octree_traced(
 /// A registered octree method (seed 001). Its WGSL defines `fn IDENT_pi(o: vec3f, d: vec3f) ->
 /// array<f32, 6>` (eq. 1) and uses the shared cell test, `portalez16_cell`.
 pub struct OctreeMethod {
-    pub info: Info,
+    pub(crate) info: Info,
     exit: ByModel<BoxExitFn>,
     walk: ByModel<OctreeWalkFn>,
     traced: ByModel<OctreeTracedFn>,

@@ -57,27 +57,27 @@ impl Common {
 /// tallies stand under `--fail-on`.
 #[derive(Clone, Copy)]
 pub(crate) struct Input<'a> {
-    pub file: Option<&'a std::path::Path>,
-    pub json: Option<&'a std::path::Path>,
-    pub fail: FailArg,
+    pub(crate) file: Option<&'a std::path::Path>,
+    pub(crate) json: Option<&'a std::path::Path>,
+    pub(crate) fail: FailArg,
 }
 
 /// A command answering JSON Lines: its name, its methods' names, what their tallies count, where the
 /// lines come from and the summary goes, and how a tally stands under `--fail-on`.
 pub(crate) struct Answering<'a> {
-    pub command: &'static str,
-    pub names: Vec<String>,
+    pub(crate) command: &'static str,
+    pub(crate) names: Vec<String>,
     /// The tallies count lines missing the cell.
-    pub missed: bool,
+    pub(crate) missed: bool,
     /// The tallies count leaks.
-    pub leaks: bool,
-    pub backend: String,
-    pub file: Option<&'a std::path::Path>,
+    pub(crate) leaks: bool,
+    pub(crate) backend: String,
+    pub(crate) file: Option<&'a std::path::Path>,
     /// `file` already open (read once: a pipe cannot be read twice), or `None` to open it here.
-    pub input: Option<Box<dyn BufRead + Send>>,
-    pub json: Option<&'a std::path::Path>,
-    pub fail: FailArg,
-    pub standing: &'a dyn Fn(&AnswerTally) -> Standing,
+    pub(crate) input: Option<Box<dyn BufRead + Send>>,
+    pub(crate) json: Option<&'a std::path::Path>,
+    pub(crate) fail: FailArg,
+    pub(crate) standing: &'a dyn Fn(&AnswerTally) -> Standing,
 }
 
 impl<'a> Answering<'a> {

@@ -103,8 +103,8 @@ pub(crate) trait Rows: Formats {
 /// What the rows of several families share: flatness and ulps.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Shape {
-    pub flatness: f32,
-    pub ulps: i32,
+    pub(crate) flatness: f32,
+    pub(crate) ulps: i32,
 }
 
 /// `given`, or every value when none is.

@@ -38,9 +38,9 @@ const EXIT_GRACE: Duration = Duration::from_secs(2);
 #[derive(Debug, thiserror::Error)]
 #[error("answerer {name} ({cmd}): {why}")]
 pub(crate) struct AnswererError {
-    pub name: String,
-    pub cmd: String,
-    pub why: String,
+    pub(crate) name: String,
+    pub(crate) cmd: String,
+    pub(crate) why: String,
 }
 
 /// What the reader thread hands over.
@@ -66,20 +66,20 @@ struct Running {
 /// A user's program answering cases (module docs).
 pub struct Answerer {
     /// Its name in reports and found cases.
-    pub name: String,
+    pub(crate) name: String,
     /// The shell command that starts it.
-    pub cmd: String,
-    pub format: WireFormat,
+    pub(crate) cmd: String,
+    pub(crate) format: WireFormat,
     /// Seconds one batch may take.
-    pub limit: Duration,
+    pub(crate) limit: Duration,
     /// Cases per batch.
-    pub batch: usize,
+    pub(crate) batch: usize,
     /// Whether it claims what its family's claim is ([`Family::CLAIM`]): `--fail-on claims` then
     /// holds it to that.
-    pub claims: bool,
+    pub(crate) claims: bool,
     /// Answered face `i` is the case's face `faces[i]` (exit faces; the identity unless a numbering
     /// was found or given, [`find_numbering`]).
-    pub faces: [u8; 4],
+    pub(crate) faces: [u8; 4],
     running: Mutex<Running>,
 }
 

@@ -127,17 +127,17 @@ pub(crate) fn batches<E>(
 #[derive(Clone, Default, serde::Serialize)]
 pub(crate) struct AnswerTally {
     /// The method's name (or the answers' given from outside).
-    pub method: String,
+    pub(crate) method: String,
     /// Answers judged right.
-    pub right: u64,
+    pub(crate) right: u64,
     /// Answers judged wrong.
-    pub wrong: u64,
+    pub(crate) wrong: u64,
     /// Lines that miss the cell (not judged).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub missed: Option<u64>,
+    pub(crate) missed: Option<u64>,
     /// Wrong answers on closed meshes where the ray passes through the surface.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub leaks: Option<u64>,
+    pub(crate) leaks: Option<u64>,
     /// Wrong answers where the ray first meets a back face
     /// ([`crate::exact::hit::HitTruth::back_face`]), which a method that culls back faces passes by
     /// design.
@@ -146,29 +146,29 @@ pub(crate) struct AnswerTally {
     /// Wrong answers on closed meshes by kind ([`crate::exact::hit::HitTruth::wrong_kind`]), the stress
     /// rows' classification.
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
-    pub kinds: BTreeMap<&'static str, u64>,
+    pub(crate) kinds: BTreeMap<&'static str, u64>,
     /// Tetrahedra: wrong answers that are a face.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub wrong_face: Option<u64>,
+    pub(crate) wrong_face: Option<u64>,
     /// Tetrahedra: wrong answers that are none.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub no_exit_face: Option<u64>,
+    pub(crate) no_exit_face: Option<u64>,
     /// Tetrahedra: answers to ties (more than one face right).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) at_tie: Option<u64>,
     /// Tetrahedra: wrong answers to ties.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub wrong_at_tie: Option<u64>,
+    pub(crate) wrong_at_tie: Option<u64>,
     /// Tetrahedra: wrong answers on lines that only touch the tetrahedron.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub touch_only: Option<u64>,
+    pub(crate) touch_only: Option<u64>,
     /// Hits wrong for their `t` alone: the triangle right, `t` beyond `--t-ulps`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub t_alone: Option<u64>,
+    pub(crate) t_alone: Option<u64>,
     /// With `hit --wide`, for a method with a 4-wide version: the cases it answered otherwise than
     /// the scalar version.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub wide_differs: Option<u64>,
+    pub(crate) wide_differs: Option<u64>,
     /// With `hit --wide`: the cases compared.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) wide_compared: Option<u64>,
@@ -219,11 +219,11 @@ impl AnswerTally {
 pub(crate) struct AnswerSummary {
     backend: String,
     /// Lines read, blank ones left out.
-    pub lines: u64,
+    pub(crate) lines: u64,
     /// Lines that could not be answered.
-    pub errors: u64,
+    pub(crate) errors: u64,
     /// Each method's tally.
-    pub methods: Vec<AnswerTally>,
+    pub(crate) methods: Vec<AnswerTally>,
 }
 
 impl AnswerSummary {
@@ -300,7 +300,7 @@ pub(crate) struct Part<'a, F: Family> {
     printer: Printer<F>,
     t_ulps: f64,
     /// Answer with each method's 4-wide version too and compare (`hit --wide`).
-    pub wide: bool,
+    pub(crate) wide: bool,
     taken: Vec<Taken<F>>,
 }
 

@@ -47,11 +47,11 @@ pub struct BenchRow {
     /// Tetrahedra traversed.
     pub tetrahedra: u64,
     /// Wall-clock seconds from handing the rays over to having every walk back.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
     /// GPU kernel seconds (timestamp queries), where measured.
     pub kernel_seconds: Option<f64>,
     /// Rays the GPU flagged and the CPU walked.
-    pub flagged: u64,
+    pub(crate) flagged: u64,
     /// On a GPU, bytes written to it and read back per ray walked (the pipeline measured on any
     /// adapter).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -63,22 +63,22 @@ pub struct BenchRow {
     traffic: Option<Traffic>,
     /// Each timed batch's end-to-end speed, Mrays/s (a batch timed `repeat` times gives as many).
     #[serde(default)]
-    pub samples: Vec<f64>,
+    pub(crate) samples: Vec<f64>,
     /// The samples' median and range.
     #[serde(default)]
-    pub spread: Option<Spread>,
+    pub(crate) spread: Option<Spread>,
     /// Against a baseline run's same row (`--baseline`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub change: Option<Change>,
+    pub(crate) change: Option<Change>,
 }
 
 /// Median and range of a row's samples, Mrays/s.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Spread {
-    pub median: f64,
-    pub low: f64,
-    pub high: f64,
-    pub samples: usize,
+    pub(crate) median: f64,
+    pub(crate) low: f64,
+    pub(crate) high: f64,
+    pub(crate) samples: usize,
 }
 
 impl Spread {
@@ -114,11 +114,11 @@ const NOISE: f64 = 0.02;
 pub struct Change {
     pub(crate) baseline_median: f64,
     /// The median of the batches' ratios, now over the baseline.
-    pub ratio: f64,
+    pub(crate) ratio: f64,
     /// The lowest and highest of the batches' ratios.
     #[serde(default)]
     pub(crate) ratio_range: (f64, f64),
-    pub verdict: String,
+    pub(crate) verdict: String,
 }
 
 /// Each batch's speed: the median of its `repeat` timings.
@@ -202,24 +202,24 @@ impl BenchReport {
 
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct BenchReport {
-    pub scene: String,
+    pub(crate) scene: String,
     pub(crate) tetrahedra_in_mesh: usize,
-    pub views: Views,
+    pub(crate) views: Views,
     /// Views whose camera lies inside the mesh (the others are skipped, as `count` skips them).
     pub views_timed: usize,
     /// Rays per batch handed to a backend at once.
-    pub batch: usize,
+    pub(crate) batch: usize,
     /// Each backend, with its adapter and driver for a GPU.
-    pub backends: Vec<Ran>,
+    pub(crate) backends: Vec<Ran>,
     /// Whether the mesh was put in Hilbert order first (seed 003 §3).
-    pub hilbert: bool,
+    pub(crate) hilbert: bool,
     /// Timings of each batch (`--repeat`): a row's samples are its batches' timings in turn.
     #[serde(default = "one")]
-    pub repeat: usize,
+    pub(crate) repeat: usize,
     /// Whether `cpu-fma` ran on the processor's FMA instruction, or through `f32::mul_add` (no such
     /// instruction, or `TETWALK_NO_FMA=1`): the same answers, not the same speed.
     #[serde(default)]
-    pub fma_instruction: bool,
+    pub(crate) fma_instruction: bool,
     /// Whether `cpu` and `cpu-ftz` ran compiled for AVX2, or for SSE2 alone (no AVX2 here, or
     /// `TETWALK_NO_AVX2=1`): the same answers, not the same speed.
     #[serde(default)]

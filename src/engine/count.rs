@@ -129,14 +129,14 @@ pub struct CountSettings<F: Counted> {
 #[serde(remote = "Self", bound = "")]
 pub struct CountReport<F: Counted> {
     /// The family counted (`count merge` reads it).
-    pub family: String,
-    pub settings: Recorded<F>,
+    pub(crate) family: String,
+    pub(crate) settings: Recorded<F>,
     /// Rays the audit re-judged with the family's exact answer, all in agreement.
     pub audited: u64,
     /// Where the methods ran (the `exact` reference always on the CPU).
     pub backend: Ran,
     #[serde(flatten)]
-    pub scene: F::SceneFacts,
+    pub(crate) scene: F::SceneFacts,
     /// Rays judged (all pixels of all views whose camera is inside the mesh).
     pub rays: u64,
     pub views_counted: usize,
@@ -148,9 +148,9 @@ pub struct CountReport<F: Counted> {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(bound = "")]
 pub struct Recorded<F: Counted> {
-    pub scene: String,
+    pub(crate) scene: String,
     #[serde(flatten)]
-    pub count: CountSettings<F>,
+    pub(crate) count: CountSettings<F>,
 }
 
 through_value!(CountSettings<F: Counted>);
@@ -690,10 +690,10 @@ pub fn wrong_rays(
 /// still wrong, and wrong the same way (stopping where it was recorded to).
 pub(crate) struct Rerun {
     /// The method's name, as its family's registry spells it.
-    pub method: String,
-    pub now: Walk,
+    pub(crate) method: String,
+    pub(crate) now: Walk,
     pub(crate) still_wrong: bool,
-    pub same: bool,
+    pub(crate) same: bool,
 }
 
 /// Why a wrong ray cannot be answered again.

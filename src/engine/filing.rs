@@ -60,16 +60,16 @@ pub(crate) struct Filing {
     /// What an answerer's found cases are shrunk inside.
     contract: Contract,
     /// Where they are filed.
-    pub dir: PathBuf,
+    pub(crate) dir: PathBuf,
     /// At most this many per method, row and kind.
-    pub keep: usize,
+    pub(crate) keep: usize,
     kept: HashMap<(String, String, &'static str), usize>,
     /// Wrong answers seen.
-    pub seen: u64,
+    pub(crate) seen: u64,
     /// The files written.
-    pub filed: Vec<PathBuf>,
+    pub(crate) filed: Vec<PathBuf>,
     /// The first error, which stopped the filing.
-    pub error: Option<FilingError>,
+    pub(crate) error: Option<FilingError>,
 }
 
 impl Filing {

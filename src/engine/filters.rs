@@ -147,7 +147,7 @@ pub struct Refuted {
 pub struct FilterTally {
     pub asked: u64,
     pub exact_stage: u64,
-    pub wrong: u64,
+    pub(crate) wrong: u64,
 }
 
 impl std::ops::AddAssign for FilterTally {
@@ -195,11 +195,11 @@ pub struct Rounds {
     /// Rounds run.
     pub rounds: u64,
     /// The first round's seed.
-    pub first_seed: u64,
+    pub(crate) first_seed: u64,
     /// Cases per regime and round.
-    pub cases: usize,
+    pub(crate) cases: usize,
     /// Wall time of all rounds.
-    pub seconds: f64,
+    pub(crate) seconds: f64,
 }
 
 impl Rounds {

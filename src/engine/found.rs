@@ -397,10 +397,10 @@ pub(crate) fn replay_object(
 /// is not here).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub(crate) struct ReplayTally {
-    pub lines: u64,
-    pub same: u64,
-    pub changed: u64,
-    pub skipped: u64,
+    pub(crate) lines: u64,
+    pub(crate) same: u64,
+    pub(crate) changed: u64,
+    pub(crate) skipped: u64,
 }
 
 impl ReplayTally {

@@ -9,10 +9,10 @@ use crate::tet::{EDGES, FACE_VERTICES};
 /// made of, or what is wrong, and where.
 #[derive(Clone, Debug, serde::Serialize)]
 pub(crate) struct SceneCheck {
-    pub scene: String,
-    pub valid: bool,
+    pub(crate) scene: String,
+    pub(crate) valid: bool,
     #[serde(flatten)]
-    pub checked: Validity,
+    pub(crate) checked: Validity,
 }
 
 /// A scene checked: a tetrahedralization, or not.
@@ -74,24 +74,24 @@ pub struct SceneInfo {
     /// Tetrahedra per decade of volume / (longest edge)³: bin k holds [10^-(k+1), 10^-k).
     pub volume_ratio_decades: Vec<usize>,
     /// Seed 001's octree over the constrained faces (Tables 1 and 3, §5.1), if it could be built.
-    pub octree: Option<OctreeInfo>,
+    pub(crate) octree: Option<OctreeInfo>,
 }
 
 /// What seed 001 reports of its octrees: leaves with and without the regularity constraint (Table
 /// 1), neighbours and bytes per cell (§5.1), and the four arrays' sizes (Table 3).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct OctreeInfo {
-    pub settings: crate::octree::Settings,
-    pub triangles: usize,
+    pub(crate) settings: crate::octree::Settings,
+    pub(crate) triangles: usize,
     pub(crate) leaves_unconstrained: usize,
-    pub leaves: usize,
+    pub(crate) leaves: usize,
     /// Mean neighbour links per leaf.
     pub(crate) mean_neighbors: f64,
     /// Mean bytes of a leaf in eq. 3: four words and its neighbour addresses.
     pub(crate) bytes_per_cell: f64,
     /// Bytes of the cube map, the octree (eq. 3), the triangles (three f32 points per reference) and
     /// the boxes.
-    pub bytes: [(String, usize); 4],
+    pub(crate) bytes: [(String, usize); 4],
 }
 
 impl OctreeInfo {

@@ -79,7 +79,7 @@ impl Size {
 /// Table 5: ns per query per method.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct QueryTime {
-    pub method: String,
+    pub(crate) method: String,
     pub ns_per_query: f64,
 }
 
@@ -101,18 +101,18 @@ pub struct Timings {
     /// Walk speeds on every backend: seed 000 Table 3's ray casting, seed 003 Tables 1–3's structures.
     pub speed: BenchReport,
     /// Seed 004 Figure 5 (CPU, one thread).
-    pub figure5: SpeedReport,
+    pub(crate) figure5: SpeedReport,
 }
 
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PaperReport {
     /// The UTC date of the run.
-    pub date: String,
+    pub(crate) date: String,
     pub scene: String,
-    pub size: Size,
+    pub(crate) size: Size,
     /// The views counted (`--shard I/N`); `0/1` for all of them.
     pub shard: Shard,
-    pub scene_info: SceneInfo,
+    pub(crate) scene_info: SceneInfo,
     /// Seed 000 Table 4, one count per backend.
     pub counts: Vec<CountReport<Walks>>,
     /// The timed tables: a whole run's, and shard 0's of a sharded one (the other shards count only).

@@ -70,9 +70,9 @@ fn nearly_equal(a: f32, b: f32) -> bool {
 /// What a shrink gives: the simplest case found and how much work it took.
 #[derive(Clone, Debug)]
 pub struct Shrunk<F: Family> {
-    pub case: F::Case,
+    pub(crate) case: F::Case,
     /// What the method answers on it (wrong the same way as on the original).
-    pub answer: F::Answer,
+    pub(crate) answer: F::Answer,
     pub checks: usize,
     /// Whether the check budget ran out before no simpler case was left.
     pub exhausted: bool,
@@ -348,38 +348,38 @@ pub(crate) fn reproduce<F: Family>(found: &Found<F>) -> Option<String> {
 #[derive(Clone, Debug, serde::Serialize)]
 pub(crate) struct Place {
     /// The file, as given.
-    pub file: String,
+    pub(crate) file: String,
     /// Its line, from 1.
-    pub line: usize,
+    pub(crate) line: usize,
 }
 
 /// One case shrunk, as `tetwalk shrink` reports it.
 #[derive(Debug, serde::Serialize)]
 pub(crate) struct CaseShrunk {
     /// Where the case was.
-    pub file: String,
+    pub(crate) file: String,
     /// Its line, from 1.
-    pub line: usize,
+    pub(crate) line: usize,
     /// The method that fails it (an answerer's name).
-    pub method: String,
+    pub(crate) method: String,
     /// Where it ran: a backend, or `outside` (`--answerer`).
-    pub backend: String,
+    pub(crate) backend: String,
     /// How many numbers the case has.
-    pub numbers: usize,
+    pub(crate) numbers: usize,
     /// Their significant bits summed, before and after ([`bits`]).
-    pub bits_before: u32,
-    pub bits_after: u32,
+    pub(crate) bits_before: u32,
+    pub(crate) bits_after: u32,
     /// The most significant bits of any one number, before and after.
     pub(crate) largest_before: u32,
     pub(crate) largest_after: u32,
     /// Candidates checked.
-    pub checks: usize,
+    pub(crate) checks: usize,
     /// Whether the check budget ran out first (a simpler case may exist).
-    pub exhausted: bool,
+    pub(crate) exhausted: bool,
     /// The shrunk found case, its original in `original`.
-    pub shrunk: serde_json::Value,
+    pub(crate) shrunk: serde_json::Value,
     /// One shell line that reproduces it.
-    pub reproduce: Option<String>,
+    pub(crate) reproduce: Option<String>,
 }
 
 impl CaseShrunk {
@@ -423,9 +423,9 @@ impl CaseShrunk {
 #[derive(Debug, Default, serde::Serialize)]
 pub(crate) struct ShrinkReport {
     /// The cases shrunk (or found as simple as the search finds).
-    pub cases: Vec<CaseShrunk>,
+    pub(crate) cases: Vec<CaseShrunk>,
     /// The cases left as they were, and why.
-    pub left: Vec<(Place, String)>,
+    pub(crate) left: Vec<(Place, String)>,
 }
 
 impl ShrinkReport {
@@ -598,11 +598,11 @@ mod tests {
 /// whether the file is to be rewritten with its lines shrunk.
 pub(crate) struct ShrinkLines<'a> {
     /// Candidates one shrink may check.
-    pub checks: usize,
+    pub(crate) checks: usize,
     /// The program the cases are shrunk for, and its contract; `None`: each case's own method.
-    pub outside: Option<(&'a Program, Contract)>,
+    pub(crate) outside: Option<(&'a Program, Contract)>,
     /// Whether the file is rewritten (a dump's lines are refused then).
-    pub in_place: bool,
+    pub(crate) in_place: bool,
 }
 
 /// Every line of `text` (the file named `file`) shrunk as `how` says, blank lines kept: a found case

@@ -11,20 +11,20 @@ use crate::registry::{Claim, Named};
 pub struct Held {
     /// The claim: `robust` (never a wrong answer: `exact`, `certified`, the octree's `exact`) or `no
     /// leak` (a ray through a closed surface never passes through it: `woop-watertight`).
-    pub claim: &'static str,
+    pub(crate) claim: &'static str,
     /// Answers that refute it; `None` when this run does not judge it (a count of first hits does
     /// not tell leaks from misses beside the object).
-    pub refuted: Option<u64>,
+    pub(crate) refuted: Option<u64>,
 }
 
 /// One method's standing.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Standing {
-    pub method: String,
+    pub(crate) method: String,
     /// Answers judged (cases or rays whose exact answer is defined).
-    pub judged: u64,
+    pub(crate) judged: u64,
     pub wrong: u64,
-    pub claim: Option<Held>,
+    pub(crate) claim: Option<Held>,
 }
 
 impl Standing {

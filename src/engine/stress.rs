@@ -53,27 +53,27 @@ pub struct RowReport<F: Family> {
 #[serde(bound = "")]
 pub struct Relabelled<F: Family> {
     #[serde(flatten)]
-    pub row: F::Row,
-    pub method: String,
+    pub(crate) row: F::Row,
+    pub(crate) method: String,
     /// Wrong answers under each labelling.
-    pub wrong: Vec<u64>,
+    pub(crate) wrong: Vec<u64>,
 }
 
 #[derive(Clone, Debug, serde::Serialize)]
 #[serde(bound = "")]
 pub struct StressReport<F: Family> {
-    pub settings: StressSettings<F>,
+    pub(crate) settings: StressSettings<F>,
     /// Rounds of `settings.cases` cases per row, seeds `seed`, `seed + 1`, … (one unless a campaign).
     pub rounds: u64,
-    pub methods: Vec<String>,
+    pub(crate) methods: Vec<String>,
     pub rows: Vec<RowReport<F>>,
     /// Signs the oracle decided in its f64 filter and exactly, making the cases' truths (none where
     /// the family's oracle decides with rationals alone).
     #[serde(skip_serializing_if = "is_zero")]
-    pub oracle: SignCounts,
+    pub(crate) oracle: SignCounts,
     /// With `--relabel all`: per row and method, wrong answers under each labelling.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub relabelled: Option<Vec<Relabelled<F>>>,
+    pub(crate) relabelled: Option<Vec<Relabelled<F>>>,
 }
 
 /// Whether no sign was counted.
@@ -138,14 +138,13 @@ impl<'a, F: Family> Who<'a, F> {
     }
 }
 
-/// A wrong answer a run shows: its row, who answered and where, the case, its truth and the answer.
+/// A wrong answer a run shows: its row, who answered and where, the case and the answer.
 pub struct Wrong<'a, F: Family> {
-    pub row: &'a F::Row,
+    pub(crate) row: &'a F::Row,
     pub who: Who<'a, F>,
-    pub on: &'a Backend,
-    pub case: &'a F::Case,
-    pub truth: &'a F::Truth,
-    pub answer: &'a F::Answer,
+    pub(crate) on: &'a Backend,
+    pub(crate) case: &'a F::Case,
+    pub(crate) answer: &'a F::Answer,
 }
 
 /// What [`run`] shows of each wrong answer.
@@ -276,14 +275,13 @@ pub fn run<F: Family>(
                 Who::Method(m) => backend.for_method(m),
                 Who::Outside(_) => backend,
             };
-            let counts = judge(s, m, backend, &cases, |case, truth, answer, v| {
+            let counts = judge(s, m, backend, &cases, |case, _, answer, v| {
                 if let Verdict::Wrong(_) = v {
                     wrong(Wrong {
                         row: &row,
                         who: m,
                         on,
                         case,
-                        truth,
                         answer,
                     });
                 }
@@ -385,7 +383,7 @@ pub fn campaign<F: Family>(
 /// model, in [`crate::methods::Model::ALL`]'s order): which model the GPU computes as.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Pairs {
-    pub method: String,
+    pub(crate) method: String,
     /// Per CPU backend, by name: the cases the GPU answers otherwise.
     #[serde(serialize_with = "by_name")]
     pub gpu_vs: Vec<(BackendKind, u64)>,
@@ -407,7 +405,7 @@ fn by_name<S: serde::Serializer>(pairs: &[(BackendKind, u64)], s: S) -> Result<S
 #[serde(bound = "")]
 pub struct CompareRow<F: Family> {
     #[serde(flatten)]
-    pub row: F::Row,
+    pub(crate) row: F::Row,
     pub cases: usize,
     pub methods: Vec<Pairs>,
 }
@@ -419,7 +417,7 @@ pub struct CompareRow<F: Family> {
 pub struct Disagreements<F: Family> {
     pub methods: Vec<String>,
     pub rows: Vec<CompareRow<F>>,
-    pub gpu: Ran,
+    pub(crate) gpu: Ran,
 }
 
 /// The same generated cases on the GPU and on the CPU in every arithmetic model, every method but the

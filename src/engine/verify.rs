@@ -53,11 +53,11 @@ pub struct Check {
 /// docs/results.md writes them), and the checks behind the verdict.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Entry {
-    pub methods: &'static str,
-    pub claim: &'static str,
-    pub verdict: &'static str,
-    pub counterexample: &'static str,
-    pub checks: &'static [Check],
+    pub(crate) methods: &'static str,
+    pub(crate) claim: &'static str,
+    pub(crate) verdict: &'static str,
+    pub(crate) counterexample: &'static str,
+    pub(crate) checks: &'static [Check],
 }
 
 /// Scales spanning f32's range, tiny, huge and mixed within a case (the direction at its own scale):
@@ -233,20 +233,20 @@ pub fn checks() -> impl Iterator<Item = &'static Check> {
 /// What one stress run at one scale showed: answers judged, and how many refuted the claim.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct AtScale {
-    pub scale: Scale,
-    pub judged: u64,
-    pub refuted: u64,
+    pub(crate) scale: Scale,
+    pub(crate) judged: u64,
+    pub(crate) refuted: u64,
 }
 
 /// What a check found.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct CheckResult {
-    pub name: &'static str,
-    pub backend: String,
-    pub expect: Expect,
+    pub(crate) name: &'static str,
+    pub(crate) backend: String,
+    pub(crate) expect: Expect,
     /// On a GPU, the adapter the register speaks of ([`Check::adapter`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub registered_for: Option<&'static str>,
+    pub(crate) registered_for: Option<&'static str>,
     /// Whether the claim held in every part of the check.
     pub holds: bool,
     /// Whether that is what the register says; `None` where the register speaks of another adapter
@@ -256,9 +256,9 @@ pub struct CheckResult {
     pub seen: String,
     /// The domain's scales and where it stops, each run.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub domain: Vec<AtScale>,
+    pub(crate) domain: Vec<AtScale>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub stops: Vec<AtScale>,
+    pub(crate) stops: Vec<AtScale>,
 }
 
 /// Why a check could not run.

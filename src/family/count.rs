@@ -87,24 +87,24 @@ pub enum CountError {
 /// A scene as a count walks it: the scene loaded (its name and mesh), the mesh made ready on the backend, its step bound, and the views
 /// (each view's rays come in pixel order, row by row).
 pub struct Scene<'a> {
-    pub loaded: &'a crate::scenes::Loaded,
-    pub on: MeshOn<'a>,
-    pub max_steps: u32,
-    pub views: Views,
+    pub(crate) loaded: &'a crate::scenes::Loaded,
+    pub(crate) on: MeshOn<'a>,
+    pub(crate) max_steps: u32,
+    pub(crate) views: Views,
 }
 
 /// What a count's methods answer one view's rays with: the backend, the scene made ready for the
 /// view's camera region, the family's settings, and the camera's tetrahedron.
 pub struct Prepared<'a, C: Counted> {
-    pub backend: &'a Backend,
-    pub scene: &'a Scene<'a>,
-    pub ready: &'a C::Ready,
-    pub settings: &'a C::CountSettings,
-    pub located: u32,
+    pub(crate) backend: &'a Backend,
+    pub(crate) scene: &'a Scene<'a>,
+    pub(crate) ready: &'a C::Ready,
+    pub(crate) settings: &'a C::CountSettings,
+    pub(crate) located: u32,
     /// The view counted, its camera, and its rays (row by row) the audit re-judges.
-    pub view: usize,
-    pub camera: &'a Camera,
-    pub audited: &'a [usize],
+    pub(crate) view: usize,
+    pub(crate) camera: &'a Camera,
+    pub(crate) audited: &'a [usize],
 }
 
 /// A family whose methods answer a scene's primary rays.
@@ -210,16 +210,16 @@ pub struct CountRow<C: Counts> {
     /// Wall-clock seconds spent answering (where views were counted at once, its share of their wall
     /// time: `engine::count::run`).
     #[serde(default)]
-    pub seconds: f64,
+    pub(crate) seconds: f64,
     /// Rays answered per second, in millions (0 for answers given from outside, not timed here).
-    pub mrays_per_second: f64,
+    pub(crate) mrays_per_second: f64,
     /// Wrong rays under each of the 12 orientation-preserving relabellings of the tetrahedra
     /// (`crate::tet::EVEN_PERMUTATIONS`, the mesh's own labelling first), with `count --relabel all`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub relabelled: Option<Vec<u64>>,
     /// On a GPU, what its answers moved between the CPU and the GPU.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub transfer: Option<Transfer>,
+    pub(crate) transfer: Option<Transfer>,
 }
 
 through_value!(CountRow<C: Counts>);
@@ -230,13 +230,13 @@ through_value!(CountRow<C: Counts>);
 pub struct Transfer {
     /// The totals (`bytes_written`, `bytes_read`, `dispatches`, `kernel_seconds` where measured).
     #[serde(flatten)]
-    pub total: Traffic,
+    pub(crate) total: Traffic,
     /// Per ray counted ([`CountRow::finish`]).
     pub(crate) bytes_written_per_ray: f64,
     pub(crate) bytes_read_per_ray: f64,
     /// The kernels' share of the row's wall time.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub kernel_share: Option<f64>,
+    pub(crate) kernel_share: Option<f64>,
 }
 
 impl<C: Counts> CountRow<C> {

@@ -60,32 +60,32 @@ pub struct Said {
     /// Right, wrong, or not judged (`None`).
     pub correct: Option<bool>,
     /// A cell's case (a tetrahedron's or an octree cell's), whose line may miss the cell.
-    pub cell: bool,
+    pub(crate) cell: bool,
     /// A triangle case (leaks, back faces and `t` are counted).
-    pub triangle: bool,
+    pub(crate) triangle: bool,
     /// A tetrahedron's case: how it was answered.
-    pub tet: Option<TetSaid>,
+    pub(crate) tet: Option<TetSaid>,
     /// A closed mesh's answer lets the ray through the surface ([`crate::exact::hit::HitTruth::leaks`]).
-    pub leak: bool,
+    pub(crate) leak: bool,
     /// The ray first meets a back face.
-    pub back_face: bool,
+    pub(crate) back_face: bool,
     /// Wrong for its `t` alone: the triangle right, `t` beyond the bound.
-    pub t_alone: bool,
+    pub(crate) t_alone: bool,
     /// How many ulps a hit's `t` lies from the exact one, where the hit's triangle has an exact `t`.
-    pub t_ulps: Option<f64>,
+    pub(crate) t_ulps: Option<f64>,
     /// What a wrong closed-mesh answer is ([`crate::exact::hit::HitTruth::wrong_kind`]).
-    pub kind: Option<&'static str>,
+    pub(crate) kind: Option<&'static str>,
 }
 
 /// What a tetrahedron case's verdict says besides right or wrong.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct TetSaid {
     /// Wrong with a face (`wrong_face`) or with none (`no_exit_face`).
-    pub wrong: Option<&'static str>,
+    pub(crate) wrong: Option<&'static str>,
     /// More than one face is right: the line leaves through an edge or vertex.
-    pub tie: bool,
+    pub(crate) tie: bool,
     /// The line only touches the tetrahedron (an edge, a vertex, along a face).
-    pub touch_only: bool,
+    pub(crate) touch_only: bool,
 }
 
 /// A power-of-two scale of a case: its points and origin multiplied by 2^`points`, its direction by
@@ -456,14 +456,14 @@ pub fn by_name<F: Family>(name: &str) -> Result<&'static F::Method, UnknownMetho
 /// One registered method, as `tetwalk methods` lists it.
 #[derive(Clone, Debug, serde::Serialize)]
 pub(crate) struct Listed {
-    pub name: &'static str,
-    pub family: &'static str,
+    pub(crate) name: &'static str,
+    pub(crate) family: &'static str,
     pub(crate) claims_robust: bool,
-    pub reference: bool,
+    pub(crate) reference: bool,
     /// `yes`, or `no: ` and why.
-    pub gpu: String,
+    pub(crate) gpu: String,
     /// The paper, section and equation it implements.
-    pub implements: &'static str,
+    pub(crate) implements: &'static str,
 }
 
 /// Every registered method, each registry once: families that share one (exit faces and walks)

@@ -17,7 +17,7 @@ use rug::Rational;
 /// Where a walk stopped.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Stop {
-    pub outcome: Outcome,
+    pub(crate) outcome: Outcome,
     /// The three vertex ids of the face it stopped on (hit, left mesh).
     pub vertices: Option<[u32; 3]>,
 }
@@ -114,39 +114,39 @@ impl ExactHit {
 /// One wrong ray, as `count --dump` writes it (one JSON line) and `tetwalk replay` reads it.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WrongRay {
-    pub scene: String,
-    pub view: usize,
+    pub(crate) scene: String,
+    pub(crate) view: usize,
     /// Column and row.
     pub pixel: [u32; 2],
     /// The ray as the method saw it; each number's decimal reads back as exactly that f32.
-    pub org: [f32; 3],
-    pub dir: [f32; 3],
-    pub method: String,
+    pub(crate) org: [f32; 3],
+    pub(crate) dir: [f32; 3],
+    pub(crate) method: String,
     /// Where the method answered; none for walks given from outside (`tetwalk judge`).
-    pub backend: Option<BackendKind>,
+    pub(crate) backend: Option<BackendKind>,
     /// The kind of wrong ending ([`OutcomeKind::wrong_key`]).
-    pub kind: String,
+    pub(crate) kind: String,
     /// For a wrong face: adjacent to the exact hit, or elsewhere.
     pub class: Option<Class>,
     /// Where the method's walk stopped, and after how many tetrahedra.
-    pub stopped: Stop,
-    pub steps: u32,
+    pub(crate) stopped: Stop,
+    pub(crate) steps: u32,
     /// Where the `exact` walk stopped.
     pub exact: Stop,
     /// The first step at which the method's face was not an exact exit face (the CPU walk of the same
     /// arithmetic; none for a GPU run or given walks, whose steps are not observed).
-    pub divergence: Option<Divergence>,
+    pub(crate) divergence: Option<Divergence>,
     /// Distance of the exact hit point from the nearest edge of the method's triangle, in f32 ulps.
     pub(crate) ulps_from_edge: Option<f64>,
     /// The one-tetrahedron case of the step where the walk diverged (the case format `exit` reads:
     /// that tetrahedron, the ray, the face it was entered through), which the method fails as it
     /// failed there; `tetwalk shrink` shrinks it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub case: Option<serde_json::Map<String, serde_json::Value>>,
+    pub(crate) case: Option<serde_json::Map<String, serde_json::Value>>,
     /// The count that found it (its family, views and the family's settings), for `tetwalk replay`
     /// to answer the ray's view again as the count did; none in dumps written before tetwalk kept it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub count: Option<Counting>,
+    pub(crate) count: Option<Counting>,
 }
 
 /// What a dump's line records of its count: the family counted, the views (each view's camera and
@@ -154,9 +154,9 @@ pub struct WrongRay {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Counting {
     /// The family's name ([`super::Family::NAME`]), as a count report's `family`.
-    pub family: String,
-    pub views: Views,
-    pub settings: serde_json::Value,
+    pub(crate) family: String,
+    pub(crate) views: Views,
+    pub(crate) settings: serde_json::Value,
 }
 
 /// Where in a count a ray was, and who answered it: a method on a backend, or walks given from outside

@@ -392,18 +392,18 @@ pub(crate) struct Queued {
 /// where a later dispatch sent its records over theirs before they were read; what crossed for
 /// them.
 pub(crate) struct Gathered {
-    pub done: Option<Dispatched<Ending>>,
-    pub traffic: Traffic,
+    pub(crate) done: Option<Dispatched<Ending>>,
+    pub(crate) traffic: Traffic,
 }
 
 /// What a dispatch returns: its output and, where the adapter measures it, its kernel time; for a
 /// walk compared on the GPU, the walks sent back and the steps summed instead of the output.
 #[derive(Debug)]
 pub struct Dispatched<T> {
-    pub items: Vec<T>,
-    pub kernel_seconds: Option<f64>,
-    pub sent: Vec<shader::Sent>,
-    pub steps: u64,
+    pub(crate) items: Vec<T>,
+    pub(crate) kernel_seconds: Option<f64>,
+    pub(crate) sent: Vec<shader::Sent>,
+    pub(crate) steps: u64,
 }
 
 impl<T> Dispatched<T> {
@@ -1808,7 +1808,7 @@ pub(crate) struct GpuLayout {
     /// Tet32, Tet20, Tet16, in [`LayoutKind::ALL`] order.
     words: [wgpu::Buffer; 3],
     points: wgpu::Buffer,
-    pub tetrahedra: usize,
+    pub(crate) tetrahedra: usize,
 }
 
 impl Ending {
@@ -1936,7 +1936,7 @@ impl shader::WalkRay {
 pub(crate) struct GpuMesh {
     cells: wgpu::Buffer,
     info: wgpu::Buffer,
-    pub tetrahedra: usize,
+    pub(crate) tetrahedra: usize,
 }
 
 /// An octree uploaded for [`Gpu::octree_walks`], over its triangles.

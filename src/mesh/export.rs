@@ -7,17 +7,17 @@ use super::Mesh;
 #[derive(serde::Serialize)]
 pub(crate) struct Exported<'a> {
     /// The scene's name.
-    pub scene: &'a str,
+    pub(crate) scene: &'a str,
     /// The conventions below, in words.
-    pub convention: String,
+    pub(crate) convention: String,
     /// The points.
-    pub points: Vec<[f32; 3]>,
+    pub(crate) points: Vec<[f32; 3]>,
     /// The tetrahedra, four point indices each, positively oriented.
-    pub tets: &'a [[u32; 4]],
+    pub(crate) tets: &'a [[u32; 4]],
     /// The tetrahedron across each face, -1 on the boundary.
-    pub neighbors: Vec<[i64; 4]>,
+    pub(crate) neighbors: Vec<[i64; 4]>,
     /// Whether each face is a face of the scene, where a walk stops.
-    pub constrained: Vec<[bool; 4]>,
+    pub(crate) constrained: Vec<[bool; 4]>,
 }
 
 impl<'a> Exported<'a> {

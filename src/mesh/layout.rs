@@ -33,7 +33,7 @@ pub struct Tet20 {
 #[repr(C)]
 pub struct Tet16 {
     pub vx: u32,
-    pub nx: [u32; 3],
+    pub(crate) nx: [u32; 3],
 }
 
 /// All three layouts of one mesh, and the constrained faces their neighbour fields point to.

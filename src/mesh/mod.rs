@@ -27,14 +27,14 @@ pub struct Mesh {
     /// Tetrahedron across face `i` (opposite vertex `i`), or [`HULL`].
     pub neighbors: Vec<[u32; 4]>,
     /// Which face of that neighbour is the shared one.
-    pub mirror: Vec<[u8; 4]>,
+    pub(crate) mirror: Vec<[u8; 4]>,
     /// Bit `i` set: face `i` is constrained (occlusive), a face of the scene.
     pub constrained: Vec<u8>,
     /// How many tetrahedra were swapped to the positive orientation when the mesh was built.
     pub flipped: usize,
     /// What a walk step reads of each tetrahedron, together (Maria et al.'s Tet80 layout, packed into
     /// one 64-byte line), derived from the fields above when the mesh is made: one fetch per step.
-    pub cells: Vec<Cell>,
+    pub(crate) cells: Vec<Cell>,
 }
 
 /// A tetrahedron as a walk step reads it, in one 64-byte cache line: its four vertices inline and,
@@ -42,8 +42,8 @@ pub struct Mesh {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
 pub struct Cell {
-    pub v: Tet,
-    pub links: [Link; 4],
+    pub(crate) v: Tet,
+    pub(crate) links: [Link; 4],
 }
 
 /// What lies across one face of a [`Cell`], in one word: the neighbour (bits 3..32; all ones for
@@ -120,8 +120,8 @@ pub struct RawMesh {
 #[error("{place}: {what}")]
 pub struct MeshError {
     /// File and line, or tetrahedron and face.
-    pub place: String,
-    pub what: String,
+    pub(crate) place: String,
+    pub(crate) what: String,
 }
 
 /// Where an item of the mesh came from, for error messages.

@@ -49,7 +49,7 @@ pub(crate) const MAX_DEPTH: u32 = 10;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Key {
     pub level: u32,
-    pub at: [u32; 3],
+    pub(crate) at: [u32; 3],
 }
 
 impl Key {
@@ -114,23 +114,23 @@ pub enum OctreeError {
 /// The octree of seed 001 over a list of triangles.
 #[derive(Clone, Debug)]
 pub struct Octree {
-    pub settings: Settings,
+    pub(crate) settings: Settings,
     /// The root cube's lower corner and side.
-    pub lo: Vec3,
-    pub size: f32,
+    pub(crate) lo: Vec3,
+    pub(crate) size: f32,
     /// Leaf `i`'s node.
     pub leaves: Vec<Key>,
     /// Leaf `i`'s Morton code at the deepest level and its level, ascending: what
     /// [`Octree::leaf_holding`] searches (one code per level tried, none per comparison).
     pub(crate) leaf_keys: Vec<(u64, u32)>,
     /// Leaf `i`'s box (eq. 3's `i` indexes it).
-    pub boxes: Vec<[Vec3; 2]>,
+    pub(crate) boxes: Vec<[Vec3; 2]>,
     /// Eq. 3, every leaf in turn.
     pub words: Vec<u32>,
     /// Leaf `i`'s address in `words`.
     pub address: Vec<u32>,
     /// The triangle array: triangle ids (into the scene's list), each leaf's run at its `tOffset`.
-    pub triangles: Vec<u32>,
+    pub(crate) triangles: Vec<u32>,
     /// §4.1's cube map: per root face, `2^depth × 2^depth` addresses of the boundary leaves, indexed
     /// `u + v · 2^depth` along the face's axes ([`face_axes`]).
     pub(crate) cube_map: [Vec<u32>; 6],

@@ -22,9 +22,9 @@ pub enum RenderError {
 /// An RGB image.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    pub rgb: Vec<u8>,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) rgb: Vec<u8>,
 }
 
 impl Image {

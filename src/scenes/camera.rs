@@ -95,12 +95,12 @@ pub fn view(
 /// placed by `seed` ([`view`]), with a vertical field of view of `fov_deg`.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Views {
-    pub views: usize,
+    pub(crate) views: usize,
     pub width: u32,
     pub height: u32,
-    pub seed: u64,
+    pub(crate) seed: u64,
     /// Vertical field of view, degrees.
-    pub fov_deg: f32,
+    pub(crate) fov_deg: f32,
 }
 
 impl Views {

@@ -84,18 +84,18 @@ pub(crate) fn exit_case(u: &mut Unstructured) -> Result<Option<Case>> {
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WalkCase {
     /// Which generated mesh.
-    pub mesh: super::Generated,
+    pub(crate) mesh: super::Generated,
     /// Its size (grid cells per side, or 16·size tetrahedra in the fan).
-    pub size: u32,
+    pub(crate) size: u32,
     /// How far it is moved along (1, 1, 1).
-    pub offset: f32,
+    pub(crate) offset: f32,
     /// The mesh's points (after the offset) times 2^`scale`, exactly; 0 (left out): as generated.
     #[serde(default, skip_serializing_if = "is_zero")]
-    pub scale: i32,
+    pub(crate) scale: i32,
     /// The ray's origin, inside the mesh.
-    pub org: [f32; 3],
+    pub(crate) org: [f32; 3],
     /// The ray's direction.
-    pub dir: [f32; 3],
+    pub(crate) dir: [f32; 3],
 }
 
 fn is_zero(e: &i32) -> bool {

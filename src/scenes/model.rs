@@ -9,7 +9,7 @@ use std::path::Path;
 /// arithmetic models, `crate::methods::Model`).
 #[derive(Clone, Debug, Default)]
 pub struct Surface {
-    pub points: Vec<Vec3>,
+    pub(crate) points: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
 }
 

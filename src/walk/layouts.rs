@@ -24,10 +24,10 @@ crate::choice!(LayoutKind { Tet32 => "tet32", Tet20 => "tet20", Tet16 => "tet16"
 /// The source tetrahedron of §3: the walk's start, with complete vertex and neighbour information.
 #[derive(Clone, Copy, Debug)]
 pub struct Source {
-    pub tet: u32,
-    pub vertices: [u32; 4],
+    pub(crate) tet: u32,
+    pub(crate) vertices: [u32; 4],
     /// Neighbour fields as the layouts encode them ([`STOP`] set for constrained and boundary faces).
-    pub neighbors: [u32; 4],
+    pub(crate) neighbors: [u32; 4],
 }
 
 impl Source {
@@ -47,9 +47,9 @@ impl Source {
 /// across (`x` for hit and left mesh), not by its index; `x` is the period of a cycle, else 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct LayoutOutcome {
-    pub kind: OutcomeKind,
-    pub tet: u32,
-    pub x: u32,
+    pub(crate) kind: OutcomeKind,
+    pub(crate) tet: u32,
+    pub(crate) x: u32,
 }
 
 impl LayoutOutcome {

@@ -253,14 +253,14 @@ impl Walk {
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Divergence {
     /// 1-based step.
-    pub step: u32,
-    pub tet: u32,
+    pub(crate) step: u32,
+    pub(crate) tet: u32,
     /// The face the walk entered `tet` through (none in the starting tetrahedron).
-    pub entry: Option<u8>,
+    pub(crate) entry: Option<u8>,
     /// What the method answered.
-    pub face: Option<u8>,
+    pub(crate) face: Option<u8>,
     /// The exact exit faces there (empty when the line misses that tetrahedron).
-    pub exact_exit: Vec<u8>,
+    pub(crate) exact_exit: Vec<u8>,
 }
 
 /// A walk specialised to one method and arithmetic: `(mesh, ray, start tetrahedron, max_steps)`.

@@ -67,23 +67,23 @@ crate::choice!(TetRow {
 /// A stress row of tetrahedron cases, as its report's row writes it.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ExitRow {
-    pub row: TetRow,
+    pub(crate) row: TetRow,
 }
 
 /// What shapes a stress run of tetrahedron cases.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct ExitRows {
-    pub rows: Vec<TetRow>,
+    pub(crate) rows: Vec<TetRow>,
     /// Flatness of the degenerate shapes (well-shaped ones use 1).
-    pub flatness: f32,
+    pub(crate) flatness: f32,
     /// Largest ulp offset of the near-* rows.
-    pub ulps: i32,
+    pub(crate) ulps: i32,
     /// Every case moved this far from the origin along (1, 1, 1) (`--offset`; each coordinate rounded
     /// to f32, the case judged as it then is); 0 for none.
-    pub offset: f32,
+    pub(crate) offset: f32,
     /// How every case's tetrahedron is relabelled before the methods see it (new vertex `i` is old
     /// vertex `relabel[i]`; answers are mapped back): one of [`EVEN_PERMUTATIONS`].
-    pub relabel: [usize; 4],
+    pub(crate) relabel: [usize; 4],
 }
 
 impl Default for ExitRows {
@@ -107,7 +107,7 @@ pub struct ExitTally {
     pub no_exit_face: u64,
     /// Of the wrong answers: at a tie (the line leaves through an edge or vertex, more than one face
     /// right), and on a line that only touches the tetrahedron.
-    pub wrong_at_tie: u64,
+    pub(crate) wrong_at_tie: u64,
     pub(crate) wrong_touch_only: u64,
 }
 

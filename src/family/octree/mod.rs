@@ -35,16 +35,16 @@ pub(crate) type CellExit = Option<(u8, [i8; 2])>;
 /// A stress row of octree cells: where the ray leaves the cell and where the cell is.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct CellRow {
-    pub aim: CellAim,
-    pub place: CellPlace,
+    pub(crate) aim: CellAim,
+    pub(crate) place: CellPlace,
 }
 
 /// What shapes a stress run of octree cells.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct CellRows {
-    pub aims: Vec<CellAim>,
-    pub places: Vec<CellPlace>,
-    pub ulps: i32,
+    pub(crate) aims: Vec<CellAim>,
+    pub(crate) places: Vec<CellPlace>,
+    pub(crate) ulps: i32,
 }
 
 impl Default for CellRows {
@@ -61,13 +61,13 @@ impl Default for CellRows {
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct CellTally {
     /// Cases whose line crosses the open cell (the others are not judged).
-    pub judged: u64,
+    pub(crate) judged: u64,
     /// A face through which the line does not leave, or the wrong quarter of one it does.
-    pub wrong: u64,
+    pub(crate) wrong: u64,
     /// Of those, the right face but a wrong quarter (a wrong neighbour among four).
     pub(crate) wrong_quarter: u64,
     /// No exit face (eq. 8's 7).
-    pub no_exit_face: u64,
+    pub(crate) no_exit_face: u64,
 }
 
 impl Summed for CellTally {
@@ -372,7 +372,7 @@ pub struct OctreeCount {
     /// Wrong rays by the kind of their ending ([`OutcomeKind::ALL`] order): wrong triangle, false
     /// miss, no exit face, cycle, step limit.
     pub wrong: [u64; 5],
-    pub wrong_per_image: f64,
+    pub(crate) wrong_per_image: f64,
     /// Cells visited, summed over rays (Φ).
     pub cells: u64,
 }
@@ -413,7 +413,7 @@ impl Counts for OctreeCount {
 /// What an octree count sets: the octree, and the ray–triangle method testing each leaf's triangles.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OctreeCountSettings {
-    pub octree: crate::octree::Settings,
+    pub(crate) octree: crate::octree::Settings,
     pub(crate) triangle_method: ByName<TriangleMethod>,
 }
 
@@ -421,9 +421,9 @@ pub struct OctreeCountSettings {
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OctreeFacts {
     /// The scene's triangles (its constrained faces facing the cameras).
-    pub triangles: usize,
-    pub leaves: usize,
-    pub unconstrained_leaves: usize,
+    pub(crate) triangles: usize,
+    pub(crate) leaves: usize,
+    pub(crate) unconstrained_leaves: usize,
 }
 
 /// The scene's triangles facing a camera's region, their octree, made ready on the backend, and the

@@ -91,11 +91,11 @@ const CHUNK: usize = 64;
 
 /// One view's candidate triangles per tile of `tile²` pixels, tiles row by row (`tiles_x × tiles_y`).
 pub struct Bins {
-    pub tile: u32,
+    pub(crate) tile: u32,
     pub tiles_x: u32,
     pub tiles_y: u32,
     /// `ids[start[k]..start[k + 1]]`: tile `k`'s triangles, ascending.
-    pub start: Vec<usize>,
+    pub(crate) start: Vec<usize>,
     pub ids: Vec<u32>,
 }
 

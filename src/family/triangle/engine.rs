@@ -23,31 +23,31 @@ use std::time::Instant;
 /// thread, rays in packets of `p × p`; the 4-wide (SIMD) versions beside the scalar ones.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SpeedRow {
-    pub method: String,
+    pub(crate) method: String,
     /// Whether this is the method's 4-wide version (SSE; seed 004 timed SIMD code).
     #[serde(default)]
-    pub wide: bool,
+    pub(crate) wide: bool,
     /// Packet side `p` (packets of `p × p` rays).
-    pub packet: u32,
+    pub(crate) packet: u32,
     /// Nanoseconds per ray–triangle test, the best of the repeats.
     pub(crate) ns_per_test: f64,
     /// `mt-precomputed`'s time per test in packets of the same side, scalar or 4-wide as this row is,
     /// over this one's: seed 004's speedup, the loops alike (triangles outer, the packet's rays inner).
-    pub speedup: f64,
+    pub(crate) speedup: f64,
 }
 
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SpeedReport {
-    pub scene: String,
-    pub views: Views,
-    pub triangles: usize,
-    pub rays: usize,
+    pub(crate) scene: String,
+    pub(crate) views: Views,
+    pub(crate) triangles: usize,
+    pub(crate) rays: usize,
     /// Ray–triangle tests of each method in 2×2 packets (each ray against its tile's candidates for
     /// the method's error scale).
     #[serde(default)]
-    pub tests: Vec<(String, u64)>,
-    pub repeats: usize,
-    pub rows: Vec<SpeedRow>,
+    pub(crate) tests: Vec<(String, u64)>,
+    pub(crate) repeats: usize,
+    pub(crate) rows: Vec<SpeedRow>,
 }
 
 /// The packet sides timed.

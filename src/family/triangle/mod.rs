@@ -65,19 +65,19 @@ impl Hits {
 /// A stress row of closed meshes: a shape, an aim and a place.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct TriRow {
-    pub shape: MeshShape,
-    pub aim: TriAim,
-    pub place: TriPlace,
+    pub(crate) shape: MeshShape,
+    pub(crate) aim: TriAim,
+    pub(crate) place: TriPlace,
 }
 
 /// What shapes a stress run of closed meshes.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct TriRows {
-    pub shapes: Vec<MeshShape>,
-    pub aims: Vec<TriAim>,
-    pub places: Vec<TriPlace>,
-    pub flatness: f32,
-    pub ulps: i32,
+    pub(crate) shapes: Vec<MeshShape>,
+    pub(crate) aims: Vec<TriAim>,
+    pub(crate) places: Vec<TriPlace>,
+    pub(crate) flatness: f32,
+    pub(crate) ulps: i32,
 }
 
 impl Default for TriRows {
@@ -96,7 +96,7 @@ impl Default for TriRows {
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct TriFacts {
     /// Rays judged.
-    pub rays: u64,
+    pub(crate) rays: u64,
     /// Rays that cross the surface (the others only touch it, or miss).
     pub crossing: u64,
 }
@@ -121,7 +121,7 @@ pub struct HitTally {
     pub(crate) double_hits: u64,
     /// Rays whose nearest hit is on a wrong triangle, or a miss where the ray crosses
     /// ([`HitTruth::right`]).
-    pub wrong_first_hits: u64,
+    pub(crate) wrong_first_hits: u64,
     /// Rays whose nearest hit is on a right triangle at a `t` beyond [`T_ULPS`] ulps of the exact one
     /// (or not in `0 < t < ∞`): wrong by [`HitTruth::judge`] for the `t` alone.
     pub wrong_t: u64,
@@ -568,11 +568,11 @@ impl Family for Triangle {
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct TriangleCount {
     /// Rays whose nearest hit is not on a triangle holding the exact first hit point.
-    pub wrong_triangle: u64,
+    pub(crate) wrong_triangle: u64,
     /// Rays the reference sees hit the surface that the method sees miss every triangle.
-    pub false_miss: u64,
+    pub(crate) false_miss: u64,
     /// Wrong rays per image, averaged over the views counted.
-    pub wrong_per_image: f64,
+    pub(crate) wrong_per_image: f64,
 }
 
 impl Counts for TriangleCount {
@@ -624,7 +624,7 @@ pub(crate) fn binned_on(settings: &TriCountSettings, kind: BackendKind) -> bool 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TriangleFacts {
     /// The scene's triangles: its constrained faces, once each.
-    pub triangles: usize,
+    pub(crate) triangles: usize,
 }
 
 /// The scene's triangles facing a camera's region, with the region, and the last view's candidates

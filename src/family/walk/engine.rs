@@ -56,11 +56,11 @@ pub fn bytes_per_walked_ray(methods: usize) -> u64 {
 /// `exact` walk, how many took a step outside the exact exit set, and the steps.
 #[derive(Default, Clone, Copy, Debug, serde::Serialize)]
 pub(crate) struct MethodWalks {
-    pub rays: u64,
-    pub kinds: [u64; 5],
-    pub wrong: u64,
-    pub diverged: u64,
-    pub steps: u64,
+    pub(crate) rays: u64,
+    pub(crate) kinds: [u64; 5],
+    pub(crate) wrong: u64,
+    pub(crate) diverged: u64,
+    pub(crate) steps: u64,
 }
 
 impl Summed for MethodWalks {
@@ -76,55 +76,55 @@ impl Summed for MethodWalks {
 /// One method's row: its walks, and the compact layout it walked over (if it did).
 #[derive(serde::Serialize)]
 pub(crate) struct MethodRow {
-    pub method: String,
-    pub layout: Option<LayoutKind>,
+    pub(crate) method: String,
+    pub(crate) layout: Option<LayoutKind>,
     #[serde(flatten)]
-    pub tally: MethodWalks,
+    pub(crate) tally: MethodWalks,
 }
 
 /// One method under the 12 relabellings: wrong results and cycles for each, the identity first.
 #[derive(serde::Serialize)]
 pub(crate) struct RelabelledWalks {
-    pub method: String,
-    pub wrong: Vec<u64>,
-    pub cycles: Vec<u64>,
+    pub(crate) method: String,
+    pub(crate) wrong: Vec<u64>,
+    pub(crate) cycles: Vec<u64>,
 }
 
 /// Every method's walks over one mesh's rays: the rays starting outside it (skipped), and one row per
 /// method, in the order asked.
 pub(crate) struct MethodWalksTable {
-    pub outside: usize,
-    pub rows: Vec<MethodRow>,
+    pub(crate) outside: usize,
+    pub(crate) rows: Vec<MethodRow>,
 }
 
 /// `tetwalk walk`'s report (its JSON): the mesh, the rays, and each method's row.
 #[derive(serde::Serialize)]
 pub(crate) struct WalkReport {
-    pub mesh: crate::scenes::Generated,
-    pub size: u32,
-    pub offset: f32,
-    pub tetrahedra: usize,
-    pub rays: usize,
-    pub outside: usize,
-    pub seed: u64,
-    pub backend: crate::backend::BackendKind,
-    pub methods: Vec<MethodRow>,
+    pub(crate) mesh: crate::scenes::Generated,
+    pub(crate) size: u32,
+    pub(crate) offset: f32,
+    pub(crate) tetrahedra: usize,
+    pub(crate) rays: usize,
+    pub(crate) outside: usize,
+    pub(crate) seed: u64,
+    pub(crate) backend: crate::backend::BackendKind,
+    pub(crate) methods: Vec<MethodRow>,
     /// With `--relabel all`.
-    pub relabellings: Option<Vec<RelabelledWalks>>,
+    pub(crate) relabellings: Option<Vec<RelabelledWalks>>,
 }
 
 /// What `tetwalk walk` walks: a generated mesh of `size` (in Hilbert order with `hilbert`) moved by
 /// `offset`, and `rays` of its rays, both from `seed`; the methods over `layout` where they can, and
 /// under every relabelling with `relabel`.
 pub(crate) struct WalkSettings {
-    pub mesh: crate::scenes::Generated,
-    pub size: u32,
-    pub offset: f32,
-    pub rays: usize,
-    pub seed: u64,
-    pub layout: Option<LayoutKind>,
-    pub hilbert: bool,
-    pub relabel: bool,
+    pub(crate) mesh: crate::scenes::Generated,
+    pub(crate) size: u32,
+    pub(crate) offset: f32,
+    pub(crate) rays: usize,
+    pub(crate) seed: u64,
+    pub(crate) layout: Option<LayoutKind>,
+    pub(crate) hilbert: bool,
+    pub(crate) relabel: bool,
 }
 
 /// `tetwalk walk`: the mesh and its rays made as `s` says, each method's walks judged by `walker`
@@ -390,16 +390,16 @@ pub fn frame(
 #[derive(serde::Serialize, serde::Deserialize)]
 pub(crate) struct RaysHeader {
     /// The scene's name.
-    pub scene: String,
+    pub(crate) scene: String,
     /// Its views, as the count made them.
-    pub views: Views,
+    pub(crate) views: Views,
     /// The slice of the views written.
-    pub shard: Shard,
+    pub(crate) shard: Shard,
     /// The scene's tetrahedra where the rays were written.
-    pub tetrahedra: usize,
+    pub(crate) tetrahedra: usize,
     /// Loaded with `--no-faces`.
     #[serde(default)]
-    pub no_faces: bool,
+    pub(crate) no_faces: bool,
 }
 
 /// Why a scene's rays, or the walks given for them, cannot be judged.

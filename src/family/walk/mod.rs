@@ -69,13 +69,13 @@ impl WalkScene {
 /// A stress row of walks, as its report's row writes it.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct WalkRow {
-    pub scene: WalkScene,
+    pub(crate) scene: WalkScene,
 }
 
 /// Which scenes a stress run of walks walks.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct WalkRows {
-    pub scenes: Vec<WalkScene>,
+    pub(crate) scenes: Vec<WalkScene>,
 }
 
 impl Default for WalkRows {
@@ -89,9 +89,9 @@ impl Default for WalkRows {
 /// One method's walks on one row: judged, and wrong by the kind of their ending.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct WalkTally {
-    pub judged: u64,
+    pub(crate) judged: u64,
     #[serde(flatten)]
-    pub wrong: PerKind<u64>,
+    pub(crate) wrong: PerKind<u64>,
 }
 
 impl Summed for WalkTally {
@@ -103,8 +103,8 @@ impl Summed for WalkTally {
 
 /// A walk case's mesh with its bounds, built once per thread.
 pub(crate) struct GeneratedMesh {
-    pub mesh: Arc<Mesh>,
-    pub bounds: (Vec3, Vec3),
+    pub(crate) mesh: Arc<Mesh>,
+    pub(crate) bounds: (Vec3, Vec3),
 }
 
 type Cached = ((Generated, u32, u32, i32), Arc<GeneratedMesh>);
@@ -158,14 +158,13 @@ fn placed(w: &WalkCase) -> Result<(Arc<Mesh>, u32), CaseError> {
 
 /// The exact answer to a walk case.
 pub struct WalkTruth {
-    pub mesh: Arc<Mesh>,
-    pub start: u32,
+    pub(crate) mesh: Arc<Mesh>,
     /// The `exact` walk.
-    pub exact: Walk,
+    pub(crate) exact: Walk,
     /// Whether the exact walk agrees with the brute-force first hit: it stops on a constrained face
     /// where the ray (perturbed as the walk perturbs it) crosses one, and leaves the mesh where it
     /// crosses none.
-    pub consistent: bool,
+    pub(crate) consistent: bool,
 }
 
 impl Family for Walks {
@@ -303,7 +302,6 @@ impl Family for Walks {
         );
         Ok(WalkTruth {
             mesh,
-            start,
             exact,
             consistent,
         })
@@ -461,11 +459,11 @@ impl Family for Walks {
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct PerImage {
     pub wrong: f64,
-    pub by_kind: PerKind<f64>,
-    pub wrong_face_adjacent: f64,
-    pub wrong_face_elsewhere: f64,
+    pub(crate) by_kind: PerKind<f64>,
+    pub(crate) wrong_face_adjacent: f64,
+    pub(crate) wrong_face_elsewhere: f64,
     /// Tetrahedra traversed per image (Φ).
-    pub tetrahedra: f64,
+    pub(crate) tetrahedra: f64,
 }
 
 /// One method's counts over a count's views (seed 000 Table 4's row).
@@ -556,7 +554,7 @@ impl Counts for MethodCount {
 /// What a walk count's report says of its scene.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WalkFacts {
-    pub tetrahedra: usize,
+    pub(crate) tetrahedra: usize,
 }
 
 impl Counted for Walks {
