@@ -617,8 +617,6 @@ pub struct WideFns {
 /// A registered ray–triangle method (seed 004).
 pub struct TriangleMethod {
     pub info: Info,
-    /// Whether it shares work across a packet of rays with one origin.
-    pub packet: bool,
     /// How its side products' rounding error scales, by the lemma of `family::triangle::bins` (every method of
     /// the registry; `None` for one written outside tetwalk, for which a count tests every triangle).
     pub side_error: Option<triangle::SideError>,
@@ -630,14 +628,9 @@ pub struct TriangleMethod {
 }
 
 impl TriangleMethod {
-    const fn of<M: HitMethod>(
-        info: Info,
-        packet: bool,
-        side_error: Option<triangle::SideError>,
-    ) -> Self {
+    const fn of<M: HitMethod>(info: Info, side_error: Option<triangle::SideError>) -> Self {
         TriangleMethod {
             info,
-            packet,
             side_error,
             wide: None,
             hit: by_model!(triangle_hit, M),
@@ -647,17 +640,13 @@ impl TriangleMethod {
     }
 
     /// A method with a 4-wide version ([`triangle::Wide`]).
-    const fn wide<M: triangle::Wide>(
-        info: Info,
-        packet: bool,
-        side_error: Option<triangle::SideError>,
-    ) -> Self {
+    const fn wide<M: triangle::Wide>(info: Info, side_error: Option<triangle::SideError>) -> Self {
         TriangleMethod {
             wide: Some(WideFns {
                 trace: triangle::trace_wide::<M>,
                 hits: triangle::hits_wide::<M>,
             }),
-            ..Self::of::<M>(info, packet, side_error)
+            ..Self::of::<M>(info, side_error)
         }
     }
 
@@ -672,7 +661,7 @@ impl TriangleMethod {
 
     /// A method written outside tetwalk, as a user's crate defines it (the conformance kit's).
     pub fn outside<M: HitMethod>(name: &'static str) -> Self {
-        Self::of::<M>(Info::outside(name), false, None)
+        Self::of::<M>(Info::outside(name), None)
     }
 
     /// The test of one ray and one triangle, in an arithmetic model.
@@ -705,7 +694,6 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             "Möller & Trumbore 1997 as seed 004 eq. 1 describes it: front side tested first (back faces culled), then u, v, t",
             GpuVersion::Wgsl(&[TRI_MT]),
         ),
-        false,
         Some(triangle::SideError::EdgeScaled),
     ),
     TriangleMethod::of::<MtTwoSided>(
@@ -714,7 +702,6 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             "Möller & Trumbore 1997, seed 004 eq. 1's other reading: both sides, 1/det first",
             GpuVersion::Wgsl(&[TRI_MT]),
         ),
-        false,
         Some(triangle::SideError::EdgeScaled),
     ),
     TriangleMethod::wide::<MtPrecomputed>(
@@ -723,7 +710,6 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             "seed 004 eq. 2: N, E1, E2 precomputed per triangle (Barzel's jgt collection)",
             GpuVersion::Wgsl(&[TRI_MT_PRECOMPUTED]),
         ),
-        false,
         Some(triangle::SideError::EdgeScaled),
     ),
     TriangleMethod::wide::<KomatsuPacket>(
@@ -732,7 +718,6 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             "Komatsu et al., seed 004 eq. 3 and Figure 3: N·S, -S×E2, S×E1 once per packet, early termination",
             GpuVersion::Wgsl(&[TRI_MT_PRECOMPUTED, TRI_KOMATSU]),
         ),
-        true,
         Some(triangle::SideError::EdgeScaled),
     ),
     TriangleMethod::wide::<PluckerPacket>(
@@ -741,7 +726,6 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             "Benthin 2006 as seed 004 §2 describes it: packet origin at the coordinate origin, three dot products per ray",
             GpuVersion::Wgsl(&[TRI_PLUCKER_PACKET]),
         ),
-        true,
         Some(triangle::SideError::OriginScaled),
     ),
     TriangleMethod::wide::<WoopWatertight>(
@@ -754,7 +738,6 @@ pub static TRIANGLE_METHODS: &[TriangleMethod] = &[
             )
             .claiming(Claim::NoLeak)
         },
-        false,
         Some(triangle::SideError::OriginScaled),
     ),
 ];
