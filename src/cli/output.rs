@@ -6,9 +6,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The files a command reads and writes, declared beside its arguments ([`Io`]) and checked in
-/// [`main`](super::main) before any work: no output is one of the run's inputs or another of its outputs (the same
-/// file by identity: links followed, hard links and other spellings alike; standard input and output,
-/// devices and pipes aside), so that nothing the user gave is overwritten and no output is lost.
+/// [`main`](super::main) before any work: no output is one of the run's inputs or another of its
+/// outputs (the same file by identity: links followed, hard links and other spellings alike;
+/// standard input and output, devices and pipes aside), so that nothing the user gave is overwritten
+/// and no output is lost.
 #[derive(Default)]
 pub(crate) struct Files {
     inputs: Vec<(String, PathBuf)>,
