@@ -129,4 +129,6 @@ pub(crate) mod walk;
 #[cfg(feature = "cli")]
 pub mod cli;
 #[cfg(feature = "cli")]
+pub(crate) mod process;
+#[cfg(feature = "cli")]
 pub mod render;

@@ -12,6 +12,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("staged", &[]),
     ("child", &[]),
     ("fpenv", &[]),
+    ("process", &["child", "staged"]),
     ("tet", &[]),
     ("choice", &[]),
     ("mesh", &["tet"]),
@@ -77,7 +78,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "cli",
         &[
             "backend", "cases", "child", "choice", "engine", "exact", "family", "gpu", "mesh",
-            "methods", "octree", "registry", "render", "report", "scenes", "staged", "tet", "walk",
+            "methods", "octree", "process", "registry", "render", "report", "scenes", "staged",
+            "tet", "walk",
         ],
     ),
 ];

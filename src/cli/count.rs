@@ -11,7 +11,6 @@ use crate::report::count::CountFormats;
 use crate::scenes::camera::Views;
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 #[derive(clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -154,9 +153,7 @@ fn merge(reports: &[PathBuf], json: Option<&std::path::Path>) -> Status {
     let read: Vec<(String, serde_json::Value)> = super::read_reports(reports)?;
     crate::with_counted!(count::shards_family(&read)?, F => {
         let m = count::merge(&count::read_shards::<F>(read)?)?;
-        print!("{}", m.table());
-        out.finish(&m)?;
-        Ok(ExitCode::SUCCESS)
+        out.done(&m.table(), &m)
     })
 }
 

@@ -9,7 +9,6 @@ use crate::engine::fuzz::{find, held};
 use crate::family::{Family, Kind};
 use crate::registry::Named;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 crate::families!(__more_fuzz_targets);
 
@@ -85,8 +84,7 @@ pub(crate) fn run(a: Args) -> Status {
             .ok_or_else(|| format!("--target {}: no family's fuzz target", a.target))?;
         crate::with_family!(kind, F => import::<F>(&a, &mut filed, finding::<F>))?;
     }
-    json.finish(&serde_json::json!({ "filed": filed }))?;
-    Ok(ExitCode::SUCCESS)
+    json.done("", &serde_json::json!({ "filed": filed }))
 }
 
 /// What a held method fails on the case in `bytes`: a found case (`.json`) read back, or the fuzz

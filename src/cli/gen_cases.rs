@@ -8,7 +8,6 @@ use crate::family::contract::Contract;
 use crate::family::{Family, Scale};
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub(crate) struct Args {
@@ -64,13 +63,18 @@ pub(crate) fn row<F: Family>(
     )?;
     let made =
         crate::engine::stress::every_case_of::<F>(rows, row, a.seed, a.count, a.scale, contract)?;
+    Ok(write_lines(made.iter().filter_map(|(c, x)| line(c, x)))?)
+}
+
+/// Each object on a line of standard output, as JSON Lines; how many were written.
+pub(crate) fn write_lines(
+    lines: impl Iterator<Item = serde_json::Map<String, serde_json::Value>>,
+) -> std::io::Result<usize> {
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
     let mut written = 0;
-    for (c, x) in &made {
-        if let Some(obj) = line(c, x) {
-            writeln!(w, "{}", serde_json::Value::Object(obj))?;
-            written += 1;
-        }
+    for obj in lines {
+        writeln!(w, "{}", serde_json::Value::Object(obj))?;
+        written += 1;
     }
     w.flush()?;
     Ok(written)
@@ -108,8 +112,7 @@ pub(crate) fn start<F: Family>(
 
 /// Done: what was generated written as JSON (with `--json`).
 pub(crate) fn generated(out: JsonOut, generated: &impl serde::Serialize) -> Status {
-    out.finish(generated)?;
-    Ok(ExitCode::SUCCESS)
+    out.done("", generated)
 }
 
 crate::families!(__gen_case_families);

@@ -151,6 +151,13 @@ impl JsonOut {
         staged.write_all(b"\n")?;
         staged.finish()
     }
+
+    /// `printed` on standard output, then the JSON written: the command done.
+    pub(crate) fn done(self, printed: &str, value: &impl serde::Serialize) -> super::Status {
+        print!("{printed}");
+        self.finish(value)?;
+        Ok(std::process::ExitCode::SUCCESS)
+    }
 }
 
 /// Progress of a long run on standard error: a bar where standard error is a terminal; elsewhere (a CI

@@ -6,7 +6,6 @@ use crate::engine::count::Shard;
 use crate::engine::paper::{self, PaperReport, Size};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 #[derive(clap::Args)]
 #[command(args_conflicts_with_subcommands = true)]
@@ -136,8 +135,7 @@ pub(crate) fn run(a: Args) -> Status {
             a.json.as_deref().unwrap_or(Path::new("-")).display()
         );
     }
-    json.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    json.done("", &report)
 }
 
 /// The tables, printed and, with `--out`, written there.
@@ -158,6 +156,5 @@ fn merge(reports: &[PathBuf], out: Option<&Path>, json: Option<&Path>) -> Status
     let out = out.map(|p| Staged::new("--out", p)).transpose()?;
     let merged = crate::engine::count::merge::<PaperReport>(&super::read_reports(reports)?)?;
     write(&merged, out)?;
-    json.finish(&merged)?;
-    Ok(ExitCode::SUCCESS)
+    json.done("", &merged)
 }

@@ -13,7 +13,6 @@ use crate::scenes::closed::{MeshShape, TriPlace};
 use crate::scenes::tets::TetShape;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub(crate) enum What {
@@ -196,57 +195,59 @@ pub(crate) struct Drawing<F: Family> {
 
 /// The legend printed and, with `--json`, what was drawn written.
 pub(crate) fn finish(drawn: Drawn, json: JsonOut) -> Status {
-    print!("{}", drawn.legend);
-    json.finish(&drawn)?;
-    Ok(ExitCode::SUCCESS)
+    json.done(&drawn.legend, &drawn)
 }
 
-/// The backends a predicate or leak map is drawn on: the CPU plain and fused, and the GPU where there
-/// is one (with its name).
-pub(crate) fn map_backends() -> (Vec<Backend>, Option<String>) {
-    let mut backends = vec![
-        Backend::Cpu {
-            model: Model::Plain,
-        },
-        Backend::Cpu {
-            model: Model::Fused,
-        },
-    ];
-    let gpu = Backend::open(BackendKind::Gpu).ok();
-    let name = gpu.as_ref().map(|g| g.describe());
-    backends.extend(gpu);
-    (backends, name)
-}
-
-/// Predicate or leak maps: the exact panel, the backends each method is drawn on, the key.
+/// Predicate or leak maps: the exact panel, the key, the legend, and what a sheet shows beside the
+/// backends it is drawn on (the CPU plain and fused, and the GPU where there is one).
 pub(crate) struct Maps<'a> {
-    pub(crate) exact: &'a Image,
-    pub(crate) backends: &'a [Backend],
+    pub(crate) exact: Image,
     pub(crate) key: &'a [(&'a str, [u8; 3])],
+    pub(crate) legend: String,
+    /// What the panels show, said after the backends.
+    pub(crate) shows: String,
 }
 
 impl Maps<'_> {
     /// Each method's sheet (its heading, the exact panel and one per backend, each titled, and the
-    /// key) written beside `out`, and all of them into `out`.
-    pub(crate) fn write<M: Named>(
-        &self,
+    /// key) written beside `out`, all of them into `out`, and what a sheet shows said.
+    pub(crate) fn draw<M: Named>(
+        self,
         out: &Path,
+        json: JsonOut,
         methods: &[&M],
         heading: impl Fn(&M) -> String,
         panel: impl Fn(&M, &Backend) -> Result<Image, BackendError>,
-        drawn: &mut Drawn,
-    ) -> Result<(), super::Error> {
+    ) -> Status {
+        let mut backends = vec![
+            Backend::Cpu {
+                model: Model::Plain,
+            },
+            Backend::Cpu {
+                model: Model::Fused,
+            },
+        ];
+        backends.extend(Backend::open(BackendKind::Gpu).ok());
+        let mut drawn = Drawn::default();
         let mut sheets = Vec::new();
         for m in methods {
             let mut row = vec![("exact".to_string(), self.exact.clone())];
-            for b in self.backends {
+            for b in &backends {
                 row.push((render::backend_title(b), panel(m, b)?));
             }
             let sheet = render::sheet(&heading(m), &row, self.key);
-            write(&beside(out, m.name()), &sheet, drawn)?;
+            write(&beside(out, m.name()), &sheet, &mut drawn)?;
             sheets.push(sheet);
         }
-        write(out, &render::stacked(&sheets, 8), drawn)
+        write(out, &render::stacked(&sheets, 8), &mut drawn)?;
+        let gpu = backends.get(2).map(|g| format!(" | {}", g.describe()));
+        println!(
+            "each sheet: exact | cpu | cpu-fma{}; {}",
+            gpu.unwrap_or_default(),
+            self.shows
+        );
+        drawn.legend = self.legend;
+        finish(drawn, json)
     }
 }
 

@@ -173,9 +173,7 @@ pub(crate) fn run(s: SceneCommand) -> Status {
             )?;
             println!("{}: {} tetrahedra", out.display(), mesh.tets.len());
             let info = SceneInfo::of(&mesh, crate::octree::Settings::PAPER);
-            print!("{}", info.markdown());
-            json.finish(&info)?;
-            Ok(ExitCode::SUCCESS)
+            json.done(&info.markdown(), &info)
         }
         SceneCommand::Subdivide {
             model,
@@ -245,9 +243,7 @@ pub(crate) fn run(s: SceneCommand) -> Status {
             let s = crate::scenes::load(&scene, super::faces(no_faces))?;
             let info = SceneInfo::of(&s.mesh, crate::octree::Settings { depth, capacity });
             println!("scene {}\n", s.name);
-            print!("{}", info.markdown());
-            json.finish(&info)?;
-            Ok(ExitCode::SUCCESS)
+            json.done(&info.markdown(), &info)
         }
     }
 }

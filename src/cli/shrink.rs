@@ -11,7 +11,6 @@ use crate::family::{Family, Kind};
 use crate::report::shrink::{case_lines, summary};
 use std::io::Write;
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub(crate) struct Args {
@@ -109,6 +108,5 @@ pub(crate) fn run(a: Args) -> Status {
             .map_err(|e| format!("{}: {e}", path.display()))?;
     }
     eprintln!("{}", summary(&report, a.in_place));
-    out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    out.done("", &report)
 }

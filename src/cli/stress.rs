@@ -13,7 +13,6 @@ use crate::family::{self, Kind, Scale};
 use crate::report::Formats;
 use crate::report::stress::{disagreements, filed};
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub(crate) struct Args {
@@ -264,9 +263,7 @@ fn stress<F: Rows>(a: Args) -> Status {
     };
     if a.compare {
         let d = stress::compare(&settings, &methods, &backend)?;
-        print!("{}", disagreements(&d));
-        out.finish(&d)?;
-        return Ok(ExitCode::SUCCESS);
+        return out.done(&disagreements(&d), &d);
     }
     let Some(seconds) = a.seconds else {
         let rows = F::rows(&settings.rows).len();

@@ -8,10 +8,8 @@ use super::{ExitFace, ExitRows, TetRow};
 use crate::backend::Backend;
 use crate::cases::Case;
 use crate::cli::answer::{Answering, methods_part};
-use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
-use crate::cli::render::{
-    Args as RenderArgs, Drawn, Maps, drawn_methods, finish, map_backends, square,
-};
+use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start, write_lines};
+use crate::cli::render::{Args as RenderArgs, Maps, drawn_methods, square};
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{Status, WgslArg, choice};
 use crate::family::contract::Contract;
@@ -23,7 +21,6 @@ use crate::render;
 use crate::scenes::rng;
 use crate::scenes::tets::TetShape;
 use crate::scenes::tets::{self, Target};
-use std::io::Write;
 
 /// Exit-face rows.
 #[derive(clap::Args)]
@@ -128,7 +125,6 @@ fn refuse(k: Kind) -> String {
 pub(crate) fn render(a: RenderArgs) -> Status {
     let d = drawn_methods::<ExitFace>(&a)?;
     let (w, h) = (d.width, d.height);
-    let mut drawn = Drawn::default();
     square(&a.size, w, h)?;
     let target = if a.through == "edge" {
         Target::Edge
@@ -147,7 +143,6 @@ pub(crate) fn render(a: RenderArgs) -> Status {
         model: Model::Plain,
     };
     let exact = render::face_image(&predicate_grid(&case, w, reference(), &cpu)?, w);
-    let (backends, gpu_name) = map_backends();
     let heading = |m: &Method| {
         format!(
             "{}: exit face, origin moved {} ulps in x and y",
@@ -157,20 +152,13 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     };
     let panel =
         |m: &Method, b: &Backend| Ok(render::face_image(&predicate_grid(&case, w, m, b)?, w));
-    let key = render::predicate_key();
-    let maps = Maps {
-        exact: &exact,
-        backends: &backends,
-        key: &key,
-    };
-    maps.write(&a.out, &d.methods, heading, panel, &mut drawn)?;
-    drawn.legend = render::predicate_legend();
-    println!(
-        "each sheet: exact | cpu | cpu-fma{}; origin moved ±{} ulps in x (right) and y (up)",
-        gpu_name.map_or(String::new(), |g| format!(" | {g}")),
-        w / 2
-    );
-    finish(drawn, d.json)
+    Maps {
+        exact,
+        key: &render::predicate_key(),
+        legend: render::predicate_legend(),
+        shows: format!("origin moved ±{} ulps in x (right) and y (up)", w / 2),
+    }
+    .draw(&a.out, d.json, &d.methods, heading, panel)
 }
 
 /// How the ray meets the tetrahedron.
@@ -298,17 +286,7 @@ fn free(a: &GenArgs, f: &GenFlags) -> Status {
         a.scale,
         &contract,
     );
-    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-    let mut written = 0;
-    for case in cases.take(a.count) {
-        writeln!(
-            w,
-            "{}",
-            serde_json::Value::Object(ExitFace::case_json(&case))
-        )?;
-        written += 1;
-    }
-    w.flush()?;
+    let written = write_lines(cases.take(a.count).map(|c| ExitFace::case_json(&c)))?;
     if written < a.count {
         return Err(format!(
             "only {written} of {} cases could be generated with these settings (in {} tries: the others' tetrahedra were flat in f32, their rays missed the edge or vertex, or left f32's range)",

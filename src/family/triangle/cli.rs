@@ -12,7 +12,7 @@ use crate::cli::answer::{Answering, methods_part};
 use crate::cli::bench::Args as BenchArgs;
 use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
-use crate::cli::render::{Args as RenderArgs, Drawn, Maps, finish, map_backends, square};
+use crate::cli::render::{Args as RenderArgs, Maps, square};
 use crate::cli::size;
 use crate::cli::stress::{Rows, Shape, or_all};
 use crate::cli::{JsonOut, Status, choice};
@@ -22,7 +22,6 @@ use crate::registry::TriangleMethod;
 use crate::registry::{Named, TRIANGLE_METHODS};
 use crate::render::{self, Image};
 use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
-use std::process::ExitCode;
 
 /// Triangle rows.
 #[derive(clap::Args)]
@@ -181,9 +180,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
     let scene = a.scene.load()?;
     let views = crate::scenes::camera::Views::new(a.views, width, height, a.seed);
     let report = super::engine::speed(&scene, &views, &methods, 3)?;
-    print!("{}", report.markdown());
-    out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    out.done(&report.markdown(), &report)
 }
 
 /// `render leak`: a sheet per ray–triangle method, exact | cpu | cpu-fma (| gpu), of the hits through
@@ -197,29 +194,21 @@ pub(crate) fn render(a: RenderArgs) -> Status {
         .ok_or("no ray of the edge row crosses the surface between an edge's two triangles")?;
     let grid = LeakGrid::new(&case, pair, w);
     let exact = leak_image(grid.exact(), w);
-    let (backends, gpu_name) = map_backends();
-    let mut drawn = Drawn::default();
     let heading = |m: &TriangleMethod| format!("{}: hits through and beside an edge", m.name());
     let panel = |m: &TriangleMethod, b: &Backend| Ok(leak_image(&grid.of(m, b)?, w));
     let key = EdgeHit::key();
-    let maps = Maps {
-        exact: &exact,
-        backends: &backends,
+    Maps {
+        exact,
         key: &key,
-    };
-    maps.write(&a.out, &methods, heading, panel, &mut drawn)?;
-    drawn.legend = render::key_line(
-        "leak maps: hits on the two triangles sharing the edge",
-        &key,
-    );
-    println!(
-        "each sheet: exact | cpu | cpu-fma{}; the {} {} edge row's first case a listed method leaks through (else its first): along x, rays exactly through the edge at points of its middle half; along y, the direction moved ±{} ulp steps off it",
-        gpu_name.map_or(String::new(), |g| format!(" | {g}")),
-        a.shape.name(),
-        a.place.name(),
-        w / 2
-    );
-    finish(drawn, json)
+        legend: render::key_line("leak maps: hits on the two triangles sharing the edge", &key),
+        shows: format!(
+            "the {} {} edge row's first case a listed method leaks through (else its first): along x, rays exactly through the edge at points of its middle half; along y, the direction moved ±{} ulp steps off it",
+            a.shape.name(),
+            a.place.name(),
+            w / 2
+        ),
+    }
+    .draw(&a.out, json, &methods, heading, panel)
 }
 
 /// A leak map as an image ([`EdgeHit::colour`]).

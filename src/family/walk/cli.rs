@@ -304,9 +304,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
             .into());
         }
     }
-    print!("{}", report.markdown());
-    out.finish(&report)?;
-    Ok(ExitCode::SUCCESS)
+    out.done(&report.markdown(), &report)
 }
 
 /// `render shaded`, `failures` and `heat`: a view of the scene walked by the exact walk and by each
