@@ -274,7 +274,7 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         &a,
         methods.len() + usize::from(a.answerer.answerer.is_some()),
     )?;
-    held(shard, &views)?;
+    held(shard, views.views)?;
     let scene = a.scene.load()?;
     let settings = CountSettings::<F> {
         views,
@@ -344,12 +344,12 @@ impl Dump {
     }
 }
 
-/// A shard that holds at least one of the views (`--shard 5/10` of 3 views holds none).
-pub(crate) fn held(shard: Shard, views: &Views) -> Result<(), super::Error> {
-    if shard.held(views.views) == 0 {
+/// A shard that holds at least one of the `views` (`--shard 5/10` of 3 views holds none).
+pub(crate) fn held(shard: Shard, views: usize) -> Result<(), super::Error> {
+    if shard.held(views) == 0 {
         return Err(format!(
-            "--shard {}/{} holds no view of the {} (views v with v % {} == {})",
-            shard.index, shard.count, views.views, shard.count, shard.index
+            "--shard {}/{} holds no view of the {views} (views v with v % {} == {})",
+            shard.index, shard.count, shard.count, shard.index
         )
         .into());
     }

@@ -5,7 +5,7 @@ use super::{JsonOut, Status};
 use crate::choice::Choice;
 use crate::engine::filing;
 use crate::engine::found::Found;
-use crate::engine::fuzz::{find, held};
+use crate::engine::fuzz::{finding, held};
 use crate::family::{Family, Kind};
 use crate::registry::Named;
 use std::path::{Path, PathBuf};
@@ -82,28 +82,15 @@ pub(crate) fn run(a: Args) -> Status {
             .copied()
             .find(|&k| crate::with_family!(k, F => F::FUZZ_TARGET) == a.target)
             .ok_or_else(|| format!("--target {}: no family's fuzz target", a.target))?;
-        crate::with_family!(kind, F => import::<F>(&a, &mut filed, finding::<F>))?;
+        crate::with_family!(kind, F => import::<F>(&a, &mut filed, |path, bytes| {
+            Ok(finding::<F>(bytes, path.extension().is_some_and(|e| e == "json"))?)
+        }))?;
     }
     json.done("", &serde_json::json!({ "filed": filed }))
 }
 
-/// What a held method fails on the case in `bytes`: a found case (`.json`) read back, or the fuzz
-/// target's decoding of a crash file.
-fn finding<F: Family>(path: &Path, bytes: &[u8]) -> Result<Option<Found<F>>, super::Error> {
-    let case = if path.extension().is_some_and(|e| e == "json") {
-        let text = String::from_utf8_lossy(bytes);
-        Some(Found::<F>::parse(text.trim())?.case)
-    } else {
-        F::arbitrary(&mut arbitrary::Unstructured::new(bytes))
-    };
-    Ok(match case {
-        Some(c) => find::<F>(&c)?,
-        None => None,
-    })
-}
-
-/// What a held method fails on one artifact, if anything ([`finding`], or a target's beyond the
-/// families' own).
+/// What a held method fails on one artifact, if anything (`engine::fuzz::finding`, or a target's
+/// beyond the families' own).
 type Finding<F> = fn(&Path, &[u8]) -> Result<Option<Found<F>>, super::Error>;
 
 /// File each artifact's finding, and the same case for the methods that claim and fail it too, under

@@ -97,13 +97,7 @@ pub(crate) fn run(a: Args) -> Status {
         }
         size.side = side;
     }
-    if shard.held(size.views) == 0 {
-        return Err(format!(
-            "--shard {}: holds no view of the run's {}",
-            a.shard, size.views
-        )
-        .into());
-    }
+    super::count::held(shard, size.views)?;
     let kinds = super::backend_list(&a.backend)?;
     let json = JsonOut::new(a.json.as_deref())?;
     let whole = shard == Shard::ALL;

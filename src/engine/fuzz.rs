@@ -115,6 +115,17 @@ pub(crate) fn find<F: Family>(case: &F::Case) -> Result<Option<Found<F>>, FoundE
     Ok(found.map(|(i, f)| Found::of(cases[i], f)))
 }
 
+/// What a held method fails on an artifact's case ([`find`]): a found case's line read back (`json`),
+/// or else the fuzz target's decoding of a crash file's bytes.
+pub(crate) fn finding<F: Family>(bytes: &[u8], json: bool) -> Result<Option<Found<F>>, FoundError> {
+    let case = if json {
+        Some(Found::<F>::parse(String::from_utf8_lossy(bytes).trim())?.case)
+    } else {
+        F::arbitrary(&mut arbitrary::Unstructured::new(bytes))
+    };
+    case.map_or(Ok(None), |c| find::<F>(&c))
+}
+
 /// A fuzz target's check of one decoded case ([`find`]); a bad environment stops the run.
 pub(crate) fn check_one<F: Family>(case: &F::Case) -> Option<Found<F>> {
     find::<F>(case).unwrap_or_else(|e| match e {

@@ -204,7 +204,7 @@ impl Flags for Walks {
     }
     fn rays_out(a: &CountArgs, shard: Shard, path: &std::path::Path) -> Status {
         let views = views::<Walks>(a, 0)?;
-        held(shard, &views)?;
+        held(shard, views.views)?;
         let scene = a.scene.load()?;
         let mut staged = crate::cli::Staged::new("--rays-out", path)?;
         let header = RaysHeader::of(&scene, views, shard, a.scene.no_faces);
