@@ -400,19 +400,15 @@ pub(crate) fn fits(what: &str, bytes: u128) -> Result<(), Error> {
     Ok(())
 }
 
-/// A comma-separated list of backends (`--backend cpu,gpu`), each once, in order.
-pub(crate) fn backend_list(text: &str) -> Result<Vec<BackendKind>, Error> {
-    let mut kinds = Vec::new();
-    for name in text.split(',').map(str::trim) {
-        let kind = BackendKind::from_name(name).ok_or_else(|| {
-            let known: Vec<_> = BackendKind::ALL.iter().map(|k| k.name()).collect();
-            format!("--backend: '{name}' is not one of {}", known.join(", "))
-        })?;
-        if !kinds.contains(&kind) {
-            kinds.push(kind);
+/// The backends of a list (`--backend cpu,gpu`) opened, each once, in order.
+pub(crate) fn open_each(kinds: &[BackendKind]) -> Result<Vec<Backend>, Error> {
+    let mut backends = Vec::new();
+    for (i, &k) in kinds.iter().enumerate() {
+        if !kinds[..i].contains(&k) {
+            backends.push(Backend::open(k)?);
         }
     }
-    Ok(kinds)
+    Ok(backends)
 }
 
 /// The scene a command loads and walks.

@@ -22,8 +22,8 @@ pub(crate) struct Args {
     #[arg(long, default_value = "all")]
     pub(crate) methods: String,
     /// Backends, comma-separated (`cpu`, `cpu-fma`, `gpu`), timed on the same rays in one run.
-    #[arg(long, default_value = "cpu")]
-    pub(crate) backend: String,
+    #[arg(long, value_parser = super::choice::<crate::choice::BackendKind>(), value_delimiter = ',', default_value = "cpu")]
+    pub(crate) backend: Vec<crate::choice::BackendKind>,
     /// Rays handed to a backend at once (whole views; one 1024² view by default: larger batches were
     /// slower end to end on an H200, their host buffers being fresh memory each time).
     #[arg(long, default_value_t = 1 << 20)]

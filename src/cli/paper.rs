@@ -1,7 +1,7 @@
 //! `tetwalk paper`: the seeds' tables that tetwalk reproduces, ours beside theirs.
 
 use super::{JsonOut, Staged, Status};
-use crate::backend::Backend;
+use crate::choice::BackendKind;
 use crate::engine::count::Shard;
 use crate::engine::paper::{self, PaperReport, Size};
 use std::io::Write;
@@ -27,8 +27,8 @@ pub(crate) struct Args {
     #[arg(long, allow_negative_numbers = true)]
     side: Option<u32>,
     /// Backends of the counts, comma-separated (`cpu`, `cpu-fma`, `gpu`): one Table 4 column each.
-    #[arg(long, default_value = "cpu,cpu-fma")]
-    backend: String,
+    #[arg(long, value_parser = super::choice::<BackendKind>(), value_delimiter = ',', default_value = "cpu,cpu-fma")]
+    backend: Vec<BackendKind>,
     /// Count only views `v` with `v % N == I` (`I/N`, 0-based), the timings whole; the shard's report
     /// goes to `--json` only, and `tetwalk paper merge` adds the N shards up into the tables.
     #[arg(long, default_value = "0/1")]
@@ -98,7 +98,6 @@ pub(crate) fn run(a: Args) -> Status {
         size.side = side;
     }
     super::count::held(shard, size.views)?;
-    let kinds = super::backend_list(&a.backend)?;
     let json = JsonOut::new(a.json.as_deref())?;
     let whole = shard == Shard::ALL;
     let out = a
@@ -107,10 +106,7 @@ pub(crate) fn run(a: Args) -> Status {
         .filter(|_| whole)
         .map(|p| Staged::new("--out", p))
         .transpose()?;
-    let backends = kinds
-        .into_iter()
-        .map(Backend::open)
-        .collect::<Result<Vec<_>, _>>()?;
+    let backends = super::open_each(&a.backend)?;
     let scene = crate::scenes::load(&a.scene, crate::mesh::Faces::Required)?;
     // The count and the octree count on each backend.
     let bar = super::progress(

@@ -170,7 +170,12 @@ fn refuse(_: Kind) -> String {
 
 /// `bench --family triangle`: seed 004 Figure 5's measure.
 pub(crate) fn bench(a: BenchArgs) -> Status {
-    if a.backend != "cpu" || a.layouts || a.hilbert || a.baseline.is_some() || a.repeat != 1 {
+    if a.backend != [BackendKind::Cpu]
+        || a.layouts
+        || a.hilbert
+        || a.baseline.is_some()
+        || a.repeat != 1
+    {
         return Err("--family triangle times the CPU, plain f32, best of 3; leave out --backend, --layouts, --hilbert, --repeat and --baseline".into());
     }
     crate::cli::view_count(a.views, "bench")?;

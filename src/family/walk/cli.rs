@@ -245,7 +245,6 @@ fn judge_scene(a: &JudgeArgs, header: RaysHeader, input: Box<dyn BufRead + Send>
 /// `bench` (`--family exit-face`): walk speed per method and backend.
 pub(crate) fn bench(a: BenchArgs) -> Status {
     let methods = crate::family::parse_list::<Walks>(&a.methods)?;
-    let kinds = crate::cli::backend_list(&a.backend)?;
     crate::cli::view_count(a.views, "bench")?;
     if a.batch == 0 {
         return Err("--batch 0: a batch holds at least one ray".into());
@@ -268,10 +267,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
         per_view.max(a.batch as u128) * crate::engine::count::bytes_per_ray(1) as u128,
     )?;
     let out = JsonOut::new(a.json.as_deref())?;
-    let backends = kinds
-        .into_iter()
-        .map(Backend::open)
-        .collect::<Result<Vec<_>, _>>()?;
+    let backends = crate::cli::open_each(&a.backend)?;
     let mut scene = a.scene.load()?;
     if a.hilbert {
         scene.mesh = crate::mesh::reorder::hilbert_sorted(&scene.mesh);
