@@ -98,28 +98,29 @@ impl Io for Listed {
     }
 }
 
-/// Each command's files (checked before it runs) and its run, from one list.
+/// Each command's files (checked before it runs) and its run, from one list of a command enum's
+/// variants and their runs.
 macro_rules! commands {
-    ($($v:ident => $run:expr),* $(,)?) => {
-        impl Io for Command {
+    ($e:ident { $($v:ident => $run:expr),* $(,)? }) => {
+        impl Io for $e {
             fn io(&self) -> Files {
                 match self {
-                    $(Command::$v(a) => a.io(),)*
+                    $($e::$v(a) => a.io(),)*
                 }
             }
         }
 
-        impl Command {
+        impl $e {
             fn run(self) -> Status {
                 match self {
-                    $(Command::$v(a) => $run(a),)*
+                    $($e::$v(a) => $run(a),)*
                 }
             }
         }
     };
 }
 
-commands! {
+commands!(Command {
     Methods => methods,
     Answer => FamilyCommand::run,
     Judge => judge::run,
@@ -136,7 +137,7 @@ commands! {
     CheckFilters => check_filters::run,
     FuzzImport => fuzz_import::run,
     Scene => scene::run,
-}
+});
 
 crate::families!(__family_commands);
 
@@ -152,21 +153,7 @@ macro_rules! __family_commands {
             $($v($crate::family::$m::cli::Args),)*
         }
 
-        impl Io for FamilyCommand {
-            fn io(&self) -> Files {
-                match self {
-                    $(FamilyCommand::$v(a) => a.io(),)*
-                }
-            }
-        }
-
-        impl FamilyCommand {
-            fn run(self) -> Status {
-                match self {
-                    $(FamilyCommand::$v(a) => $crate::family::$m::cli::run(a),)*
-                }
-            }
-        }
+        commands!(FamilyCommand { $($v => $crate::family::$m::cli::run),* });
     };
 }
 
