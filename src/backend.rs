@@ -165,6 +165,14 @@ impl Backend {
         Err(BackendError::NoGpu)
     }
 
+    /// The GPU adapters wgpu finds, one line each (`tetwalk gpu-info`); none without the GPU feature.
+    pub(crate) fn adapters() -> Vec<String> {
+        #[cfg(feature = "gpu")]
+        return gpu::adapters();
+        #[cfg(not(feature = "gpu"))]
+        Vec::new()
+    }
+
     pub fn kind(&self) -> BackendKind {
         match self {
             Backend::Cpu { model } => model.backend(),

@@ -190,7 +190,7 @@ fn methods(Listed { json }: Listed) -> Status {
 
 fn gpu_info(Listed { json }: Listed) -> Status {
     let out = JsonOut::new(json.as_deref())?;
-    let found = crate::gpu::adapters();
+    let found = crate::backend::Backend::adapters();
     if found.is_empty() {
         println!(
             "no GPU adapter found (install a Vulkan driver, e.g. mesa-vulkan-drivers for lavapipe)"

@@ -5,8 +5,8 @@
 use super::{BackendArg, JsonOut, Status, choice};
 use crate::backend::{Backend, BackendError, BackendKind};
 use crate::choice::Choice;
+use crate::choice::Model;
 use crate::family::{self, Family};
-use crate::methods::Model;
 use crate::registry::Named;
 use crate::render::{self, Image};
 use crate::scenes::closed::{MeshShape, TriPlace};

@@ -5,6 +5,7 @@
 use super::CellRow;
 use super::engine::cells_per_pixel;
 use super::{CellRows, OctreeCells, OctreeCountSettings};
+use crate::choice::Model;
 use crate::cli::answer::{Answering, methods_part};
 use crate::cli::count::{FamilyFlags, Flags};
 use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start};
@@ -14,7 +15,6 @@ use crate::cli::{JsonOut, size};
 use crate::cli::{Status, choice, registered};
 use crate::family::Family;
 use crate::family::{self, Kind, Triangle};
-use crate::methods::Model;
 use crate::registry::{ByName, Named, TriangleMethod};
 use crate::render;
 use crate::scenes::cells::{CellAim, CellPlace};
