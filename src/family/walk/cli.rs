@@ -3,7 +3,9 @@
 //! asked step by step, `--rays-out`), and `judge` on that rays file: the walks given for its rays
 //! judged as the count judges them.
 
-use super::engine::{GivenWalksMap, RaysHeader, WalkSettings, Walker, frame, walk_run};
+use super::engine::{
+    GivenWalksMap, RaysHeader, WalkSettings, Walker, asked_walks, frame, walk_run,
+};
 use super::{WalkRows, WalkScene, Walks, report};
 use crate::backend::Backend;
 use crate::cli::JsonOut;
@@ -20,13 +22,11 @@ use crate::engine::answering::{AnswersError, each_answer};
 use crate::engine::count::{GivenWalks, Shard};
 use crate::engine::standing::Standings;
 use crate::family::ExitFace;
-use crate::family::count::CountError;
 use crate::family::wrong::WrongRay;
 use crate::mesh::Mesh;
 use crate::registry::Named;
 use crate::render::{self, Image};
 use crate::scenes::Generated;
-use crate::tet::Ray;
 use crate::walk::layouts::LayoutKind;
 use serde_json::Value;
 use std::io::BufRead;
@@ -186,10 +186,7 @@ impl Flags for Walks {
     }
     /// Every step of every walk asked of the answerer, a view's unfinished walks in one batch.
     fn asking<'a>(x: &'a Answerer, mesh: &'a Mesh) -> Option<Box<GivenWalks<'a>>> {
-        Some(Box::new(move |_, rays: &[Ray], start, max| {
-            crate::walk::walks_asking(mesh, rays, start, max, |cases| x.answers::<ExitFace>(cases))
-                .map_err(|e| CountError::Given(e.to_string()))
-        }))
+        Some(Box::new(asked_walks(x, mesh)))
     }
     /// `count --rays-out FILE`: every ray of the views the shard holds whose camera is inside the mesh,
     /// with its view, pixel and starting tetrahedron.
@@ -268,10 +265,7 @@ pub(crate) fn bench(a: BenchArgs) -> Status {
     )?;
     let out = JsonOut::new(a.json.as_deref())?;
     let backends = crate::cli::open_each(&a.backend)?;
-    let mut scene = a.scene.load()?;
-    if a.hilbert {
-        scene.mesh = crate::mesh::reorder::hilbert_sorted(&scene.mesh);
-    }
+    let scene = a.scene.load()?;
     let views = crate::scenes::camera::Views::new(a.views, width, height, a.seed);
     let bar = crate::cli::progress("bench", a.views as u64, "views");
     let report = crate::engine::bench::run(

@@ -127,6 +127,20 @@ pub(crate) struct WalkSettings {
     pub(crate) relabel: bool,
 }
 
+/// A count's walks given by an answerer (`count --answerer`), every step of a view's unfinished
+/// walks asked of it as one batch of exit-face cases.
+pub(crate) fn asked_walks<'a>(
+    x: &'a crate::engine::answerer::Answerer,
+    mesh: &'a Mesh,
+) -> impl Fn(usize, &[Ray], u32, u32) -> Result<Vec<Walk>, CountError> + Sync + 'a {
+    move |_, rays, start, max| {
+        crate::walk::walks_asking(mesh, rays, start, max, |cases| {
+            x.answers::<crate::family::ExitFace>(cases)
+        })
+        .map_err(|e| CountError::Given(e.to_string()))
+    }
+}
+
 /// `tetwalk walk`: the mesh and its rays made as `s` says, each method's walks judged by `walker`
 /// against the `exact` ones, and with `s.relabel` under each relabelling (every step judged under
 /// `walker`'s model).
