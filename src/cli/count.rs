@@ -284,7 +284,7 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         shard,
     };
     let labellings = if a.relabel.is_some() {
-        crate::tet::EVEN_PERMUTATIONS.len()
+        count::RELABELLINGS
     } else {
         1
     };

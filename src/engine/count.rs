@@ -71,6 +71,10 @@ impl Shard {
     }
 }
 
+/// The labellings `--relabel all` counts under: the mesh's own and the 11 other even permutations
+/// of every tetrahedron's vertices.
+pub(crate) const RELABELLINGS: usize = crate::tet::EVEN_PERMUTATIONS.len();
+
 /// Whether ray `index` (counted over all views) is audited: about `audit` of `total`, chosen by `seed`.
 pub(crate) fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
     let mut z = seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15);

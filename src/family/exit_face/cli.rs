@@ -3,10 +3,9 @@
 //! the commands flatten every family's.
 
 use super::ExitRow;
-use super::engine::{free_cases, predicate_grid};
+use super::engine::{free_cases, predicate_case, predicate_grid};
 use super::{ExitFace, ExitRows, TetRow};
 use crate::backend::Backend;
-use crate::cases::Case;
 use crate::choice::Model;
 use crate::cli::answer::{Answering, methods_part};
 use crate::cli::gen_cases::{Args as GenArgs, Start, generated, row, start, write_lines};
@@ -126,19 +125,8 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     let d = drawn_methods::<ExitFace>(&a)?;
     let (w, h) = (d.width, d.height);
     square(&a.size, w, h)?;
-    let target = if a.through == "edge" {
-        Target::Edge
-    } else {
-        Target::Vertex
-    };
-    let (tet, ray) = tets::through(a.tet_shape, 1.0, target, &mut crate::scenes::rng(a.seed))
+    let case = predicate_case(a.tet_shape, a.through == "edge", a.seed)
         .ok_or("no case could be generated")?;
-    let case = Case {
-        tet,
-        org: ray.org,
-        dir: ray.dir,
-        entry: None,
-    };
     let cpu = Backend::Cpu {
         model: Model::Plain,
     };

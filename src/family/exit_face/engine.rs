@@ -8,7 +8,7 @@ use crate::cases::Case;
 use crate::family::Scale;
 use crate::family::contract::Contract;
 use crate::registry::Method;
-use crate::scenes::tets::ulps;
+use crate::scenes::tets::{Target, TetShape, ulps};
 use crate::tet::{Ray, Tet};
 
 /// Free (tetrahedron, ray) cases, as `gen-cases` writes them without `--row`: each of `tries` made
@@ -58,6 +58,20 @@ pub(crate) fn free_cases<'a>(
         };
         kept += 1;
         Some(case)
+    })
+}
+
+/// The case a predicate map is drawn around: a tetrahedron of `shape` and a ray exactly through one
+/// of its edges (`edge`) or vertices, from `seed`.
+pub(crate) fn predicate_case(shape: TetShape, edge: bool, seed: u64) -> Option<Case> {
+    let target = if edge { Target::Edge } else { Target::Vertex };
+    let (tet, ray) =
+        crate::scenes::tets::through(shape, 1.0, target, &mut crate::scenes::rng(seed))?;
+    Some(Case {
+        tet,
+        org: ray.org,
+        dir: ray.dir,
+        entry: None,
     })
 }
 
