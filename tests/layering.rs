@@ -78,7 +78,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
         "cli",
         &[
             "backend", "cases", "choice", "engine", "exact", "family", "mesh", "octree", "process",
-            "registry", "render", "report", "scenes", "staged", "tet", "walk",
+            "registry", "render", "report", "scenes", "staged", "walk",
         ],
     ),
 ];

@@ -81,26 +81,39 @@ pub(crate) struct Answering<'a> {
 }
 
 impl<'a> Answering<'a> {
+    /// `command`'s answers by `names` on `backend` to the lines of `input`, each tally standing as
+    /// `standing` says; the tallies count neither misses nor leaks.
+    pub(crate) fn new(
+        command: &'static str,
+        names: Vec<String>,
+        backend: String,
+        input: Input<'a>,
+        standing: &'a dyn Fn(&AnswerTally) -> Standing,
+    ) -> Self {
+        Answering {
+            command,
+            names,
+            missed: false,
+            leaks: false,
+            backend,
+            file: input.file,
+            input: None,
+            json: input.json,
+            fail: input.fail,
+            standing,
+        }
+    }
+
     /// tetwalk's own methods of family `F` on `backend` answering `input` (`exit`, `hit`, `box-exit`),
-    /// standing as `F`'s claim says; the tallies count neither misses nor leaks.
+    /// standing as `F`'s claim says.
     pub(crate) fn own<F: Family>(
         command: &'static str,
         methods: &[&'static F::Method],
         backend: &crate::backend::Backend,
         input: Input<'a>,
     ) -> Self {
-        Answering {
-            command,
-            names: methods.iter().map(|m| m.name().to_string()).collect(),
-            missed: false,
-            leaks: false,
-            backend: backend.describe(),
-            file: input.file,
-            input: None,
-            json: input.json,
-            fail: input.fail,
-            standing: &standing::<F>,
-        }
+        let names = methods.iter().map(|m| m.name().to_string()).collect();
+        Self::new(command, names, backend.describe(), input, &standing::<F>)
     }
 
     /// The tallies count lines missing the cell.
@@ -188,18 +201,14 @@ pub(crate) fn outside<F: Lines>(
     refuse: fn(Kind) -> String,
     t_ulps: f64,
 ) -> Status {
-    Answering {
+    let standing = |t: &AnswerTally| outside_standing::<F>(x, t);
+    Answering::new(
         command,
-        names: vec![x.name.clone()],
-        missed: false,
-        leaks: false,
-        backend: "outside".into(),
-        file: a.file.as_deref(),
-        input: None,
-        json: a.json.as_deref(),
-        fail: a.fail,
-        standing: &|t| outside_standing::<F>(x, t),
-    }
+        vec![x.name.clone()],
+        "outside".into(),
+        a.input(),
+        &standing,
+    )
     .by_parts(
         || {
             vec![Box::new(Part::<F>::new(

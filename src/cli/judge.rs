@@ -2,10 +2,10 @@
 //! exactly against their cases, in the verdict lines `exit` and `hit` write for tetwalk's own methods.
 
 use super::Status;
-use super::answer::Answering;
+use super::answer::{Answering, Input};
 use super::count::Flags;
 use crate::choice::Choice;
-use crate::engine::answering::{answer, open_cases, read_answers};
+use crate::engine::answering::{AnswerTally, answer, open_cases, read_answers};
 use crate::engine::standing::Standing;
 use crate::family::{CountKind, Kind};
 use serde_json::Value;
@@ -80,18 +80,21 @@ pub(crate) fn run(a: Args) -> Status {
     }
     // Taken out line by line; what is left has no case.
     let answers = std::cell::RefCell::new(read_answers(&a.answers)?);
+    let standing = |t: &AnswerTally| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong);
+    // Each family's fields come with its first line (no triangle fields on tetrahedron lines).
     Answering {
-        command: "judge",
-        names: vec![a.name.clone()],
-        // Each family's fields come with its first line (no triangle fields on tetrahedron lines).
-        missed: false,
-        leaks: false,
-        backend: "given".to_string(),
-        file: Some(&a.cases),
         input: Some(input),
-        json: a.json.as_deref(),
-        fail: a.fail,
-        standing: &|t| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong),
+        ..Answering::new(
+            "judge",
+            vec![a.name.clone()],
+            "given".to_string(),
+            Input {
+                file: Some(&a.cases),
+                json: a.json.as_deref(),
+                fail: a.fail,
+            },
+            &standing,
+        )
     }
     .run(
         |batch, summary| {
