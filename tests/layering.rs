@@ -77,7 +77,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "cli",
         &[
-            "backend", "cases", "choice", "engine", "exact", "family", "mesh", "octree", "process",
+            "backend", "choice", "engine", "exact", "family", "mesh", "octree", "process",
             "registry", "render", "report", "scenes", "staged", "walk",
         ],
     ),

@@ -3,10 +3,9 @@
 //! of `count`; the commands flatten every family's.
 
 use super::TriRow;
-use super::engine::{EdgeHit, LeakGrid, leak_case};
+use super::engine::{EdgeHit, LeakGrid, first_crossed, leak_case};
 use super::{TriCountSettings, TriRows, Triangle};
 use crate::backend::Backend;
-use crate::cases::HitCase;
 use crate::choice::{BackendKind, Choice};
 use crate::cli::answer::{Answering, methods_part};
 use crate::cli::bench::Args as BenchArgs;
@@ -271,11 +270,7 @@ fn stress_row(a: &GenArgs, f: &GenFlags, shape: MeshShape) -> Status {
         if !f.single {
             return Some(Triangle::case_json(c));
         }
-        let first = x.first_crossing()?.holding[0] as usize;
-        Some(Triangle::case_json(&HitCase::single(
-            c.tris()[first],
-            c.ray(),
-        )))
+        Some(Triangle::case_json(&first_crossed(c, x)?))
     })?;
     generated(
         out,

@@ -53,6 +53,13 @@ pub struct SpeedReport {
 /// The packet sides timed.
 pub(crate) const PACKETS: [u32; 4] = [1, 2, 4, 8];
 
+/// The triangle a case's ray first crosses, alone with the ray (`gen-cases --single`); `None` where
+/// the ray crosses none.
+pub(crate) fn first_crossed(c: &HitCase, x: &crate::exact::hit::HitTruth) -> Option<HitCase> {
+    let first = x.first_crossing()?.holding[0] as usize;
+    Some(HitCase::single(c.tris()[first], c.ray()))
+}
+
 /// Time every method (and its 4-wide version) at every packet side of [`PACKETS`] on the primary rays
 /// of `views`' first view that lies inside the mesh, each ray against its tile's candidates for the
 /// method's error scale, the best of `repeats` runs each, all in one run; speedups per test relative
