@@ -53,11 +53,11 @@ pub(crate) fn clean_on_interrupt() {
         let n = crate::staged::remove_all();
         eprintln!(
             "tetwalk: interrupted; {} removed, nothing written",
-            if n == 1 {
-                "1 unfinished output file".to_string()
-            } else {
-                format!("{n} unfinished output files")
-            }
+            crate::report::counted(
+                n as u64,
+                "unfinished output file",
+                "unfinished output files"
+            )
         );
         std::process::exit(130);
     });

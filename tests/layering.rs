@@ -12,7 +12,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("staged", &[]),
     ("child", &[]),
     ("fpenv", &[]),
-    ("process", &["child", "staged"]),
+    ("process", &["child", "report", "staged"]),
     ("tet", &[]),
     ("choice", &[]),
     ("mesh", &["tet"]),

@@ -81,7 +81,8 @@ pub(crate) fn run(a: Args) -> Status {
     // Taken out line by line; what is left has no case.
     let answers = std::cell::RefCell::new(read_answers(&a.answers)?);
     let standing = |t: &AnswerTally| Standing::unclaimed(&t.method, t.right + t.wrong, t.wrong);
-    // Each family's fields come with its first line (no triangle fields on tetrahedron lines).
+    // The tallies count neither misses nor leaks: each family's fields come with its first line (no
+    // triangle fields on tetrahedron lines).
     Answering {
         input: Some(input),
         ..Answering::new(

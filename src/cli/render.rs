@@ -227,7 +227,9 @@ impl Maps<'_> {
                 model: Model::Fused,
             },
         ];
-        backends.extend(Backend::open(BackendKind::Gpu).ok());
+        let gpu = Backend::open(BackendKind::Gpu).ok();
+        let gpu_name = gpu.as_ref().map(|g| format!(" | {}", g.describe()));
+        backends.extend(gpu);
         let mut drawn = Drawn::default();
         let mut sheets = Vec::new();
         for m in methods {
@@ -240,10 +242,9 @@ impl Maps<'_> {
             sheets.push(sheet);
         }
         write(out, &render::stacked(&sheets, 8), &mut drawn)?;
-        let gpu = backends.get(2).map(|g| format!(" | {}", g.describe()));
         println!(
             "each sheet: exact | cpu | cpu-fma{}; {}",
-            gpu.unwrap_or_default(),
+            gpu_name.unwrap_or_default(),
             self.shows
         );
         drawn.legend = self.legend;
