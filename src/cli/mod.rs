@@ -201,3 +201,29 @@ fn gpu_info(Listed { json }: Listed) -> Status {
     }
     out.done("", &serde_json::json!({ "adapters": found }))
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// clap checks a command's definition only in debug builds (plain `cargo test`), where a clash
+    /// panics on first use; the clash it found (two families' flattened flag structs named alike,
+    /// one group id) is looked for here in every build: within each command, every argument and
+    /// group id is unique.
+    #[test]
+    fn every_command_passes_claps_checks() {
+        fn unique_ids(c: &clap::Command, path: &str) {
+            let mut ids = std::collections::HashSet::new();
+            let args = c.get_arguments().map(|a| a.get_id());
+            for id in args.chain(c.get_groups().map(|g| g.get_id())) {
+                assert!(ids.insert(id.clone()), "{path}: the id '{id}' twice");
+            }
+            for s in c.get_subcommands() {
+                unique_ids(s, &format!("{path} {}", s.get_name()));
+            }
+        }
+        let cli = super::Cli::command();
+        unique_ids(&cli, "tetwalk");
+        cli.debug_assert();
+    }
+}

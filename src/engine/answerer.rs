@@ -452,7 +452,11 @@ fn permutations() -> Vec<[u8; 4]> {
     for a in 0..4u8 {
         for b in 0..4u8 {
             for c in 0..4u8 {
-                let d = 6 - a - b - c;
+                // The fourth is the one left: 0 + 1 + 2 + 3 = 6 (checked: the first three may sum
+                // past 6).
+                let Some(d) = 6u8.checked_sub(a + b + c) else {
+                    continue;
+                };
                 if a != b && a != c && b != c && d < 4 && d != a && d != b && d != c {
                     out.push([a, b, c, d]);
                 }
@@ -473,5 +477,21 @@ pub(crate) fn parse_faces(s: &str) -> Result<[u8; 4], String> {
     match f[..] {
         [a, b, c, d] if permutations().contains(&[a, b, c, d]) => Ok([a, b, c, d]),
         _ => Err(format!("'{s}' is not an ordering of the faces 0,1,2,3")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The 24 orderings, each once (in a debug build the sum of three faces past 6 overflowed).
+    #[test]
+    fn the_face_orderings_are_the_24_permutations() {
+        let p = super::permutations();
+        let distinct: std::collections::HashSet<_> = p.iter().collect();
+        assert_eq!((p.len(), distinct.len()), (24, 24));
+        for q in &p {
+            let mut sorted = *q;
+            sorted.sort();
+            assert_eq!(sorted, [0, 1, 2, 3], "{q:?}");
+        }
     }
 }

@@ -23,6 +23,7 @@ use crate::scenes::tets::{self, Target};
 
 /// Exit-face rows.
 #[derive(clap::Args)]
+#[group(skip)]
 pub(crate) struct StressFlags {
     /// Exit-face rows (comma-separated) [default: all].
     #[arg(long, alias = "families", value_parser = choice::<TetRow>(), value_delimiter = ',')]

@@ -21,6 +21,7 @@ use crate::scenes::cells::{CellAim, CellPlace};
 
 /// Octree rows.
 #[derive(clap::Args)]
+#[group(skip)]
 pub(crate) struct StressFlags {
     /// Octree rows: where rays leave the cell (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<CellAim>(), value_delimiter = ',')]
@@ -55,6 +56,7 @@ impl Rows for OctreeCells {
 
 /// `count --family octree`'s flags.
 #[derive(clap::Args)]
+#[group(skip)]
 pub(crate) struct CountFlags {
     /// `--family octree`: the octree's deepest level (seed 001: 8 for the bunny).
     #[arg(long, default_value_t = 8)]

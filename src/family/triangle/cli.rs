@@ -24,6 +24,7 @@ use crate::scenes::closed::{MeshShape, TriAim, TriPlace};
 
 /// Triangle rows.
 #[derive(clap::Args)]
+#[group(skip)]
 pub(crate) struct StressFlags {
     /// Triangle rows: closed mesh shapes (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<MeshShape>(), value_delimiter = ',')]
@@ -64,6 +65,7 @@ impl Rows for Triangle {
 
 /// `count --family triangle`'s flags.
 #[derive(clap::Args)]
+#[group(skip)]
 pub(crate) struct CountFlags {
     /// `--family triangle`: primary rays per packet side (1, 2, 4 or 8: packets of 1, 4, 16 or 64
     /// rays sharing the camera's origin).

@@ -144,6 +144,7 @@ pub(crate) fn run(a: Args) -> Status {
 
 /// Walk rows.
 #[derive(clap::Args)]
+#[group(skip)]
 pub(crate) struct StressFlags {
     /// Walk rows: the scenes walked (comma-separated) [default: all].
     #[arg(long, value_parser = choice::<WalkScene>(), value_delimiter = ',')]
@@ -171,6 +172,7 @@ impl Rows for Walks {
 
 /// Walk counts have no flags of their own.
 #[derive(clap::Args)]
+#[group(skip)]
 pub(crate) struct CountFlags {}
 
 impl Flags for Walks {
