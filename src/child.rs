@@ -87,3 +87,63 @@ pub(crate) fn kill_all() {
         }
     }
 }
+
+/// A signal's name (`SIGSEGV`), for the signals a crashing or stopped program gets.
+fn signal_name(signal: i32) -> Option<&'static str> {
+    Some(match signal {
+        1 => "SIGHUP",
+        2 => "SIGINT",
+        3 => "SIGQUIT",
+        4 => "SIGILL",
+        5 => "SIGTRAP",
+        6 => "SIGABRT",
+        7 => "SIGBUS",
+        8 => "SIGFPE",
+        9 => "SIGKILL",
+        11 => "SIGSEGV",
+        13 => "SIGPIPE",
+        14 => "SIGALRM",
+        15 => "SIGTERM",
+        24 => "SIGXCPU",
+        25 => "SIGXFSZ",
+        31 => "SIGSYS",
+        _ => return None,
+    })
+}
+
+/// How a program ended, in words: its exit status, or the signal that killed it, named — also where
+/// a shell (`sh -c`) reported its command's signal as status 128 + n.
+pub(crate) fn said(status: ExitStatus) -> String {
+    let named =
+        |s: i32| signal_name(s).map_or(format!("signal {s}"), |n| format!("signal {s} ({n})"));
+    #[cfg(unix)]
+    if let Some(s) = std::os::unix::process::ExitStatusExt::signal(&status) {
+        return format!("it was killed by {}", named(s));
+    }
+    match status.code() {
+        Some(c @ 129..=159) if signal_name(c - 128).is_some() => format!(
+            "it exited with status {c}: a shell's way of saying its command was killed by {}",
+            named(c - 128)
+        ),
+        Some(c) => format!("it exited with status {c}"),
+        None => format!("it ended ({status})"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::process::Command;
+
+    /// A crash is named whether the program or the shell around it reports it.
+    #[test]
+    fn an_ending_is_said_with_its_signals_name() {
+        let run =
+            |script: &str| super::said(Command::new("sh").args(["-c", script]).status().unwrap());
+        assert_eq!(run("exit 3"), "it exited with status 3");
+        assert_eq!(run("kill -SEGV $$"), "it was killed by signal 11 (SIGSEGV)");
+        assert_eq!(
+            run("sh -c 'kill -SEGV $$'; exit $?"),
+            "it exited with status 139: a shell's way of saying its command was killed by signal 11 (SIGSEGV)"
+        );
+    }
+}

@@ -51,7 +51,7 @@ pub(crate) mod run;
 /// What a user's crate names: the method traits, the geometry their signatures use, the kit.
 pub mod prelude {
     pub use super::{Accept, Failed, Passed, Settings, cells, exit_faces, triangles};
-    pub use crate::family::contract::{Contract, EntryGiven, Orientation, Origin};
+    pub use crate::family::contract::{Contract, EntryGiven, Orientation, Origin, Origins};
     pub use crate::methods::triangle::{HitMethod, SingleRay};
     pub use crate::methods::{Arith, CellMethod, ExitMethod, Plain};
     pub use crate::octree::cell;

@@ -211,7 +211,7 @@ fn an_answerer_in_json_lines_gets_the_verdicts_judge_gives() {
         (
             "exit 3",
             "10",
-            "its output ended after 0 of a batch's 10 answers (lines 1..=10); it exited with exit status: 3",
+            "its output ended after 0 of a batch's 10 answers (lines 1 to 10); it exited with status 3",
         ),
         (
             r#"python3 -c 'import sys, json; [print(json.dumps({"line": json.loads(l)["line"], "face": 7}), flush=True) for l in sys.stdin if l.strip()]'"#,
@@ -308,8 +308,8 @@ fn every_case_made_holds_its_contract() {
 }
 
 /// A campaign files the answerer's failures under its name, found on `outside`; `shrink --answerer`
-/// shrinks them inside the contract (the origin stays inside), and `replay` says why it cannot run
-/// them itself.
+/// shrinks them inside the contract (the origin stays inside), and `replay` refuses them (status 2),
+/// saying that they need the program.
 #[test]
 fn an_answerers_campaign_files_cases_that_shrink_inside_its_contract() {
     let dir = tempfile::tempdir().unwrap();
@@ -355,10 +355,79 @@ fn an_answerers_campaign_files_cases_that_shrink_inside_its_contract() {
         assert!((0..4).all(|k| side(&c.tet, k, c.org) > 0), "{shrunk}");
     }
     let (code, out, err) = tetwalk(&["replay", "--found", files[0].to_str().unwrap()]);
+    assert_eq!(code, 2, "{out} {err}");
     assert!(
-        (out.clone() + &err).contains("--answerer"),
-        "{code}: {out} {err}"
+        err.contains("found for c-plucker, a program outside tetwalk")
+            && err.contains("--answerer"),
+        "{err}"
     );
+}
+
+/// Nothing is claimed beyond what was judged: a contract that leaves no case is an error (not a
+/// table of zeros, and not a claim that holds); an answerer's name is a plain name (its found cases
+/// are filed under it); shards asked of different programs do not merge.
+#[test]
+fn nothing_is_claimed_beyond_what_was_judged() {
+    let dir = tempfile::tempdir().unwrap();
+    let exe = c_kernel(dir.path());
+    let mut args = vec!["stress"];
+    args.extend(c_args(&exe));
+    args.extend([
+        "--rows",
+        "well",
+        "--cases",
+        "50",
+        "--tolerance",
+        "0.99",
+        "--answerer-claims",
+        "--fail-on",
+        "claims",
+    ]);
+    let (code, out, err) = tetwalk(&args);
+    assert_eq!(code, 2, "{out} {err}");
+    assert!(err.contains("no case was judged"), "{err}");
+    assert!(
+        !out.contains("holds here") && !err.contains("holds here"),
+        "{err}"
+    );
+    for name in ["../esc", "a/b", ".hidden", ""] {
+        let (code, _, err) = tetwalk(&["stress", "--answerer", "cat", "--answerer-name", name]);
+        assert_eq!(code, 2, "{name}: {err}");
+        assert!(err.contains("not a plain name"), "{name}: {err}");
+    }
+    let shard = |i: &str, program: &str| {
+        let json = dir.path().join(format!("shard{i}.json"));
+        let (code, _, err) = tetwalk(&[
+            "count",
+            "--scene",
+            "kuhn-far",
+            "--views",
+            "2",
+            "--size",
+            "8x8",
+            "--shard",
+            &format!("{i}/2"),
+            "--answerer",
+            program,
+            "--answerer-format",
+            "binary",
+            "--faces",
+            "3,0,1,2",
+            "--json",
+            json.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        json.to_str().unwrap().to_string()
+    };
+    let copy = dir.path().join("other");
+    std::fs::copy(&exe, &copy).unwrap();
+    let (a, b) = (shard("0", &exe), shard("1", copy.to_str().unwrap()));
+    let (code, _, err) = tetwalk(&["count", "merge", &a, &b]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("answerer"), "{err}");
+    let b = shard("1", &exe);
+    let (code, _, err) = tetwalk(&["count", "merge", &a, &b]);
+    assert_eq!(code, 0, "{err}");
 }
 
 /// `judge` tells the kinds of wrong answers to tetrahedra apart: no answer on every line of the
@@ -438,21 +507,32 @@ fn an_offset_moves_every_rows_cases() {
             "400",
         ]);
         assert_eq!(code, 0, "{err}");
-        // Each the row's own case, moved 300 along (1, 1, 1).
-        let (_, own, _) = tetwalk(&["gen-cases", "--row", row, "--count", "400"]);
+        // Each one of the row's own cases, moved 300 along (1, 1, 1) (a case whose line the move's
+        // rounding takes off the tetrahedron, or past it, is replaced by a later one: the row's
+        // own taken twice as far).
+        let (_, own, _) = tetwalk(&["gen-cases", "--row", row, "--count", "800"]);
         let parse = |l: &str| {
             tetwalk::engine::found::Found::<tetwalk::family::ExitFace>::parse(l)
                 .unwrap()
                 .case
         };
-        for (l, o) in cases.lines().zip(own.lines()) {
-            let (c, o) = (parse(l), parse(o));
-            for (v, w) in c.tet.iter().zip(&o.tet) {
+        let own: Vec<_> = own.lines().map(parse).collect();
+        let moved = |c: &tetwalk::tet::Case, o: &tetwalk::tet::Case| {
+            c.tet.iter().zip(&o.tet).all(|(v, w)| {
                 let moved = (*v - *w).as_dvec3() - glam::DVec3::splat(300.0 / 3f64.sqrt());
                 // Each coordinate rounded once, to within half an ulp of the moved one.
                 let ulp = (v.abs().max_element() as f64 * f32::EPSILON as f64).max(1e-4);
-                assert!(moved.abs().max_element() <= ulp, "{l} {moved}");
-            }
+                moved.abs().max_element() <= ulp
+            })
+        };
+        let mut from = 0;
+        for l in cases.lines() {
+            let c = parse(l);
+            let at = own[from..]
+                .iter()
+                .position(|o| moved(&c, o))
+                .unwrap_or_else(|| panic!("{l}: no case of the row's own, moved"));
+            from += at + 1;
         }
         let dir = tempfile::tempdir().unwrap();
         let json = dir.path().join("e.json");
@@ -569,8 +649,8 @@ while True:
     if len(head) < 4: break
     n = struct.unpack("<I", head)[0]
     for _ in range(n):
-        entry = struct.unpack_from("<i", inp.read(80), 72)[0]
-        out.write(struct.pack("<i", {cmd}))
+        line, entry = struct.unpack_from("<I72xi", inp.read(80))
+        out.write(struct.pack("<Ii", line, {cmd}))
     out.flush()
 '"#
         )
@@ -620,7 +700,8 @@ while True:
 }
 
 /// A Python program answering every case with `json` (a JSON answer's fields) in JSON Lines, or with
-/// the record `pack` (struct.pack's arguments) in binary records of `size` bytes.
+/// the record `pack` (struct.pack's arguments) after the case's number, in binary records of `size`
+/// bytes (the case's number among them).
 fn constant(format: &str, json: &str, pack: &str, size: usize) -> String {
     match format {
         "json" => format!(
@@ -643,8 +724,10 @@ while True:
     head = inp.read(4)
     if len(head) < 4: break
     n = struct.unpack("<I", head)[0]
-    inp.read(n * {size})
-    out.write(struct.pack({pack}) * n)
+    cases = inp.read(n * {size})
+    for k in range(n):
+        line = struct.unpack_from("<I", cases, k * {size})[0]
+        out.write(struct.pack("<I", line) + struct.pack({pack}))
     out.flush()
 '"#
         ),
@@ -657,12 +740,12 @@ while True:
 #[test]
 fn triangles_and_octree_cells_travel_in_binary_records_too() {
     for (family, json, pack, size) in [
-        ("triangle", r#"{"tri": None}"#, r#""<if", -1, 0.0"#, 752),
+        ("triangle", r#"{"tri": None}"#, r#""<if", -1, 0.0"#, 756),
         (
             "octree",
             r#"{"face": "+x", "quarter": [1, 1]}"#,
             r#""<iii", 1, 1, 1"#,
-            48,
+            52,
         ),
     ] {
         let tables: Vec<Vec<Value>> = ["json", "binary"]
@@ -698,7 +781,7 @@ fn triangles_and_octree_cells_travel_in_binary_records_too() {
         "--cases",
         "5",
         "--answerer",
-        &constant("binary", "", r#""<if", 25, 1.0"#, 752),
+        &constant("binary", "", r#""<if", 25, 1.0"#, 756),
         "--answerer-format",
         "binary",
     ]);
@@ -837,4 +920,202 @@ fn exit_and_hit_judge_a_file_through_an_answerer() {
         out.contains("count --answerer") || out.contains("error"),
         "{out}"
     );
+}
+
+/// A Python exit-face answerer in binary records: `body` runs once per batch with `recs` (the cases'
+/// numbers and entry faces, in order) and `out` (standard output) in scope, after which it flushes.
+fn binary_program(body: &str) -> String {
+    format!(
+        r#"python3 -c '
+import struct, sys, time
+inp, out = sys.stdin.buffer, sys.stdout.buffer
+batch = 0
+while True:
+    head = inp.read(4)
+    if len(head) < 4: break
+    n = struct.unpack("<I", head)[0]
+    recs = [struct.unpack_from("<I72xi", inp.read(80)) for _ in range(n)]
+    batch += 1
+{body}
+    out.flush()
+'"#
+    )
+}
+
+/// A Python exit-face answerer in JSON Lines: `body` runs once per batch with `lines` (the cases'
+/// numbers, in order) and `say` (print one answer object) in scope.
+fn json_program(body: &str) -> String {
+    format!(
+        r#"python3 -c '
+import json, sys
+def say(o): print(json.dumps(o))
+batch = 0
+lines = []
+for l in sys.stdin:
+    if l.strip():
+        lines.append(json.loads(l)["line"])
+        continue
+    batch += 1
+{body}
+    sys.stdout.flush()
+    lines = []
+'"#
+    )
+}
+
+/// `stress` of the `well` row through `cmd` in `format`, `cases` cases in batches of `batch`: its
+/// status and standard error.
+fn asked(cmd: &str, format: &str, cases: &str, batch: &str) -> (i32, String) {
+    let (code, _, err) = tetwalk(&[
+        "stress",
+        "--rows",
+        "well",
+        "--cases",
+        cases,
+        "--answerer",
+        cmd,
+        "--answerer-format",
+        format,
+        "--answerer-batch",
+        batch,
+    ]);
+    (code, err)
+}
+
+/// `stress` through `cmd` as [`asked`] runs it fails (status 2) saying `says`.
+fn refused(cmd: &str, format: &str, cases: &str, batch: &str, says: &str) {
+    let (code, err) = asked(cmd, format, cases, batch);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(says), "wanted '{says}': {err}");
+}
+
+/// Every answer is read against the case it names: a binary record carries its case's number, so one
+/// record too many is refused wherever its bytes fall — in the same write as the batch's answers,
+/// written apart before the next batch is asked, or after the run's last batch (read to its end);
+/// the same for a JSON line answering a case again, within a batch of several cases or after the
+/// last one. The honest programs pass.
+#[test]
+fn an_answer_stream_cannot_shift() {
+    let each = "    for line, entry in recs: out.write(struct.pack(\"<Ii\", line, 0))";
+    let (code, err) = asked(&binary_program(each), "binary", "40", "10");
+    assert_eq!(code, 0, "{err}");
+    let cases = [
+        (
+            format!("{each}\n    out.write(struct.pack(\"<Ii\", recs[-1][0], 0))"),
+            "bytes more than the 10 answer records",
+        ),
+        (
+            format!(
+                "{each}\n    out.flush()\n    time.sleep(0.2)\n    out.write(struct.pack(\"<Ii\", recs[-1][0], 0))"
+            ),
+            "carries case number 10 where 11 was expected: the answer stream shifted",
+        ),
+    ];
+    for (body, says) in &cases {
+        let (code, err) = asked(&binary_program(body), "binary", "40", "10");
+        assert_eq!(code, 2, "{body}: {err}");
+        assert!(err.contains(says), "{body}: {err}");
+    }
+    // One batch: the extra record arrives after it, when nothing more is asked.
+    let late = format!(
+        "{each}\n    out.flush()\n    time.sleep(0.2)\n    out.write(struct.pack(\"<Ii\", recs[-1][0], 0))"
+    );
+    refused(
+        &binary_program(&late),
+        "binary",
+        "10",
+        "10",
+        "8 bytes after the run's last batch",
+    );
+    let answer = "    for k in lines: say({\"line\": k, \"face\": 0})";
+    let (code, err) = asked(&json_program(answer), "json", "40", "10");
+    assert_eq!(code, 0, "{err}");
+    let twice_within = "    for k in lines: say({\"line\": k, \"face\": 0})\n    say({\"line\": lines[3], \"face\": 1})";
+    refused(
+        &json_program(twice_within),
+        "json",
+        "40",
+        "10",
+        "a second answer for line 4",
+    );
+    // Answered twice within the batch before its last answer: refused in the batch itself.
+    let before_last = "    say({\"line\": lines[0], \"face\": 0})\n    for k in lines: say({\"line\": k, \"face\": 0})";
+    refused(
+        &json_program(before_last),
+        "json",
+        "40",
+        "10",
+        "a second answer for line 1 in its batch (lines 1 to 10)",
+    );
+    let last_twice = "    for k in lines: say({\"line\": k, \"face\": 0})\n    say({\"line\": lines[-1], \"face\": 0})";
+    refused(
+        &json_program(last_twice),
+        "json",
+        "10",
+        "10",
+        "a second answer for line 10 after the run's last batch",
+    );
+}
+
+/// What went wrong is said: a binary program asked in JSON Lines, text printed in a binary stream, a
+/// program answering no face to anything when its numbering is sought, a crash (named by its signal,
+/// behind `sh -c` too), plain line ranges; `exit --answerer` asks in batches of `--answerer-batch`.
+#[test]
+fn an_answerers_failures_are_said_as_they_happened() {
+    // Records written for each JSON line read: caught at its first bytes, not at a time limit.
+    let records = "    for k in lines: sys.stdout.buffer.write(bytes([1, 0, 0, 0, 0, 0, 0, 0]))";
+    let (code, err) = asked(&json_program(records), "json", "10", "10");
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("its output is not JSON Lines: byte 0 of what it wrote is 0x01")
+            && err.contains("does it answer in binary records (--answerer-format binary)?"),
+        "{err}"
+    );
+    let text = "    for line, entry in recs: out.write(b\"face 0\\n\")";
+    refused(
+        &binary_program(text),
+        "binary",
+        "10",
+        "10",
+        "holds text ('face 0",
+    );
+    let none = "    for line, entry in recs: out.write(struct.pack(\"<Ii\", line, -1))";
+    let (code, _, err) = tetwalk(&[
+        "stress",
+        "--answerer",
+        &binary_program(none),
+        "--answerer-format",
+        "binary",
+        "--faces",
+        "auto",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("answered no exit face on every one of the 2000 cases"),
+        "{err}"
+    );
+    let crash = "    if batch == 2: import os, signal; os.kill(os.getpid(), signal.SIGSEGV)\n    for k in lines: say({\"line\": k, \"face\": 0})";
+    let (code, err) = asked(&json_program(crash), "json", "30", "10");
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("after 0 of a batch's 10 answers (lines 11 to 20)")
+            && err.contains("signal 11 (SIGSEGV)"),
+        "{err}"
+    );
+    // A batch larger than --answerer-batch fails the program, so `exit` passing means none was.
+    let at_most_7 =
+        "    if len(lines) > 7: sys.exit(3)\n    for k in lines: say({\"line\": k, \"face\": 0})";
+    let (_, cases, _) = tetwalk(&["gen-cases", "--row", "well", "--count", "50"]);
+    let (code, out, err) = run_tetwalk(
+        &[
+            "exit",
+            "--answerer",
+            &json_program(at_most_7),
+            "--answerer-batch",
+            "7",
+        ],
+        cases.as_bytes(),
+    );
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 50);
 }

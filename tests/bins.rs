@@ -256,6 +256,7 @@ fn the_audit_stops_a_count_whose_bins_do_not_hold() {
         },
         audit: 200,
         shard: Shard::ALL,
+        answerer: None,
     };
     let cpu = Backend::Cpu {
         model: Model::Plain,

@@ -177,7 +177,7 @@ fn the_kit_keeps_every_case_and_shrink_inside_the_contract() {
         cases: 400,
         properties: 400,
         contract: Contract {
-            origin: Origin::Inside,
+            origin: Origin::Inside.into(),
             unit_direction: true,
             ..Contract::default()
         },

@@ -429,6 +429,7 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
         family: (),
         audit: u64::MAX,
         shard: Shard::ALL,
+        answerer: None,
     };
     let cpu = Backend::Cpu {
         model: Model::Plain,
@@ -459,6 +460,7 @@ fn a_count_is_relabelled_on_its_own_scene_only() {
         family: (),
         audit: 0,
         shard: Shard::ALL,
+        answerer: None,
     };
     let cpu = Backend::Cpu {
         model: Model::Plain,

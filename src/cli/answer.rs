@@ -78,6 +78,8 @@ pub(crate) struct Answering<'a> {
     pub(crate) json: Option<&'a std::path::Path>,
     pub(crate) fail: FailArg,
     pub(crate) standing: &'a dyn Fn(&AnswerTally) -> Standing,
+    /// Most lines answered at once (an answerer's `--answerer-batch`).
+    pub(crate) batch: usize,
 }
 
 impl<'a> Answering<'a> {
@@ -101,6 +103,7 @@ impl<'a> Answering<'a> {
             json: input.json,
             fail: input.fail,
             standing,
+            batch: crate::engine::answering::BATCH,
         }
     }
 
@@ -162,7 +165,7 @@ impl<'a> Answering<'a> {
             (None, None) => Box::new(std::io::BufReader::new(std::io::stdin())),
         };
         let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-        batches(input, |batch| -> Result<(), super::Error> {
+        batches(input, self.batch, |batch| -> Result<(), super::Error> {
             w.write_all(answer(batch, &mut summary)?.as_bytes())?;
             Ok(w.flush()?)
         })?;
@@ -202,22 +205,26 @@ pub(crate) fn outside<F: Lines>(
     t_ulps: f64,
 ) -> Status {
     let standing = |t: &AnswerTally| outside_standing::<F>(x, t);
-    Answering::new(
-        command,
-        vec![x.name.clone()],
-        "outside".into(),
-        a.input(),
-        &standing,
-    )
-    .by_parts(
-        || {
-            vec![Box::new(Part::<F>::new(
+    let answering = Answering {
+        batch: x.batch,
+        ..Answering::new(
+            command,
+            vec![x.name.clone()],
+            "outside".into(),
+            a.input(),
+            &standing,
+        )
+    };
+    answering.run(
+        |batch, summary| {
+            let mut parts: Vec<Box<dyn Takes>> = vec![Box::new(Part::<F>::new(
                 Answered::Outside(x),
                 F::verdict_line,
                 t_ulps,
-            ))]
+            ))];
+            Ok(answer(batch, &mut parts, refuse, None, summary)?)
         },
-        refuse,
+        || Ok(x.finish()?),
     )
 }
 

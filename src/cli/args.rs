@@ -108,7 +108,7 @@ impl FailArg {
             .iter()
             .filter(|s| match rule {
                 FailOn::Wrong => s.wrong > 0,
-                FailOn::Claims => s.refuted(),
+                FailOn::Claims => s.claim_fails(),
             })
             .map(|s| s.method.as_str())
             .collect();
@@ -226,6 +226,25 @@ pub(crate) struct AnswererArg {
     faces: Option<String>,
 }
 
+/// An error unless `name` is a plain name (a found case's folder is named after it): letters, digits,
+/// `.`, `_` and `-`, beginning with a letter or digit, at most 64 characters.
+fn plain_name(name: &str) -> Result<(), Error> {
+    let ok = !name.is_empty()
+        && name.len() <= 64
+        && name.starts_with(|c: char| c.is_ascii_alphanumeric())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-'));
+    match ok {
+        true => Ok(()),
+        false => Err(format!(
+            "--answerer-name '{}' is not a plain name: letters, digits, '.', '_' and '-', beginning with a letter or digit, at most 64 characters (found cases are filed in a folder of that name)",
+            name.chars().take(80).collect::<String>()
+        )
+        .into()),
+    }
+}
+
 impl AnswererArg {
     /// The answerer started, if one is given, its face numbering set (found with `well` cases of
     /// the contract `k` under `auto`).
@@ -251,6 +270,7 @@ impl AnswererArg {
             )
             .into());
         }
+        plain_name(&self.answerer_name)?;
         if crate::family::by_name::<F>(&self.answerer_name).is_ok() || self.answerer_name == "all" {
             return Err(format!(
                 "--answerer-name {}: that names tetwalk's own; name the answerer otherwise",
@@ -276,13 +296,12 @@ impl AnswererArg {
         match self.faces.as_deref() {
             None => {}
             Some("auto") => {
-                let cases = F::numbering_cases(k, 2000);
-                a.faces = find_numbering::<F>(&a, &cases)?;
+                let (faces, cases) = find_numbering::<F>(&a, k)?;
+                a.faces = faces;
                 eprintln!(
-                    "tetwalk: {}'s face i is the case's face {:?}[i] (found on {} well-shaped cases; give --faces {} to skip the search)",
+                    "tetwalk: {}'s face i is the case's face {:?}[i] (found on {cases} well-shaped cases, each asked in every numbering; give --faces {} to skip the search)",
                     a.name,
                     a.faces,
-                    cases.len(),
                     a.faces.map(|f| f.to_string()).join(",")
                 );
             }
@@ -294,12 +313,13 @@ impl AnswererArg {
 
 /// What a kernel assumes of its cases (docs/answerers.md, "Contracts"), shared by `stress`,
 /// `gen-cases` and `shrink`: every case made or tried holds it.
-#[derive(clap::Args, Clone, Copy)]
+#[derive(clap::Args, Clone)]
 pub(crate) struct ContractArg {
-    /// Exit faces: where each ray's origin lies — `anywhere` (the rows' own), `before` the entry face,
-    /// on the `entry` face (the entry point rounded to f32), or `inside` the tetrahedron.
-    #[arg(long, value_parser = choice::<Origin>(), default_value = "anywhere")]
-    origin: Origin,
+    /// Exit faces: where each ray's origin may lie — `anywhere` (the rows' own: inside or before),
+    /// `before` the entry face, on the `entry` face (or as near it inside as f32 allows), or `inside`
+    /// the tetrahedron; several comma-separated (`inside,entry`), each case made for one in turn.
+    #[arg(long, value_parser = choice::<Origin>(), value_delimiter = ',', default_value = "anywhere")]
+    origin: Vec<Origin>,
     /// Directions of length 1 (rounded to f32; each case judged as it then is).
     #[arg(long)]
     unit_direction: bool,
@@ -307,7 +327,8 @@ pub(crate) struct ContractArg {
     /// or `none`.
     #[arg(long, value_parser = choice::<EntryGiven>(), default_value = "any")]
     entry: EntryGiven,
-    /// Exit faces: `positive` tetrahedra only, or `any` orientation (half the cases mirrored).
+    /// Exit faces: `positive` tetrahedra only, `negative` ones only (TetGen's order: every case
+    /// mirrored), or `any` orientation (half the cases mirrored).
     #[arg(long, value_parser = choice::<Orientation>(), default_value = "positive")]
     orientation: Orientation,
     /// Exit faces: lines within this distance of an edge, relative to the longest edge, are outside
@@ -319,8 +340,15 @@ pub(crate) struct ContractArg {
 impl ContractArg {
     /// The contract, checked for family `F` (only exit faces hold more than a unit direction).
     pub(crate) fn contract<F: Family>(&self) -> Result<Contract, Error> {
+        if self.origin.len() > 1 && self.origin.contains(&Origin::Anywhere) {
+            return Err(format!(
+                "--origin {}: anywhere already allows every placement; give it alone, or the placements (before, entry, inside) without it",
+                self.origin.iter().map(|o| o.name()).collect::<Vec<_>>().join(",")
+            )
+            .into());
+        }
         let k = Contract {
-            origin: self.origin,
+            origin: crate::family::contract::Origins::of(&self.origin),
             unit_direction: self.unit_direction,
             entry: self.entry,
             orientation: self.orientation,

@@ -276,12 +276,14 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     )?;
     held(shard, views.views)?;
     let scene = a.scene.load()?;
+    let outside = F::start(&a.answerer)?;
     let settings = CountSettings::<F> {
         views,
         reference: a.reference,
         family,
         audit: a.audit,
         shard,
+        answerer: outside.as_ref().map(|x| x.asked()),
     };
     let labellings = if a.relabel.is_some() {
         count::RELABELLINGS
@@ -293,7 +295,6 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         (shard.held(views.views) * labellings) as u64,
         "views",
     );
-    let outside = F::start(&a.answerer)?;
     let asking = outside.as_ref().and_then(|x| F::asking(x, &scene.mesh));
     let given = outside.as_ref().zip(asking.as_deref());
     let answerers = AnswerSource::<F>::judged(
@@ -315,6 +316,9 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         count::relabel_all(&mut report, &scene, &answerers, &backend, &|| bar.inc(1))?;
     }
     bar.finish_and_clear();
+    if let Some(x) = &outside {
+        x.finish()?;
+    }
     dump.finish()?;
     print!("{}", report.table());
     out.finish(&report)?;

@@ -100,6 +100,9 @@ pub(crate) fn run(a: Args) -> Status {
         }
     }
     w.flush()?;
+    if let Some((x, _)) = &answerer {
+        x.finish()?;
+    }
     if report.cases.is_empty() && report.left.is_empty() {
         return Err("no case to shrink in the files given".into());
     }

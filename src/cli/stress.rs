@@ -173,6 +173,30 @@ pub(crate) fn run(a: Args) -> Status {
     crate::with_family!(a.family, F => stress::<F>(a))
 }
 
+/// An error where the run judged no case at all (a contract or tolerance that leaves every row
+/// none, cases that all leave f32's range at the scale): a table of zeros says nothing.
+fn judged_something<F: family::Family>(report: &stress::StressReport<F>) -> Result<(), Error> {
+    if report.standings().iter().any(|s| s.judged > 0) {
+        return Ok(());
+    }
+    let s = &report.settings;
+    Err(format!(
+        "no case was judged: none of the {} rows' cases could be made{}{} (a run that judges nothing is an error, not a table of zeros)",
+        report.rows.len(),
+        if s.contract.is_default() {
+            String::new()
+        } else {
+            format!(" within the contract ({})", s.contract.describe())
+        },
+        if s.scale.is_one() {
+            String::new()
+        } else {
+            format!(" at scale {}", s.scale)
+        }
+    )
+    .into())
+}
+
 /// The stress table of family `F`, its campaign, or its backends compared.
 fn stress<F: Rows>(a: Args) -> Status {
     let cases = a.cases.unwrap_or(F::STRESS_CASES as i64);
@@ -272,7 +296,11 @@ fn stress<F: Rows>(a: Args) -> Status {
         if a.relabel.is_some() {
             report.relabel_all(&who, &backend)?;
         }
+        if let Some(x) = &answerer {
+            x.finish()?;
+        }
         bar.finish_and_clear();
+        judged_something(&report)?;
         print!("{}", F::stress_table(&report));
         out.finish(&report)?;
         return Ok(a
@@ -287,6 +315,10 @@ fn stress<F: Rows>(a: Args) -> Status {
     if let Some(e) = filing.error {
         return Err(e.into());
     }
+    if let Some(x) = &answerer {
+        x.finish()?;
+    }
+    judged_something(&report)?;
     print!("{}", F::stress_table(&report));
     print!("{}", filed(&filing, report.rounds));
     out.finish(&report)?;

@@ -2,36 +2,48 @@
 //! batches of cases over its standard input, answering on its standard output — in JSON Lines, or in
 //! fixed little-endian binary records (docs/answerers.md). Each batch is held to a time limit; the
 //! program runs in a process group of its own, ended with tetwalk (`crate::child`); its answers are
-//! checked as strictly as `tetwalk judge` checks an answers file.
+//! checked as strictly as `tetwalk judge` checks an answers file, each against the case it names (a
+//! JSON line's `"line"`, a binary record's first `uint32`), so that a stream with an answer too many
+//! or too few is refused where it shifts, and read to its end once the run is done ([`Answerer::finish`]).
 
 use crate::family::{Family, Verdict};
 use serde_json::Value;
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::Mutex;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, sync_channel};
 use std::time::{Duration, Instant};
 
 /// How cases and answers travel.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum WireFormat {
     /// A case line as `exit`, `hit` and `box-exit` read it, with `"line": n` (cases numbered from 1
     /// over the whole run); an empty line ends each batch. One answer line per case, as `judge` reads
-    /// them.
+    /// them, with the case's `"line"`.
     #[default]
     Json,
-    /// Per batch a `u32` count, then that many case records; the answers, that many answer records
-    /// in the cases' order ([`Family::case_record`]).
+    /// Per batch a `u32` count, then that many case records, each its case's number (`u32`, the
+    /// JSON `"line"`) and the family's fields ([`Family::case_record`]); the answers, that many
+    /// records, each the case's number and the family's answer fields, in the cases' order.
     Binary,
 }
 
 crate::choice!(WireFormat { Json => "json", Binary => "binary" });
 
 /// Longest answer line read, in bytes.
-const MAX_LINE: u64 = 1 << 16;
+const MAX_LINE: usize = 1 << 16;
 
-/// How long an answerer whose output has closed is given to exit, so that its exit status is said.
+/// Bytes of the case number that begins every binary case and answer record.
+const NUMBER: usize = 4;
+
+/// Most characters of a program's output quoted in a message.
+const QUOTED: usize = 60;
+
+/// How long an answerer whose output has closed is given to exit, so that its exit status is said,
+/// and how long one whose input has closed at the end of the run is given to end its output.
 const EXIT_GRACE: Duration = Duration::from_secs(2);
 
 /// Why an answerer gave no answers.
@@ -43,11 +55,11 @@ pub(crate) struct AnswererError {
     pub(crate) why: String,
 }
 
-/// What the reader thread hands over.
+/// What the reader thread hands over: the program's output as it arrives, or its end.
 enum Chunk {
-    Line(Result<String, String>),
     Bytes(Vec<u8>),
-    End,
+    /// Its output ended (closed, or reading it failed: why).
+    End(Option<String>),
 }
 
 /// The running program.
@@ -55,12 +67,14 @@ struct Running {
     child: Child,
     stdin: Option<ChildStdin>,
     from: Receiver<Chunk>,
-    /// Bytes read of binary answers not yet taken.
+    /// Output read and not yet taken as answers.
     pending: Vec<u8>,
-    /// Cases sent so far (JSON lines are numbered on from it).
+    /// Cases sent so far (each case's number is one more than the cases before it).
     sent: u64,
     /// Why it can answer no more, once it cannot.
     broken: Option<String>,
+    /// Whether the run's end was seen ([`Answerer::finish`]).
+    finished: bool,
 }
 
 /// A user's program answering cases (module docs).
@@ -78,9 +92,65 @@ pub struct Answerer {
     /// holds it to that.
     pub(crate) claims: bool,
     /// Answered face `i` is the case's face `faces[i]` (exit faces; the identity unless a numbering
-    /// was found or given, [`find_numbering`]).
+    /// was found or given, [`find_numbering`]); cases are sent in it too ([`Family::for_program`]).
     pub(crate) faces: [u8; 4],
     running: Mutex<Running>,
+}
+
+/// Who answered, as a report records it: `count merge` adds up only shards asked of the same program,
+/// in the same way.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Asked {
+    pub(crate) name: String,
+    /// The shell command that started it.
+    pub(crate) program: String,
+    pub(crate) format: WireFormat,
+    /// Its face `i` is the case's face `faces[i]`.
+    pub(crate) faces: [u8; 4],
+}
+
+/// The first [`QUOTED`] characters of `bytes` as text (invalid UTF-8 replaced), on one line.
+fn quoted(bytes: &[u8]) -> String {
+    let text = String::from_utf8_lossy(bytes);
+    let text = text.trim();
+    let mut q: String = text.chars().take(QUOTED).collect();
+    if q.len() < text.len() {
+        q.push('…');
+    }
+    q.replace('\n', "\\n")
+}
+
+/// Where output read as JSON Lines is not text: the offset of its first byte that no answer line
+/// holds (a control character other than tab and carriage return, or invalid UTF-8; a multi-byte
+/// character cut at the end is not yet invalid).
+fn not_text(bytes: &[u8]) -> Option<usize> {
+    let control = bytes
+        .iter()
+        .position(|&b| (b < 0x20 && !matches!(b, b'\t' | b'\r' | b'\n')) || b == 0x7f);
+    let invalid = match std::str::from_utf8(bytes) {
+        Err(e) if e.error_len().is_some() => Some(e.valid_up_to()),
+        _ => None,
+    };
+    match (control, invalid) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+/// Whether a binary record's first bytes read as text (printable ASCII or white space): a program
+/// that prints where it should write records.
+fn looks_like_text(bytes: &[u8]) -> bool {
+    bytes
+        .iter()
+        .all(|&b| (0x20..0x7f).contains(&b) || matches!(b, b'\t' | b'\r' | b'\n'))
+}
+
+/// Cases `first` to `first + n - 1` in words.
+fn lines(first: u64, n: usize) -> String {
+    match n {
+        1 => format!("line {first}"),
+        _ => format!("lines {first} to {}", first + n as u64 - 1),
+    }
 }
 
 impl Answerer {
@@ -104,43 +174,24 @@ impl Answerer {
                 .stdout(Stdio::piped()),
         )
         .map_err(|e| fail(e.to_string()))?;
-        let out = child
+        let mut out = child
             .stdout
             .take()
             .ok_or_else(|| fail("no standard output".into()))?;
         let (tx, from) = sync_channel(1024);
         std::thread::spawn(move || {
-            let mut out = BufReader::new(out);
             loop {
-                let chunk = match format {
-                    WireFormat::Json => {
-                        let mut buf = Vec::new();
-                        match (&mut out).take(MAX_LINE).read_until(b'\n', &mut buf) {
-                            Ok(0) => Chunk::End,
-                            Err(e) => Chunk::Line(Err(format!("reading its output: {e}"))),
-                            Ok(_) if buf.last() != Some(&b'\n') && buf.len() as u64 == MAX_LINE => {
-                                Chunk::Line(Err(format!(
-                                    "an answer line longer than {MAX_LINE} bytes"
-                                )))
-                            }
-                            Ok(_) => Chunk::Line(
-                                String::from_utf8(buf)
-                                    .map_err(|_| "an answer line is not UTF-8".into()),
-                            ),
-                        }
-                    }
-                    WireFormat::Binary => {
-                        let mut buf = vec![0; 1 << 16];
-                        match out.read(&mut buf) {
-                            Ok(0) | Err(_) => Chunk::End,
-                            Ok(n) => {
-                                buf.truncate(n);
-                                Chunk::Bytes(buf)
-                            }
-                        }
+                let mut buf = vec![0; 1 << 16];
+                let chunk = match out.read(&mut buf) {
+                    Ok(0) => Chunk::End(None),
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                    Err(e) => Chunk::End(Some(format!("reading its output: {e}"))),
+                    Ok(n) => {
+                        buf.truncate(n);
+                        Chunk::Bytes(buf)
                     }
                 };
-                let end = matches!(chunk, Chunk::End | Chunk::Line(Err(_)));
+                let end = matches!(chunk, Chunk::End(_));
                 if tx.send(chunk).is_err() || end {
                     return;
                 }
@@ -162,8 +213,19 @@ impl Answerer {
                 pending: Vec::new(),
                 sent: 0,
                 broken: None,
+                finished: false,
             }),
         })
+    }
+
+    /// Who it is, as a report records it.
+    pub(crate) fn asked(&self) -> Asked {
+        Asked {
+            name: self.name.clone(),
+            program: self.cmd.clone(),
+            format: self.format,
+            faces: self.faces,
+        }
     }
 
     fn error(&self, why: String) -> AnswererError {
@@ -183,7 +245,7 @@ impl Answerer {
         let mut out = Vec::with_capacity(cases.len());
         for batch in cases.chunks(self.batch) {
             out.extend(
-                self.raw::<F>(batch)?
+                self.raw::<F>(batch, &self.faces)?
                     .into_iter()
                     .map(|a| F::renumbered(a, &self.faces)),
             );
@@ -191,8 +253,12 @@ impl Answerer {
         Ok(out)
     }
 
-    /// One batch's answers, as the program numbers faces.
-    fn raw<F: Family>(&self, batch: &[F::Case]) -> Result<Vec<F::Answer>, AnswererError> {
+    /// One batch's answers, as the program numbers faces, the cases sent in the numbering `faces`.
+    fn raw<F: Family>(
+        &self,
+        batch: &[F::Case],
+        faces: &[u8; 4],
+    ) -> Result<Vec<F::Answer>, AnswererError> {
         let mut r = self
             .running
             .lock()
@@ -200,12 +266,16 @@ impl Answerer {
         if let Some(why) = &r.broken {
             return Err(self.error(why.clone()));
         }
+        if r.finished {
+            return Err(self.error("asked after the run's end".into()));
+        }
         let first = r.sent + 1;
+        let last = first + batch.len() as u64 - 1;
         let mut bytes = Vec::new();
         match self.format {
             WireFormat::Json => {
                 for (k, c) in batch.iter().enumerate() {
-                    let mut obj = F::case_json(c);
+                    let mut obj = F::case_json(&F::for_program(c, faces));
                     obj.insert("line".into(), Value::from(first + k as u64));
                     bytes.extend(Value::Object(obj).to_string().into_bytes());
                     bytes.push(b'\n');
@@ -213,20 +283,27 @@ impl Answerer {
                 bytes.push(b'\n');
             }
             WireFormat::Binary => {
+                if last > u32::MAX as u64 {
+                    return Err(self.error(format!(
+                        "binary records number cases with a uint32: case {last} is past {}; ask fewer cases in one run",
+                        u32::MAX
+                    )));
+                }
                 bytes.extend((batch.len() as u32).to_le_bytes());
-                for c in batch {
-                    let rec = F::case_record(c).ok_or_else(|| {
+                for (k, c) in batch.iter().enumerate() {
+                    let rec = F::case_record(&F::for_program(c, faces)).ok_or_else(|| {
                         self.error(format!(
                             "the {} family's case {} has no binary record (docs/answerers.md lists them): use --answerer-format json",
                             F::NAME,
                             Value::Object(F::case_json(c))
                         ))
                     })?;
+                    bytes.extend(((first + k as u64) as u32).to_le_bytes());
                     bytes.extend(rec);
                 }
             }
         }
-        r.sent += batch.len() as u64;
+        r.sent = last;
         let deadline = Instant::now() + self.limit;
         let result = std::thread::scope(|s| {
             let mut stdin = r.stdin.take();
@@ -276,95 +353,252 @@ impl Answerer {
         let n = batch.len();
         let mut answers: Vec<Option<F::Answer>> = vec![None; n];
         let mut got = 0;
-        let lines = || format!("lines {first}..={}", first + n as u64 - 1);
-        while got < n {
-            let wait = deadline.saturating_duration_since(Instant::now());
-            let chunk = match r.from.recv_timeout(wait) {
-                Ok(c) => c,
-                Err(RecvTimeoutError::Timeout) => {
-                    return Err(format!(
-                        "answered {got} of a batch's {n} cases ({}) within its time limit of {:?} (--answerer-seconds); stopped, with everything it started",
-                        lines(),
-                        self.limit
-                    ));
+        loop {
+            match self.format {
+                WireFormat::Json => {
+                    self.json_answers::<F>(r, batch, first, &mut answers, &mut got)?
                 }
-                Err(RecvTimeoutError::Disconnected) => Chunk::End,
-            };
-            match chunk {
-                Chunk::End => {
-                    // Its output closed: it is ending, so its exit status is waited for (within
-                    // `EXIT_GRACE` and the deadline), to be said whether or not it came first.
-                    let grace = deadline
-                        .saturating_duration_since(Instant::now())
-                        .min(EXIT_GRACE);
-                    let status = crate::child::wait(&mut r.child, grace).ok();
-                    return Err(format!(
-                        "its output ended after {got} of a batch's {n} answers ({}){}",
-                        lines(),
-                        status.map_or(String::new(), |s| format!("; it exited with {s}"))
-                    ));
-                }
-                Chunk::Line(line) => {
-                    let line = line?;
-                    if line.trim().is_empty() {
-                        continue;
-                    }
-                    let v: Value = serde_json::from_str(&line).map_err(|e| {
-                        format!("answered '{}', not a JSON line ({e})", line.trim())
-                    })?;
-                    let obj = v
-                        .as_object()
-                        .ok_or_else(|| format!("answered '{}', not a JSON object", line.trim()))?;
-                    let k = obj.get("line").and_then(Value::as_u64).ok_or_else(|| {
-                        format!(
-                            "answered '{}' without \"line\", the case's number",
-                            line.trim()
-                        )
-                    })?;
-                    if (1..first).contains(&k) {
-                        return Err(format!(
-                            "a second answer for line {k} ('{}'), whose batch was answered already",
-                            line.trim()
-                        ));
-                    }
-                    if !(first..first + n as u64).contains(&k) {
-                        return Err(format!(
-                            "answered '{}' for line {k}, which is not in the batch asked ({})",
-                            line.trim(),
-                            lines()
-                        ));
-                    }
-                    let i = (k - first) as usize;
-                    if answers[i].is_some() {
-                        return Err(format!("a second answer for line {k}"));
-                    }
-                    answers[i] = Some(
-                        F::given(obj, &batch[i])
-                            .map_err(|e| format!("line {k}: {e} (answered '{}')", line.trim()))?,
-                    );
-                    got += 1;
-                }
-                Chunk::Bytes(b) => {
-                    r.pending.extend(b);
-                    let size = F::ANSWER_RECORD;
-                    while got < n && r.pending.len() >= size {
-                        let rec: Vec<u8> = r.pending.drain(..size).collect();
-                        answers[got] = Some(F::answer_record(&rec, &batch[got]).map_err(|e| {
-                            format!("case {} (line {}): {e}", got + 1, first + got as u64)
-                        })?);
-                        got += 1;
-                    }
+                WireFormat::Binary => {
+                    binary_answers::<F>(r, batch, first, &mut answers, &mut got)?;
                     if got == n && !r.pending.is_empty() {
                         return Err(format!(
-                            "{} bytes more than a batch's {n} answer records of {size} bytes",
-                            r.pending.len()
+                            "{} bytes more than the {n} answer records of {} bytes asked ({}): an answer too many, or records of another size",
+                            r.pending.len(),
+                            NUMBER + F::ANSWER_RECORD,
+                            lines(first, n)
                         ));
                     }
                 }
             }
+            if got == n {
+                return Ok(answers.into_iter().flatten().collect());
+            }
+            let wait = deadline.saturating_duration_since(Instant::now());
+            match r.from.recv_timeout(wait) {
+                Ok(Chunk::Bytes(b)) => r.pending.extend(b),
+                Err(RecvTimeoutError::Timeout) => {
+                    return Err(format!(
+                        "answered {got} of a batch's {n} cases ({}) within its time limit of {:?} (--answerer-seconds); stopped, with everything it started",
+                        lines(first, n),
+                        self.limit
+                    ));
+                }
+                Ok(Chunk::End(why)) => return Err(ended(r, why, got, n, first, deadline)),
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(ended(r, None, got, n, first, deadline));
+                }
+            }
         }
-        Ok(answers.into_iter().flatten().collect())
     }
+
+    /// The whole answer lines among `r.pending`, each taken as the answer to the case it names.
+    fn json_answers<F: Family>(
+        &self,
+        r: &mut Running,
+        batch: &[F::Case],
+        first: u64,
+        answers: &mut [Option<F::Answer>],
+        got: &mut usize,
+    ) -> Result<(), String> {
+        let n = batch.len();
+        if let Some(at) = not_text(&r.pending) {
+            return Err(format!(
+                "its output is not JSON Lines: byte {at} of what it wrote is 0x{:02x} ('{}'), not text — does it answer in binary records (--answerer-format binary)?",
+                r.pending[at],
+                quoted(&r.pending[at.saturating_sub(8)..(at + 8).min(r.pending.len())])
+            ));
+        }
+        while *got < n {
+            let Some(end) = r.pending.iter().position(|&b| b == b'\n') else {
+                if r.pending.len() > MAX_LINE {
+                    return Err(format!(
+                        "an answer line longer than {MAX_LINE} bytes ('{}')",
+                        quoted(&r.pending)
+                    ));
+                }
+                return Ok(());
+            };
+            let bytes: Vec<u8> = r.pending.drain(..=end).collect();
+            let line = String::from_utf8_lossy(&bytes);
+            let line = line.trim();
+            if line.is_empty() {
+                continue;
+            }
+            let v: Value = serde_json::from_str(line).map_err(|e| {
+                format!(
+                    "answered '{}', not a JSON line ({e})",
+                    quoted(line.as_bytes())
+                )
+            })?;
+            let obj = v.as_object().ok_or_else(|| {
+                format!("answered '{}', not a JSON object", quoted(line.as_bytes()))
+            })?;
+            let k = obj.get("line").and_then(Value::as_u64).ok_or_else(|| {
+                format!(
+                    "answered '{}' without \"line\", the case's number",
+                    quoted(line.as_bytes())
+                )
+            })?;
+            if (1..first).contains(&k) {
+                return Err(format!(
+                    "a second answer for line {k} ('{}'), whose batch was answered already",
+                    quoted(line.as_bytes())
+                ));
+            }
+            if !(first..first + n as u64).contains(&k) {
+                return Err(format!(
+                    "answered '{}' for line {k}, which is not in the batch asked ({})",
+                    quoted(line.as_bytes()),
+                    lines(first, n)
+                ));
+            }
+            let i = (k - first) as usize;
+            if answers[i].is_some() {
+                return Err(format!(
+                    "a second answer for line {k} in its batch ({}): '{}'",
+                    lines(first, n),
+                    quoted(line.as_bytes())
+                ));
+            }
+            answers[i] =
+                Some(F::given(obj, &batch[i]).map_err(|e| {
+                    format!("line {k}: {e} (answered '{}')", quoted(line.as_bytes()))
+                })?);
+            *got += 1;
+        }
+        Ok(())
+    }
+
+    /// The end of the run: its input closed, and its output read to the end (for at most
+    /// [`EXIT_GRACE`]), so that an answer past the last batch's — a second answer for its last case, a
+    /// record too many — is an error, not a thing left unread. Once; a broken run's error stands.
+    pub(crate) fn finish(&self) -> Result<(), AnswererError> {
+        let Ok(mut r) = self.running.lock() else {
+            return Err(self.error("a thread asking it failed".into()));
+        };
+        if r.finished || r.broken.is_some() {
+            return Ok(());
+        }
+        r.finished = true;
+        drop(r.stdin.take());
+        let deadline = Instant::now() + EXIT_GRACE;
+        loop {
+            let extra = match self.format {
+                WireFormat::Json => r.pending.iter().any(|b| !b.is_ascii_whitespace()),
+                WireFormat::Binary => !r.pending.is_empty(),
+            };
+            if extra {
+                break;
+            }
+            match r
+                .from
+                .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+            {
+                Ok(Chunk::Bytes(b)) => r.pending.extend(b),
+                Ok(Chunk::End(_)) | Err(_) => return Ok(()),
+            }
+        }
+        // More arrived, or is arriving: what it says, read for a moment longer.
+        while let Ok(Chunk::Bytes(b)) = r.from.recv_timeout(Duration::from_millis(50)) {
+            r.pending.extend(b);
+            if r.pending.len() > MAX_LINE {
+                break;
+            }
+        }
+        let why = match self.format {
+            WireFormat::Json => {
+                let text = String::from_utf8_lossy(&r.pending);
+                let line = text
+                    .lines()
+                    .map(str::trim)
+                    .find(|l| !l.is_empty())
+                    .unwrap_or("");
+                let numbered = serde_json::from_str::<Value>(line)
+                    .ok()
+                    .and_then(|v| v.get("line").and_then(Value::as_u64));
+                match numbered {
+                    Some(k) if k <= r.sent => format!(
+                        "a second answer for line {k} after the run's last batch was answered ('{}')",
+                        quoted(line.as_bytes())
+                    ),
+                    _ => format!(
+                        "answered '{}' after the run's last batch was answered (every case's answer was read)",
+                        quoted(line.as_bytes())
+                    ),
+                }
+            }
+            WireFormat::Binary => format!(
+                "{} bytes after the run's last batch was answered (every case's answer record was read){}: an answer too many",
+                r.pending.len(),
+                if looks_like_text(&r.pending[..r.pending.len().min(NUMBER)]) {
+                    format!(", text: '{}'", quoted(&r.pending))
+                } else {
+                    String::new()
+                }
+            ),
+        };
+        r.broken = Some(why.clone());
+        crate::child::kill(&mut r.child);
+        Err(self.error(why))
+    }
+}
+
+/// The whole answer records among `r.pending`, each checked to carry its case's number.
+fn binary_answers<F: Family>(
+    r: &mut Running,
+    batch: &[F::Case],
+    first: u64,
+    answers: &mut [Option<F::Answer>],
+    got: &mut usize,
+) -> Result<(), String> {
+    let n = batch.len();
+    let size = NUMBER + F::ANSWER_RECORD;
+    while *got < n && r.pending.len() >= size {
+        let want = first + *got as u64;
+        let number = u32::from_le_bytes([r.pending[0], r.pending[1], r.pending[2], r.pending[3]]);
+        if looks_like_text(&r.pending[..NUMBER]) {
+            return Err(format!(
+                "its output holds text ('{}') where the binary answer record of line {want} was expected: does it print to its standard output?",
+                quoted(&r.pending)
+            ));
+        }
+        if number as u64 != want {
+            return Err(format!(
+                "answer record {} of the batch ({}) carries case number {number} where {want} was expected: the answer stream shifted (an answer too many or too few before it, or records of another size than {size} bytes)",
+                *got + 1,
+                lines(first, n)
+            ));
+        }
+        let rec: Vec<u8> = r.pending.drain(..size).collect();
+        answers[*got] = Some(
+            F::answer_record(&rec[NUMBER..], &batch[*got])
+                .map_err(|e| format!("line {want}: {e}"))?,
+        );
+        *got += 1;
+    }
+    Ok(())
+}
+
+/// Why the batch got no more answers once the program's output ended: its exit status waited for
+/// (within [`EXIT_GRACE`] and the deadline), to be said whether or not it came first.
+fn ended(
+    r: &mut Running,
+    why: Option<String>,
+    got: usize,
+    n: usize,
+    first: u64,
+    deadline: Instant,
+) -> String {
+    let grace = deadline
+        .saturating_duration_since(Instant::now())
+        .min(EXIT_GRACE);
+    let status = crate::child::wait(&mut r.child, grace).ok();
+    format!(
+        "{} after {got} of a batch's {n} answers ({}){}",
+        why.unwrap_or_else(|| "its output ended".into()),
+        lines(first, n),
+        status.map_or(String::new(), |s| format!("; {}", crate::child::said(s)))
+    )
 }
 
 impl Answerer {
@@ -397,53 +631,112 @@ impl Drop for Answerer {
     }
 }
 
-/// The face numbering under which `a` answers well-shaped cases of family `F` rightly
-/// ([`Family::numbering_cases`]): every relabelling of the four faces tried ([`Family::renumbered`]),
-/// the one it answers rightly on at least 99% of judged cases, and no other within 1%; an error
-/// saying the best where none fits.
-pub(crate) fn find_numbering<F: Family>(
-    a: &Answerer,
-    cases: &[(F::Case, F::Truth)],
-) -> Result<[u8; 4], AnswererError> {
-    let plain: Vec<F::Case> = cases.iter().map(|(c, _)| *c).collect();
-    let raw = a.raw_all::<F>(&plain)?;
-    let mut scored: Vec<([u8; 4], usize)> = permutations()
-        .into_iter()
-        .map(|p| {
-            let right = cases
-                .iter()
-                .zip(&raw)
-                .filter(|((c, x), f)| F::verdict(c, x, &F::renumbered(**f, &p)) == Verdict::Right)
-                .count();
-            (p, right)
-        })
-        .collect();
-    scored.sort_by_key(|&(_, r)| std::cmp::Reverse(r));
-    let judged = cases
-        .iter()
-        .zip(&raw)
-        .filter(|((c, x), f)| F::verdict(c, x, f) != Verdict::NotJudged)
-        .count()
-        .max(1);
-    let (best, right) = scored[0];
-    let second = scored[1].1;
-    if right * 100 >= judged * 99 && (right - second) * 100 >= judged {
-        return Ok(best);
-    }
-    Err(a.error(format!(
-        "no face numbering fits its answers: the best, answered face i = case face {best:?}[i], is right on {right} of {judged} well-shaped cases (the next {second})"
-    )))
+/// Well-shaped cases asked under each face numbering tried (`--faces auto`).
+pub(crate) const NUMBERING_CASES: usize = 2000;
+
+/// How an answerer fared on well-shaped cases under each face numbering.
+struct Scores {
+    /// Each numbering and the cases it answered rightly under it, best first.
+    ranked: Vec<([u8; 4], usize)>,
+    /// Cases whose line crosses the tetrahedron (the others are not judged).
+    judged: usize,
+    /// Of those, the ones it answered with no exit face (under the identity numbering).
+    none: usize,
 }
 
-impl Answerer {
-    /// Answers as the program numbers faces, batch by batch.
-    fn raw_all<F: Family>(&self, cases: &[F::Case]) -> Result<Vec<F::Answer>, AnswererError> {
-        let mut out = Vec::with_capacity(cases.len());
-        for batch in cases.chunks(self.batch) {
-            out.extend(self.raw::<F>(batch)?);
-        }
-        Ok(out)
+impl Scores {
+    /// The numbering right on at least 99% of judged cases with no other within 1%.
+    fn fits(&self) -> Option<[u8; 4]> {
+        let ([(best, right), (_, second), ..], judged) = (&self.ranked[..], self.judged.max(1))
+        else {
+            return None;
+        };
+        (right * 100 >= judged * 99 && (right - second) * 100 >= judged).then_some(*best)
     }
+}
+
+/// `a`'s answers to `cases` under every face numbering: each case sent in that numbering (its entry
+/// face renumbered, [`Family::for_program`]) and its answer read back through it.
+fn scores<F: Family>(a: &Answerer, cases: &[(F::Case, F::Truth)]) -> Result<Scores, AnswererError> {
+    let plain: Vec<F::Case> = cases.iter().map(|(c, _)| *c).collect();
+    let mut ranked = Vec::new();
+    let (mut none, mut judged) = (0, 0);
+    for p in permutations() {
+        let mut raw = Vec::with_capacity(plain.len());
+        for batch in plain.chunks(a.batch) {
+            raw.extend(a.raw::<F>(batch, &p)?);
+        }
+        let verdicts: Vec<Verdict> = cases
+            .iter()
+            .zip(&raw)
+            .map(|((c, x), f)| F::verdict(c, x, &F::renumbered(*f, &p)))
+            .collect();
+        if p == [0, 1, 2, 3] {
+            none = verdicts
+                .iter()
+                .filter(|v| **v == Verdict::Wrong(crate::walk::OutcomeKind::NoExitFace))
+                .count();
+            judged = verdicts
+                .iter()
+                .filter(|v| **v != Verdict::NotJudged)
+                .count();
+        }
+        ranked.push((p, verdicts.iter().filter(|v| **v == Verdict::Right).count()));
+    }
+    ranked.sort_by_key(|&(_, r)| std::cmp::Reverse(r));
+    Ok(Scores {
+        ranked,
+        judged,
+        none,
+    })
+}
+
+/// The face numbering under which `a` answers well-shaped cases of family `F` holding contract `k`
+/// rightly ([`Family::numbering_cases`]): every relabelling of the four faces tried, the one it
+/// answers rightly on at least 99% of judged cases, and no other within 1%; with the number of cases
+/// asked. Where none fits, an error saying the best — and, where the tetrahedra mirrored fit, that
+/// it takes the other orientation, or where it answered no face at all, that.
+pub(crate) fn find_numbering<F: Family>(
+    a: &Answerer,
+    k: &crate::family::contract::Contract,
+) -> Result<([u8; 4], usize), AnswererError> {
+    use crate::choice::Choice;
+    let cases = F::numbering_cases(k, NUMBERING_CASES);
+    let s = scores::<F>(a, &cases)?;
+    if let Some(p) = s.fits() {
+        return Ok((p, cases.len()));
+    }
+    let faces = |p: [u8; 4]| p.map(|f| f.to_string()).join(",");
+    let (best, right) = s.ranked[0];
+    let mut why = format!(
+        "no face numbering fits its answers to {} well-shaped cases ({}): the best, answered face i = case face {best:?}[i], is right on {right} of {} judged (the next {})",
+        cases.len(),
+        k.describe(),
+        s.judged,
+        s.ranked[1].1
+    );
+    if s.none == s.judged && s.judged > 0 {
+        why += &format!(
+            "; it answered no exit face on every one of the {} cases, each of which its line crosses: does it read the cases as sent (docs/answerers.md: --answerer-format, each binary record beginning with the case's number)?",
+            s.judged
+        );
+    } else if let Some(other) = k.mirrored() {
+        let mirrored = F::numbering_cases(&other, NUMBERING_CASES);
+        if let Some(p) = scores::<F>(a, &mirrored)?.fits() {
+            why += &format!(
+                "; with the tetrahedra mirrored it fits: it takes {} tetrahedra (give --orientation {} --faces {})",
+                other.orientation.name(),
+                other.orientation.name(),
+                faces(p)
+            );
+        } else {
+            why += &format!(
+                " (nor does any fit {} tetrahedra)",
+                other.orientation.name()
+            );
+        }
+    }
+    Err(a.error(why))
 }
 
 /// The 24 orderings of four faces.

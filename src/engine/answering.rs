@@ -60,8 +60,8 @@ pub(crate) const NOT_JSON: &str = "not JSON";
 
 /// Longest line read, in bytes; a longer one is an error for that line.
 pub(crate) const MAX_LINE: u64 = 1 << 20;
-/// Most lines answered as one batch.
-const BATCH: usize = 4096;
+/// Most lines answered as one batch by tetwalk's own methods.
+pub(crate) const BATCH: usize = 4096;
 
 /// One input line: its number and its text, or why it could not be read.
 pub(crate) type Line = (usize, Result<String, String>);
@@ -103,15 +103,16 @@ pub(crate) fn reader(mut input: Box<dyn BufRead + Send>) -> mpsc::Receiver<Line>
 }
 
 /// The lines of `input` batch by batch as they arrive: block for one line, take whatever else has
-/// arrived (at most a batch), hand them to `each`.
+/// arrived (at most `most`), hand them to `each`.
 pub(crate) fn batches<E>(
     input: Box<dyn BufRead + Send>,
+    most: usize,
     mut each: impl FnMut(&[Line]) -> Result<(), E>,
 ) -> Result<(), E> {
     let rx = reader(input);
     while let Ok(first) = rx.recv() {
         let mut batch = vec![first];
-        while batch.len() < BATCH {
+        while batch.len() < most.max(1) {
             match rx.try_recv() {
                 Ok(l) => batch.push(l),
                 Err(_) => break,

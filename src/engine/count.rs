@@ -124,6 +124,9 @@ pub struct CountSettings<F: Counted> {
     pub audit: u64,
     /// Which slice of the views this run counts: views `v` with `v % count == index`.
     pub shard: Shard,
+    /// The program outside tetwalk asked every step (`--answerer`), as shards of one run must share it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub answerer: Option<crate::engine::answerer::Asked>,
 }
 
 /// A count's report, one shape for every family: its settings, the rays and views counted and

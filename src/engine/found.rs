@@ -31,6 +31,11 @@ pub enum FoundError {
     /// An octree walk that never ends though every cell's exit it chose was right where judged.
     #[error("endless octree walk: {0}")]
     EndlessWalk(String),
+    /// A program outside tetwalk's finding: only the program can answer it again.
+    #[error(
+        "found for {0}, a program outside tetwalk: tetwalk cannot answer it again without the program (ask it with `tetwalk shrink --answerer CMD`, or `exit --answerer CMD` on the case line)"
+    )]
+    NeedsProgram(String),
 }
 
 /// The backends a finding is checked on when it is filed for the methods that claim: the CPU in
@@ -430,6 +435,9 @@ impl Replay {
 /// cases record it.
 pub fn replay<F: Family>(found: &Found<F>) -> Result<Replay, FoundError> {
     let f = found.failed("replay")?;
+    if f.backend == BackendKind::Outside {
+        return Err(FoundError::NeedsProgram(f.method.clone()));
+    }
     let backend = match f.backend_here() {
         Ok(b) => b,
         Err(why) => return Ok(Replay::Skipped(why)),

@@ -141,6 +141,7 @@ pub fn run(
         family: (),
         audit: 1000,
         shard,
+        answerer: None,
     };
     let counts = backends
         .iter()
@@ -161,6 +162,7 @@ pub fn run(
         },
         audit: 1000,
         shard,
+        answerer: None,
     };
     let octrees = backends
         .iter()

@@ -77,6 +77,9 @@ impl Standing {
         );
         match &self.claim {
             None => {}
+            Some(Held { claim, .. }) if self.judged == 0 => {
+                s += &format!("; claims {claim}: not shown (no case judged)")
+            }
             Some(Held {
                 claim,
                 refuted: Some(0),
@@ -98,6 +101,12 @@ impl Standing {
         self.claim
             .as_ref()
             .is_some_and(|c| c.refuted.is_some_and(|n| n > 0))
+    }
+
+    /// Whether its claim is not upheld here: refuted, or judged on no case at all (a claim holds only
+    /// where something was judged).
+    pub(crate) fn claim_fails(&self) -> bool {
+        self.refuted() || (self.claim.is_some() && self.judged == 0)
     }
 }
 

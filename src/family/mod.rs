@@ -273,6 +273,11 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     /// The rows `rows` picks, in order.
     fn rows(rows: &Self::Rows) -> Vec<Self::Row>;
     fn row_name(row: &Self::Row) -> String;
+    /// A row's name in a report of cases made under `contract`: its own, or, where the contract
+    /// makes its cases other than its name says, what they then are.
+    fn row_label(row: &Self::Row, _contract: &contract::Contract) -> String {
+        Self::row_name(row)
+    }
     /// Case `i` of `row` with its exact truth: a pure function of `(seed, row, i)` (which rows run
     /// beside it, and on which thread, do not matter); `None` for a case the oracle cannot judge.
     fn case(
@@ -369,6 +374,11 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     /// face `i` is the case's `faces[i]`); other families' answers are as they are.
     fn renumbered(answer: Self::Answer, _faces: &[u8; 4]) -> Self::Answer {
         answer
+    }
+    /// The case as a program numbering a tetrahedron's faces `faces` is sent it (its face `i` the
+    /// case's `faces[i]`: an entry face given in its numbering); other families' cases as they are.
+    fn for_program(case: &Self::Case, _faces: &[u8; 4]) -> Self::Case {
+        *case
     }
     /// Whether an answer names a tetrahedron's face, so that an answerer may number the faces its own
     /// way (`--faces`).

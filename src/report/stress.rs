@@ -50,9 +50,30 @@ pub(crate) fn table<F: Family>(r: &StressReport<F>, cell: impl Fn(&F::Tally) -> 
         let cells: Vec<String> = row.tallies.iter().map(|t| cell(&t.counts)).collect();
         out += &format!(
             "| {} | {} | {} |\n",
-            F::row_name(&row.row),
+            F::row_label(&row.row, &r.settings.contract),
             judged,
             cells.join(" | ")
+        );
+    }
+    let unjudged: Vec<String> = r
+        .rows
+        .iter()
+        .filter(|row| {
+            row.tallies
+                .first()
+                .is_some_and(|t| F::judged(&row.facts, &t.counts) == 0)
+        })
+        .map(|row| F::row_name(&row.row))
+        .collect();
+    if !unjudged.is_empty() {
+        out += &format!(
+            "\nnot judged: {} (no case of the row could be made {}at this scale)\n",
+            unjudged.join(", "),
+            if r.settings.contract.is_default() {
+                String::new()
+            } else {
+                format!("within the contract ({}) ", r.settings.contract.describe())
+            }
         );
     }
     out

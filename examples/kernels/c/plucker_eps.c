@@ -2,7 +2,9 @@
  * products with an absolute epsilon, its own face numbering (its face j holds vertices j, j+1, j+2
  * mod 4, so it is opposite vertex j+3), the entry face skipped. Written for tetwalk's answerer
  * protocol in binary records (docs/answerers.md): per batch a uint32 count, then that many 80-byte
- * cases; one int32 face per case back (-1: none).
+ * cases, each beginning with its number; per case an 8-byte answer back, the case's number and the
+ * int32 face (-1: none). Under --faces (auto or given) the entry face comes in this kernel's own
+ * numbering.
  *
  *   cc -O2 -o plucker_eps plucker_eps.c
  *   tetwalk stress --answerer ./plucker_eps --answerer-format binary --faces auto */
@@ -12,12 +14,17 @@
 #define EPS 1e-6f
 
 typedef struct {
+    uint32_t line; /* the case's number, echoed in its answer */
     float tet[4][3];
     float org[3];
     float dir[3];
-    int32_t entry; /* in the case's numbering: the face opposite vertex `entry`, or -1 */
-    int32_t pad;
+    int32_t entry; /* in this kernel's numbering (--faces), or -1 */
 } Case;
+
+typedef struct {
+    uint32_t line;
+    int32_t face;
+} Answer;
 
 static void sub(const float *a, const float *b, float *out) {
     out[0] = a[0] - b[0];
@@ -38,7 +45,7 @@ static float side(const float *o, const float *d, const float *p, const float *q
 
 /* The exit face in this kernel's numbering, or -1. */
 static int32_t exit_face(const Case *c) {
-    int32_t skip = c->entry < 0 ? -1 : (c->entry + 1) % 4; /* the entry face, renumbered */
+    int32_t skip = c->entry; /* its own numbering: -1 skips none */
     for (int j = 0; j < 4; j++) {
         if (j == skip) continue;
         const float *a = c->tet[j % 4], *b = c->tet[(j + 1) % 4], *v = c->tet[(j + 2) % 4];
@@ -70,8 +77,8 @@ int main(void) {
     while (fread(&n, sizeof n, 1, stdin) == 1) {
         for (uint32_t i = 0; i < n; i++) {
             if (fread(&c, sizeof c, 1, stdin) != 1) return 1;
-            int32_t face = exit_face(&c);
-            fwrite(&face, sizeof face, 1, stdout);
+            Answer a = {c.line, exit_face(&c)};
+            fwrite(&a, sizeof a, 1, stdout);
         }
         fflush(stdout);
     }

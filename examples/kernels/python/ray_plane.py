@@ -1,8 +1,8 @@
 """An exit-face kernel in numpy, as a Python ray-marching code writes it: each face's plane met in
 float32 (t = n . (a - o) / n . d over the faces the ray leaves through), the nearest one taken, the
 entry face skipped. Batches come and go in tetwalk's binary records (docs/answerers.md), read with
-one numpy.frombuffer each: per batch a uint32 count, then that many 80-byte cases; one int32 face
-per case back (-1: none).
+one numpy.frombuffer each: per batch a uint32 count, then that many 80-byte cases, each beginning
+with its number; per case the number and an int32 face back (-1: none).
 
     tetwalk stress --answerer 'python3 examples/kernels/python/ray_plane.py' --answerer-format binary
 """
@@ -10,7 +10,8 @@ import sys
 
 import numpy as np
 
-CASE = np.dtype([("tet", "<f4", (4, 3)), ("org", "<f4", 3), ("dir", "<f4", 3), ("entry", "<i4"), ("pad", "<i4")])
+CASE = np.dtype([("line", "<u4"), ("tet", "<f4", (4, 3)), ("org", "<f4", 3), ("dir", "<f4", 3), ("entry", "<i4")])
+ANSWER = np.dtype([("line", "<u4"), ("face", "<i4")])
 # Face i is opposite vertex i (the case's numbering).
 FACES = np.array([[1, 3, 2], [0, 2, 3], [0, 3, 1], [0, 1, 2]])
 
@@ -41,7 +42,9 @@ def main():
             return
         n = int(np.frombuffer(head, "<u4")[0])
         cases = np.frombuffer(inp.read(n * CASE.itemsize), CASE)
-        out.write(exit_faces(cases).tobytes())
+        answers = np.empty(n, ANSWER)
+        answers["line"], answers["face"] = cases["line"], exit_faces(cases)
+        out.write(answers.tobytes())
         out.flush()
 
 

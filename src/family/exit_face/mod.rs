@@ -396,8 +396,22 @@ impl Family for ExitFace {
         crate::choice::Choice::name(row.row).to_string()
     }
 
+    /// Under a unit direction the through-* rows' lines, their directions rounded, pass beside the
+    /// edge or vertex by a fraction of an ulp (a tie only where the rounding is exact): near rows.
+    fn row_label(row: &ExitRow, k: &Contract) -> String {
+        let name = Self::row_name(row);
+        match row.row {
+            TetRow::ThroughEdge | TetRow::ThroughVertex if k.unit_direction => {
+                format!("{name} (unit direction: near, by its rounding)")
+            }
+            _ => name,
+        }
+    }
+
     /// Even-numbered cases carry the exact entry face (as a walk has it), odd ones none (a starting
-    /// tetrahedron).
+    /// tetrahedron). Every case's line crosses the tetrahedron and its origin lies inside it or
+    /// before it, exactly ([`origin_holds`] anywhere): one the generator's rounding made otherwise
+    /// (a far offset) is not a case of the row.
     fn case(rows: &ExitRows, row: ExitRow, seed: u64, i: usize) -> Option<(Case, Classification)> {
         let (tet, ray) = generate(rows, row.row, seed, i)?;
         let mut c = Case {
@@ -407,6 +421,9 @@ impl Family for ExitFace {
             entry: None,
         };
         let x = classify(&c).ok()?;
+        if !x.meets() || !origin_holds(Origin::Anywhere, &c, &x) {
+            return None;
+        }
         if i.is_multiple_of(2) {
             c.entry = x.entry.first().map(|f| f as u8);
         }
@@ -454,19 +471,18 @@ impl Family for ExitFace {
         crate::scenes::from_bytes::exit_case(u).ok().flatten()
     }
 
-    /// 80 bytes: the four vertices, the origin and the direction (18 f32), the entry face (i32, -1
-    /// for none), 4 bytes of zeros.
+    /// 76 bytes after the case's number: the four vertices, the origin and the direction (18 f32),
+    /// the entry face (i32, -1 for none).
     fn case_record(c: &Case) -> Option<Vec<u8>> {
         let mut b: Vec<u8> = Self::numbers(c)
             .iter()
             .flat_map(|x| x.to_le_bytes())
             .collect();
         b.extend(c.entry.map_or(-1, |e| e as i32).to_le_bytes());
-        b.extend([0; 4]);
         Some(b)
     }
 
-    /// 4 bytes: the exit face (i32, -1 for none).
+    /// 4 bytes after the case's number: the exit face (i32, -1 for none).
     const ANSWER_RECORD: usize = 4;
 
     fn answer_record(b: &[u8], _: &Case) -> Result<Face, String> {
@@ -490,16 +506,29 @@ impl Family for ExitFace {
     fn renumbered(face: Face, faces: &[u8; 4]) -> Face {
         face.map(|f| faces[f as usize])
     }
+    /// The entry face in the program's numbering: its face `i` where `faces[i]` is the case's.
+    fn for_program(c: &Case, faces: &[u8; 4]) -> Case {
+        Case {
+            entry: c
+                .entry
+                .and_then(|e| faces.iter().position(|&f| f == e).map(|i| i as u8)),
+            ..*c
+        }
+    }
 
     const CONTRACTS: bool = true;
 
-    /// Mirrored (vertices 0 and 1 swapped) where the contract takes either orientation and `key`'s
-    /// bit 1 is set; the origin kept where it already lies as the contract says, else moved along the
-    /// line (rounded to f32; the case is judged again as it then is); the direction made a unit one;
-    /// the entry face given or left out.
+    /// Mirrored (vertices 0 and 1 swapped) where the contract takes the negative orientation, or
+    /// either and `key`'s bit 1 is set; the direction made a unit one; the origin made for one of the
+    /// contract's placements in turn (by `key`'s higher bits): kept where it already lies there, else
+    /// moved along the line (inside, before: rounded to f32; entry: [`contract::entry_origin`]) and
+    /// the case judged again as it then is; the entry face given or left out. `None` where the line
+    /// misses the tetrahedron (every row promises a crossing).
     fn contracted(k: &Contract, c: &Case, key: u64) -> Option<Case> {
         let mut c = *c;
-        if k.orientation == Orientation::Any && key & 2 != 0 {
+        if k.orientation == Orientation::Negative
+            || (k.orientation == Orientation::Any && key & 2 != 0)
+        {
             c.tet.swap(0, 1);
             c.entry = c.entry.map(|e| [1, 0, 2, 3][e as usize]);
         }
@@ -507,18 +536,18 @@ impl Family for ExitFace {
             c.dir = contract::unit(c.dir)?;
         }
         let x = classify(&c).ok()?;
-        if (k.origin != Origin::Anywhere || k.entry == EntryGiven::Given) && !x.meets() {
+        if !x.meets() {
             return None;
         }
-        let within = |o: Vec3| origin_holds(k.origin, &c.tet, o, &x);
-        if !within(c.org) {
+        let target = k.origin.for_key(key >> 2);
+        if !origin_holds(target, &c, &x) {
             let (t_in, t_out) = span(&c.tet, c.org, c.dir)?;
-            let at = |t: f64| (c.org.as_dvec3() + c.dir.as_dvec3() * t).as_vec3();
-            c.org = match k.origin {
-                Origin::Anywhere => c.org,
-                Origin::Inside => at(0.5 * (t_in + t_out)),
-                Origin::Entry => at(t_in),
-                Origin::Before => at(t_in - 0.5 * (t_out - t_in)),
+            let at = |t: f64| c.org.as_dvec3() + c.dir.as_dvec3() * t;
+            c.org = match target {
+                Origin::Anywhere => return None,
+                Origin::Inside => at(0.5 * (t_in + t_out)).as_vec3(),
+                Origin::Entry => contract::entry_origin(&c.tet, at(t_in), x.entry.first()?, c.dir)?,
+                Origin::Before => at(t_in - 0.5 * (t_out - t_in)).as_vec3(),
             };
         }
         let x = classify(&c).ok()?;
@@ -531,7 +560,7 @@ impl Family for ExitFace {
     }
 
     fn holds(k: &Contract, c: &Case, x: &Classification) -> bool {
-        let meets = x.meets() || (k.origin == Origin::Anywhere && k.entry != EntryGiven::Given);
+        let meets = x.meets();
         let entry = match (k.entry, c.entry) {
             (EntryGiven::None, e) => e.is_none(),
             (EntryGiven::Given, None) => false,
@@ -539,32 +568,31 @@ impl Family for ExitFace {
         };
         meets
             && entry
-            && (k.orientation == Orientation::Any || crate::tet::orientation(&c.tet) > 0)
+            && match k.orientation {
+                Orientation::Positive => crate::tet::orientation(&c.tet) > 0,
+                Orientation::Negative => crate::tet::orientation(&c.tet) < 0,
+                Orientation::Any => true,
+            }
             && (!k.unit_direction || contract::is_unit(c.dir))
-            && origin_holds(k.origin, &c.tet, c.org, x)
+            && k.origin.placements().iter().any(|&o| origin_holds(o, c, x))
             && (k.tolerance == 0.0 || contract::edge_distance(&c.tet, c.org, c.dir) >= k.tolerance)
     }
 }
 
-/// Whether `o` lies where `origin` says, for a line whose exact faces are `x`: strictly inside
-/// (exact); strictly outside the plane of every entry face (exact: before the line enters); on the
-/// entry face (within 2^-21 of the case's largest coordinate or edge from its plane, in f64: an entry
-/// point rounded to f32).
-fn origin_holds(origin: Origin, tet: &crate::tet::Tet, o: Vec3, x: &Classification) -> bool {
+/// Whether the case's origin lies where `origin` says, for a line whose exact faces are `x`, each
+/// decided exactly: anywhere, as the rows place it (in the closed tetrahedron or before it on the
+/// line, never past its exit); strictly inside; strictly outside the plane of every entry face
+/// (before the line enters); on an entry face, or as near one inside as f32 allows
+/// ([`contract::holds_entry`]).
+fn origin_holds(origin: Origin, c: &Case, x: &Classification) -> bool {
+    let (tet, o) = (&c.tet, c.org);
     match origin {
-        Origin::Anywhere => true,
+        Origin::Anywhere => !contract::past_exit(tet, o, c.dir),
         Origin::Inside => contract::strictly_inside(tet, o),
         Origin::Before => {
             !x.entry.is_empty() && x.entry.iter().all(|f| contract::face_side(tet, f, o) < 0)
         }
-        Origin::Entry => {
-            let size = tets::scale_of(tet.iter().chain([&o])) as f64;
-            x.entry.iter().any(|f| {
-                let [a, b, c] = crate::tet::FACE_VERTICES[f].map(|i| tet[i].as_dvec3());
-                let n = (b - a).cross(c - a);
-                (n.dot(o.as_dvec3() - a) / n.length()).abs() <= size * 2f64.powi(-21)
-            })
-        }
+        Origin::Entry => contract::holds_entry(tet, o, c.dir),
     }
 }
 

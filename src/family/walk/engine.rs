@@ -692,6 +692,7 @@ impl GivenWalksMap {
             family: (),
             audit: 1000,
             shard: header.shard,
+            answerer: None,
         };
         let report = count::run(
             scene,
