@@ -279,7 +279,8 @@ fn answering(fields: &str) -> String {
 
 /// `shrink --answerer CMD` shrinks for a program outside tetwalk: here one that answers every case
 /// with a miss; the shrunk case is still one it answers wrongly the same way, and the printed line
-/// reproduces it through `tetwalk judge`.
+/// reproduces it (run as printed, `tetwalk` on the path: the program asked, its answer judged
+/// wrong).
 #[test]
 fn shrink_shrinks_for_a_program_outside_tetwalk() {
     let (_, cases, _) = tetwalk(&["gen-cases", "--shape", "octahedron", "--count", "1"]);
@@ -302,17 +303,21 @@ fn shrink_shrinks_for_a_program_outside_tetwalk() {
         .find_map(|l| l.trim().strip_prefix("reproduce: "))
         .expect("a reproducing command");
     assert!(
-        reproduce.contains("tetwalk judge - answer.jsonl"),
+        reproduce.contains("| tetwalk hit --answerer"),
         "{reproduce}"
     );
-    // The shrunk case, answered by the same program, is judged wrong.
-    let shrunk = out.lines().nth(1).unwrap().trim();
-    let answers = dir.path().join("answer.jsonl");
-    std::fs::write(&answers, "{\"line\": 1, \"tri\": null}\n").unwrap();
-    let (_, verdict, _) = common::run_tetwalk(
-        &["judge", "/dev/stdin", answers.to_str().unwrap()],
-        format!("{shrunk}\n").as_bytes(),
+    let bin = std::path::Path::new(env!("CARGO_BIN_EXE_tetwalk"));
+    let path = format!(
+        "{}:{}",
+        bin.parent().unwrap().display(),
+        std::env::var("PATH").unwrap_or_default()
     );
+    let run = std::process::Command::new("sh")
+        .args(["-c", reproduce])
+        .env("PATH", path)
+        .output()
+        .unwrap();
+    let verdict = String::from_utf8_lossy(&run.stdout);
     assert!(verdict.contains("\"correct\":false"), "{verdict}");
     let (code, _, err) = tetwalk(&[
         "shrink",
@@ -428,5 +433,57 @@ fn an_answerer_is_read_as_judge_reads_answers() {
         std::fs::write(&answers, text).unwrap();
         let (code, _, _) = tetwalk(&["judge", file.to_str().unwrap(), answers.to_str().unwrap()]);
         assert_ne!(code, 0, "{answerer}: judge accepted it");
+    }
+}
+
+/// A shrunk case keeps its failure as clear as found: for a program answering face 0 to everything,
+/// failures deep in other faces shrink to cases with the same exact exit face (judged here by the
+/// oracle), the same answer, and at least half the original's clearance (the exit point's least
+/// barycentric coordinate), fewer bits in all, as `shrink --json` reports.
+#[test]
+fn a_shrunk_case_stays_as_deep_in_its_face_as_the_one_found() {
+    let (_, cases, _) = tetwalk(&["gen-cases", "--row", "well", "--count", "40"]);
+    let dir = tempfile::tempdir().unwrap();
+    let deep: Vec<&str> = cases
+        .lines()
+        .filter(|l| {
+            let c = tetwalk::engine::found::Found::<tetwalk::family::ExitFace>::parse(l)
+                .unwrap()
+                .case;
+            !tetwalk::cases::classify(&c).unwrap().exit.contains(0)
+        })
+        .take(6)
+        .collect();
+    assert_eq!(deep.len(), 6);
+    let file = dir.path().join("cases.jsonl");
+    std::fs::write(&file, deep.join("\n") + "\n").unwrap();
+    let json = dir.path().join("shrunk.json");
+    let (code, _, err) = tetwalk(&[
+        "shrink",
+        "--answerer",
+        &answering(r#""face": 0"#),
+        "--checks",
+        "2000",
+        file.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let shrunk = report["cases"].as_array().unwrap();
+    assert_eq!(shrunk.len(), 6, "{report}");
+    for (d, line) in shrunk.iter().zip(&deep) {
+        let f = |k: &str| d[k].as_f64().unwrap();
+        assert!(f("clearance_before") > 0.0, "{d}");
+        assert!(f("clearance_after") >= f("clearance_before") / 2.0, "{d}");
+        assert!(f("bits_after") < f("bits_before"), "{d}");
+        let parse = |s: &str| {
+            let c = tetwalk::engine::found::Found::<tetwalk::family::ExitFace>::parse(s)
+                .unwrap()
+                .case;
+            tetwalk::cases::classify(&c).unwrap().exit
+        };
+        assert_eq!(parse(&d["shrunk"].to_string()), parse(line), "{d}");
     }
 }

@@ -1,7 +1,8 @@
 //! Shrinking, as proptest shrinks a failing input: a failure's case made as simple as it can be while
-//! the same method on the same backend still fails it the same way (the same kind of wrong ending,
-//! a refuted claim still refuted, and a line that crosses the cell not turned into one that only
-//! touches it). Smaller cases first ([`Family::smaller`]: fewer triangles, a
+//! the same method on the same backend still fails it the same way (the same answer, the same kind of
+//! wrong ending, the same exact right answers, a refuted claim still refuted, a line that crosses the
+//! cell not turned into one that only touches it, and at least half the original's clearance, so
+//! that a clear failure stays as clear: [`Family::clearance`]). Smaller cases first ([`Family::smaller`]: fewer triangles, a
 //! smaller mesh), then each number of the case ([`Family::numbers`]) replaced by the simplest value
 //! that keeps the failure: zero, an integer, or the number rounded to fewer significant bits, fewest
 //! first and then smallest in magnitude, pass after pass until none changes.
@@ -9,7 +10,7 @@
 use crate::backend::Backend;
 use crate::choice::{BackendKind, Choice};
 use crate::engine::Backends;
-use crate::engine::answerer::{Answerer as Program, WireFormat};
+use crate::engine::answerer::Answerer as Program;
 use crate::engine::found::{Failure, Found, FoundError, Hold, check, cpu_backends};
 use crate::family::contract::Contract;
 use crate::family::wrong::WrongRay;
@@ -125,7 +126,7 @@ pub(crate) fn shrink_with<F: Family>(
 ) -> Result<Shrunk<F>, FoundError> {
     let kept: Vec<(&F::Method, Hold)> = keep.iter().map(|&k| (k, Hold::Claim)).collect();
     let mut checks = 0;
-    let Some((kind, claim, answer, tie)) = failure::<F>(answerer, case, contract)? else {
+    let Some((kind, claim, answer, tie, truth)) = failure::<F>(answerer, case, contract)? else {
         return Err(FoundError::Field {
             field: "case",
             why: format!("{name} answers it rightly: there is no failure to shrink"),
@@ -133,6 +134,7 @@ pub(crate) fn shrink_with<F: Family>(
     };
     // A line that crosses the cell stays one that crosses it: it does not shrink into a graze.
     let touching = F::touch_only(case);
+    let (said, clear) = (F::answer_json(&answer), F::clearance(case, &truth));
     let mut best = Shrunk {
         case: *case,
         answer,
@@ -146,9 +148,14 @@ pub(crate) fn shrink_with<F: Family>(
         }
         *checks += 1;
         let Some(a) = failure::<F>(answerer, c, contract)?
-            .filter(|&(k, refuted, _, t)| k == kind && (refuted || !claim) && (tie || !t))
+            .filter(|(k, refuted, _, t, _)| *k == kind && (*refuted || !claim) && (tie || !t))
+            .filter(|(_, _, a, _, x)| {
+                F::answer_json(a) == said
+                    && F::same_truth(x, &truth)
+                    && F::clearance(c, x) >= clear / 2.0
+            })
             .filter(|_| touching || !F::touch_only(c))
-            .map(|(_, _, a, _)| a)
+            .map(|(_, _, a, _, _)| a)
         else {
             return Ok(None);
         };
@@ -222,9 +229,15 @@ pub(crate) fn shrink_with<F: Family>(
     Ok(best)
 }
 
-/// How a case fails: the kind of wrong ending, whether the claim is refuted, the answer, and whether
-/// the case is a tie.
-type Failing<F> = (OutcomeKind, bool, <F as Family>::Answer, bool);
+/// How a case fails: the kind of wrong ending, whether the claim is refuted, the answer, whether the
+/// case is a tie, and its exact truth.
+type Failing<F> = (
+    OutcomeKind,
+    bool,
+    <F as Family>::Answer,
+    bool,
+    <F as Family>::Truth,
+);
 
 /// How `answerer` fails `case`, if it does: the kind of wrong ending, whether the answer refutes the
 /// family's claim (a leak, for triangles), the answer, and whether the case is a tie. A case the
@@ -253,6 +266,7 @@ fn failure<F: Family>(
             F::refutes_claim(case, &truth, &answer),
             answer,
             F::tie(&truth),
+            truth,
         )),
         _ => None,
     })
@@ -372,6 +386,9 @@ pub(crate) struct CaseShrunk {
     /// The most significant bits of any one number, before and after.
     pub(crate) largest_before: u32,
     pub(crate) largest_after: u32,
+    /// How far each case is from another right answer ([`Family::clearance`]), before and after.
+    pub(crate) clearance_before: f64,
+    pub(crate) clearance_after: f64,
     /// Candidates checked.
     pub(crate) checks: usize,
     /// Whether the check budget ran out first (a simpler case may exist).
@@ -395,6 +412,7 @@ impl CaseShrunk {
     ) -> CaseShrunk {
         let (bits_before, largest_before) = bits::<F>(before);
         let (bits_after, largest_after) = bits::<F>(&s.case);
+        let clearance = |c: &F::Case| F::truth(c).map_or(0.0, |x| F::clearance(c, &x));
         CaseShrunk {
             file: at.file.clone(),
             line: at.line,
@@ -405,6 +423,8 @@ impl CaseShrunk {
             bits_after,
             largest_before,
             largest_after,
+            clearance_before: clearance(before),
+            clearance_after: clearance(&s.case),
             checks: s.checks,
             exhausted: s.exhausted,
             shrunk,
@@ -486,16 +506,18 @@ pub(crate) fn shrink_case_outside<F: Family>(
         Err(FoundError::Field { field: "case", why }) => return Ok(Err(why)),
         Err(e) => return Err(e),
     };
-    let mut asked = F::case_json(&s.case);
-    let line = serde_json::Value::Object(asked.clone()).to_string();
-    asked.insert("line".into(), 1.into());
+    let line = serde_json::Value::Object(F::case_json(&s.case)).to_string();
     let quoted = |t: &str| format!("'{}'", t.replace('\'', "'\\''"));
-    let reproduce = (a.format == WireFormat::Json).then(|| {
+    let reproduce = F::COMMAND.map(|command| {
         format!(
-            "printf '%s\\n\\n' {} | {} > answer.jsonl && echo {} | tetwalk judge - answer.jsonl",
-            quoted(&serde_json::Value::Object(asked).to_string()),
-            a.cmd,
+            "echo {} | tetwalk {command} --answerer {} --answerer-format {}{}",
             quoted(&line),
+            quoted(&a.cmd),
+            a.format.name(),
+            match a.faces {
+                [0, 1, 2, 3] => String::new(),
+                f => format!(" --faces {}", f.map(|x| x.to_string()).join(",")),
+            }
         )
     });
     Ok(Ok(CaseShrunk::measured(

@@ -225,6 +225,15 @@ pub trait Family: Clone + Copy + Debug + PartialEq + Eq + Send + Sync + 'static 
     fn refutes_claim(case: &Self::Case, truth: &Self::Truth, answer: &Self::Answer) -> bool {
         matches!(Self::verdict(case, truth, answer), Verdict::Wrong(_))
     }
+    /// Whether two exact truths have the same right answers (a shrunk case keeps its original's).
+    fn same_truth(_a: &Self::Truth, _b: &Self::Truth) -> bool {
+        true
+    }
+    /// How far the case is from having another right answer, in [0, 1] (f64: a measure, not a
+    /// verdict): a shrink keeps at least half of its original's. 1 where the family measures none.
+    fn clearance(_case: &Self::Case, _truth: &Self::Truth) -> f64 {
+        1.0
+    }
     /// Whether a wrong answer may be let pass as one on a line that only touches the case's cell
     /// (`kit::Accept::touch_only`).
     fn touch_only(_case: &Self::Case) -> bool {

@@ -8,7 +8,7 @@ use crate::engine::shrink::{CaseShrunk, ShrinkReport};
 /// reproduces it, each line ending in a newline.
 pub(crate) fn case_lines(at: &str, done: &CaseShrunk) -> String {
     let mut out = format!(
-        "{at}: {} on {}: {} -> {} significant bits in {} numbers (at most {} -> {} in one), {} checks{}{}\n  {}\n",
+        "{at}: {} on {}: {} -> {} significant bits in {} numbers (at most {} -> {} in one), clearance {:.3} -> {:.3}, {} checks{}{}\n  {}\n",
         done.method,
         done.backend,
         done.bits_before,
@@ -16,6 +16,8 @@ pub(crate) fn case_lines(at: &str, done: &CaseShrunk) -> String {
         done.numbers,
         done.largest_before,
         done.largest_after,
+        done.clearance_before,
+        done.clearance_after,
         done.checks,
         if done.exhausted { ", budget spent" } else { "" },
         if done.simpler() {

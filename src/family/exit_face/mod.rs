@@ -329,6 +329,34 @@ impl Family for ExitFace {
         x.exit.iter().count() > 1
     }
 
+    /// The same exact exit faces.
+    fn same_truth(a: &Classification, b: &Classification) -> bool {
+        a.exit == b.exit
+    }
+
+    /// The exact exit point's least barycentric coordinate in its exit face (0 at a tie: through an
+    /// edge or vertex), computed in f64.
+    fn clearance(c: &Case, x: &Classification) -> f64 {
+        let Some(f) = x.exit.first() else {
+            return 0.0;
+        };
+        let [a, b, v] = crate::tet::FACE_VERTICES[f].map(|i| c.tet[i].as_dvec3());
+        let (o, d) = (c.org.as_dvec3(), c.dir.as_dvec3());
+        let n = (b - a).cross(v - a);
+        let p = o + d * (n.dot(a - o) / n.dot(d));
+        let area = |p: glam::DVec3, q: glam::DVec3, r: glam::DVec3| (q - p).cross(r - p).dot(n);
+        let whole = area(a, b, v);
+        let least = [area(p, b, v), area(a, p, v), area(a, b, p)]
+            .into_iter()
+            .map(|s| s / whole)
+            .fold(f64::INFINITY, f64::min);
+        if least.is_finite() {
+            least.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
     fn right_answers(_: &Case, x: &Classification) -> String {
         format!(
             "exit faces {:?} (entry faces {:?})",
