@@ -132,6 +132,8 @@ pub(crate) fn run(s: SceneCommand) -> Status {
             json,
         } => {
             let json = JsonOut::new(json.as_deref())?;
+            // Nothing to check (no such file, a folder) is an error, not an invalid mesh.
+            crate::scenes::readable(&scene)?;
             let check =
                 SceneCheck::of(&scene, crate::scenes::load(&scene, super::faces(no_faces)))?;
             println!("{}", check.line());

@@ -230,9 +230,42 @@ fn mesh_of(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
         Source::BuiltIn => return built_in(name).expect("a built-in scene is embedded"),
         Source::File(path) => path,
     };
+    found(name, &path)?;
     #[cfg(feature = "formats")]
     if let Some(format) = crate::mesh::formats::Format::of(&path) {
         return crate::mesh::formats::load(&path, format, faces);
+    }
+    crate::mesh::load_tetgen_with(&path, faces)
+}
+
+/// An error unless the scene `name` is one tetwalk can read: built in, generated, or files that are
+/// there (a mesh file, or TetGen's `.node` and `.ele` of a stem), not folders. What is in them is
+/// the loader's to judge; this says only whether there is something to judge (`scene check` exits
+/// 2 where there is not).
+pub fn readable(name: &str) -> Result<(), MeshError> {
+    match source(name)? {
+        Source::File(path) => found(name, &path),
+        _ => Ok(()),
+    }
+}
+
+/// [`readable`] for a file scene at `path`.
+fn found(name: &str, path: &std::path::Path) -> Result<(), MeshError> {
+    let fail = |what: String| {
+        Err(MeshError {
+            place: path.display().to_string(),
+            what,
+        })
+    };
+    if path.is_dir() {
+        return fail("is a folder, not a mesh file or a TetGen stem".into());
+    }
+    #[cfg(feature = "formats")]
+    if crate::mesh::formats::Format::of(path).is_some() {
+        return match std::fs::metadata(path) {
+            Ok(_) => Ok(()),
+            Err(e) => fail(format!("cannot read: {e}")),
+        };
     }
     if let Some(ext @ ("off" | "obj" | "ply")) = path.extension().and_then(|e| e.to_str()) {
         return Err(MeshError {
@@ -243,19 +276,26 @@ fn mesh_of(name: &str, faces: crate::mesh::Faces) -> Result<Mesh, MeshError> {
             ),
         });
     }
-    let [node, ele, ..] = crate::mesh::tetgen_files(&path);
-    if !path.exists() && !node.exists() && !ele.exists() {
+    let [node, ele, ..] = crate::mesh::tetgen_files(path);
+    if path.is_file() && !(node.is_file() && ele.is_file()) {
+        return fail(format!(
+            "a file whose extension ({}) is not one tetwalk reads: a mesh is a .msh, .vtk, .vtu or .mesh file, or TetGen's .node and .ele",
+            path.extension()
+                .map_or("none".into(), |e| format!(".{}", e.to_string_lossy()))
+        ));
+    }
+    if !node.is_file() || !ele.is_file() {
         return Err(MeshError {
             place: format!("scene {name}"),
             what: format!(
-                "no such scene: not one of {}, nor a mesh file (.msh, .vtk, .vtu, .mesh) or TetGen stem (no {} or {})",
+                "no such scene: not one of {}, nor a mesh file (.msh, .vtk, .vtu, .mesh) or TetGen stem ({} or {} missing)",
                 names(),
                 node.display(),
                 ele.display()
             ),
         });
     }
-    crate::mesh::load_tetgen_with(&path, faces)
+    Ok(())
 }
 
 /// Most tetrahedra a generated mesh may have (about 3 GiB while it is built).

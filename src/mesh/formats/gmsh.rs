@@ -53,15 +53,31 @@ pub(super) fn read(bytes: &[u8], file: &str) -> Result<Read, MeshError> {
     }
 }
 
-/// MSH 4.1 through `mshio`: node blocks in order, each node's tag its block's own (sparse tags) or the
-/// next of the section's consecutive ones; element blocks in order.
+/// Most characters of a reader's message kept in an error (`mshio` quotes the file's bytes).
+const MESSAGE: usize = 300;
+
+/// MSH 4.1 through `mshio` for the coordinates and elements, each node's tag read here as the file
+/// lists it ([`node_tags_41`]: `mshio` numbers a block's nodes from the section's smallest tag
+/// whenever the tags span a dense range, whatever their order); element blocks in order.
 fn read_41(bytes: &[u8], file: &str) -> Result<Read, MeshError> {
+    let fail = |what: String| MeshError {
+        place: file.to_string(),
+        what,
+    };
+    // The tags first: they bound every count the section announces by the file's size.
+    let tags = node_tags_41(bytes).map_err(|e| fail(format!("$Nodes: {e}")))?;
     let msh = super::guarded("the MSH reader (mshio)", file, || {
         mshio::parse_msh_bytes(bytes).map_err(|e| e.to_string())
     })?
-    .map_err(|e| MeshError {
-        place: file.to_string(),
-        what: format!("not a readable MSH 4.1 file: {e}"),
+    .map_err(|e| {
+        let e: String = e
+            .lines()
+            .next()
+            .unwrap_or("")
+            .chars()
+            .take(MESSAGE)
+            .collect();
+        fail(format!("not a readable MSH 4.1 file: {e}"))
     })?;
     let mut read = Read {
         names: ["node", "element", "element"],
@@ -69,19 +85,29 @@ fn read_41(bytes: &[u8], file: &str) -> Result<Read, MeshError> {
     };
     let mut index: HashMap<u64, u32> = HashMap::new();
     if let Some(nodes) = &msh.data.nodes {
-        let mut next = nodes.min_node_tag;
-        for block in &nodes.node_blocks {
-            let tags: Vec<u64> = match &block.node_tags {
-                Some(map) => {
-                    let mut t = vec![0; block.nodes.len()];
-                    map.iter().for_each(|(&tag, &i)| t[i] = tag);
-                    t
+        if nodes.node_blocks.len() != tags.len() {
+            return Err(fail(format!(
+                "$Nodes: {} node blocks read, {} listed",
+                nodes.node_blocks.len(),
+                tags.len()
+            )));
+        }
+        for (k, (block, tags)) in nodes.node_blocks.iter().zip(&tags).enumerate() {
+            if block.nodes.len() != tags.len() {
+                return Err(fail(format!(
+                    "$Nodes block {}: {} coordinates read, {} tags listed",
+                    k + 1,
+                    block.nodes.len(),
+                    tags.len()
+                )));
+            }
+            for (n, &tag) in block.nodes.iter().zip(tags) {
+                if index.insert(tag, read.points.len() as u32).is_some() {
+                    return Err(fail(format!(
+                        "$Nodes block {}: node {tag} defined twice",
+                        k + 1
+                    )));
                 }
-                None => (0..block.nodes.len() as u64).map(|i| next + i).collect(),
-            };
-            next += block.nodes.len() as u64;
-            for (n, tag) in block.nodes.iter().zip(tags) {
-                index.insert(tag, read.points.len() as u32);
                 read.points.push([n.x, n.y, n.z]);
                 read.point_ids.push(tag);
             }
@@ -98,6 +124,187 @@ fn read_41(bytes: &[u8], file: &str) -> Result<Read, MeshError> {
         }
     }
     Ok(read)
+}
+
+/// The node tags of an MSH 4.1 file's `$Nodes` section, block by block, in the order the file lists
+/// them (ASCII or binary, either byte order; MSH 4.1: `numEntityBlocks numNodes minNodeTag
+/// maxNodeTag`, then per block `entityDim entityTag parametric numNodesInBlock`, its tags, its
+/// coordinates). Every count is bounded by the bytes left before it is used; an error says which.
+/// No `$Nodes` section: no blocks.
+fn node_tags_41(bytes: &[u8]) -> Result<Vec<Vec<u64>>, String> {
+    let (_, binary) = header(bytes, "").map_err(|e| e.what)?;
+    let find = |pat: &[u8], from: usize| {
+        bytes
+            .get(from..)
+            .and_then(|b| b.windows(pat.len()).position(|w| w == pat))
+            .map(|i| from + i)
+    };
+    let Some(at) = find(b"\n$Nodes", 0) else {
+        return Ok(Vec::new());
+    };
+    let start = at + b"\n$Nodes".len();
+    let body = start
+        + bytes[start..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(0, |i| i + 1);
+    let mut r = if binary {
+        // The version line (`4.1 1 8`: the data size last), then the binary int 1 in the file's
+        // byte order.
+        let version = find(b"\n", 0).map_or(0, |i| i + 1);
+        let one = find(b"\n", version).map_or(0, |i| i + 1);
+        let line = String::from_utf8_lossy(&bytes[version..one]).to_string();
+        let size = match line.split_whitespace().nth(2) {
+            Some("8") => 8,
+            Some("4") => 4,
+            other => return Err(format!("a data size of {other:?}, not 4 or 8")),
+        };
+        let big = bytes
+            .get(one..one + 4)
+            .is_some_and(|b| u32::from_be_bytes([b[0], b[1], b[2], b[3]]) == 1);
+        Fields::Binary {
+            at: body,
+            size,
+            big,
+        }
+    } else {
+        let end = find(b"$EndNodes", body).ok_or("not closed by $EndNodes")?;
+        let text = std::str::from_utf8(&bytes[body..end]).map_err(|_| "not text")?;
+        Fields::Ascii(text.split_ascii_whitespace(), text.len())
+    };
+    let blocks = r.size_t(bytes, "number of blocks")?;
+    let nodes = r.size_t(bytes, "number of nodes")?;
+    for what in ["smallest tag", "largest tag"] {
+        r.size_t(bytes, what)?;
+    }
+    if nodes > r.left(bytes) as u64 / 8 || blocks > r.left(bytes) as u64 / 8 {
+        return Err(format!(
+            "announces {nodes} nodes in {blocks} blocks, more than the {} bytes left could hold",
+            r.left(bytes)
+        ));
+    }
+    let mut out = Vec::new();
+    for k in 1..=blocks {
+        let of = |what: &str| format!("block {k}'s {what}");
+        r.int(bytes, &of("dimension"))?;
+        r.int(bytes, &of("entity"))?;
+        let parametric = r.int(bytes, &of("parametric flag"))?;
+        let n = r.size_t(bytes, &of("number of nodes"))?;
+        // A node is at least its tag and three coordinates: 8 characters, or its binary size.
+        let coordinates = 3 + parametric.min(3) as usize;
+        let least = match &r {
+            Fields::Ascii(..) => 8,
+            Fields::Binary { size, .. } => size + 8 * coordinates,
+        };
+        if n > (r.left(bytes) / least) as u64 {
+            return Err(format!(
+                "block {k} announces {n} nodes, more than the {} bytes left could hold",
+                r.left(bytes)
+            ));
+        }
+        let tags = (0..n)
+            .map(|_| r.size_t(bytes, &of("node tag")))
+            .collect::<Result<Vec<_>, _>>()?;
+        for _ in 0..n as usize * coordinates {
+            r.double(bytes, &of("coordinates"))?;
+        }
+        out.push(tags);
+    }
+    Ok(out)
+}
+
+/// The fields of an MSH section read in order: words of ASCII text, or binary values.
+enum Fields<'a> {
+    /// The section's words, and its length (a bound on what is left).
+    Ascii(std::str::SplitAsciiWhitespace<'a>, usize),
+    Binary {
+        /// Where the next value starts in the file's bytes.
+        at: usize,
+        /// Bytes of a `size_t`.
+        size: usize,
+        /// Big-endian.
+        big: bool,
+    },
+}
+
+impl Fields<'_> {
+    /// The next `n` bytes as an unsigned integer, or an error naming `what` ended the file.
+    fn bytes(&mut self, bytes: &[u8], n: usize, what: &str) -> Result<u64, String> {
+        let Fields::Binary { at, big, .. } = self else {
+            unreachable!("binary fields only");
+        };
+        let b = bytes
+            .get(*at..*at + n)
+            .ok_or_else(|| format!("ends before its {what}"))?;
+        *at += n;
+        let mut w = [0u8; 8];
+        w[..n].copy_from_slice(b);
+        if *big {
+            w[..n].reverse();
+        }
+        Ok(u64::from_le_bytes(w))
+    }
+
+    /// The next word, or an error naming `what`.
+    fn word<'w>(
+        words: &mut std::str::SplitAsciiWhitespace<'w>,
+        what: &str,
+    ) -> Result<&'w str, String> {
+        words
+            .next()
+            .ok_or_else(|| format!("ends before its {what}"))
+    }
+
+    /// A `size_t` (a count or a tag).
+    fn size_t(&mut self, bytes: &[u8], what: &str) -> Result<u64, String> {
+        match self {
+            Fields::Ascii(words, _) => {
+                let w = Self::word(words, what)?;
+                w.parse::<u64>().map_err(|_| {
+                    format!(
+                        "'{}' is not a {what}",
+                        w.chars().take(40).collect::<String>()
+                    )
+                })
+            }
+            Fields::Binary { size, .. } => {
+                let n = *size;
+                self.bytes(bytes, n, what)
+            }
+        }
+    }
+
+    /// An `int`.
+    fn int(&mut self, bytes: &[u8], what: &str) -> Result<u64, String> {
+        match self {
+            Fields::Ascii(words, _) => {
+                let w = Self::word(words, what)?;
+                w.parse::<i64>().map(|v| v.max(0) as u64).map_err(|_| {
+                    format!(
+                        "'{}' is not a {what}",
+                        w.chars().take(40).collect::<String>()
+                    )
+                })
+            }
+            Fields::Binary { .. } => self.bytes(bytes, 4, what),
+        }
+    }
+
+    /// A `double`, skipped (the coordinates are `mshio`'s to read).
+    fn double(&mut self, bytes: &[u8], what: &str) -> Result<(), String> {
+        match self {
+            Fields::Ascii(words, _) => Self::word(words, what).map(drop),
+            Fields::Binary { .. } => self.bytes(bytes, 8, what).map(drop),
+        }
+    }
+
+    /// Bytes left to read (for text, the section's length: a bound).
+    fn left(&self, bytes: &[u8]) -> usize {
+        match self {
+            Fields::Ascii(_, len) => *len,
+            Fields::Binary { at, .. } => bytes.len().saturating_sub(*at),
+        }
+    }
 }
 
 /// Each node tag's point index; an error names a tag no node has.
