@@ -51,13 +51,21 @@ pub(crate) fn clean_on_interrupt() {
     let set = ctrlc::set_handler(|| {
         crate::child::kill_all();
         let n = crate::staged::remove_all();
+        let kept = crate::staged::written();
         eprintln!(
-            "tetwalk: interrupted; {} removed, nothing written",
+            "tetwalk: interrupted; {} removed, {}",
             crate::report::counted(
                 n as u64,
                 "unfinished output file",
                 "unfinished output files"
-            )
+            ),
+            match kept {
+                0 => "nothing written".to_string(),
+                k => format!(
+                    "{} written whole before it kept (found cases filed as they were found)",
+                    crate::report::counted(k as u64, "file", "files")
+                ),
+            }
         );
         std::process::exit(130);
     });

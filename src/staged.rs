@@ -4,9 +4,75 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The staging files (and working folders) alive now.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Files written whole so far (renamed onto their targets): what an interrupted run keeps.
+static WRITTEN: AtomicUsize = AtomicUsize::new(0);
+
+/// How many files this run has written whole so far.
+pub(crate) fn written() -> usize {
+    WRITTEN.load(Ordering::Relaxed)
+}
+
+/// The open file descriptor a path names, where it names one rather than a file: `/dev/stdin`,
+/// `/dev/stdout`, `/dev/stderr`, `/dev/fd/N`, `/proc/self/fd/N` or `/proc/PID/fd/N` of this
+/// process, itself or through symbolic links to it. Such a target is written into (at the
+/// descriptor's own offset, after what was printed there), never renamed over.
+pub(crate) fn descriptor(p: &Path) -> Option<i32> {
+    let mut p = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let me = std::process::id().to_string();
+    for _ in 0..MAX_LINKS {
+        let s = p.to_string_lossy();
+        let n = match s.as_ref() {
+            "/dev/stdin" => Some(0),
+            "/dev/stdout" => Some(1),
+            "/dev/stderr" => Some(2),
+            _ => ["/dev/fd/", "/proc/self/fd/", &format!("/proc/{me}/fd/")]
+                .iter()
+                .find_map(|pre| s.strip_prefix(pre))
+                .and_then(|n| n.parse::<i32>().ok()),
+        };
+        if n.is_some() {
+            return n;
+        }
+        match std::fs::read_link(&p) {
+            Ok(target) => {
+                let dir = p.parent().map(Path::to_path_buf).unwrap_or_default();
+                p = std::path::absolute(dir.join(target)).unwrap_or(p);
+            }
+            Err(_) => return None,
+        }
+    }
+    None
+}
+
+/// Which file an open descriptor is (device and inode), where it is one.
+#[cfg(unix)]
+pub(crate) fn identity_of_fd(fd: i32) -> Option<(u64, u64, bool)> {
+    // SAFETY: fstat only fills the struct it is given; a closed descriptor gives an error.
+    let mut st: libc::stat = unsafe { std::mem::zeroed() };
+    (unsafe { libc::fstat(fd, &mut st) } == 0).then_some((
+        st.st_dev as u64,
+        st.st_ino as u64,
+        st.st_mode & libc::S_IFMT == libc::S_IFREG,
+    ))
+}
+
+/// Which file a path leads to (device, inode, whether a regular file): a descriptor's open file
+/// ([`descriptor`]), or the file its links lead to; `None` where nothing is there yet.
+#[cfg(unix)]
+pub(crate) fn identity(p: &Path) -> Option<(u64, u64, bool)> {
+    use std::os::unix::fs::MetadataExt;
+    if let Some(fd) = descriptor(p) {
+        return identity_of_fd(fd);
+    }
+    std::fs::metadata(resolve(p))
+        .ok()
+        .map(|m| (m.dev(), m.ino(), m.is_file()))
+}
 
 /// A staging file: removed when dropped unpersisted, and by [`remove_all`]. Where the target is not a
 /// regular file (a device such as `/dev/stdout`, a FIFO), there is nothing to rename onto: the output
@@ -27,7 +93,9 @@ impl Staging {
         match self.guard.take() {
             Some(g) => {
                 forget(&g);
-                g.persist(&self.target).map_err(|e| e.error)
+                g.persist(&self.target).map_err(|e| e.error)?;
+                WRITTEN.fetch_add(1, Ordering::Relaxed);
+                Ok(())
             }
             None => Ok(()),
         }
@@ -68,6 +136,25 @@ pub(crate) fn beside(dest: &Path) -> std::io::Result<Staging> {
             std::io::ErrorKind::IsADirectory,
             "is a folder: give a file's path",
         ));
+    }
+    #[cfg(unix)]
+    if let Some(fd) = descriptor(dest) {
+        // What was printed there first, then this, at the descriptor's own offset.
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+        let _ = std::io::stderr().flush();
+        // SAFETY: dup only makes a new descriptor for the same open file; a closed one errs.
+        let copy = unsafe { libc::dup(fd) };
+        if copy < 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+        // SAFETY: `copy` is a descriptor just made, owned by nothing else.
+        let file = unsafe { <std::fs::File as std::os::fd::FromRawFd>::from_raw_fd(copy) };
+        return Ok(Staging {
+            file,
+            target: dest.to_path_buf(),
+            guard: None,
+        });
     }
     let real = resolve(dest);
     if std::fs::metadata(&real).is_ok_and(|m| !m.is_file()) {
@@ -129,27 +216,19 @@ pub(crate) fn resolve(p: &Path) -> PathBuf {
     }
 }
 
-/// Whether two paths name the same regular file (by identity: links, other spellings and hard links
-/// alike), or the same place where neither exists yet. Devices and pipes (`/dev/stdout`) are never
-/// the same file as anything: they are written into, not replaced.
+/// Whether two paths name the same regular file (by identity: links, other spellings, hard links and
+/// descriptors such as `/dev/stdin` alike), or the same place where neither exists yet. Devices and
+/// pipes are never the same file as anything: they are written into, not replaced.
 pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
-    let (ra, rb) = (resolve(a), resolve(b));
-    match (std::fs::metadata(&ra), std::fs::metadata(&rb)) {
-        (Ok(ma), Ok(mb)) => {
-            ma.is_file() && mb.is_file() && {
-                #[cfg(unix)]
-                {
-                    use std::os::unix::fs::MetadataExt;
-                    ma.dev() == mb.dev() && ma.ino() == mb.ino()
-                }
-                #[cfg(not(unix))]
-                {
-                    ra == rb
-                }
-            }
-        }
-        (Err(_), Err(_)) => ra == rb,
+    #[cfg(unix)]
+    match (identity(a), identity(b)) {
+        (Some((da, ia, fa)), Some((db, ib, fb))) => fa && fb && da == db && ia == ib,
+        (None, None) => resolve(a) == resolve(b),
         _ => false,
+    }
+    #[cfg(not(unix))]
+    {
+        resolve(a) == resolve(b)
     }
 }
 

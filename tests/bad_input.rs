@@ -436,9 +436,60 @@ fn an_interrupted_run_leaves_no_staging_file() {
     let mut err = String::new();
     std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
     assert_eq!(status.code(), Some(130), "{err}");
-    assert!(err.contains("interrupted"), "{err}");
+    assert!(
+        err.contains("interrupted; 1 unfinished output file removed, nothing written"),
+        "{err}"
+    );
     assert_eq!(staging(), 0, "the staging file is removed");
     assert!(!out.exists(), "and nothing half-written appears");
+}
+
+/// An interrupted campaign says what it kept: the found cases it filed, each written whole.
+#[test]
+fn an_interrupted_campaign_says_what_it_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let found = dir.path().join("found");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args([
+            "stress",
+            "--methods",
+            "plucker",
+            "--seconds",
+            "600",
+            "--found",
+        ])
+        .arg(&found)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let filed = || {
+        std::fs::read_dir(found.join("plucker"))
+            .map(|d| d.filter_map(|e| e.ok()).count())
+            .unwrap_or(0)
+    };
+    // Wait (by progress) until it has filed a case.
+    for _ in 0..6000 {
+        if filed() > 0 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    assert!(filed() > 0, "the campaign filed a case");
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    let kept = filed();
+    assert!(
+        err.contains("written whole before it kept") && !err.contains("nothing written"),
+        "{kept} filed: {err}"
+    );
 }
 
 /// A count of 512 rays on a scene where f32 Plücker is wrong on every one.
@@ -899,4 +950,80 @@ fn each_familys_bytes_per_case_is_at_least_what_a_stress_row_holds() {
             "{family}: a stress row holds {bytes:.0} bytes per case, more than BYTES_PER_CASE = {declared}"
         );
     }
+}
+
+/// A run that would judge nothing, or drop what a flag asks, is an error naming why: a tolerance that
+/// leaves no case; a direction scaled and then made a unit one; an answerer's setting without an
+/// answerer; a value that is not UTF-8, named with its flag; and an echoed input is cut short.
+#[test]
+fn a_flag_whose_meaning_would_be_dropped_is_refused() {
+    refused(
+        &[
+            "stress",
+            "--rows",
+            "well",
+            "--cases",
+            "20",
+            "--tolerance",
+            "0.99",
+        ],
+        &["no case was judged", "tolerance 0.99"],
+    );
+    refused(
+        &[
+            "stress",
+            "--unit-direction",
+            "--scale",
+            "0/5",
+            "--cases",
+            "5",
+        ],
+        &["--scale 0/5", "--unit-direction undoes", "--scale 0/0"],
+    );
+    refused(
+        &[
+            "gen-cases",
+            "--unit-direction",
+            "--scale",
+            "3",
+            "--count",
+            "5",
+        ],
+        &["--scale 3/3", "--scale 3/0"],
+    );
+    refused(
+        &["stress", "--answerer-seconds", "0", "--cases", "5"],
+        &["--answerer"],
+    );
+    let odd = <std::ffi::OsStr as std::os::unix::ffi::OsStrExt>::from_bytes(b"\xff.msh");
+    let out = Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .arg("count")
+        .arg("--scene")
+        .arg(odd)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("argument 3") && err.contains("--scene") && err.contains("not UTF-8"),
+        "{err}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let (_, case, _) = tetwalk(&["gen-cases", "--row", "well", "--count", "1"], b"");
+    let (cases, answers) = (dir.path().join("c.jsonl"), dir.path().join("a.jsonl"));
+    std::fs::write(&cases, case).unwrap();
+    std::fs::write(
+        &answers,
+        format!("{{\"line\": 1, \"face\": {}}}\n", "9".repeat(1_000_000)),
+    )
+    .unwrap();
+    let (_, out, _) = tetwalk(
+        &["judge", cases.to_str().unwrap(), answers.to_str().unwrap()],
+        b"",
+    );
+    assert!(
+        out.len() < 1000 && out.contains("characters in all"),
+        "{} bytes",
+        out.len()
+    );
 }

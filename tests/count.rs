@@ -441,6 +441,50 @@ fn the_audit_stops_a_count_whose_reference_is_wrong() {
         Err(CountError::Audit { reference, .. }) => assert_eq!(reference, "halfspace"),
         other => panic!("the audit must stop it: {other:?}"),
     }
+    // A reference that ends as the exact walk does, on a constrained face, but another one: maria17
+    // on the far bunny, whose wrong rays are nearly all wrong faces. The audit holds the face, not
+    // only the kind of ending.
+    let far = tetwalk::scenes::load("bunny-quality-far", tetwalk::mesh::Faces::Required).unwrap();
+    let few = CountSettings::<Walks> {
+        views: Views::new(4, 64, 64, 1),
+        ..settings("maria17")
+    };
+    match run(&far, &few, &[], &cpu, &|| {}, None) {
+        Err(CountError::Audit {
+            reference,
+            walked,
+            answered,
+            ..
+        }) => {
+            use tetwalk::walk::Outcome;
+            assert_eq!(reference, "maria17");
+            assert!(
+                matches!(
+                    (walked.outcome, answered.outcome),
+                    (Outcome::Hit { .. }, Outcome::Hit { .. })
+                ) && walked != answered,
+                "the same kind of ending, another walk: {walked:?} {answered:?}"
+            );
+        }
+        other => panic!("the audit must stop it: {other:?}"),
+    }
+    // The rule itself: the reference agrees with the exact walk only step for step, the same face of
+    // the same tetrahedron in the same steps; the same kind of ending elsewhere does not agree.
+    use tetwalk::family::count::Counted;
+    use tetwalk::walk::{Outcome, Walk};
+    let ray = tetwalk::tet::Ray {
+        org: glam::Vec3::ZERO,
+        dir: glam::Vec3::X,
+    };
+    let at = |tet, face, steps| Walk {
+        outcome: Outcome::Hit { tet, face },
+        steps,
+    };
+    let m = &far.mesh;
+    assert!(Walks::agrees(m, &ray, &at(7, 1, 9), &at(7, 1, 9)));
+    for other in [at(7, 2, 9), at(8, 1, 9), at(7, 1, 10)] {
+        assert!(!Walks::agrees(m, &ray, &at(7, 1, 9), &other), "{other:?}");
+    }
 }
 
 /// A count relabelled under the 12 labellings of its tetrahedra (`relabel_all`) gets each row's

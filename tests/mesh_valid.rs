@@ -384,3 +384,26 @@ fn the_rule_agrees_with_separating_axes_on_moved_vertices() {
         "valid {valid}, invalid {invalid}"
     );
 }
+
+/// Two vertices equal but for the sign of a zero coordinate are one point: refused as a duplicate,
+/// as two equal vertices are.
+#[test]
+fn a_vertex_equal_to_another_but_for_the_sign_of_zero_is_refused_as_the_same_point() {
+    let raw = |second: Vec3| RawMesh {
+        points: vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::X,
+            Vec3::Y,
+            Vec3::Z,
+            second,
+            Vec3::new(1.0, 1.0, 1.0),
+        ],
+        tets: vec![[0, 1, 2, 3], [4, 1, 2, 5]],
+        neighbors: None,
+        constrained: Vec::new(),
+    };
+    for second in [Vec3::new(-0.0, 0.0, 0.0), Vec3::new(0.0, -0.0, -0.0)] {
+        let e = refused(raw(second));
+        assert!(e.contains("the same point as point 0"), "{second:?}: {e}");
+    }
+}

@@ -130,3 +130,87 @@ fn a_dangling_link_given_as_an_output_stays_a_link() {
     let written = std::fs::read_to_string(dir.path().join("target.json")).unwrap();
     assert!(written.contains("maria17"), "{written}");
 }
+
+/// `tetwalk ARGS` with standard input read from `stdin` and standard output written to `stdout`
+/// (files): its status and standard error.
+fn redirected(args: &[&str], stdin: &Path, stdout: &Path) -> (i32, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args(args)
+        .stdin(std::fs::File::open(stdin).unwrap())
+        .stdout(std::fs::File::create(stdout).unwrap())
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// No output lands on what the run reads or prints: standard input given as a file is protected by
+/// identity like a named input (`--json /dev/stdin`, `/proc/self/fd/0`); `/dev/stdout` is written
+/// into, after the lines printed there, whether standard output is a file or a pipe; a named output
+/// that is where standard output goes is refused (renamed over, it would lose the lines); `verify`'s
+/// found corpus is among its inputs.
+#[test]
+fn no_output_lands_on_an_input_or_a_printed_stream() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = dir.path().join("cases.jsonl");
+    let (_, text, _) = tetwalk(&["gen-cases", "--row", "well", "--count", "3"], b"");
+    std::fs::write(&cases, &text).unwrap();
+    let printed = dir.path().join("printed.txt");
+    for json in ["/dev/stdin", "/proc/self/fd/0"] {
+        let (code, err) = redirected(&["exit", "--json", json], &cases, &printed);
+        assert_eq!(code, 2, "{json}: {err}");
+        assert!(
+            err.contains("standard input") && err.contains("nothing was written"),
+            "{err}"
+        );
+        assert_eq!(std::fs::read_to_string(&cases).unwrap(), text, "{json}");
+    }
+    let c = cases.to_str().unwrap();
+    let (code, err) = redirected(&["exit", c, "--json", "/dev/stdout"], &cases, &printed);
+    assert_eq!(code, 0, "{err}");
+    let both = std::fs::read_to_string(&printed).unwrap();
+    let lines = both.lines().filter(|l| l.starts_with("{\"line\"")).count();
+    assert!(lines >= 3 && both.trim_end().ends_with('}'), "{both}");
+    let report: serde_json::Value =
+        serde_json::from_str(&both[both.find("{\n").expect("the JSON after the lines")..]).unwrap();
+    assert!(report["methods"].is_array(), "{report}");
+    let piped = std::process::Command::new(env!("CARGO_BIN_EXE_tetwalk"))
+        .args(["exit", c, "--json", "/dev/stdout"])
+        .output()
+        .unwrap();
+    assert!(
+        piped.status.success(),
+        "{}",
+        String::from_utf8_lossy(&piped.stderr)
+    );
+    assert!(
+        String::from_utf8_lossy(&piped.stdout)
+            .trim_end()
+            .ends_with('}')
+    );
+    let p = printed.to_str().unwrap();
+    let (code, err) = redirected(&["exit", c, "--json", p], &cases, &printed);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("standard output") && err.contains("/dev/stdout"),
+        "{err}"
+    );
+    // verify --json onto a counterexample of its own corpus.
+    let found = dir.path().join("found");
+    std::fs::create_dir(&found).unwrap();
+    let case = found.join("case.json");
+    std::fs::write(&case, "{}").unwrap();
+    refused(
+        dir.path(),
+        &[
+            "verify",
+            "--found",
+            found.to_str().unwrap(),
+            "--json",
+            case.to_str().unwrap(),
+        ],
+        &["--found", "case.json"],
+    );
+}

@@ -838,3 +838,30 @@ fn hit_wide_compares_the_4_wide_versions_case_by_case() {
     assert_eq!(code, 2);
     assert!(err.contains("give --backend cpu"), "{err}");
 }
+
+/// A hit at `t = 0` (or `-0.0`) is never right, even where the exact first hit lies within the
+/// ulps a `t` may be off: a ray from just before a triangle (the exact `t` the smallest subnormal)
+/// answered "hit at 0" is wrong; the same triangle at the smallest positive `t` is right.
+#[test]
+fn a_hit_at_t_zero_is_wrong_even_next_to_the_exact_hit() {
+    use tetwalk::exact::hit::{T_ULPS, judge_hit};
+    let tri = [
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    ];
+    let ray = tetwalk::tet::Ray {
+        org: Vec3::new(0.0, 0.0, -f32::from_bits(1)),
+        dir: Vec3::Z,
+    };
+    let truth = judge_hit(&[tri], false, &ray).unwrap();
+    assert!(truth.judge(Some((0, f32::from_bits(1))), T_ULPS).right);
+    for t in [0.0f32, -0.0] {
+        let judged = truth.judge(Some((0, t)), T_ULPS);
+        assert!(judged.triangle && !judged.right, "t = {t:?}: {judged:?}");
+        assert!(
+            judged.t.unwrap().ulps.is_some_and(|u| u <= T_ULPS),
+            "t = {t:?} is near"
+        );
+    }
+}

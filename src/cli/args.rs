@@ -205,7 +205,7 @@ pub(crate) struct AnswererArg {
     answerer_format: crate::engine::answerer::WireFormat,
     /// Seconds the answerer may take on one batch; past them it is stopped, with everything it
     /// started, and the run fails saying so.
-    #[arg(long, value_name = "S", default_value_t = 60.0)]
+    #[arg(long, value_name = "S", default_value_t = 60.0, requires = "answerer")]
     answerer_seconds: f64,
     /// Cases per batch.
     #[arg(
@@ -338,6 +338,20 @@ pub(crate) struct ContractArg {
 }
 
 impl ContractArg {
+    /// An error where `--scale` scales what the contract then undoes: a direction scaled by 2^D
+    /// and made a unit one again.
+    pub(crate) fn at_scale(&self, scale: crate::family::Scale) -> Result<(), Error> {
+        // `--scale E` scales the direction too.
+        if self.unit_direction && scale.direction != 0 {
+            return Err(format!(
+                "--scale {}/{} scales the directions by 2^{}, which --unit-direction undoes (every direction has length 1): give --scale {}/0",
+                scale.points, scale.direction, scale.direction, scale.points
+            )
+            .into());
+        }
+        Ok(())
+    }
+
     /// The contract, checked for family `F` (only exit faces hold more than a unit direction).
     pub(crate) fn contract<F: Family>(&self) -> Result<Contract, Error> {
         if self.origin.len() > 1 && self.origin.contains(&Origin::Anywhere) {

@@ -103,6 +103,7 @@ pub(crate) fn start<F: Family>(
     checks()?;
     let out = JsonOut::new(a.json.as_deref())?;
     let contract = a.contract.contract::<F>()?;
+    a.contract.at_scale(a.scale)?;
     Ok(Start {
         flatness,
         out,

@@ -161,7 +161,14 @@ pub fn main() -> ExitCode {
     crate::process::quiet_mesa();
     crate::process::clean_on_interrupt();
     crate::process::quiet_on_closed_output();
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.kind() == clap::error::ErrorKind::InvalidUtf8 => {
+            eprintln!("tetwalk: {}", not_utf8(std::env::args_os()));
+            return ExitCode::from(2);
+        }
+        Err(e) => e.exit(),
+    };
     let result = cli.command.io().check().and_then(|()| cli.command.run());
     result.unwrap_or_else(|e| {
         if crate::process::closed_output(&*e) {
@@ -180,6 +187,24 @@ pub fn main() -> ExitCode {
         eprintln!("tetwalk: {msg}");
         ExitCode::from(2)
     })
+}
+
+/// Which argument is not UTF-8 (clap says only that one is), with the flag before it: file paths are
+/// taken as they are, but scene names and other values are text.
+fn not_utf8(args: impl Iterator<Item = std::ffi::OsString>) -> String {
+    let args: Vec<std::ffi::OsString> = args.collect();
+    let Some(k) = args.iter().position(|a| a.to_str().is_none()) else {
+        return "an argument is not UTF-8".into();
+    };
+    let after = args[..k]
+        .last()
+        .and_then(|a| a.to_str())
+        .filter(|a| a.starts_with('-'))
+        .map_or(String::new(), |f| format!(", the value of {f}"));
+    format!(
+        "argument {k} ('{}'{after}) is not UTF-8: scene names and other values are text (give a file whose name is not UTF-8 through a link that is)",
+        args[k].to_string_lossy()
+    )
 }
 
 fn methods(Listed { json }: Listed) -> Status {

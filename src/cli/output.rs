@@ -43,8 +43,63 @@ impl Files {
         self
     }
 
-    /// An error naming the first output that is an input, or another output.
+    /// Every file below the folder `dir` (a corpus the run reads), as inputs.
+    pub(crate) fn folder(self, what: &str, dir: &Path) -> Files {
+        let mut files = Vec::new();
+        let mut todo = vec![dir.to_path_buf()];
+        while let Some(d) = todo.pop() {
+            for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+                match e.file_type() {
+                    Ok(t) if t.is_dir() => todo.push(e.path()),
+                    Ok(_) => files.push(e.path()),
+                    Err(_) => {}
+                }
+            }
+        }
+        self.inputs(what, &files)
+    }
+
+    /// An error naming the first output that is an input (standard input too, whatever the command
+    /// reads: a file given there is the user's), where standard output or error goes while not named
+    /// as such (renamed over, it would lose what was printed: `/dev/stdout` is written into), or
+    /// another output.
     pub(crate) fn check(&self) -> Result<(), Error> {
+        for (what, out) in &self.outputs {
+            #[cfg(unix)]
+            if let Some(fd) = crate::staged::descriptor(out) {
+                if fd == 0 && crate::staged::identity_of_fd(0).is_some_and(|(_, _, file)| file) {
+                    return Err(format!(
+                        "{what} {} is standard input, a file the run is given: an output never overwrites it; nothing was written",
+                        out.display()
+                    )
+                    .into());
+                }
+                continue;
+            }
+            #[cfg(unix)]
+            for (fd, stream, name) in [
+                (0, "standard input", "/dev/stdin"),
+                (1, "standard output", "/dev/stdout"),
+                (2, "standard error", "/dev/stderr"),
+            ] {
+                let given = crate::staged::identity_of_fd(fd);
+                let here = crate::staged::identity(out);
+                if let (Some((d, i, true)), Some((d2, i2, true))) = (given, here)
+                    && (d, i) == (d2, i2)
+                {
+                    return Err(format!(
+                        "{what} {} is the file {stream} is; {}; nothing was written",
+                        out.display(),
+                        if fd == 0 {
+                            "an output never overwrites what the run is given".to_string()
+                        } else {
+                            format!("renamed over, it would lose what is printed there: give {name} to write into it")
+                        }
+                    )
+                    .into());
+                }
+            }
+        }
         for (i, (what, out)) in self.outputs.iter().enumerate() {
             let clash = self
                 .inputs

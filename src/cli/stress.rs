@@ -226,6 +226,7 @@ fn stress<F: Rows>(a: Args) -> Status {
         return Err("--compare runs every method on cpu and cpu-fma too; a --wgsl function runs on the GPU only".into());
     }
     let contract = a.contract.contract::<F>()?;
+    a.contract.at_scale(a.scale)?;
     if a.answerer.answerer.is_some() {
         if !F::GIVEN {
             return Err("--answerer answers one cell's cases here; a program's walks are judged by count --answerer (every step asked) or judge (whole walks given)".into());

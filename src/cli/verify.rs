@@ -33,7 +33,9 @@ pub(crate) struct Args {
 
 impl super::Io for Args {
     fn io(&self) -> super::Files {
-        super::Files::default().output("--json", self.json.as_deref())
+        super::Files::default()
+            .folder("--found", &self.found)
+            .output("--json", self.json.as_deref())
     }
 }
 
@@ -57,7 +59,11 @@ pub(crate) fn run(a: Args) -> Status {
         return Err("--run and --skip leave no claim to check".into());
     }
     if !a.found.is_dir() {
-        return Err(format!("--found {}: not a folder of found cases", a.found.display()).into());
+        return Err(format!(
+            "--found {}: not a folder of found cases (the register's counterexamples are a checkout's corpora/found: run verify in the repository, or give --found DIR)",
+            a.found.display()
+        )
+        .into());
     }
     let out = JsonOut::new(a.json.as_deref())?;
     let all = verify_all(&checks, a.cases, &a.found, |v| {

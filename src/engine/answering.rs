@@ -55,6 +55,18 @@ pub(crate) fn open_lines(p: &Path) -> Result<Box<dyn BufRead + Send>, AnsweringE
     )))
 }
 
+/// Most characters of a line's error kept (what it echoes of the input is cut there).
+const BRIEF: usize = 300;
+
+/// `why`, cut to [`BRIEF`] characters (an echoed million-digit number is not repeated whole).
+fn brief(why: String) -> String {
+    if why.chars().count() <= BRIEF {
+        return why;
+    }
+    let kept: String = why.chars().take(BRIEF).collect();
+    format!("{kept}… ({} characters in all)", why.chars().count())
+}
+
 /// The key under which an answer line that is not JSON keeps why, for its case line (`judge`).
 pub(crate) const NOT_JSON: &str = "not JSON";
 
@@ -485,7 +497,7 @@ pub(crate) fn answer(
         });
         if let Err(e) = taken {
             summary.errors += 1;
-            out.push((*n, json!({"line": n, "error": e})));
+            out.push((*n, json!({"line": n, "error": brief(e)})));
         }
     }
     for p in parts.iter_mut() {
