@@ -385,6 +385,20 @@ fn an_output_that_is_a_folder_is_refused_up_front() {
     assert!(left.is_empty(), "nothing left behind: {left:?}");
 }
 
+/// `child` sent `signal` (`-TERM`, `-INT`): it must end with status 130; its standard error.
+fn interrupted(child: &mut std::process::Child, signal: &str) -> String {
+    let killed = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    err
+}
+
 /// A run stopped by SIGTERM removes the staging file of the output it was writing.
 #[test]
 fn an_interrupted_run_leaves_no_staging_file() {
@@ -427,15 +441,7 @@ fn an_interrupted_run_leaves_no_staging_file() {
     }
     assert!(grown, "the run began writing");
     assert_eq!(staging(), 1);
-    let killed = Command::new("kill")
-        .args(["-TERM", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let status = child.wait().unwrap();
-    let mut err = String::new();
-    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
-    assert_eq!(status.code(), Some(130), "{err}");
+    let err = interrupted(&mut child, "-TERM");
     assert!(
         err.contains("interrupted; 1 unfinished output file removed, nothing written"),
         "{err}"
@@ -476,15 +482,7 @@ fn an_interrupted_campaign_says_what_it_kept() {
         std::thread::sleep(std::time::Duration::from_millis(100));
     }
     assert!(filed() > 0, "the campaign filed a case");
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let status = child.wait().unwrap();
-    let mut err = String::new();
-    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
-    assert_eq!(status.code(), Some(130), "{err}");
+    let err = interrupted(&mut child, "-INT");
     let kept = filed();
     assert!(
         err.contains("written whole before it kept") && !err.contains("nothing written"),
