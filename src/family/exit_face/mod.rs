@@ -437,9 +437,8 @@ impl Family for ExitFace {
     }
 
     /// Even-numbered cases carry the exact entry face (as a walk has it), odd ones none (a starting
-    /// tetrahedron). Every case's line crosses the tetrahedron and its origin lies inside it or
-    /// before it, exactly ([`origin_holds`] anywhere): one the generator's rounding made otherwise
-    /// (a far offset) is not a case of the row.
+    /// tetrahedron). What the rows promise besides (the line crossing, the origin inside or before,
+    /// positive orientation) is held where their cases are taken ([`contract::cases_within`]).
     fn case(rows: &ExitRows, row: ExitRow, seed: u64, i: usize) -> Option<(Case, Classification)> {
         let (tet, ray) = generate(rows, row.row, seed, i)?;
         let mut c = Case {
@@ -449,9 +448,6 @@ impl Family for ExitFace {
             entry: None,
         };
         let x = classify(&c).ok()?;
-        if !x.meets() || !origin_holds(Origin::Anywhere, &c, &x) {
-            return None;
-        }
         if i.is_multiple_of(2) {
             c.entry = x.entry.first().map(|f| f as u8);
         }
