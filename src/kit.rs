@@ -131,8 +131,10 @@ impl fmt::Display for Passed {
         for g in &self.groups {
             writeln!(
                 f,
-                "{}: {} judged, {} failures accepted",
-                g.name, g.judged, g.failed
+                "{}: {} judged, {} accepted",
+                g.name,
+                g.judged,
+                crate::report::counted(g.failed as u64, "failure", "failures")
             )?;
         }
         Ok(())

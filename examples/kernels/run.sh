@@ -10,7 +10,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 cases=${1:-2000}
-out=${2:-/dev/stdout}
+out=${2:-}
+# The table to OUT.md, or onto standard output as it is (never reopened: a log that standard output
+# and error share would be truncated, its SKIPPED lines lost).
+table() { if [ -n "$out" ]; then cat >"$out"; else cat; fi; }
 TETWALK_BUILD=1 source scripts/tetwalk-bin.sh
 kernels=()
 if python3 -c "import embreex" 2>/dev/null; then
@@ -18,8 +21,10 @@ if python3 -c "import embreex" 2>/dev/null; then
 else
     echo "SKIPPED Embree: the Python package embreex is not installed (pip install embreex)" >&2
 fi
-parry=target/kernels/release/tetwalk-parry-answers
-if cargo build --release --quiet --manifest-path examples/kernels/parry/Cargo.toml --target-dir target/kernels; then
+# Built where cargo builds this checkout (CARGO_TARGET_DIR honoured), in a folder of its own.
+kernels_target=${CARGO_TARGET_DIR:-target}/kernels
+parry=$kernels_target/release/tetwalk-parry-answers
+if cargo build --release --quiet --manifest-path examples/kernels/parry/Cargo.toml --target-dir "$kernels_target"; then
     kernels+=(parry3d)
 else
     echo "SKIPPED parry3d: examples/kernels/parry does not build here" >&2
@@ -57,7 +62,7 @@ PY
 done
 # woop-watertight, tetwalk's own, on the same rows for comparison.
 "$tetwalk" stress --family triangle --cases "$cases" --methods woop-watertight --json "$work/woop.json" > /dev/null
-python3 - "$work/rows.tsv" "$work/woop.json" "$cases" > "$out" <<'PY'
+python3 - "$work/rows.tsv" "$work/woop.json" "$cases" <<'PY' | table
 import json, sys
 from collections import defaultdict
 rows = [l.rstrip("\n").split("\t") for l in open(sys.argv[1])]

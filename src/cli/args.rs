@@ -188,7 +188,7 @@ const MAX_WGSL: u64 = 1 << 20;
 pub(crate) struct AnswererArg {
     /// A program outside tetwalk that answers cases (a shell command, started once): batches of cases
     /// on its standard input, one answer per case on its standard output (docs/answerers.md), judged
-    /// in place of --methods.
+    /// in place of tetwalk's own methods.
     #[arg(long, value_name = "CMD")]
     pub(crate) answerer: Option<String>,
     /// The answerer's name in tables and found cases.
@@ -216,7 +216,8 @@ pub(crate) struct AnswererArg {
     )]
     answerer_batch: usize,
     /// The answerer claims what its family's methods claim when they claim: never a wrong answer
-    /// (exit faces, octree cells), no leak (triangles); `--fail-on claims` holds it to that.
+    /// (exit faces, octree cells), no leak (triangles): `stress --fail-on claims`, `count --fail-on
+    /// claims` and the like hold it to that.
     #[arg(long, requires = "answerer")]
     answerer_claims: bool,
     /// Exit faces: how the answerer numbers a tetrahedron's faces, `a,b,c,d` (its face i is the

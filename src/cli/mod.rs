@@ -56,8 +56,8 @@ enum Command {
     Stress(stress::Args),
     /// Wrong rays per image, per method, on a scene (seed 000 Table 4), judged exactly.
     Count(count::Args),
-    /// The seeds' tables that tetwalk reproduces, ours beside theirs (printed; `--out` writes them,
-    /// as in corpora/results/paper.md).
+    /// The seeds' tables that tetwalk reproduces, ours beside theirs (printed; `paper --out` writes
+    /// them, as in corpora/results/paper.md).
     Paper(paper::Args),
     /// Walk speed: rays and tetrahedra per second per method and backend, end to end and (on a GPU
     /// with timestamp queries) kernel alone.
@@ -250,5 +250,65 @@ mod tests {
         let cli = super::Cli::command();
         unique_ids(&cli, "tetwalk");
         cli.debug_assert();
+    }
+
+    /// Every flag a command's help names is one the command takes (or an alias of one), unless the
+    /// help names it as another command's (`count --dump`, `stress --rows`): a help that sends the
+    /// user to a flag the command refuses is found here.
+    #[test]
+    fn every_flag_a_commands_help_names_is_its_own() {
+        fn walk(c: &mut clap::Command, path: &str, commands: &[String], wrong: &mut Vec<String>) {
+            let own: Vec<String> = c
+                .get_arguments()
+                .flat_map(|a| {
+                    let mut names: Vec<String> =
+                        a.get_long().into_iter().map(String::from).collect();
+                    names.extend(
+                        a.get_all_aliases()
+                            .unwrap_or_default()
+                            .into_iter()
+                            .map(String::from),
+                    );
+                    names
+                })
+                .collect();
+            let help = c.render_long_help().to_string();
+            let words: Vec<&str> = help
+                .split(|ch: char| ch.is_whitespace() || "`(),;:[]'\"".contains(ch))
+                .filter(|w| !w.is_empty())
+                .collect();
+            for (k, w) in words.iter().enumerate() {
+                let Some(flag) = w.strip_prefix("--") else {
+                    continue;
+                };
+                let flag: String = flag
+                    .chars()
+                    .take_while(|ch| ch.is_ascii_alphanumeric() || *ch == '-')
+                    .collect();
+                let another = k > 0 && commands.iter().any(|n| n == words[k - 1]);
+                let clap_own = ["help", "version"].contains(&flag.as_str());
+                if !flag.is_empty() && !another && !own.contains(&flag) && !clap_own {
+                    wrong.push(format!("{path}: --{flag}"));
+                }
+            }
+            let names: Vec<String> = c
+                .get_subcommands()
+                .map(|s| s.get_name().to_string())
+                .collect();
+            for s in c.get_subcommands_mut() {
+                let p = format!("{path} {}", s.get_name());
+                let mut all = commands.to_vec();
+                all.extend(names.iter().cloned());
+                walk(s, &p, &all, wrong);
+            }
+        }
+        let mut cli = super::Cli::command();
+        let names: Vec<String> = cli
+            .get_subcommands()
+            .map(|s| s.get_name().to_string())
+            .collect();
+        let mut wrong = Vec::new();
+        walk(&mut cli, "tetwalk", &names, &mut wrong);
+        assert!(wrong.is_empty(), "{wrong:#?}");
     }
 }

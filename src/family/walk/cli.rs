@@ -319,7 +319,10 @@ pub(crate) fn render(a: RenderArgs) -> Status {
             for ((name, wrong), im) in f.wrong.iter().zip(&maps) {
                 let n = wrong.iter().flatten().count();
                 write(&beside(&a.out, name), im, &mut drawn)?;
-                println!("  {name}: {n} wrong rays");
+                println!(
+                    "  {name}: {}",
+                    crate::report::counted(n as u64, "wrong ray", "wrong rays")
+                );
                 drawn.wrong.push((name.clone(), n));
             }
             write(&a.out, &Image::sheet(&maps, 4), &mut drawn)?;
