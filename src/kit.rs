@@ -134,7 +134,7 @@ impl fmt::Display for Passed {
                 "{}: {} judged, {} accepted",
                 g.name,
                 g.judged,
-                crate::report::counted(g.failed as u64, "failure", "failures")
+                crate::report::counted(g.failed, "failure", "failures")
             )?;
         }
         Ok(())
