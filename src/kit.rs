@@ -129,12 +129,11 @@ pub struct Passed {
 impl fmt::Display for Passed {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
         for g in &self.groups {
+            let failures = if g.failed == 1 { "failure" } else { "failures" };
             writeln!(
                 f,
-                "{}: {} judged, {} accepted",
-                g.name,
-                g.judged,
-                crate::report::counted(g.failed, "failure", "failures")
+                "{}: {} judged, {} {failures} accepted",
+                g.name, g.judged, g.failed
             )?;
         }
         Ok(())
