@@ -51,6 +51,7 @@ pub(crate) mod run;
 /// What a user's crate names: the method traits, the geometry their signatures use, the kit.
 pub mod prelude {
     pub use super::{Accept, Failed, Passed, Settings, cells, exit_faces, triangles};
+    pub use crate::choice::Model;
     pub use crate::family::contract::{Contract, EntryGiven, Orientation, Origin, Origins};
     pub use crate::methods::triangle::{HitMethod, SingleRay};
     pub use crate::methods::{Arith, CellMethod, ExitMethod, Plain};
@@ -58,6 +59,8 @@ pub mod prelude {
     pub use crate::tet::{FACE_VERTICES, Ray, Tet, Tri};
     pub use glam::Vec3;
 }
+
+use crate::choice::Model;
 
 /// How much a run asks, and which failures the user accepts.
 #[derive(Clone, Debug)]
@@ -68,8 +71,12 @@ pub struct Settings {
     pub properties: usize,
     /// Seed of the stress rows and campaigns (the same seed, the same cases).
     pub seed: u64,
-    /// Run the method as a GPU compiler may compile it (`a·b + c` fused, [`crate::methods::Fused`]).
-    pub fma: bool,
+    /// The arithmetic the method computes in, one of the list tetwalk's CPU backends run
+    /// ([`Model::ALL`]): plain f32 (`Plain`), fused multiply-adds as a GPU compiler may compile it
+    /// (`Fused`), subnormals flushed (`Flushed`), both (`FusedFlushed`, as an NVIDIA GPU computes).
+    /// A method that computes with glam's own operations rather than the model's
+    /// ([`crate::methods::Arith`]) runs in plain f32 whatever is chosen.
+    pub model: Model,
     /// Which failures pass.
     pub accept: Accept,
     /// What the method assumes of its cases (docs/answerers.md, "Contracts"): every stress row's and
@@ -84,7 +91,7 @@ impl Default for Settings {
             cases: 1000,
             properties: 2000,
             seed: 1,
-            fma: false,
+            model: Model::Plain,
             accept: Accept::default(),
             contract: Default::default(),
         }

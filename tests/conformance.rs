@@ -199,3 +199,27 @@ fn the_kit_keeps_every_case_and_shrink_inside_the_contract() {
         assert!((c.dir.as_dvec3().length() - 1.0).abs() < 1e-6, "{line}");
     }
 }
+
+/// The kit runs a method in any arithmetic model of the list (`Settings::model`), not only plain and
+/// fused: `certified` passes in each, and f32 Plücker fails in each.
+#[test]
+fn the_kit_runs_every_arithmetic_model() {
+    use tetwalk::kit::prelude::Model;
+    for model in Model::ALL {
+        let s = Settings {
+            cases: 200,
+            properties: 200,
+            model,
+            ..Settings::default()
+        };
+        tetwalk::kit::run::registered::<ExitFace>("certified", &s)
+            .unwrap()
+            .unwrap_or_else(|f| panic!("{model:?}: {f}"));
+        assert!(
+            tetwalk::kit::run::registered::<ExitFace>("plucker", &s)
+                .unwrap()
+                .is_err(),
+            "{model:?}"
+        );
+    }
+}

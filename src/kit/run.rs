@@ -3,7 +3,7 @@
 //! user's method). Public with the `internals` feature, for tetwalk's own tests.
 
 use super::{Failed, Group, Passed, Settings, per_million};
-use crate::backend::{Backend, CPU, CPU_FMA};
+use crate::backend::{Backend, CPUS};
 use crate::engine::found::Found;
 use crate::engine::shrink;
 use crate::engine::stress::{StressSettings, Who, judge, row_cases};
@@ -134,8 +134,11 @@ fn failed<F: Family>(
     }
 }
 
+/// The CPU backend computing in the settings' model.
 fn backend(s: &Settings) -> &'static Backend {
-    if s.fma { &CPU_FMA } else { &CPU }
+    CPUS.iter()
+        .find(|b| matches!(b, Backend::Cpu { model } if *model == s.model))
+        .expect("a CPU backend for every model")
 }
 
 /// Judge method `m` of family `F` exactly, group by group: every stress row of the family (the
