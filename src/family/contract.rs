@@ -11,12 +11,15 @@ use glam::{DVec3, Vec3};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Origin {
-    /// Anywhere on the line (the rows' own: inside half the time, before the entry face the rest).
+    /// Anywhere the rows place it: inside the closed tetrahedron half the time, before it on the line
+    /// the rest, never past its exit.
     #[default]
     Anywhere,
     /// Strictly before the entry face: outside the closed tetrahedron, the line entering ahead.
     Before,
-    /// On the entry face: the exact entry point rounded to f32 (photon-transport step functions).
+    /// On an entry face, exactly, where f32 has a point there next to the exact entry point; else
+    /// the nearest point strictly inside, one f32 step from outside ([`entry_origin`];
+    /// photon-transport step functions).
     Entry,
     /// Strictly inside the tetrahedron (exactly so).
     Inside,
