@@ -18,7 +18,7 @@ pub enum Origin {
     /// Strictly before the entry face: outside the closed tetrahedron, the line entering ahead.
     Before,
     /// On an entry face, exactly, where f32 has a point there next to the exact entry point; else
-    /// the nearest point strictly inside, one f32 step from outside ([`entry_origin`];
+    /// the nearest point strictly inside, one f32 step from outside (docs/answerers.md, "Contracts";
     /// photon-transport step functions).
     Entry,
     /// Strictly inside the tetrahedron (exactly so).
