@@ -37,6 +37,15 @@
 //! `tetwalk exit`, `hit` and `judge` read, and the found-case line of `corpora/found/`), the case as
 //! found, the method's answer and the right ones. `examples/conformance/` is a
 //! complete user crate; it builds with `default-features = false`.
+//!
+//! An exit-face run begins with a convention check (the method's answers on well-shaped cases under
+//! every face numbering, and with the tetrahedra mirrored), stopping where another convention than
+//! tetwalk's fits, and saying which. [`Settings::every_group`] runs every group; [`SCALE_VARIABLE`]
+//! scales them all. For a user's own property tests, fuzz targets and regression tests, each family's
+//! case type is a [`KitCase`] (decoded from fuzzer bytes, `arbitrary::Arbitrary`, drawn from a stress
+//! row, read back from a reported line), [`strategy`] holds proptest strategies of them (the
+//! `proptest` feature), and one case is judged with [`judge_exit_face`], [`judge_walk`],
+//! [`judge_triangle`] or [`judge_cell`].
 #![warn(missing_docs)]
 
 use std::fmt;
@@ -50,7 +59,11 @@ pub(crate) mod run;
 
 /// What a user's crate names: the method traits, the geometry their signatures use, the kit.
 pub mod prelude {
-    pub use super::{Accept, Failed, Passed, Settings, cells, exit_faces, triangles};
+    pub use super::{
+        Accept, Failed, KitCase, Passed, Settings, cells, exit_faces, judge_cell, judge_exit_face,
+        judge_triangle, judge_walk, triangles,
+    };
+    pub use crate::cases::{BoxCase, Case, HitCase, WalkCase};
     pub use crate::choice::Model;
     pub use crate::family::contract::{Contract, EntryGiven, Orientation, Origin, Origins};
     pub use crate::methods::triangle::{HitMethod, SingleRay};
@@ -83,7 +96,13 @@ pub struct Settings {
     /// campaign's case is made to hold it, and a failure is shrunk inside it. Exit faces take every
     /// field; the other families a unit direction (the rest is not theirs to hold).
     pub contract: crate::family::contract::Contract,
+    /// Run every group, each failing one reported ([`Failed::also`]), rather than stop at the first.
+    pub every_group: bool,
 }
+
+/// The variable that scales every group of a run (nightly runs): `cases` and `properties` are
+/// multiplied by its value, a whole number from 1 to 10,000 (unset: 1).
+pub const SCALE_VARIABLE: &str = "TETWALK_KIT_SCALE";
 
 impl Default for Settings {
     fn default() -> Self {
@@ -94,7 +113,32 @@ impl Default for Settings {
             model: Model::Plain,
             accept: Accept::default(),
             contract: Default::default(),
+            every_group: false,
         }
+    }
+}
+
+impl Settings {
+    /// These settings with `cases` and `properties` times [`SCALE_VARIABLE`]'s value; an error naming
+    /// the variable where it holds no whole number from 1 to 10,000.
+    pub(crate) fn scaled_by_environment(&self) -> Result<Settings, String> {
+        let times = match std::env::var(SCALE_VARIABLE) {
+            Err(std::env::VarError::NotPresent) => 1,
+            Ok(v) => v
+                .trim()
+                .parse::<usize>()
+                .ok()
+                .filter(|n| (1..=10_000).contains(n))
+                .ok_or_else(|| {
+                    format!("{SCALE_VARIABLE}='{v}' is not a whole number from 1 to 10,000")
+                })?,
+            Err(e) => return Err(format!("{SCALE_VARIABLE}: {e}")),
+        };
+        Ok(Settings {
+            cases: self.cases.saturating_mul(times),
+            properties: self.properties.saturating_mul(times),
+            ..self.clone()
+        })
     }
 }
 
@@ -173,6 +217,32 @@ pub struct Failed {
     pub right: String,
     /// Whether the case line, read back, makes the method fail the same way again.
     pub reproduced: bool,
+    /// What the run found beside the failure: the face numbering or orientation the method's answers
+    /// fit (the convention check, run first), or why nothing was judged.
+    pub note: Option<String>,
+    /// The other groups that failed, where [`Settings::every_group`] ran them all.
+    pub also: Vec<Failed>,
+}
+
+impl Failed {
+    /// A run that judged nothing: the settings, the case or the method's convention stop it, `why`.
+    pub(crate) fn not_run(method: &str, family: &'static str, group: &str, why: String) -> Failed {
+        Failed {
+            method: method.to_string(),
+            family,
+            group: group.to_string(),
+            judged: 0,
+            failures: 0,
+            case: String::new(),
+            original: String::new(),
+            found: String::new(),
+            answered: String::new(),
+            right: String::new(),
+            reproduced: false,
+            note: Some(why),
+            also: Vec::new(),
+        }
+    }
 }
 
 /// Failures per million of `of` judged.
@@ -186,6 +256,14 @@ fn per_million(n: u64, of: u64) -> f64 {
 
 impl fmt::Display for Failed {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        if self.judged == 0 {
+            let why = self.note.as_deref().unwrap_or("nothing judged");
+            return write!(
+                f,
+                "tetwalk conformance: method `{}` ({}) not judged in `{}`: {why}",
+                self.method, self.family, self.group
+            );
+        }
         writeln!(
             f,
             "tetwalk conformance: method `{}` fails {} group `{}`: {} of {} judged cases ({:.0} per million)",
@@ -200,7 +278,14 @@ impl fmt::Display for Failed {
         writeln!(f, "  original: {}", self.original)?;
         writeln!(f, "  answered: {}", self.answered)?;
         writeln!(f, "  right:    {}", self.right)?;
-        write!(f, "  found:    {}", self.found)
+        write!(f, "  found:    {}", self.found)?;
+        if let Some(note) = &self.note {
+            write!(f, "\n  note:     {note}")?;
+        }
+        for other in &self.also {
+            write!(f, "\n{other}")?;
+        }
+        Ok(())
     }
 }
 
@@ -213,14 +298,123 @@ impl fmt::Debug for Failed {
 
 impl std::error::Error for Failed {}
 
+/// A case of one of the kit's families — [`crate::cases::Case`] (exit faces),
+/// [`crate::cases::WalkCase`] (walks), [`crate::cases::HitCase`] (ray–triangle),
+/// [`crate::cases::BoxCase`] (octree cells) — made as the fuzz targets and the stress rows make it,
+/// held to a contract, read from a reported line and written as one. Each is also
+/// `arbitrary::Arbitrary` through its fuzz target's own decoder (a cargo-fuzz target of yours takes it
+/// as its input), and with the `proptest` feature [`strategy`] draws it.
+pub trait KitCase: Copy + fmt::Debug + PartialEq + Send + Sync + sealed::Sealed + 'static {
+    /// Its family (`exit-face`, `walk`, `triangle`, `octree`).
+    const FAMILY: &'static str;
+    /// Read a case back from a line a report printed: its `case:` or `original:` line (the case
+    /// format), or its `found:` line (a found case, whose failure fields are left aside).
+    fn from_line(line: &str) -> Result<Self, crate::cases::CaseError>;
+    /// The case as one line of the case format (every number reads back as the same f32).
+    fn to_line(&self) -> String;
+    /// The case the family's fuzz target decodes from `bytes` (favouring near-degenerate geometry);
+    /// `None` for bytes that make none.
+    fn from_bytes(bytes: &[u8]) -> Option<Self>;
+    /// The case made to hold `contract` (`key` a pure choice per case, such as which cases are
+    /// mirrored), judged again as it then is: `None` where it cannot be made to hold it.
+    fn within(&self, contract: &crate::family::contract::Contract, key: u64) -> Option<Self>;
+    /// The family's stress rows, by name (as `tetwalk stress` and a run's groups name them).
+    fn rows() -> Vec<String>;
+    /// Case `i` of stress row `row` drawn with `seed`, as `tetwalk stress --seed SEED` draws it; an
+    /// error naming the rows where `row` is none of them, `None` where the oracle cannot judge it.
+    fn row_case(row: &str, seed: u64, i: usize) -> Result<Option<Self>, crate::cases::CaseError>;
+}
+
+/// Only the kit's families' cases are [`KitCase`]s.
+pub(crate) mod sealed {
+    /// Implemented for each family's case type, in its folder's `kit.rs`.
+    pub trait Sealed {}
+}
+
+/// proptest strategies for each family's cases (with the `proptest` feature): the fuzz targets'
+/// decoder fed random bytes, optionally held to a contract, and the stress rows drawn by seed and
+/// index. A user's property test:
+///
+/// ```ignore
+/// use tetwalk::kit::prelude::*;
+/// use proptest::prelude::*;
+///
+/// proptest! {
+///     #[test]
+///     fn my_plucker_on_fuzzed_tetrahedra(case in tetwalk::kit::strategy::cases::<Case>()) {
+///         judge_exit_face::<MyPlucker>(&case, &Settings::default()).map_err(|f| TestCaseError::fail(f.to_string()))?;
+///     }
+/// }
+/// ```
+///
+/// `PROPTEST_CASES` scales these as proptest scales any strategy; the kit's own groups scale with
+/// [`SCALE_VARIABLE`].
+#[cfg(feature = "proptest")]
+pub mod strategy {
+    use super::KitCase;
+    use crate::family::contract::Contract;
+    use proptest::prelude::*;
+
+    /// Inputs of 16 to 159 bytes, as the kit's property campaigns draw them.
+    fn bytes() -> impl Strategy<Value = Vec<u8>> {
+        proptest::collection::vec(any::<u8>(), 16..160)
+    }
+
+    /// Cases of `C`'s family as its fuzz target decodes random bytes into them (shrunk by shrinking
+    /// the bytes).
+    pub fn cases<C: KitCase>() -> impl Strategy<Value = C> {
+        bytes().prop_filter_map("bytes that decode to no case", |b| C::from_bytes(&b))
+    }
+
+    /// Such cases made to hold `contract` ([`KitCase::within`]).
+    pub fn cases_within<C: KitCase>(contract: Contract) -> impl Strategy<Value = C> {
+        (bytes(), any::<u64>())
+            .prop_filter_map("cases that cannot hold the contract", move |(b, k)| {
+                C::from_bytes(&b)?.within(&contract, k)
+            })
+    }
+
+    /// Cases of stress row `row` ([`KitCase::rows`]), each drawn by a seed and an index as `tetwalk
+    /// stress` draws them, made to hold `contract` (the default one too: what the rows promise, as
+    /// `tetwalk stress` holds them to it); an error naming the rows where `row` is none.
+    pub fn row<C: KitCase>(
+        row: &str,
+        contract: Contract,
+    ) -> Result<impl Strategy<Value = C>, crate::cases::CaseError> {
+        C::row_case(row, 0, 0)?;
+        let row = row.to_string();
+        Ok((any::<u64>(), 0..1_000_000usize).prop_filter_map(
+            "cases the oracle cannot judge",
+            move |(seed, i)| {
+                C::row_case(&row, seed, i)
+                    .ok()??
+                    .within(&contract, i as u64)
+            },
+        ))
+    }
+}
+
 // The entry points, one per family a user's method may belong to (`exit_faces`, `triangles`,
 // `cells`): each written in its family's folder (`src/family/NAME/kit.rs`), re-exported from the
 // families' list.
 crate::families!(__kit_entries);
 
-/// A type's name without its module paths (`Portalez16<Direction>`).
+/// A type's name without its module paths (`Portalez16<Direction>`), made once per type (a fuzz
+/// target or property test judges one case a call).
 pub(crate) fn short_name<M>() -> &'static str {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    static NAMES: OnceLock<Mutex<HashMap<&'static str, &'static str>>> = OnceLock::new();
     let full = std::any::type_name::<M>();
+    let mut names = NAMES
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    names.entry(full).or_insert_with(|| shortened(full))
+}
+
+/// `full` without its module paths, kept for the run's life.
+fn shortened(full: &str) -> &'static str {
     let mut out = String::with_capacity(full.len());
     let mut segment = String::new();
     for c in full.chars() {
@@ -237,4 +431,28 @@ pub(crate) fn short_name<M>() -> &'static str {
     }
     out.push_str(&segment);
     Box::leak(out.into_boxed_str())
+}
+
+#[cfg(test)]
+mod tests {
+    /// `TETWALK_KIT_SCALE` multiplies every group's cases; a value that is not a whole number from 1
+    /// to 10,000 is an error naming the variable (no other unit test reads it).
+    #[test]
+    fn the_scale_variable_scales_every_group_or_is_refused() {
+        let s = super::Settings::default();
+        // SAFETY: no other thread of this test binary reads or writes the variable.
+        unsafe { std::env::set_var(super::SCALE_VARIABLE, "3") };
+        let scaled = s.scaled_by_environment().unwrap();
+        assert_eq!(
+            (scaled.cases, scaled.properties),
+            (3 * s.cases, 3 * s.properties)
+        );
+        for bad in ["0", "x", "10001", "-2"] {
+            unsafe { std::env::set_var(super::SCALE_VARIABLE, bad) };
+            let e = s.scaled_by_environment().unwrap_err();
+            assert!(e.contains(super::SCALE_VARIABLE) && e.contains(bad), "{e}");
+        }
+        unsafe { std::env::remove_var(super::SCALE_VARIABLE) };
+        assert_eq!(s.scaled_by_environment().unwrap().cases, s.cases);
+    }
 }

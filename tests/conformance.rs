@@ -223,3 +223,186 @@ fn the_kit_runs_every_arithmetic_model() {
         );
     }
 }
+
+/// Exact exit faces numbered otherwise: its face i is tetwalk's face `RENUMBER[i]` (an involution).
+struct RenumberedCertified;
+const RENUMBER: [usize; 4] = [2, 3, 0, 1];
+
+impl tetwalk::methods::ExitMethod for RenumberedCertified {
+    type RayData = <Certified as tetwalk::methods::ExitMethod>::RayData;
+    fn prepare<A: tetwalk::methods::Arith>(ray: &tetwalk::tet::Ray) -> Self::RayData {
+        <Certified as tetwalk::methods::ExitMethod>::prepare::<A>(ray)
+    }
+    fn exit_face<A: tetwalk::methods::Arith>(
+        tet: &tetwalk::tet::Tet,
+        ray: &Self::RayData,
+        entry: Option<usize>,
+    ) -> Option<usize> {
+        let e = entry.map(|e| RENUMBER[e]);
+        <Certified as tetwalk::methods::ExitMethod>::exit_face::<A>(tet, ray, e)
+            .map(|f| RENUMBER[f])
+    }
+}
+
+/// f32 Plücker written for negatively oriented tetrahedra: it mirrors what it is handed (vertices 0
+/// and 1 swapped) before its side products, and answers in the handed one's numbering.
+struct NegativePlucker;
+
+impl tetwalk::methods::ExitMethod for NegativePlucker {
+    type RayData = <Plucker as tetwalk::methods::ExitMethod>::RayData;
+    fn prepare<A: tetwalk::methods::Arith>(ray: &tetwalk::tet::Ray) -> Self::RayData {
+        <Plucker as tetwalk::methods::ExitMethod>::prepare::<A>(ray)
+    }
+    fn exit_face<A: tetwalk::methods::Arith>(
+        tet: &tetwalk::tet::Tet,
+        ray: &Self::RayData,
+        entry: Option<usize>,
+    ) -> Option<usize> {
+        let mut t = *tet;
+        t.swap(0, 1);
+        let swap = tetwalk::tet::SWAP01;
+        <Plucker as tetwalk::methods::ExitMethod>::exit_face::<A>(&t, ray, entry.map(|e| swap[e]))
+            .map(|f| swap[f])
+    }
+}
+
+/// The convention check runs first and says what it found: a method numbering faces otherwise is
+/// stopped with the numbering its answers fit, one written for negatively oriented tetrahedra with
+/// the orientation; neither is reported as a stress row wrong on every case. A method in tetwalk's
+/// convention passes it (the other tests here).
+#[test]
+fn the_convention_check_names_another_face_numbering_or_orientation() {
+    let s = lenient();
+    let f = kit::exit_faces::<RenumberedCertified>(&s).unwrap_err();
+    println!("{f}");
+    assert_eq!((f.group.as_str(), f.judged), ("convention check", 0), "{f}");
+    let note = f.note.clone().unwrap();
+    assert!(note.contains("tetwalk's face [2, 3, 0, 1][i]"), "{note}");
+    assert!(
+        f.to_string().contains("not judged in `convention check`"),
+        "{f}"
+    );
+    let f = kit::exit_faces::<NegativePlucker>(&s).unwrap_err();
+    println!("{f}");
+    let note = f.note.clone().unwrap();
+    assert_eq!(f.group, "convention check", "{f}");
+    assert!(
+        note.contains("negatively oriented") && !note.contains("[i]"),
+        "{note}"
+    );
+}
+
+/// `every_group` runs every group and reports each failing one; without it the first stops the run.
+#[test]
+fn every_group_reports_each_failing_group() {
+    let s = Settings {
+        cases: 400,
+        properties: 400,
+        ..Settings::default()
+    };
+    let first = kit::exit_faces::<Plucker>(&s).unwrap_err();
+    assert!(first.also.is_empty());
+    let all = kit::exit_faces::<Plucker>(&Settings {
+        every_group: true,
+        ..s
+    })
+    .unwrap_err();
+    assert_eq!(all.group, first.group);
+    let mut groups: Vec<&str> = std::iter::once(&*all)
+        .chain(&all.also)
+        .map(|f| f.group.as_str())
+        .collect();
+    assert!(groups.len() > 1, "{groups:?}");
+    // Walks' groups too (the exit-face family's failures do not stop them), each once.
+    assert!(
+        groups
+            .iter()
+            .any(|g| g.contains("walk") || g.contains("lattice")),
+        "{groups:?}"
+    );
+    let n = groups.len();
+    groups.dedup();
+    assert_eq!(groups.len(), n);
+    let text = all.to_string();
+    assert!(all.also.iter().all(|f| text.contains(&f.case)), "{text}");
+}
+
+/// A reported case line read back into a case ([`kit::KitCase::from_line`]) for each family, as a
+/// regression test would: the same case, its line the same, judged one at a time with the one-case
+/// entry points — the failing method fails it again, the exact one passes it.
+#[test]
+fn a_reported_case_line_reads_back_into_a_regression_test() {
+    use tetwalk::kit::prelude::*;
+    let s = Settings {
+        cases: 400,
+        properties: 400,
+        ..Settings::default()
+    };
+    let f = exit_faces::<Plucker>(&s).unwrap_err();
+    for line in [&f.case, &f.original, &f.found] {
+        let c = Case::from_line(line).unwrap();
+        assert!(judge_exit_face::<Plucker>(&c, &s).is_err(), "{line}");
+        judge_exit_face::<Certified>(&c, &s).unwrap();
+    }
+    assert_eq!(Case::from_line(&f.case).unwrap().to_line(), f.case);
+    let f = triangles::<Mt>(&s).unwrap_err();
+    let c = HitCase::from_line(&f.case).unwrap();
+    assert!(judge_triangle::<Mt>(&c, &s).is_err(), "{}", f.case);
+    assert_eq!(c.to_line(), f.case);
+    // A line of another family, or not a case, is refused with the reason.
+    let e = Case::from_line(&f.case).unwrap_err().to_string();
+    assert!(e.contains("field"), "{e}");
+    assert!(Case::from_line("{\"tet\": 1}").is_err());
+}
+
+/// Every family's case type decodes fuzzer bytes as its fuzz target does (`arbitrary::Arbitrary`),
+/// reads back from its own line, is made to hold a contract, and is drawn from a stress row by name.
+#[test]
+fn each_familys_cases_are_generated_read_and_written() {
+    use tetwalk::kit::prelude::*;
+    fn family<C: KitCase + for<'a> arbitrary::Arbitrary<'a>>() {
+        let mut rng = 0x1234_5678u64;
+        let mut made = 0;
+        for _ in 0..200 {
+            let bytes: Vec<u8> = (0..120)
+                .map(|_| {
+                    rng = rng
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    (rng >> 56) as u8
+                })
+                .collect();
+            let via_trait = C::arbitrary(&mut arbitrary::Unstructured::new(&bytes)).ok();
+            assert_eq!(via_trait, C::from_bytes(&bytes));
+            if let Some(c) = via_trait {
+                made += 1;
+                assert_eq!(C::from_line(&c.to_line()).unwrap(), c, "{}", C::FAMILY);
+                let unit = Contract {
+                    unit_direction: true,
+                    ..Contract::default()
+                };
+                if let Some(u) = c.within(&unit, 1) {
+                    let line = u.to_line();
+                    assert_eq!(C::from_line(&line).unwrap(), u);
+                }
+            }
+        }
+        assert!(made > 50, "{}: {made} of 200 inputs made a case", C::FAMILY);
+        let rows = C::rows();
+        assert!(!rows.is_empty());
+        let drawn = (0..20)
+            .filter_map(|i| C::row_case(&rows[0], 7, i).unwrap())
+            .count();
+        assert!(drawn > 0, "{}", C::FAMILY);
+        assert_eq!(
+            C::row_case(&rows[0], 7, 3).unwrap(),
+            C::row_case(&rows[0], 7, 3).unwrap()
+        );
+        let e = C::row_case("no-such-row", 7, 0).unwrap_err().to_string();
+        assert!(e.contains(&rows[0]), "{e}");
+    }
+    family::<Case>();
+    family::<WalkCase>();
+    family::<HitCase>();
+    family::<BoxCase>();
+}

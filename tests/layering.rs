@@ -63,8 +63,8 @@ const ALLOWED: &[(&str, &[&str])] = &[
     (
         "kit",
         &[
-            "backend", "choice", "engine", "family", "methods", "octree", "registry", "scenes",
-            "tet",
+            "backend", "cases", "choice", "engine", "family", "methods", "octree", "registry",
+            "scenes", "tet",
         ],
     ),
     (

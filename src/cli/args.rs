@@ -253,7 +253,8 @@ impl AnswererArg {
         &self,
         k: &Contract,
     ) -> Result<Option<crate::engine::answerer::Answerer>, Error> {
-        use crate::engine::answerer::{Answerer, find_numbering, parse_faces};
+        use crate::engine::answerer::{Answerer, find_numbering};
+        use crate::engine::numbering::parse_faces;
         let Some(cmd) = &self.answerer else {
             return Ok(None);
         };

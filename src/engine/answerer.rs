@@ -6,7 +6,7 @@
 //! JSON line's `"line"`, a binary record's first `uint32`), so that a stream with an answer too many
 //! or too few is refused where it shifts, and read to its end once the run is done ([`Answerer::finish`]).
 
-use crate::family::{Family, Verdict};
+use crate::family::Family;
 use serde_json::Value;
 use std::io::{Read, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
@@ -631,160 +631,30 @@ impl Drop for Answerer {
     }
 }
 
-/// Well-shaped cases asked under each face numbering tried (`--faces auto`).
-pub(crate) const NUMBERING_CASES: usize = 2000;
-
-/// How an answerer fared on well-shaped cases under each face numbering.
-struct Scores {
-    /// Each numbering and the cases it answered rightly under it, best first.
-    ranked: Vec<([u8; 4], usize)>,
-    /// Cases whose line crosses the tetrahedron (the others are not judged).
-    judged: usize,
-    /// Of those, the ones it answered with no exit face (under the identity numbering).
-    none: usize,
-}
-
-impl Scores {
-    /// The numbering right on at least 99% of judged cases with no other within 1%.
-    fn fits(&self) -> Option<[u8; 4]> {
-        let ([(best, right), (_, second), ..], judged) = (&self.ranked[..], self.judged.max(1))
-        else {
-            return None;
-        };
-        (right * 100 >= judged * 99 && (right - second) * 100 >= judged).then_some(*best)
-    }
-}
-
-/// `a`'s answers to `cases` under every face numbering: each case sent in that numbering (its entry
-/// face renumbered, [`Family::for_program`]) and its answer read back through it.
-fn scores<F: Family>(a: &Answerer, cases: &[(F::Case, F::Truth)]) -> Result<Scores, AnswererError> {
-    let plain: Vec<F::Case> = cases.iter().map(|(c, _)| *c).collect();
-    let mut ranked = Vec::new();
-    let (mut none, mut judged) = (0, 0);
-    for p in permutations() {
-        let mut raw = Vec::with_capacity(plain.len());
-        for batch in plain.chunks(a.batch) {
-            raw.extend(a.raw::<F>(batch, &p)?);
-        }
-        let verdicts: Vec<Verdict> = cases
-            .iter()
-            .zip(&raw)
-            .map(|((c, x), f)| F::verdict(c, x, &F::renumbered(*f, &p)))
-            .collect();
-        if p == [0, 1, 2, 3] {
-            none = verdicts
-                .iter()
-                .filter(|v| **v == Verdict::Wrong(crate::walk::OutcomeKind::NoExitFace))
-                .count();
-            judged = verdicts
-                .iter()
-                .filter(|v| **v != Verdict::NotJudged)
-                .count();
-        }
-        ranked.push((p, verdicts.iter().filter(|v| **v == Verdict::Right).count()));
-    }
-    ranked.sort_by_key(|&(_, r)| std::cmp::Reverse(r));
-    Ok(Scores {
-        ranked,
-        judged,
-        none,
-    })
-}
-
 /// The face numbering under which `a` answers well-shaped cases of family `F` holding contract `k`
-/// rightly ([`Family::numbering_cases`]): every relabelling of the four faces tried, the one it
-/// answers rightly on at least 99% of judged cases, and no other within 1%; with the number of cases
-/// asked. Where none fits, an error saying the best — and, where the tetrahedra mirrored fit, that
-/// it takes the other orientation, or where it answered no face at all, that.
+/// rightly ([`crate::engine::numbering::find`]), with the number of cases asked; where none fits, an
+/// error saying what was found.
 pub(crate) fn find_numbering<F: Family>(
     a: &Answerer,
     k: &crate::family::contract::Contract,
 ) -> Result<([u8; 4], usize), AnswererError> {
     use crate::choice::Choice;
-    let cases = F::numbering_cases(k, NUMBERING_CASES);
-    let s = scores::<F>(a, &cases)?;
-    if let Some(p) = s.fits() {
-        return Ok((p, cases.len()));
-    }
-    let faces = |p: [u8; 4]| p.map(|f| f.to_string()).join(",");
-    let (best, right) = s.ranked[0];
-    let mut why = format!(
-        "no face numbering fits its answers to {} well-shaped cases ({}): the best, answered face i = case face {best:?}[i], is right on {right} of {} judged (the next {})",
-        cases.len(),
-        k.describe(),
-        s.judged,
-        s.ranked[1].1
-    );
-    if s.none == s.judged && s.judged > 0 {
-        why += &format!(
-            "; it answered no exit face on every one of the {} cases, each of which its line crosses: does it read the cases as sent (docs/answerers.md: --answerer-format, each binary record beginning with the case's number)?",
-            s.judged
-        );
-    } else if let Some(other) = k.mirrored() {
-        let mirrored = F::numbering_cases(&other, NUMBERING_CASES);
-        if let Some(p) = scores::<F>(a, &mirrored)?.fits() {
-            why += &format!(
-                "; with the tetrahedra mirrored it fits: it takes {} tetrahedra (give --orientation {} --faces {})",
-                other.orientation.name(),
-                other.orientation.name(),
-                faces(p)
-            );
-        } else {
-            why += &format!(
-                " (nor does any fit {} tetrahedra)",
-                other.orientation.name()
-            );
+    use crate::engine::numbering::{Numbering, find};
+    let ask = |cases: &[F::Case], p: &[u8; 4]| {
+        let mut raw = Vec::with_capacity(cases.len());
+        for batch in cases.chunks(a.batch) {
+            raw.extend(a.raw::<F>(batch, p)?);
         }
-    }
-    Err(a.error(why))
-}
-
-/// The 24 orderings of four faces.
-fn permutations() -> Vec<[u8; 4]> {
-    let mut out = Vec::new();
-    for a in 0..4u8 {
-        for b in 0..4u8 {
-            for c in 0..4u8 {
-                // The fourth is the one left: 0 + 1 + 2 + 3 = 6 (checked: the first three may sum
-                // past 6).
-                let Some(d) = 6u8.checked_sub(a + b + c) else {
-                    continue;
-                };
-                if a != b && a != c && b != c && d < 4 && d != a && d != b && d != c {
-                    out.push([a, b, c, d]);
-                }
-            }
-        }
-    }
-    out
-}
-
-/// A face numbering `--faces` gives: four distinct faces, `a,b,c,d` (answered face i is case face
-/// the i-th).
-pub(crate) fn parse_faces(s: &str) -> Result<[u8; 4], String> {
-    let f: Vec<u8> = s
-        .split(',')
-        .map(|x| x.trim().parse::<u8>().ok().filter(|&f| f < 4))
-        .collect::<Option<_>>()
-        .ok_or_else(|| format!("'{s}' is not four faces 0..3, comma-separated"))?;
-    match f[..] {
-        [a, b, c, d] if permutations().contains(&[a, b, c, d]) => Ok([a, b, c, d]),
-        _ => Err(format!("'{s}' is not an ordering of the faces 0,1,2,3")),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    /// The 24 orderings, each once (in a debug build the sum of three faces past 6 overflowed).
-    #[test]
-    fn the_face_orderings_are_the_24_permutations() {
-        let p = super::permutations();
-        let distinct: std::collections::HashSet<_> = p.iter().collect();
-        assert_eq!((p.len(), distinct.len()), (24, 24));
-        for q in &p {
-            let mut sorted = *q;
-            sorted.sort();
-            assert_eq!(sorted, [0, 1, 2, 3], "{q:?}");
-        }
+        Ok(raw)
+    };
+    match find::<F, AnswererError>(k, ask)? {
+        (Numbering::Fits(p), asked) => Ok((p, asked)),
+        (miss @ Numbering::NoFit { .. }, asked) => Err(a.error(miss.why(k, asked, |o, p| {
+            format!(
+                "give --orientation {} --faces {}",
+                o.name(),
+                p.map(|f| f.to_string()).join(",")
+            )
+        }))),
     }
 }

@@ -102,7 +102,8 @@ pub struct Found<F: Family> {
 }
 
 /// The fields a found case adds to its case.
-const FAILURE_FIELDS: [&str; 6] = ["method", "backend", "adapter", "kind", "answer", "original"];
+pub(crate) const FAILURE_FIELDS: [&str; 6] =
+    ["method", "backend", "adapter", "kind", "answer", "original"];
 
 impl<F: Family> Found<F> {
     /// A found case: `case` and what failed on it.

@@ -12,6 +12,7 @@ pub mod filters;
 pub mod found;
 pub mod fuzz;
 pub mod info;
+pub mod numbering;
 pub mod paper;
 pub mod replay;
 pub mod shrink;

@@ -136,7 +136,10 @@ pub struct Contract {
     pub unit_direction: bool,
     /// Whether cases carry their entry face.
     pub entry: EntryGiven,
-    /// Which orientations of tetrahedra the method takes.
+    /// Which orientations of tetrahedra the method takes: the cases an answerer is sent are made so.
+    /// A Rust method of the kit ([`crate::methods::ExitMethod`]) is handed every tetrahedron
+    /// positively oriented whatever this says (its faces renumbered to match); the kit's convention
+    /// check says where its answers fit the mirrored ones instead.
     pub orientation: Orientation,
     /// Lines passing within this distance of an edge, relative to the longest edge, are outside the
     /// contract (a kernel with an epsilon is allowed its epsilon); 0: none.

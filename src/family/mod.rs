@@ -556,7 +556,7 @@ macro_rules! families {
                 Octree => "octree", $crate::family::OctreeCells, octree;
             }
             counted { Walk: walk, Triangle: triangle, Octree: octree }
-            kit { exit_face::exit_faces, triangle::triangles, octree::cells }
+            kit { exit_face, walk, triangle, octree }
             commands { exit_face: Exit, octree: BoxExit, triangle: Hit, walk: Walk }
             fuzz { octree: octree_walk }
             bench { walk: "exit-face", triangle: "triangle" }
@@ -632,13 +632,13 @@ macro_rules! __family_kinds {
 
 families!(__family_kinds);
 
-/// The conformance kit's entry points (`crate::kit`), re-exported from each family's folder, from
-/// [`families!`].
+/// The conformance kit's entry points (`crate::kit`): each listed family's `kit.rs`'s public items,
+/// re-exported, from [`families!`].
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __kit_entries {
-    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($km:ident::$kf:ident),* } $($rest:tt)*) => {
-        $(pub use $crate::family::$km::kit::$kf;)*
+    ([] { $($(#[$doc:meta])* $v:ident => $n:literal, $ty:path, $m:ident;)* } counted { $($c:ident: $cm:ident),* } kit { $($km:ident),* } $($rest:tt)*) => {
+        $(pub use $crate::family::$km::kit::*;)*
     };
 }
 

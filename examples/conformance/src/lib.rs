@@ -215,3 +215,12 @@ impl CellMethod for ExactSlabs {
         Some((face(axis, d[axis].cmp0().is_gt()), q))
     }
 }
+
+/// What the crate's fuzz target (`fuzz/fuzz_targets/exact_plucker.rs`) runs on each input: the case
+/// cargo-fuzz decodes through tetwalk's own decoder (`Case: arbitrary::Arbitrary`), judged exactly;
+/// a panic with the kit's report where `ExactPlucker` is wrong.
+pub fn fuzz_exact_plucker(case: Case) {
+    if let Err(failed) = judge_exit_face::<ExactPlucker>(&case, &Settings::default()) {
+        panic!("{failed}");
+    }
+}

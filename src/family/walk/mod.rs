@@ -5,6 +5,7 @@
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod engine;
+pub mod kit;
 #[cfg(feature = "internals")]
 mod report;
 
