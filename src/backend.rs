@@ -7,6 +7,10 @@
 
 use crate::cases::{BoxCase, Case, HitCase, normalized};
 pub use crate::choice::{BackendKind, Ran, Traffic};
+/// `certified` written for a user's own shaders (`tetwalk export-kernel`): the device layer's, reached
+/// through this seam as every GPU answer is.
+#[cfg(feature = "gpu")]
+pub use crate::gpu::export::{Lang as ShaderLang, export as export_kernel};
 #[cfg(feature = "gpu")]
 use crate::gpu::{self, GpuError, GpuMesh};
 use crate::mesh::Mesh;

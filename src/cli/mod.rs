@@ -6,6 +6,7 @@ mod args;
 pub(crate) mod bench;
 mod check_filters;
 pub(crate) mod count;
+mod export_kernel;
 mod fuzz_import;
 pub(crate) mod gen_cases;
 pub(crate) mod judge;
@@ -79,6 +80,8 @@ enum Command {
     CheckFilters(check_filters::Args),
     /// Turn fuzzer crash files into readable found cases (corpora/found/METHOD/).
     FuzzImport(fuzz_import::Args),
+    /// Write `certified` as a shader function (WGSL, GLSL, HLSL, MSL) for your own GPU code.
+    ExportKernel(export_kernel::Args),
     /// Build or describe scenes.
     #[command(subcommand)]
     Scene(scene::SceneCommand),
@@ -136,6 +139,7 @@ commands!(Command {
     GpuInfo => gpu_info,
     CheckFilters => check_filters::run,
     FuzzImport => fuzz_import::run,
+    ExportKernel => export_kernel::run,
     Scene => scene::run,
 });
 

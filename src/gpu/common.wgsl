@@ -20,16 +20,6 @@ fn det2(a: vec2f, b: vec2f) -> f32 {
     return a.x * b.y - a.y * b.x;
 }
 
-// Whether a face is left, from the signs along its outward cycle: all >= 0 and not all zero.
-fn leaves(s: vec3f) -> bool {
-    return all(s >= vec3f(0.0)) && any(s != vec3f(0.0));
-}
-
-// Edge index and direction (+1, or -1 when it runs j -> i) of the edge joining vertices i and j.
-fn edge_of(i: u32, j: u32) -> vec2i {
-    return vec2i(edge_index(min(i, j), max(i, j)), select(1, -1, i > j));
-}
-
 // Whether a hit a ray-triangle method reports at t counts: 0 < t < infinity
 // (tetwalk::methods::triangle::accepts).
 fn accepts(t: f32) -> bool {

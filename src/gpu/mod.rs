@@ -21,6 +21,7 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 use wgpu::util::DeviceExt;
 
+pub mod export;
 pub mod shader;
 
 /// What the shader writes for "no exit face".

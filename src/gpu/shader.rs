@@ -299,18 +299,7 @@ fn prelude() -> String {
     let _ = writeln!(s, "const NONE: i32 = {};", super::NONE);
     let _ = writeln!(s, "const UNSETTLED: i32 = {UNSETTLED};");
     let _ = writeln!(s, "const FLAGGED: u32 = {FLAGGED}u;");
-    {
-        use crate::methods::certified::{GPU, TINY};
-        s += "// tetwalk::methods::certified::{GPU, TINY}, exactly.\n";
-        for (name, v) in [
-            ("CERTIFIED_A", GPU.a),
-            ("CERTIFIED_MU", GPU.mu),
-            ("CERTIFIED_C", GPU.c),
-            ("CERTIFIED_TINY", TINY),
-        ] {
-            let _ = writeln!(s, "const {name}: f32 = {};", power_of_two(v));
-        }
-    }
+    s += &certified_constants();
     let _ = writeln!(s, "const HULL: u32 = {HULL:#x}u;");
     s += "// What a ray-triangle method's WGSL answers for no hit (a t no ray accepts).\nconst NO_HIT: f32 = -1.0;\n";
     let _ = writeln!(s, "const MAX_F32: f32 = {:e}f;", f32::MAX);
@@ -334,33 +323,7 @@ fn prelude() -> String {
     s += Sent::WGSL;
     s += "\n";
     s += BINDINGS;
-    s += "\n// Face i's vertices, counterclockwise seen from outside (tetwalk::tet::FACE_VERTICES).\n";
-    s += &table("face_vertices", "vec3u", &FACE_VERTICES);
-    s += "\n// The six edges (tetwalk::tet::EDGES).\n";
-    s += &table("edge_points", "vec2u", &EDGES);
-    s += "\n// Index in EDGES of the edge lo -> hi (tetwalk::tet::edge_index).\n";
-    s += "fn edge_index(lo: u32, hi: u32) -> i32 {\n    switch lo * 4u + hi {\n";
-    for [a, b] in EDGES {
-        let _ = writeln!(
-            s,
-            "        case {}u: {{ return {}; }}",
-            a * 4 + b,
-            edge_index(a, b).0
-        );
-    }
-    s += "        default: { return -1; }\n    }\n}\n";
-    s += "\n// Maria et al. 2017 Table 2 (tetwalk::methods::maria17::FACE_VERTICES).\n";
-    s += &table(
-        "maria17_face_vertices",
-        "vec3u",
-        &crate::methods::maria17::FACE_VERTICES,
-    );
-    s += "\n// Maria et al. 2017 Table 1 (tetwalk::methods::maria17::GET_FACE).\n";
-    s += &table(
-        "maria17_get_face",
-        "vec3u",
-        &crate::methods::maria17::GET_FACE,
-    );
+    s += &face_tables();
     s += "\n// Seed 001 eqs. 8 and 9 (tetwalk::methods::portalez16), an entry per nibble and per two bits,\n// and the cell's face axes and sides (tetwalk::octree::cell).\n";
     let packed = |rows: &[[u8; 8]], bits: usize| -> String {
         rows.iter()
@@ -400,7 +363,75 @@ fn prelude() -> String {
             .join(", ")
     );
     s += "\n";
+    s += include_str!("faces.wgsl");
+    s += "\n";
     s += include_str!("common.wgsl");
+    s
+}
+
+/// certified's bound constants (`tetwalk::methods::certified::{GPU, TINY}`), exactly.
+fn certified_constants() -> String {
+    use crate::methods::certified::{GPU, TINY};
+    let mut s = String::from("// tetwalk::methods::certified::{GPU, TINY}, exactly.\n");
+    for (name, v) in [
+        ("CERTIFIED_A", GPU.a),
+        ("CERTIFIED_MU", GPU.mu),
+        ("CERTIFIED_C", GPU.c),
+        ("CERTIFIED_TINY", TINY),
+    ] {
+        let _ = writeln!(s, "const {name}: f32 = {};", power_of_two(v));
+    }
+    s
+}
+
+/// The face and edge tables of a tetrahedron and Maria et al.'s, from the Rust definitions.
+fn face_tables() -> String {
+    let mut s = String::new();
+    s += "\n// Face i's vertices, counterclockwise seen from outside (tetwalk::tet::FACE_VERTICES).\n";
+    s += &table("face_vertices", "vec3u", &FACE_VERTICES);
+    s += "\n// The six edges (tetwalk::tet::EDGES).\n";
+    s += &table("edge_points", "vec2u", &EDGES);
+    s += "\n// Index in EDGES of the edge lo -> hi (tetwalk::tet::edge_index).\n";
+    s += "fn edge_index(lo: u32, hi: u32) -> i32 {\n    switch lo * 4u + hi {\n";
+    for [a, b] in EDGES {
+        let _ = writeln!(
+            s,
+            "        case {}u: {{ return {}; }}",
+            a * 4 + b,
+            edge_index(a, b).0
+        );
+    }
+    s += "        default: { return -1; }\n    }\n}\n";
+    s += "\n// Maria et al. 2017 Table 2 (tetwalk::methods::maria17::FACE_VERTICES).\n";
+    s += &table(
+        "maria17_face_vertices",
+        "vec3u",
+        &crate::methods::maria17::FACE_VERTICES,
+    );
+    s += "\n// Maria et al. 2017 Table 1 (tetwalk::methods::maria17::GET_FACE).\n";
+    s += &table(
+        "maria17_get_face",
+        "vec3u",
+        &crate::methods::maria17::GET_FACE,
+    );
+    s
+}
+
+/// `certified` as one self-contained WGSL module (`tetwalk export-kernel`): its constants, the
+/// tables and helpers it calls, its f32 stage, and `tetwalk_certified_exit_face`, with a compute
+/// entry point over a buffer of cases that shows it called.
+pub(crate) fn certified_kernel() -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "const UNSETTLED: i32 = {UNSETTLED};");
+    let _ = writeln!(s, "const MAX_F32: f32 = {:e}f;", f32::MAX);
+    s += &certified_constants();
+    s += &face_tables();
+    s += "\n";
+    s += include_str!("faces.wgsl");
+    s += "\n";
+    s += include_str!("../methods/certified.wgsl");
+    s += "\n";
+    s += include_str!("export.wgsl");
     s
 }
 

@@ -181,6 +181,19 @@ const PORTALEZ16_NEIGHBOR = array<u32, 6>(0x88ddu, 0x5f0au, 0x7722u, 0xa0f5u, 0x
 const PORTALEZ16_FACE_AXIS = array<u32, 6>(1u, 0u, 1u, 0u, 2u, 2u);
 const PORTALEZ16_FACE_HIGH = array<u32, 6>(1u, 1u, 0u, 0u, 1u, 0u);
 
+// A tetrahedron's faces and edges, over the tables before it (face_vertices, edge_points,
+// edge_index): what every exit-face method and `tetwalk export-kernel` build on.
+
+// Whether a face is left, from the signs along its outward cycle: all >= 0 and not all zero.
+fn leaves(s: vec3f) -> bool {
+    return all(s >= vec3f(0.0)) && any(s != vec3f(0.0));
+}
+
+// Edge index and direction (+1, or -1 when it runs j -> i) of the edge joining vertices i and j.
+fn edge_of(i: u32, j: u32) -> vec2i {
+    return vec2i(edge_index(min(i, j), max(i, j)), select(1, -1, i > j));
+}
+
 // Helpers shared by the methods' WGSL, with the operation order of src/methods/mod.rs's `Plain`
 // arithmetic (sums left to right). f32 only: whatever the shader compiler contracts or reorders is what
 // the GPU backend measures.
@@ -201,16 +214,6 @@ fn cross3(a: vec3f, b: vec3f) -> vec3f {
 
 fn det2(a: vec2f, b: vec2f) -> f32 {
     return a.x * b.y - a.y * b.x;
-}
-
-// Whether a face is left, from the signs along its outward cycle: all >= 0 and not all zero.
-fn leaves(s: vec3f) -> bool {
-    return all(s >= vec3f(0.0)) && any(s != vec3f(0.0));
-}
-
-// Edge index and direction (+1, or -1 when it runs j -> i) of the edge joining vertices i and j.
-fn edge_of(i: u32, j: u32) -> vec2i {
-    return vec2i(edge_index(min(i, j), max(i, j)), select(1, -1, i > j));
 }
 
 // Whether a hit a ray-triangle method reports at t counts: 0 < t < infinity
