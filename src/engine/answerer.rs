@@ -647,14 +647,26 @@ pub(crate) fn find_numbering<F: Family>(
         }
         Ok(raw)
     };
-    match find::<F, AnswererError>(k, ask)? {
-        (Numbering::Fits(p), asked) => Ok((p, asked)),
-        (miss @ Numbering::NoFit { .. }, asked) => Err(a.error(miss.why(k, asked, |o, p| {
-            format!(
-                "give --orientation {} --faces {}",
-                o.name(),
-                p.map(|f| f.to_string()).join(",")
-            )
-        }))),
-    }
+    let (miss, asked) = match find::<F, AnswererError>(k, ask)? {
+        (Numbering::Fits(p), asked) => return Ok((p, asked)),
+        miss => miss,
+    };
+    // Where it answered faces but none fits, whether the tetrahedra mirrored fit.
+    let mirrored = match (&miss, k.mirrored()) {
+        (Numbering::NoFit { no_face: false, .. }, Some(other)) => {
+            let fits = match find::<F, AnswererError>(&other, ask)?.0 {
+                Numbering::Fits(p) => Some(p),
+                Numbering::NoFit { .. } => None,
+            };
+            Some((other.orientation, fits))
+        }
+        _ => None,
+    };
+    Err(a.error(miss.why(k, asked, mirrored, |o, p| {
+        format!(
+            "give --orientation {} --faces {}",
+            o.name(),
+            p.map(|f| f.to_string()).join(",")
+        )
+    })))
 }

@@ -1,6 +1,6 @@
-//! Which face numbering and orientation a method's answers keep: well-shaped cases asked under every
-//! relabelling of the four faces, and, where none fits, with the tetrahedra mirrored (an answerer's
-//! `--faces auto`, the conformance kit's convention check).
+//! Which face numbering a method's answers keep: well-shaped cases asked under every relabelling of
+//! the four faces (an answerer's `--faces auto`, the conformance kit's convention check; each probes
+//! another orientation its own way where none fits).
 
 use crate::choice::Choice;
 use crate::family::contract::{Contract, Orientation};
@@ -85,19 +85,18 @@ pub(crate) enum Numbering {
         judged: usize,
         /// It answered no exit face on every judged case.
         no_face: bool,
-        /// The other orientation (where the contract names one) and the numbering that fits
-        /// tetrahedra of it, if one does.
-        mirrored: Option<(Orientation, Option<[u8; 4]>)>,
     },
 }
 
 impl Numbering {
-    /// Why no numbering fits, in words, for cases of contract `k` (`asked` of them); `advice` says
-    /// how to ask for orientation `o` and numbering `p` where the mirrored tetrahedra fit.
+    /// Why no numbering fits, in words, for cases of contract `k` (`asked` of them); `mirrored` is
+    /// the other orientation tried and the numbering that fits it, if one does, and `advice` says how
+    /// to ask for orientation `o` and numbering `p` where one does.
     pub(crate) fn why(
         &self,
         k: &Contract,
         asked: usize,
+        mirrored: Option<(Orientation, Option<[u8; 4]>)>,
         advice: impl Fn(Orientation, [u8; 4]) -> String,
     ) -> String {
         let Numbering::NoFit {
@@ -105,7 +104,6 @@ impl Numbering {
             next,
             judged,
             no_face,
-            mirrored,
         } = self
         else {
             return format!("the face numbering {self:?} fits");
@@ -124,7 +122,7 @@ impl Numbering {
                     why += &format!(
                         "; with the tetrahedra mirrored it fits: it takes {} tetrahedra ({})",
                         o.name(),
-                        advice(*o, *p)
+                        advice(o, p)
                     );
                 }
                 Some((o, None)) => {
@@ -140,37 +138,23 @@ impl Numbering {
 /// The face numbering under which `ask` (as [`scores`] calls it) answers well-shaped cases of family
 /// `F` holding contract `k` rightly ([`Family::numbering_cases`]): every relabelling of the four
 /// faces tried, the one right on at least 99% of judged cases with no other within 1%; where none
-/// fits, the best and, where the tetrahedra mirrored fit, that. With the number of cases asked.
+/// fits, the best. With the number of cases asked.
 pub(crate) fn find<F: Family, E>(
     k: &Contract,
     mut ask: impl FnMut(&[F::Case], &[u8; 4]) -> Result<Vec<F::Answer>, E>,
 ) -> Result<(Numbering, usize), E> {
     let cases = F::numbering_cases(k, NUMBERING_CASES);
     let s = scores::<F, E>(&cases, &mut ask)?;
-    if let Some(p) = s.fits() {
-        return Ok((Numbering::Fits(p), cases.len()));
-    }
-    let no_face = s.none == s.judged && s.judged > 0;
-    let mirrored = match k.mirrored() {
-        Some(other) if !no_face => {
-            let mirrored = F::numbering_cases(&other, NUMBERING_CASES);
-            Some((
-                other.orientation,
-                scores::<F, E>(&mirrored, &mut ask)?.fits(),
-            ))
-        }
-        _ => None,
-    };
-    Ok((
-        Numbering::NoFit {
+    let found = match s.fits() {
+        Some(p) => Numbering::Fits(p),
+        None => Numbering::NoFit {
             best: s.ranked[0],
             next: s.ranked[1].1,
             judged: s.judged,
-            no_face,
-            mirrored,
+            no_face: s.none == s.judged && s.judged > 0,
         },
-        cases.len(),
-    ))
+    };
+    Ok((found, cases.len()))
 }
 
 /// The 24 orderings of four faces.
