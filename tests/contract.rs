@@ -4,6 +4,8 @@
 //! oracle's exit and entry faces and robust's `orient3d` on the f32 points as they are; unit
 //! directions checked in rationals to be the f32 rounding of a unit vector.
 
+mod common;
+
 use glam::Vec3;
 use rug::Rational;
 use tetwalk::backend::CPU;
@@ -273,4 +275,159 @@ fn an_entry_origin_lies_on_the_entry_face_where_f32_can_place_it_there() {
         on += broken(&entry, &c).unwrap().1 as u32;
     }
     assert!(on < 100, "{on} of 200 on the face itself");
+}
+
+/// An answerer in JSON Lines that writes every case it is sent to the file `$1` (one JSON line each)
+/// and answers each with the face a ray-plane test in f64 gives (Python, standard library only).
+const RECORDING: &str = r#"python3 -c '
+import json, sys
+out = open(sys.argv[1], "a")
+def sub(a, b): return [a[i] - b[i] for i in range(3)]
+def dot(a, b): return sum(a[i] * b[i] for i in range(3))
+def cross(a, b): return [a[1]*b[2] - a[2]*b[1], a[2]*b[0] - a[0]*b[2], a[0]*b[1] - a[1]*b[0]]
+for line in sys.stdin:
+    if not line.strip():
+        sys.stdout.flush()
+        continue
+    c = json.loads(line)
+    out.write(line)
+    t, o, d = c["tet"], c["org"], c["dir"]
+    best, face = None, -1
+    for f in range(4):
+        a, b, e = [t[i] for i in range(4) if i != f]
+        n = cross(sub(b, a), sub(e, a))
+        if dot(n, sub(t[f], a)) > 0:
+            n = [-x for x in n]
+        nd = dot(n, d)
+        if nd > 0:
+            s = dot(n, sub(a, o)) / nd
+            if best is None or s < best:
+                best, face = s, f
+    print(json.dumps({"line": c["line"], "face": face if face >= 0 else None}))
+    out.flush()
+' "#;
+
+/// `count --answerer` under a contract sends every step of every walk as a case that holds it,
+/// decided exactly (after a crossing: on the entry face where the contract allows it), walks on
+/// from each step's case, and judges each step when asked; a count's report records the contract.
+#[test]
+fn a_count_asks_every_step_of_every_walk_within_its_contract() {
+    let dir = tempfile::tempdir().unwrap();
+    for (flags, k) in [
+        (
+            &[
+                "--origin",
+                "inside,entry",
+                "--unit-direction",
+                "--entry",
+                "given",
+            ][..],
+            Contract {
+                origin: Origins::of(&[Origin::Inside, Origin::Entry]),
+                unit_direction: true,
+                entry: EntryGiven::Given,
+                ..Contract::default()
+            },
+        ),
+        (
+            &[
+                "--origin",
+                "entry",
+                "--orientation",
+                "negative",
+                "--entry",
+                "none",
+            ][..],
+            Contract {
+                origin: Origin::Entry.into(),
+                orientation: Orientation::Negative,
+                entry: EntryGiven::None,
+                ..Contract::default()
+            },
+        ),
+        (
+            &["--origin", "before", "--unit-direction"][..],
+            Contract {
+                origin: Origin::Before.into(),
+                unit_direction: true,
+                ..Contract::default()
+            },
+        ),
+    ] {
+        let sent = dir.path().join(format!("{}.jsonl", k.describe().len()));
+        let json = dir.path().join("count.json");
+        let answerer = format!("{RECORDING}{}", sent.display());
+        let mut args = vec![
+            "count",
+            "--views",
+            "2",
+            "--size",
+            "24x24",
+            "--answerer",
+            &answerer,
+            "--json",
+            json.to_str().unwrap(),
+        ];
+        args.extend(flags);
+        let (code, out, err) = common::run_tetwalk(&args, b"");
+        assert_eq!(code, 0, "{flags:?}: {err}");
+        assert!(out.contains("each step asked under the contract"), "{out}");
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(report["settings"]["answerer"]["contract"], k.describe());
+        let row = &report["methods"][1];
+        let rays = report["rays"].as_u64().unwrap();
+        assert!(row["left_out"].as_u64().unwrap() < rays / 10, "{row}");
+        let (mut steps, mut on_entry) = (0u64, 0u64);
+        for line in std::fs::read_to_string(&sent).unwrap().lines() {
+            let v: serde_json::Value = serde_json::from_str(line).unwrap();
+            let p = |v: &serde_json::Value| {
+                Vec3::from_array(serde_json::from_value::<[f32; 3]>(v.clone()).unwrap())
+            };
+            let c = Case {
+                tet: [0, 1, 2, 3].map(|i| p(&v["tet"][i])),
+                org: p(&v["org"]),
+                dir: p(&v["dir"]),
+                entry: v["entry"].as_u64().map(|e| e as u8),
+            };
+            let (held, _) =
+                broken(&k, &c).unwrap_or_else(|why| panic!("{} sent {c:?}: {why}", k.describe()));
+            steps += 1;
+            on_entry += held.contains(&Origin::Entry) as u64;
+        }
+        // Walks of many steps, every step asked: the bunny scene's rays cross tens of tetrahedra.
+        assert!(steps > 10 * rays, "{steps} steps for {rays} rays");
+        if k.origin.allows(Origin::Entry) {
+            assert!(on_entry > steps / 2, "{on_entry} of {steps}");
+        }
+    }
+}
+
+/// A contract is the answerer's: refused without one; and one that leaves every ray's walk a step
+/// without a case judged nothing, an error.
+#[test]
+fn a_count_contract_without_an_answerer_or_leaving_no_ray_is_an_error() {
+    let (code, _, err) = common::run_tetwalk(&["count", "--views", "1", "--origin", "entry"], b"");
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("give --answerer"), "{err}");
+    let answerer = format!("{RECORDING}/dev/null");
+    let (code, _, err) = common::run_tetwalk(
+        &[
+            "count",
+            "--views",
+            "1",
+            "--size",
+            "8x8",
+            "--answerer",
+            &answerer,
+            "--tolerance",
+            "0.99",
+        ],
+        b"",
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("judged no ray") && err.contains("tolerance 0.99"),
+        "{err}"
+    );
 }

@@ -38,6 +38,11 @@ echo
 "$tetwalk" count --scene kuhn-far --views 4 --size 64x64 "${c_kernel[@]}" --faces 3,0,1,2 --methods plucker,ray-plane
 "$tetwalk" count --views 4 --size 64x64 "${numpy_kernel[@]}" --methods ray-plane | tail -n +3
 echo
+walking=("--origin" "inside,entry" "--unit-direction" "--entry" "given")
+echo "## c-plucker-eps walked step by step within a photon-transport contract ($(echo "${walking[@]}")), each step judged when asked"
+echo
+"$tetwalk" count --views 4 --size 64x64 "${c_kernel[@]}" --faces 3,0,1,2 "${walking[@]}" | tail -n +3
+echo
 echo "## A campaign of c-plucker-eps within that contract, its found cases shrunk inside it"
 echo
 "$tetwalk" stress "${c_kernel[@]}" --faces 3,0,1,2 "${inside[@]}" --cases 10000 --seconds "$seconds" --found "$work/found" --keep 1 | tail -n +2 | grep -v '^  /'

@@ -354,6 +354,15 @@ impl ContractArg {
         Ok(())
     }
 
+    /// Whether it states nothing beyond what the rows make (every flag at its default).
+    pub(crate) fn is_default(&self) -> bool {
+        self.origin.iter().all(|&o| o == Origin::Anywhere)
+            && !self.unit_direction
+            && self.entry == EntryGiven::Any
+            && self.orientation == Orientation::Positive
+            && self.tolerance == 0.0
+    }
+
     /// The contract, checked for family `F` (only exit faces hold more than a unit direction).
     pub(crate) fn contract<F: Family>(&self) -> Result<Contract, Error> {
         if self.origin.len() > 1 && self.origin.contains(&Origin::Anywhere) {

@@ -5,6 +5,7 @@ use crate::choice::Choice;
 use crate::engine::count::{self, AnswerSource, CountSettings, ReferenceWalk, Shard};
 use crate::engine::standing::Standings;
 use crate::family::CountKind;
+use crate::family::contract::Contract;
 use crate::family::count::Counted;
 use crate::family::wrong::WrongRay;
 use crate::report::count::CountFormats;
@@ -42,6 +43,10 @@ pub(crate) struct Args {
     methods: Option<String>,
     #[command(flatten)]
     answerer: super::AnswererArg,
+    /// What the answerer assumes of each step it is asked (docs/answerers.md, "Contracts"): each
+    /// step's case is made under it from the line the previous step's case followed.
+    #[command(flatten)]
+    contract: super::ContractArg,
     /// The walk every method is judged against: `exact`, or `certified` (proven to end where `exact`
     /// ends, step for step, and several times faster).
     #[arg(long, value_parser = reference_walk(), default_value_t)]
@@ -174,14 +179,20 @@ pub(crate) trait Flags: CountFormats {
     fn settings(own: &Self::Flags) -> Self::CountSettings;
     /// Whether its count can ask an `--answerer` every step of every walk.
     const ASKS: bool = false;
-    /// The `--answerer` started, asked as [`Flags::asking`] says (only where [`Flags::ASKS`]).
-    fn start(_a: &super::AnswererArg) -> Result<Option<crate::engine::answerer::Answerer>, Error> {
+    /// The `--answerer` started under the contract `k` states, asked as [`Flags::asking`] says
+    /// (only where [`Flags::ASKS`]), with that contract.
+    fn start(
+        _a: &super::AnswererArg,
+        _k: &super::ContractArg,
+    ) -> Result<Option<(crate::engine::answerer::Answerer, Contract)>, Error> {
         Ok(None)
     }
-    /// The walks an answerer gives, asked step by step through `mesh` (`None` unless [`Flags::ASKS`]).
+    /// The walks an answerer gives, asked step by step through `mesh` under contract `k` (`None`
+    /// unless [`Flags::ASKS`]).
     fn asking<'a>(
         _x: &'a crate::engine::answerer::Answerer,
         _mesh: &'a crate::mesh::Mesh,
+        _k: Contract,
     ) -> Option<Box<count::GivenWalks<'a>>> {
         None
     }
@@ -256,6 +267,9 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         )
         .into());
     }
+    if !asked && !a.contract.is_default() {
+        return Err("--origin, --entry, --orientation, --unit-direction and --tolerance state what an --answerer assumes of each step; tetwalk's methods walk as published: give --answerer, or leave them out".into());
+    }
     if asked && a.relabel.is_some() {
         return Err("--relabel walks relabelled meshes; an --answerer is asked about the scene's own: leave out --relabel".into());
     }
@@ -276,14 +290,14 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
     )?;
     held(shard, views.views)?;
     let scene = a.scene.load()?;
-    let outside = F::start(&a.answerer)?;
+    let outside = F::start(&a.answerer, &a.contract)?;
     let settings = CountSettings::<F> {
         views,
         reference: a.reference,
         family,
         audit: a.audit,
         shard,
-        answerer: outside.as_ref().map(|x| x.asked()),
+        answerer: outside.as_ref().map(|(x, k)| x.asked(k)),
     };
     let labellings = if a.relabel.is_some() {
         count::RELABELLINGS
@@ -295,8 +309,10 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         (shard.held(views.views) * labellings) as u64,
         "views",
     );
-    let asking = outside.as_ref().and_then(|x| F::asking(x, &scene.mesh));
-    let given = outside.as_ref().zip(asking.as_deref());
+    let asking = outside
+        .as_ref()
+        .and_then(|(x, k)| F::asking(x, &scene.mesh, *k));
+    let given = outside.as_ref().map(|(x, _)| x).zip(asking.as_deref());
     let answerers = AnswerSource::<F>::judged(
         given.map(|(x, asking)| (x.name.as_str(), asking)),
         methods.iter().copied(),
@@ -316,13 +332,16 @@ fn counted<F: Flags>(a: Args, shard: Shard) -> Status {
         count::relabel_all(&mut report, &scene, &answerers, &backend, &|| bar.inc(1))?;
     }
     bar.finish_and_clear();
-    if let Some(x) = &outside {
+    if let Some((x, _)) = &outside {
         x.finish()?;
     }
     dump.finish()?;
     print!("{}", report.table());
     out.finish(&report)?;
-    Ok(fail.status("count", &report.standings_with(outside.as_ref())))
+    Ok(fail.status(
+        "count",
+        &report.standings_with(outside.as_ref().map(|(x, _)| x)),
+    ))
 }
 
 /// `--dump FILE`: every wrong ray, one JSON line each, the file complete or absent.

@@ -7,6 +7,7 @@
 //! or too few is refused where it shifts, and read to its end once the run is done ([`Answerer::finish`]).
 
 use crate::family::Family;
+use crate::family::contract::Contract;
 use serde_json::Value;
 use std::io::{Read, Write};
 use std::process::{Child, ChildStdin, Command, Stdio};
@@ -107,6 +108,9 @@ pub struct Asked {
     pub(crate) format: WireFormat,
     /// Its face `i` is the case's face `faces[i]`.
     pub(crate) faces: [u8; 4],
+    /// The contract its cases were made under ([`Contract::describe`]), where not the default one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) contract: Option<String>,
 }
 
 /// The first [`QUOTED`] characters of `bytes` as text (invalid UTF-8 replaced), on one line.
@@ -219,12 +223,14 @@ impl Answerer {
     }
 
     /// Who it is, as a report records it.
-    pub(crate) fn asked(&self) -> Asked {
+    /// Who answered, asked under contract `k`.
+    pub(crate) fn asked(&self, k: &Contract) -> Asked {
         Asked {
             name: self.name.clone(),
             program: self.cmd.clone(),
             format: self.format,
             faces: self.faces,
+            contract: (!k.is_default()).then(|| k.describe()),
         }
     }
 

@@ -20,7 +20,7 @@ use crate::registry::{ByName, Claim, Method, Named, Registered};
 use crate::scenes::Loaded;
 use crate::scenes::camera::{Camera, Views};
 use crate::tet::Ray;
-use crate::walk::{Walk, default_max_steps, judge, locate};
+use crate::walk::{GivenWalk, Judging, Stepped, Walk, default_max_steps, judge, locate};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::time::Instant;
@@ -77,11 +77,15 @@ pub(crate) const RELABELLINGS: usize = crate::tet::EVEN_PERMUTATIONS.len();
 
 /// Whether ray `index` (counted over all views) is audited: about `audit` of `total`, chosen by `seed`.
 pub(crate) fn audited(seed: u64, index: u64, audit: u64, total: u64) -> bool {
+    (mixed(seed, index) % total.max(1)) < audit
+}
+
+/// `index` mixed with `seed` (SplitMix64's finaliser): a ray's draw, the same on every run.
+pub(crate) fn mixed(seed: u64, index: u64) -> u64 {
     let mut z = seed ^ index.wrapping_mul(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^= z >> 31;
-    (z % total.max(1)) < audit
+    z ^ (z >> 31)
 }
 
 /// The views that `holds` keeps whose camera lies inside the mesh, each with its camera and the
@@ -172,9 +176,9 @@ pub enum AnswerSource<'a, F: Family> {
 }
 
 /// Walks given from outside for one view: its index, its rays, the tetrahedron they start in and the
-/// steps a walk may take.
+/// steps a walk may take; each walk with how it is judged.
 pub(crate) type GivenWalks<'a> =
-    dyn Fn(usize, &[Ray], u32, u32) -> Result<Vec<Walk>, CountError> + Sync + 'a;
+    dyn Fn(usize, &[Ray], u32, u32) -> Result<Vec<GivenWalk>, CountError> + Sync + 'a;
 
 impl<'a, F: Family> AnswerSource<'a, F> {
     /// Whose answers a count judges against `reference`: walks given from outside first, then each
@@ -233,6 +237,9 @@ pub fn bytes_per_ray(methods: usize) -> u64 {
 struct ViewCount {
     work: Vec<(u64, f64, Option<Traffic>)>,
     wrong: Vec<Vec<WrongRay>>,
+    /// Per row, rays not judged (a step their contract could not make); `None` for rows judged by
+    /// their endings.
+    left_out: Vec<Option<u64>>,
     audits: u64,
     rays: u64,
 }
@@ -376,10 +383,11 @@ pub fn run<F: Counted>(
             views_counted += 1;
             rays_counted += c.rays;
             audits += c.audits;
-            for ((row, (steps, seconds, traffic)), wrong) in
-                rows.iter_mut().zip(c.work).zip(c.wrong)
+            for (((row, (steps, seconds, traffic)), wrong), left_out) in
+                rows.iter_mut().zip(c.work).zip(c.wrong).zip(c.left_out)
             {
                 row.add_work(steps, seconds * scale);
+                row.add_left_out(left_out);
                 if let Some(t) = &traffic {
                     row.add_traffic(t);
                 }
@@ -399,6 +407,13 @@ pub fn run<F: Counted>(
     }
     if views_counted == 0 {
         return Err(CountError::NoView(s.views.views));
+    }
+    if let Some(row) = rows.iter().find(|r| r.left_out == Some(rays_counted)) {
+        return Err(CountError::NothingJudged {
+            method: row.method.clone(),
+            rays: rays_counted,
+            contract: (s.answerer.as_ref().and_then(|a| a.contract.clone())).unwrap_or_default(),
+        });
     }
     for row in &mut rows {
         row.finish(views_counted, rays_counted);
@@ -427,6 +442,8 @@ struct Unjudged {
     located: u32,
     work: Vec<(u64, f64, Option<Traffic>)>,
     candidates: Vec<Vec<(usize, Walk, Walk)>>,
+    /// Per answerer, how each pixel's walk is judged, where it was given judged step by step.
+    stepped: Vec<Option<Vec<Stepped>>>,
     audits: u64,
 }
 
@@ -455,6 +472,7 @@ fn count_view<F: Counted, R>(
         .collect();
     let mut work = Vec::with_capacity(answerers.len() + 1);
     let mut candidates = Vec::with_capacity(answerers.len());
+    let mut stepped = Vec::with_capacity(answerers.len());
     // What the GPU moved since `before`, on a GPU.
     let moved = |before: Option<Traffic>| backend.traffic().zip(before).map(|(a, b)| a.since(b));
     // The reference walk, and the methods whose answers are compared with it where they are made,
@@ -530,6 +548,7 @@ fn count_view<F: Counted, R>(
         let t0 = Instant::now();
         let before = backend.traffic();
         // Given walks were timed elsewhere, if at all: their speed is not measured here.
+        let mut judged = None;
         let (answers, steps, seconds, traffic) = match compared {
             Some((Against { steps, sent }, seconds, traffic)) => {
                 (sent, steps, seconds, Some(traffic))
@@ -540,7 +559,15 @@ fn count_view<F: Counted, R>(
                         let w = F::answer_rays(&at, m, &rays)?;
                         (w, t0.elapsed().as_secs_f64())
                     }
-                    AnswerSource::Given(_, given) => (given(v, &rays, located, max)?, 0.0),
+                    AnswerSource::Given(_, given) => {
+                        let (walks, how): (Vec<Walk>, Vec<Stepped>) =
+                            given(v, &rays, located, max)?
+                                .into_iter()
+                                .map(|g| (g.walk, g.stepped))
+                                .unzip();
+                        judged = how.iter().any(|h| *h != Stepped::ByEnding).then_some(how);
+                        (walks, 0.0)
+                    }
                 };
                 let steps = walks.iter().map(|w| w.steps as u64).sum();
                 let all = match &mut all {
@@ -558,6 +585,7 @@ fn count_view<F: Counted, R>(
         };
         work.push((steps, seconds, traffic));
         candidates.push(answers);
+        stepped.push(judged);
     }
     let audits = picked.len() as u64;
     let unjudged = Unjudged {
@@ -566,6 +594,7 @@ fn count_view<F: Counted, R>(
         located,
         work,
         candidates,
+        stepped,
         audits,
     };
     Ok((unjudged, meanwhile))
@@ -582,27 +611,41 @@ fn judge_view<F: Counted>(
 ) -> ViewCount {
     let wrong = std::iter::repeat_with(Vec::new)
         .take(F::reference_row() as usize)
-        .chain(answerers.iter().zip(&u.candidates).map(|(a, candidates)| {
-            let seen = Seen {
-                scene: &scene.loaded.name,
-                view: u.v,
-                pixel: [0, 0],
-                name: a.name(),
-                backend: match a {
-                    AnswerSource::Method(m) => Some(backend.for_method(*m).ran().kind),
-                    AnswerSource::Given(..) => None,
-                },
-                walker: match a {
-                    AnswerSource::Method(m) => F::walker(m),
-                    AnswerSource::Given(..) => None,
-                },
-            };
-            let mesh = &scene.loaded.mesh;
-            let (width, max) = (s.views.width, scene.max_steps);
-            wrong_rays(mesh, &seen, width, &u.rays, candidates, u.located, max)
+        .chain(answerers.iter().zip(&u.candidates).zip(&u.stepped).map(
+            |((a, candidates), stepped)| {
+                let seen = Seen {
+                    scene: &scene.loaded.name,
+                    view: u.v,
+                    pixel: [0, 0],
+                    name: a.name(),
+                    backend: match a {
+                        AnswerSource::Method(m) => Some(backend.for_method(*m).ran().kind),
+                        AnswerSource::Given(..) => None,
+                    },
+                    walker: match a {
+                        AnswerSource::Method(m) => F::walker(m),
+                        AnswerSource::Given(..) => None,
+                    },
+                };
+                let mesh = &scene.loaded.mesh;
+                let (width, max) = (s.views.width, scene.max_steps);
+                let judged = Judging {
+                    start: u.located,
+                    max_steps: max,
+                    stepped: stepped.as_deref(),
+                };
+                wrong_rays_judged(mesh, &seen, width, &u.rays, candidates, &judged)
+            },
+        ))
+        .collect();
+    let left_out = std::iter::repeat_n(None, F::reference_row() as usize)
+        .chain(u.stepped.iter().map(|h| {
+            h.as_ref()
+                .map(|h| h.iter().filter(|h| **h == Stepped::LeftOut).count() as u64)
         }))
         .collect();
     ViewCount {
+        left_out,
         work: u.work,
         wrong,
         audits: u.audits,
@@ -666,7 +709,8 @@ pub fn relabel_all<F: Counted>(
 
 /// One view's wrong rays for one method among `candidates` (pixel `i`'s walk beside the reference
 /// walk's ending, pixel `i` at column `i % width`: every pixel, or those not settled right where
-/// they were walked), each described; wrong rays are few, so each is described where it is found.
+/// they were walked), each walked from `start` within `max_steps` and judged by its ending, each
+/// described; wrong rays are few, so each is described where it is found.
 pub fn wrong_rays(
     mesh: &Mesh,
     seen: &Seen,
@@ -676,9 +720,32 @@ pub fn wrong_rays(
     start: u32,
     max_steps: u32,
 ) -> Vec<WrongRay> {
+    let judging = Judging {
+        start,
+        max_steps,
+        stepped: None,
+    };
+    wrong_rays_judged(mesh, seen, width, rays, candidates, &judging)
+}
+
+/// [`wrong_rays`], walks judged as `judging` says: one judged step by step is wrong where a step
+/// was ([`Stepped::Wrong`]), whatever its ending.
+fn wrong_rays_judged(
+    mesh: &Mesh,
+    seen: &Seen,
+    width: u32,
+    rays: &[Ray],
+    candidates: &[(usize, Walk, Walk)],
+    judging: &Judging,
+) -> Vec<WrongRay> {
+    let how = |i: usize| judging.stepped.map_or(&Stepped::ByEnding, |h| &h[i]);
     let wrong: Vec<(usize, Walk, Walk)> = candidates
         .par_iter()
-        .filter(|(i, w, reference)| judge(mesh, &rays[*i], w, reference).is_some())
+        .filter(|(i, w, reference)| match how(*i) {
+            Stepped::ByEnding => judge(mesh, &rays[*i], w, reference).is_some(),
+            Stepped::Wrong(_) => true,
+            Stepped::Right | Stepped::LeftOut => false,
+        })
         .copied()
         .collect();
     wrong
@@ -688,7 +755,11 @@ pub fn wrong_rays(
                 pixel: [i as u32 % width, i as u32 / width],
                 ..*seen
             };
-            WrongRay::of(mesh, &seen, &rays[i], &walk, &reference, start, max_steps)
+            let fault = match how(i) {
+                Stepped::Wrong(f) => Some(&**f),
+                _ => None,
+            };
+            WrongRay::of(mesh, &seen, &rays[i], (&walk, &reference), judging, fault)
         })
         .collect()
 }
@@ -1248,11 +1319,18 @@ impl<F: Counted> Sharded for CountReport<F> {
         }
         for (i, m) in self.methods.iter().enumerate() {
             let at = format!("methods[{i}] ({})", m.method);
+            let judged = self.rays.checked_sub(m.left_out.unwrap_or(0));
+            let Some(judged) = judged else {
+                return inconsistent(
+                    format!("{at}.left_out"),
+                    format!("{:?}, more than the {} rays", m.left_out, self.rays),
+                );
+            };
             check_wrong(
                 &at,
                 m.counts.wrong_total(),
                 &m.counts.kinds(),
-                self.rays,
+                judged,
                 own && i == 0,
             )?;
             m.check(&at, self.views_counted)?;

@@ -73,6 +73,15 @@ pub enum CountError {
         binned: Option<(u32, f32)>,
         brute: Option<(u32, f32)>,
     },
+    /// Every ray of a row left out of judging by its contract.
+    #[error(
+        "{method} judged no ray: each of the {rays} rays' walks reached a step its contract ({contract}) leaves no case"
+    )]
+    NothingJudged {
+        method: String,
+        rays: u64,
+        contract: String,
+    },
     #[error(transparent)]
     Relabel(#[from] crate::mesh::MeshError),
     /// A report of one scene counted again on another (`engine::count::relabel_all`).
@@ -220,6 +229,11 @@ pub struct CountRow<C: Counts> {
     /// On a GPU, what its answers moved between the CPU and the GPU.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(crate) transfer: Option<Transfer>,
+    /// Walks asked step by step under a contract (`count --answerer --origin …`): rays not judged,
+    /// their walk having reached a step the contract leaves no case before any wrong one (of
+    /// `rays`, the rest judged).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) left_out: Option<u64>,
 }
 
 through_value!(CountRow<C: Counts>);
@@ -248,6 +262,7 @@ impl<C: Counts> CountRow<C> {
             mrays_per_second: 0.0,
             relabelled: None,
             transfer: None,
+            left_out: None,
         }
     }
 
@@ -261,6 +276,13 @@ impl<C: Counts> CountRow<C> {
     }
 
     /// Count a view's work: steps (tetrahedra or cells visited) and seconds answering.
+    /// Rays left out of a contract's judging (none where the row is judged by endings).
+    pub(crate) fn add_left_out(&mut self, left_out: Option<u64>) {
+        if let Some(n) = left_out {
+            *self.left_out.get_or_insert(0) += n;
+        }
+    }
+
     pub(crate) fn add_work(&mut self, steps: u64, seconds: f64) {
         self.counts.add_steps(steps);
         self.seconds += seconds;
@@ -270,6 +292,7 @@ impl<C: Counts> CountRow<C> {
     pub(crate) fn add(&mut self, o: &Self) {
         self.counts.add(&o.counts);
         self.seconds += o.seconds;
+        self.add_left_out(o.left_out);
         if let Some(t) = &o.transfer {
             self.add_traffic(&t.total);
         }

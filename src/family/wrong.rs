@@ -10,7 +10,7 @@ use crate::registry::Method;
 use crate::scenes::camera::Views;
 use crate::tet::Case;
 use crate::tet::Ray;
-use crate::walk::{Divergence, Outcome, OutcomeKind, Walk};
+use crate::walk::{Divergence, Fault, Outcome, OutcomeKind, Walk};
 use glam::{DVec3, Vec3};
 use rug::Rational;
 
@@ -173,25 +173,35 @@ pub struct Seen<'a> {
 }
 
 impl WrongRay {
-    /// Describe a wrong walk `w` of `ray` beside the `exact` walk `reference`, from `start`.
+    /// Describe a wrong walk `w` of `ray` beside the `exact` walk `reference`, walked as `judging`
+    /// says; `fault`: its first wrong step and the case sent there, where its steps were judged when
+    /// asked (under a contract).
     pub(crate) fn of(
         mesh: &Mesh,
         seen: &Seen,
         ray: &Ray,
-        w: &Walk,
-        reference: &Walk,
-        start: u32,
-        max_steps: u32,
+        (w, reference): (&Walk, &Walk),
+        judging: &crate::walk::Judging,
+        fault: Option<&Fault>,
     ) -> WrongRay {
-        let divergence = seen
-            .walker
-            .zip(seen.backend)
-            .and_then(|(m, b)| Some(m.walk_checked(b.model()?)(mesh, ray, start, max_steps).1))
-            .flatten();
+        let (start, max_steps) = (judging.start, judging.max_steps);
+        let divergence = match fault {
+            Some(f) => Some(f.divergence.clone()),
+            None => seen
+                .walker
+                .zip(seen.backend)
+                .and_then(|(m, b)| Some(m.walk_checked(b.model()?)(mesh, ray, start, max_steps).1))
+                .flatten(),
+        };
         // For a wrong face: adjacent or elsewhere, and how far from its edge the exact hit lies (the
         // exact hit found once, since on a boundary that means trying every constrained face).
-        let (class, ulps_from_edge) = match (w.outcome, reference.outcome) {
-            (Outcome::Hit { tet, face }, Outcome::Hit { tet: rt, face: rf }) => {
+        let (class, ulps_from_edge) = match (fault, w.outcome, reference.outcome) {
+            // A wrong exit face of one tetrahedron shares an edge with each of its exact ones.
+            (Some(f), ..) => (
+                (f.kind == OutcomeKind::Hit).then_some(Class::Adjacent),
+                None,
+            ),
+            (None, Outcome::Hit { tet, face }, Outcome::Hit { tet: rt, face: rf }) => {
                 let hit = ExactHit::of(mesh, ray, rt, rf);
                 let mine = mesh.face(tet, face as usize);
                 (
@@ -200,7 +210,7 @@ impl WrongRay {
                 )
             }
             // No exact hit point: the `exact` walk left the mesh.
-            (Outcome::Hit { .. }, _) => (Some(Class::Elsewhere), None),
+            (None, Outcome::Hit { .. }, _) => (Some(Class::Elsewhere), None),
             _ => (None, None),
         };
         WrongRay {
@@ -211,19 +221,25 @@ impl WrongRay {
             dir: ray.dir.to_array(),
             method: seen.name.to_string(),
             backend: seen.backend,
-            kind: w.outcome.kind().wrong_key().to_string(),
+            kind: fault
+                .map_or(w.outcome.kind(), |f| f.kind)
+                .wrong_key()
+                .to_string(),
             class,
             stopped: Stop::of(mesh, w),
             steps: w.steps,
             exact: Stop::of(mesh, reference),
-            case: divergence.as_ref().map(|d| {
-                crate::cases::tet_case_json(&Case {
-                    tet: mesh.tet(d.tet),
-                    org: ray.org,
-                    dir: ray.dir,
-                    entry: d.entry,
-                })
-            }),
+            case: match fault {
+                Some(f) => Some(crate::cases::tet_case_json(&f.sent)),
+                None => divergence.as_ref().map(|d| {
+                    crate::cases::tet_case_json(&Case {
+                        tet: mesh.tet(d.tet),
+                        org: ray.org,
+                        dir: ray.dir,
+                        entry: d.entry,
+                    })
+                }),
+            },
             divergence,
             ulps_from_edge,
             count: None,

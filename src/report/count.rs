@@ -22,9 +22,27 @@ pub(crate) fn totals<F: Counted>(r: &CountReport<F>) -> String {
     let each: Vec<String> = r
         .methods
         .iter()
-        .map(|m| format!("{} {}", m.method, m.counts.wrong_total()))
+        .map(|m| match m.left_out {
+            None => format!("{} {}", m.method, m.counts.wrong_total()),
+            Some(l) => format!(
+                "{} {} of the {} judged step by step ({} left out: a step its contract leaves no case)",
+                m.method,
+                m.counts.wrong_total(),
+                r.rays - l,
+                l
+            ),
+        })
         .collect();
-    format!("\ntotals over {} rays: {}\n", r.rays, each.join(", "))
+    let contract = (r.settings.count.answerer.as_ref())
+        .and_then(|a| a.contract.as_ref())
+        .map_or(String::new(), |k| {
+            format!("each step asked under the contract: {k}\n")
+        });
+    format!(
+        "\n{contract}totals over {} rays: {}\n",
+        r.rays,
+        each.join(", ")
+    )
 }
 
 /// The wrong rays under the 12 relabellings, per method that has them.

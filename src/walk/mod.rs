@@ -611,55 +611,163 @@ impl<M: ExitMethod> Walker<M> {
     }
 }
 
+/// One step of a walk asked from outside ([`walks_asking`]): the walk's tetrahedron as the mesh
+/// stores it, the line the walk follows now and the face it entered through (mesh numbering); the
+/// ray's index and the step (from 0).
+pub(crate) struct Step {
+    pub(crate) ray: usize,
+    pub(crate) step: u32,
+    pub(crate) case: crate::tet::Case,
+}
+
+/// What the asker made of a [`Step`].
+pub(crate) enum Asked {
+    /// The exit face answered (mesh numbering), the line the walk follows on, and the case as it
+    /// was sent with its verdict, where the step was judged when asked (under a contract).
+    Face {
+        face: Option<u8>,
+        line: Ray,
+        judged: Option<(crate::tet::Case, Judged)>,
+    },
+    /// No case the contract allows could be made for the step: the walk ends.
+    Unmade,
+}
+
+/// A step judged when asked: right, or wrong with the kind of the wrong answer (a wrong face, or no
+/// exit face) and the exact exit faces of the case sent (its numbering).
+pub(crate) enum Judged {
+    Right,
+    Wrong { kind: OutcomeKind, exact: Vec<u8> },
+}
+
+/// A walk's first wrong step: where (mesh numbering), the case it was sent there, and the kind of
+/// the wrong answer.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Fault {
+    pub(crate) divergence: Divergence,
+    pub(crate) sent: crate::tet::Case,
+    pub(crate) kind: OutcomeKind,
+}
+
+/// How a walk given from outside is judged.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Stepped {
+    /// By its ending, against the reference walk (walks given whole, or asked without a contract).
+    ByEnding,
+    /// Every step judged when asked (under a contract), each right.
+    Right,
+    /// Its first wrong step; the walk went on as the answers took it, each case still made under
+    /// the contract.
+    Wrong(Box<Fault>),
+    /// A step the contract could not make before any wrong one: the ray is not judged.
+    LeftOut,
+}
+
+/// How a view's walks are judged: from `start`, within `max_steps`, each by its ending unless
+/// `stepped` says otherwise (pixel by pixel, walks given judged step by step under a contract).
+pub(crate) struct Judging<'a> {
+    pub(crate) start: u32,
+    pub(crate) max_steps: u32,
+    pub(crate) stepped: Option<&'a [Stepped]>,
+}
+
+/// A walk given from outside, and how it is judged.
+pub struct GivenWalk {
+    pub(crate) walk: Walk,
+    pub(crate) stepped: Stepped,
+}
+
 /// Walks of `rays` from `start`, every step's exit face asked of `ask` in batches — each batch every
-/// unfinished walk's next step, as one tetrahedron's case (its cell, the ray, the face it entered
-/// through) — for a program outside tetwalk (`count --answerer`); the walks end as a method's do:
-/// on a constrained face, out of the mesh, without an exit face, in a cycle (Brent, over tetrahedron
-/// and entry face) or at `max_steps`.
+/// unfinished walk's next step ([`Step`]) — for a program outside tetwalk (`count --answerer`); the
+/// walks end as a method's do: on a constrained face, out of the mesh, without an exit face, in a
+/// cycle (Brent, over tetrahedron and entry face) or at `max_steps`; or where the asker could not
+/// make a step's case ([`Asked::Unmade`]: without an exit face, and left out unless a step was
+/// wrong before).
 pub(crate) fn walks_asking<E>(
     mesh: &Mesh,
     rays: &[Ray],
     start: u32,
     max_steps: u32,
-    mut ask: impl FnMut(&[crate::tet::Case]) -> Result<Vec<Option<u8>>, E>,
-) -> Result<Vec<Walk>, E> {
+    mut ask: impl FnMut(&[Step]) -> Result<Vec<Asked>, E>,
+) -> Result<Vec<GivenWalk>, E> {
     struct Going {
         tet: u32,
         entry: Option<u8>,
+        line: Ray,
         steps: u32,
         brent: Brent<(u32, Option<u8>)>,
+        stepped: Stepped,
     }
     let mut going: Vec<Going> = rays
         .iter()
-        .map(|_| Going {
+        .map(|&line| Going {
             tet: start,
             entry: None,
+            line,
             steps: 0,
             brent: Brent::new((start, None)),
+            stepped: Stepped::ByEnding,
         })
         .collect();
-    let mut done: Vec<Option<Walk>> = vec![None; rays.len()];
+    let mut done: Vec<Option<GivenWalk>> = (0..rays.len()).map(|_| None).collect();
     let mut active: Vec<usize> = (0..rays.len()).collect();
     while !active.is_empty() {
-        let cases: Vec<crate::tet::Case> = active
+        let steps: Vec<Step> = active
             .iter()
-            .map(|&i| crate::tet::Case {
-                tet: mesh.cells[going[i].tet as usize].v,
-                org: rays[i].org,
-                dir: rays[i].dir,
-                entry: going[i].entry,
+            .map(|&i| Step {
+                ray: i,
+                step: going[i].steps,
+                case: crate::tet::Case {
+                    tet: mesh.cells[going[i].tet as usize].v,
+                    org: going[i].line.org,
+                    dir: going[i].line.dir,
+                    entry: going[i].entry,
+                },
             })
             .collect();
-        let faces = ask(&cases)?;
+        let asked = ask(&steps)?;
         let mut next = Vec::with_capacity(active.len());
-        for (&i, face) in active.iter().zip(faces) {
+        for (&i, asked) in active.iter().zip(asked) {
             let g = &mut going[i];
             let tet = g.tet;
             g.steps += 1;
+            let face = match asked {
+                Asked::Unmade => {
+                    if matches!(g.stepped, Stepped::ByEnding | Stepped::Right) {
+                        g.stepped = Stepped::LeftOut;
+                    }
+                    None
+                }
+                Asked::Face { face, line, judged } => {
+                    g.line = line;
+                    match (judged, &g.stepped) {
+                        (Some((_, Judged::Right)), Stepped::ByEnding) => g.stepped = Stepped::Right,
+                        (
+                            Some((sent, Judged::Wrong { kind, exact })),
+                            Stepped::ByEnding | Stepped::Right,
+                        ) => {
+                            g.stepped = Stepped::Wrong(Box::new(Fault {
+                                divergence: Divergence {
+                                    step: g.steps,
+                                    tet,
+                                    entry: g.entry,
+                                    face,
+                                    exact_exit: exact,
+                                },
+                                sent,
+                                kind,
+                            }))
+                        }
+                        _ => {}
+                    }
+                    face
+                }
+            };
+            let (steps, stepped) = (g.steps, g.stepped.clone());
             let end = |outcome| {
-                Some(Walk {
-                    outcome,
-                    steps: g.steps,
+                Some(GivenWalk {
+                    walk: Walk { outcome, steps },
+                    stepped,
                 })
             };
             let link = face.map(|f| mesh.cells[tet as usize].links[f as usize]);

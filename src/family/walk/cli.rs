@@ -22,6 +22,7 @@ use crate::engine::answering::{AnswersError, each_answer};
 use crate::engine::count::{GivenWalks, Shard};
 use crate::engine::standing::Standings;
 use crate::family::ExitFace;
+use crate::family::contract::Contract;
 use crate::family::wrong::WrongRay;
 use crate::mesh::Mesh;
 use crate::registry::Named;
@@ -183,12 +184,17 @@ impl Flags for Walks {
     fn settings(_: &CountFlags) {}
     const ASKS: bool = true;
     /// Started for exit-face cases: each step of a walk is one.
-    fn start(a: &AnswererArg) -> Result<Option<Answerer>, Error> {
-        a.start::<ExitFace>(&Default::default())
+    fn start(
+        a: &AnswererArg,
+        k: &crate::cli::ContractArg,
+    ) -> Result<Option<(Answerer, Contract)>, Error> {
+        let k = k.contract::<ExitFace>()?;
+        Ok(a.start::<ExitFace>(&k)?.map(|x| (x, k)))
     }
-    /// Every step of every walk asked of the answerer, a view's unfinished walks in one batch.
-    fn asking<'a>(x: &'a Answerer, mesh: &'a Mesh) -> Option<Box<GivenWalks<'a>>> {
-        Some(Box::new(asked_walks(x, mesh)))
+    /// Every step of every walk asked of the answerer, a view's unfinished walks in one batch, each
+    /// step's case made under the contract.
+    fn asking<'a>(x: &'a Answerer, mesh: &'a Mesh, k: Contract) -> Option<Box<GivenWalks<'a>>> {
+        Some(Box::new(asked_walks(x, mesh, k)))
     }
     /// `count --rays-out FILE`: every ray of the views the shard holds whose camera is inside the mesh,
     /// with its view, pixel and starting tetrahedron.

@@ -10,17 +10,24 @@ use crate::cases::number;
 use crate::engine::answering::reader;
 use crate::engine::count::{self, CountReport, CountSettings, ReferenceWalk, Shard, located_views};
 use crate::engine::view::{Frame, ViewError, located_view};
+use crate::exact::Classification;
 use crate::family::Summed;
+use crate::family::contract::{self, Contract, Origin};
 use crate::family::count::CountError;
+use crate::family::{ExitFace, Family, Verdict};
 use crate::mesh::layout::Layout;
 use crate::mesh::{HULL, Mesh, MeshError};
 use crate::methods::Model;
 use crate::registry::{Method, Named, reference};
 use crate::scenes::Loaded;
 use crate::scenes::camera::{Camera, Views};
+use crate::tet::Case;
 use crate::tet::{EVEN_PERMUTATIONS, Ray};
 use crate::walk::layouts::{LayoutKind, Source};
-use crate::walk::{Outcome, OutcomeKind, Walk, default_max_steps, judge, locate, same_result};
+use crate::walk::{
+    Asked, GivenWalk, Judged, Outcome, OutcomeKind, Step, Stepped, Walk, default_max_steps, judge,
+    locate, same_result, walks_asking,
+};
 use rayon::prelude::*;
 use serde_json::{Value, json};
 use std::collections::HashMap;
@@ -128,17 +135,88 @@ pub(crate) struct WalkSettings {
 }
 
 /// A count's walks given by an answerer (`count --answerer`), every step of a view's unfinished
-/// walks asked of it as one batch of exit-face cases.
+/// walks asked of it as one batch of exit-face cases: as the walk stands (the camera's ray, the face
+/// it entered through) under the default contract; else each step's case made under `contract`
+/// from the line the previous step's case followed ([`step_within`]) and judged when asked.
 pub(crate) fn asked_walks<'a>(
     x: &'a crate::engine::answerer::Answerer,
     mesh: &'a Mesh,
-) -> impl Fn(usize, &[Ray], u32, u32) -> Result<Vec<Walk>, CountError> + Sync + 'a {
-    move |_, rays, start, max| {
-        crate::walk::walks_asking(mesh, rays, start, max, |cases| {
-            x.answers::<crate::family::ExitFace>(cases)
+    contract: Contract,
+) -> impl Fn(usize, &[Ray], u32, u32) -> Result<Vec<GivenWalk>, CountError> + Sync + 'a {
+    move |v, rays, start, max| {
+        walks_asking(mesh, rays, start, max, |steps| {
+            if contract.is_default() {
+                let cases: Vec<Case> = steps.iter().map(|s| s.case).collect();
+                let faces = x.answers::<ExitFace>(&cases)?;
+                return Ok(steps
+                    .iter()
+                    .zip(faces)
+                    .map(|(s, face)| Asked::Face {
+                        face,
+                        line: s.case.ray(),
+                        judged: None,
+                    })
+                    .collect());
+            }
+            let made: Vec<Option<(Case, Classification)>> = steps
+                .par_iter()
+                .map(|s| step_within(&contract, v, s))
+                .collect();
+            let sent: Vec<Case> = made.iter().flatten().map(|(c, _)| *c).collect();
+            let mut faces = x.answers::<ExitFace>(&sent)?.into_iter();
+            Ok(made
+                .into_iter()
+                .zip(steps)
+                .map(|(made, s)| {
+                    let Some((c, truth)) = made else {
+                        return Asked::Unmade;
+                    };
+                    let face = faces.next().expect("an answer for each case sent");
+                    let judged = match ExitFace::verdict(&c, &truth, &face) {
+                        Verdict::Wrong(kind) => Judged::Wrong {
+                            kind,
+                            exact: truth.exit.iter().map(|f| f as u8).collect(),
+                        },
+                        _ => Judged::Right,
+                    };
+                    // Mirrored (`--orientation negative`): vertices 0 and 1 swapped, faces too.
+                    let mirrored = c.tet != s.case.tet;
+                    Asked::Face {
+                        face: face.map(|f| {
+                            if mirrored {
+                                [1, 0, 2, 3][f as usize]
+                            } else {
+                                f
+                            }
+                        }),
+                        line: c.ray(),
+                        judged: Some((c, judged)),
+                    }
+                })
+                .collect())
         })
-        .map_err(|e| CountError::Given(e.to_string()))
+        .map_err(|e: crate::engine::answerer::AnswererError| CountError::Given(e.to_string()))
     }
+}
+
+/// Step `s` of a walk in view `v` made under `contract` ([`contract::within`]), with its truth:
+/// the origin placed as a walk meets it — strictly inside where `inside` is allowed at the first step
+/// (the camera's tetrahedron), on the entry face where `entry` is allowed after a crossing, else the
+/// placements in turn — on the line the walk follows; `None` where the contract leaves the step no
+/// case.
+fn step_within(contract: &Contract, v: usize, s: &Step) -> Option<(Case, Classification)> {
+    let allowed = contract.origin;
+    let key = count::mixed(((v as u64) << 32) ^ s.ray as u64, s.step as u64);
+    let placement = match s.step {
+        0 if allowed.allows(Origin::Inside) && !allowed.is_anywhere() => Origin::Inside,
+        1.. if allowed.allows(Origin::Entry) && !allowed.is_anywhere() => Origin::Entry,
+        _ => allowed.for_key(key >> 2),
+    };
+    let narrowed = Contract {
+        origin: placement.into(),
+        ..*contract
+    };
+    contract::within::<ExitFace>(&narrowed, &s.case, key)
 }
 
 /// `tetwalk walk`: the mesh and its rays made as `s` says, each method's walks judged by `walker`
@@ -674,14 +752,18 @@ impl GivenWalksMap {
         wrong: Option<&mut count::Sink>,
     ) -> Result<CountReport<Walks>, RaysError> {
         let width = header.views.width;
-        let lookup = |v: usize, rays: &[Ray], _, _| -> Result<Vec<Walk>, CountError> {
+        let lookup = |v: usize, rays: &[Ray], _, _| -> Result<Vec<GivenWalk>, CountError> {
             (0..rays.len() as u32)
                 .map(|i| {
                     let (x, y) = (i % width, i / width);
-                    self.0.get(&(v, x, y)).copied().ok_or_else(|| {
+                    let walk = self.0.get(&(v, x, y)).copied().ok_or_else(|| {
                         CountError::Given(format!(
                             "{file}: no answer for view {v} pixel [{x}, {y}]"
                         ))
+                    })?;
+                    Ok(GivenWalk {
+                        walk,
+                        stepped: Stepped::ByEnding,
                     })
                 })
                 .collect()
