@@ -778,7 +778,7 @@ pub(crate) struct Rerun {
 #[derive(Debug, thiserror::Error)]
 pub(crate) enum RerunError {
     #[error(
-        "a wrong ray of walks given to tetwalk judge (by {0}): tetwalk replay cannot answer it again"
+        "a wrong ray of walks given from outside tetwalk (by {0}, through `tetwalk judge` or `count --answerer`): tetwalk replay cannot answer it again without the program (a line of `count --answerer` under a contract holds its first wrong step as `case`: `tetwalk exit --answerer CMD` answers that again)"
     )]
     NotWalked(String),
     #[error(
