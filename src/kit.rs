@@ -274,11 +274,10 @@ impl fmt::Display for Failed {
             self.judged,
             per_million(self.failures, self.judged)
         )?;
-        writeln!(f, "  case:     {}", self.case)?;
-        writeln!(f, "  original: {}", self.original)?;
+        // The found line holds the shrunk case and the case as found ("original"): each printed once.
+        writeln!(f, "  found:    {}", self.found)?;
         writeln!(f, "  answered: {}", self.answered)?;
-        writeln!(f, "  right:    {}", self.right)?;
-        write!(f, "  found:    {}", self.found)?;
+        write!(f, "  right:    {}", self.right)?;
         if let Some(note) = &self.note {
             write!(f, "\n  note:     {note}")?;
         }

@@ -357,3 +357,35 @@ fn a_batch_failure_names_its_own_case() {
     assert_eq!(i, 2);
     assert_eq!(f.method, "maria17");
 }
+
+/// A closed mesh's false miss that lets the ray through its surface (at an edge) says so: its found
+/// line carries `"leak": true` beside its kind and reads back; a false miss beside an edge (inside a
+/// triangle) carries none, and a line claiming a leak there is refused naming the field.
+#[test]
+fn a_leak_is_filed_as_one() {
+    use tetwalk::family::Triangle;
+    let read = |path: &str| {
+        let line = std::fs::read_to_string(format!("corpora/found/{path}")).unwrap();
+        Found::<Triangle>::parse(line.lines().next().unwrap()).unwrap()
+    };
+    let leak = read("mt/stress-sliver-edge-origin-false_miss-0200f303db781c7d.json");
+    let written = leak.to_json();
+    assert!(
+        written.contains(r#""kind":"false_miss""#) && written.contains(r#""leak":true"#),
+        "{written}"
+    );
+    assert_eq!(Found::<Triangle>::parse(&written).unwrap(), leak);
+    let beside =
+        read("komatsu-packet/stress-sliver-near-edge-origin-false_miss-8ea14a8f98356819.json");
+    let written = beside.to_json();
+    assert!(
+        written.contains(r#""kind":"false_miss""#) && !written.contains("leak"),
+        "{written}"
+    );
+    let claimed = written.replacen(r#""kind":"#, r#""leak":true,"kind":"#, 1);
+    let err = Found::<Triangle>::parse(&claimed).unwrap_err().to_string();
+    assert!(
+        err.contains("leak") && err.contains("lets no ray through"),
+        "{err}"
+    );
+}

@@ -102,8 +102,15 @@ pub struct Found<F: Family> {
 }
 
 /// The fields a found case adds to its case.
-pub(crate) const FAILURE_FIELDS: [&str; 6] =
-    ["method", "backend", "adapter", "kind", "answer", "original"];
+pub(crate) const FAILURE_FIELDS: [&str; 7] = [
+    "method", "backend", "adapter", "kind", "answer", "leak", "original",
+];
+
+/// Whether `answer` lets the case's ray through a closed mesh's surface (a false miss that is a
+/// leak, [`crate::family::Said::leak`]): said beside its kind in a found line.
+fn leaks<F: Family>(case: &F::Case, answer: &F::Answer) -> bool {
+    F::truth(case).is_ok_and(|x| F::said(case, &x, answer, 0.0).leak)
+}
 
 impl<F: Family> Found<F> {
     /// A found case: `case` and what failed on it.
@@ -156,6 +163,7 @@ impl<F: Family> Found<F> {
             });
         }
         let adapter = obj.remove("adapter");
+        let leak = obj.remove("leak");
         let mut field = |k: &'static str| {
             obj.remove(k).ok_or(FoundError::Field {
                 field: k,
@@ -201,6 +209,16 @@ impl<F: Family> Found<F> {
             .and_then(OutcomeKind::from_wrong_key)
             .ok_or_else(|| bad("kind", format!("{kind} is not a kind of wrong ending")))?;
         let answer = F::parse_answer(&field("answer")?, &case).map_err(|e| bad("answer", e))?;
+        match leak {
+            None => {}
+            Some(Value::Bool(true)) if leaks::<F>(&case, &answer) => {}
+            Some(v) => {
+                return Err(bad(
+                    "leak",
+                    format!("{v}: the answer lets no ray through a closed mesh's surface here"),
+                ));
+            }
+        }
         if F::kind(&answer) != kind {
             return Err(bad(
                 "kind",
@@ -234,6 +252,9 @@ impl<F: Family> Found<F> {
             }
             m.insert("kind".into(), f.kind().wrong_key().into());
             m.insert("answer".into(), F::answer_json(&f.answer));
+            if leaks::<F>(&self.case, &f.answer) {
+                m.insert("leak".into(), true.into());
+            }
         }
         if let Some(o) = &self.original {
             m.insert("original".into(), Value::Object(F::case_json(o)));

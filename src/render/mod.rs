@@ -48,6 +48,23 @@ impl Image {
         }
     }
 
+    /// Pixel `(x, y)` marked to be seen at any scale the image is shown: the pixel itself and a ring
+    /// around it (radius a fortieth of the image's smaller side, at least 3), in `c`, clipped.
+    pub(crate) fn ring(&mut self, x: u32, y: u32, c: [u8; 3]) {
+        let r = (self.width.min(self.height) / 40).max(3) as i64;
+        let (cx, cy) = (x as i64, y as i64);
+        for dy in -r - 1..=r + 1 {
+            for dx in -r - 1..=r + 1 {
+                let d2 = dx * dx + dy * dy;
+                let ring = d2 <= (r + 1) * (r + 1) && d2 >= (r - 1) * (r - 1);
+                let (x, y) = (cx + dx, cy + dy);
+                if (ring || d2 == 0) && x >= 0 && y >= 0 {
+                    self.set_clipped(x as u32, y as u32, c);
+                }
+            }
+        }
+    }
+
     /// `im` copied in with its top-left corner at `(x0, y0)` (what falls outside is left out).
     pub(crate) fn paste(&mut self, im: &Image, x0: u32, y0: u32) {
         for y in 0..im.height {
@@ -66,6 +83,17 @@ impl Image {
     /// Images side by side, `gap` pixels of white between them.
     pub fn sheet(images: &[Image], gap: u32) -> Image {
         Image::arranged(images, gap, true)
+    }
+
+    /// Images in rows of as many as make the grid about square (`ceil(sqrt(n))` to a row), left to
+    /// right then top to bottom, `gap` pixels of white between them.
+    pub fn tiled(images: &[Image], gap: u32) -> Image {
+        let across = (images.len() as f64).sqrt().ceil().max(1.0) as usize;
+        let rows: Vec<Image> = images
+            .chunks(across)
+            .map(|row| Image::sheet(row, gap))
+            .collect();
+        Image::arranged(&rows, gap, false)
     }
 
     /// Images side by side (`across`) or one above another, top-left aligned, `gap` pixels of white
@@ -226,26 +254,10 @@ impl Frame {
             *v = (*v as u32 * 2 / 5) as u8;
         }
         let scale = im.scale();
-        let r = (self.width.min(self.height) / 40).max(3) as i64;
         let (name, wrong) = &self.wrong[method];
         for (i, k) in wrong.iter().enumerate() {
             let Some(k) = k else { continue };
-            let (cx, cy) = (
-                (i as u32 % self.width) as i64,
-                (i as u32 / self.width) as i64,
-            );
-            for dy in -r - 1..=r + 1 {
-                for dx in -r - 1..=r + 1 {
-                    let d2 = dx * dx + dy * dy;
-                    let ring = d2 <= (r + 1) * (r + 1) && d2 >= (r - 1) * (r - 1);
-                    if ring || d2 == 0 {
-                        let (x, y) = (cx + dx, cy + dy);
-                        if x >= 0 && y >= 0 {
-                            im.set_clipped(x as u32, y as u32, k.colour());
-                        }
-                    }
-                }
-            }
+            im.ring(i as u32 % self.width, i as u32 / self.width, k.colour());
         }
         let n = wrong.iter().flatten().count();
         text::label(

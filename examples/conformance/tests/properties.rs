@@ -73,7 +73,7 @@ fn the_fuzz_targets_body_holds_on_decoded_inputs() {
     assert!(decoded > 100, "{decoded} of 300 inputs decoded");
 }
 
-/// A case the kit reported for `F32Plucker` (its `case:` line, pasted as printed), kept as a
+/// A case the kit reported for `F32Plucker` (`Failed::case`, the shrunk case its `found:` line holds), kept as a
 /// regression test: f32 Plücker still answers it wrongly, the exact test rightly.
 const REPORTED: &str = r#"{"tet":[[0.0,0.0,0.0],[-0.0009765625,0.0,0.0],[0.0,0.0,0.00048828125],[1.1298828,-0.93847656,1.5969238]],"org":[1.0693359,-0.8885498,1.5117798],"dir":[-0.33236694,0.2763672,-0.4699707],"entry":2}"#;
 

@@ -206,7 +206,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     Maps {
         exact,
         key: &key,
-        legend: render::key_line("leak maps: hits on the two triangles sharing the edge", &key),
+        legend: render::key_line("leak maps: hits on the two triangles sharing the edge, each leak ringed", &key),
         shows: format!(
             "the {} {} edge row's first case a listed method leaks through (else its first): along x, rays exactly through the edge at points of its middle half; along y, the direction moved ±{} ulp steps off it",
             a.shape.name(),
@@ -217,9 +217,16 @@ pub(crate) fn render(a: RenderArgs) -> Status {
     .draw(&a.out, json, &methods, heading, panel)
 }
 
-/// A leak map as an image ([`EdgeHit::colour`]).
+/// A leak map as an image ([`EdgeHit::colour`]), each leak ringed (rays through an edge lie on one
+/// row of pixels: a leak alone would vanish once the sheet is scaled down).
 fn leak_image(cells: &[EdgeHit], size: u32) -> Image {
-    render::grid_image(size, cells.iter().map(|c| c.colour()))
+    let mut im = render::grid_image(size, cells.iter().map(|c| c.colour()));
+    for (i, c) in cells.iter().enumerate() {
+        if *c == EdgeHit::Neither {
+            im.ring(i as u32 % size, i as u32 / size, c.colour());
+        }
+    }
+    im
 }
 
 /// `gen-cases`' ray–triangle flags.

@@ -331,7 +331,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
                 );
                 drawn.wrong.push((name.clone(), n));
             }
-            write(&a.out, &Image::sheet(&maps, 4), &mut drawn)?;
+            write(&a.out, &Image::tiled(&maps, 4), &mut drawn)?;
             let kinds: Vec<_> = f
                 .wrong
                 .iter()
@@ -340,7 +340,7 @@ pub(crate) fn render(a: RenderArgs) -> Status {
                 .collect();
             drawn.legend = render::failure_legend(&kinds);
             println!(
-                "sheet order: {}",
+                "sheet order (left to right, then row by row): {}",
                 d.methods
                     .iter()
                     .map(|m| m.name())
