@@ -407,3 +407,30 @@ pub(crate) const HEAT_LEGEND: &str = "heat maps: tetrahedra traversed by the exa
 
 /// What an octree heat map shows.
 pub(crate) const OCTREE_HEAT_LEGEND: &str = "octree heat maps: seed 001's octree cells visited per pixel, black (few) to yellow (most); the scale on the right is labelled with the fewest and the most\n";
+
+#[cfg(test)]
+mod tests {
+    use super::Image;
+
+    /// Ten failure maps of 512² make a sheet four to a row (2,060 px wide, three rows), not one row
+    /// 5,156 px wide; a ring marks a pixel at a fortieth of the side around it.
+    #[test]
+    fn a_sheet_is_tiled_about_square_and_a_ring_shows() {
+        let maps = vec![Image::new(512, 512); 10];
+        let sheet = Image::tiled(&maps, 4);
+        assert_eq!(
+            (sheet.width, sheet.height),
+            (4 * 512 + 3 * 4, 3 * 512 + 2 * 4)
+        );
+        let mut im = Image::new(512, 512);
+        im.ring(100, 200, [255, 0, 0]);
+        let at = |x: u32, y: u32| {
+            let i = ((y * 512 + x) * 3) as usize;
+            [im.rgb[i], im.rgb[i + 1], im.rgb[i + 2]]
+        };
+        assert_eq!(at(100, 200), [255, 0, 0]);
+        assert_eq!(at(100 + 12, 200), [255, 0, 0]);
+        assert_eq!(at(100, 200 - 12), [255, 0, 0]);
+        assert_ne!(at(100 + 6, 200), [255, 0, 0]);
+    }
+}
