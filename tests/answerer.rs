@@ -1014,7 +1014,10 @@ fn an_answer_stream_cannot_shift() {
     for (body, says) in &cases {
         let (code, err) = asked(&binary_program(body), "binary", "40", "10");
         assert_eq!(code, 2, "{body}: {err}");
-        assert!(err.contains(says), "{body}: {err}");
+        // Written at once, the extra record may still be read apart from the others on a busy
+        // machine: then it is the next batch's first record that does not fit.
+        let apart = "carries case number 10 where 11 was expected: the answer stream shifted";
+        assert!(err.contains(says) || err.contains(apart), "{body}: {err}");
     }
     // One batch: the extra record arrives after it, when nothing more is asked.
     let late = format!(

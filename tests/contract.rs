@@ -431,3 +431,156 @@ fn a_count_contract_without_an_answerer_or_leaving_no_ray_is_an_error() {
         "{err}"
     );
 }
+
+/// An entry origin strictly inside is within the contract only where f32 has no point on the entry
+/// face next to it: one step inside a face that holds f32 points is refused, the point on it held
+/// (the rule `holds` applies to every case a shrink tries).
+#[test]
+fn an_entry_origin_inside_next_to_a_point_on_the_face_is_outside_the_contract() {
+    let entry = Contract {
+        origin: Origin::Entry.into(),
+        ..Contract::default()
+    };
+    // Face 3 (opposite vertex 3) in the plane z = 0, the line entering it along +z.
+    let flat = [Vec3::X, Vec3::ZERO, Vec3::Y, Vec3::Z];
+    let at = |z: f32| Case {
+        tet: flat,
+        org: Vec3::new(0.25, 0.25, z),
+        dir: Vec3::Z,
+        entry: Some(3),
+    };
+    let holds = |c: &Case| ExitFace::holds(&entry, c, &classify(c).unwrap());
+    assert!(holds(&at(0.0)), "on the face");
+    let inside = at(0.0f32.next_up());
+    assert!(
+        broken(&entry, &inside).is_err(),
+        "the checker refuses it too"
+    );
+    assert!(
+        !holds(&inside),
+        "one step inside, next to a point on the face: {inside:?}"
+    );
+}
+
+/// Shards of a count asked under a contract add up to the unsharded count, the rays each left out
+/// by its contract too (a tolerance that leaves some steps no case).
+#[test]
+fn a_contract_counts_shards_add_up_with_their_rays_left_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let answerer = format!("{RECORDING}/dev/null");
+    let run = |shard: &str, json: &std::path::Path| {
+        let (code, _, err) = common::run_tetwalk(
+            &[
+                "count",
+                "--views",
+                "2",
+                "--size",
+                "16x16",
+                "--answerer",
+                &answerer,
+                "--origin",
+                "entry",
+                "--tolerance",
+                "0.0001",
+                "--shard",
+                shard,
+                "--json",
+                json.to_str().unwrap(),
+            ],
+            b"",
+        );
+        assert_eq!(code, 0, "{err}");
+    };
+    let (whole, a, b, merged) = (
+        dir.path().join("whole.json"),
+        dir.path().join("a.json"),
+        dir.path().join("b.json"),
+        dir.path().join("merged.json"),
+    );
+    run("0/1", &whole);
+    run("0/2", &a);
+    run("1/2", &b);
+    let (code, _, err) = common::run_tetwalk(
+        &[
+            "count",
+            "merge",
+            a.to_str().unwrap(),
+            b.to_str().unwrap(),
+            "--json",
+            merged.to_str().unwrap(),
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    let read = |p: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+    };
+    let left = |p: &std::path::Path| read(p)["methods"][1]["left_out"].as_u64().unwrap();
+    assert!(left(&whole) > 0, "the tolerance leaves some rays out");
+    assert_eq!(left(&a) + left(&b), left(&whole));
+    assert_eq!(left(&merged), left(&whole));
+    assert_eq!(
+        read(&merged)["methods"][1]["wrong_total"],
+        read(&whole)["methods"][1]["wrong_total"]
+    );
+}
+
+/// Under a contract each step is judged when asked: a program answering face 0 to every step is
+/// wrong on rays whose dump lines each hold the step's case as sent, a case inside the contract
+/// whose exact exit faces are not face 0.
+#[test]
+fn a_count_under_a_contract_judges_each_step_when_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let dump = dir.path().join("dump.jsonl");
+    let face_zero = r#"python3 -c '
+import json, sys
+for line in sys.stdin:
+    if line.strip():
+        print(json.dumps({"line": json.loads(line)["line"], "face": 0}))
+    else:
+        sys.stdout.flush()
+'"#;
+    let (code, out, err) = common::run_tetwalk(
+        &[
+            "count",
+            "--views",
+            "1",
+            "--size",
+            "8x8",
+            "--answerer",
+            face_zero,
+            "--origin",
+            "entry",
+            "--dump",
+            dump.to_str().unwrap(),
+        ],
+        b"",
+    );
+    assert_eq!(code, 0, "{err}");
+    let k = Contract {
+        origin: Origin::Entry.into(),
+        ..Contract::default()
+    };
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&dump)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert!(lines.len() > 10, "{out}");
+    for v in &lines {
+        let p = |v: &serde_json::Value| {
+            Vec3::from_array(serde_json::from_value::<[f32; 3]>(v.clone()).unwrap())
+        };
+        let c = &v["case"];
+        let case = Case {
+            tet: [0, 1, 2, 3].map(|i| p(&c["tet"][i])),
+            org: p(&c["org"]),
+            dir: p(&c["dir"]),
+            entry: c["entry"].as_u64().map(|e| e as u8),
+        };
+        broken(&k, &case).unwrap_or_else(|why| panic!("{case:?}: {why}"));
+        let x = classify(&case).unwrap();
+        assert!(!x.exit.contains(0), "face 0 is right for {case:?}");
+        assert_eq!(v["divergence"]["face"], 0, "{v}");
+    }
+}
