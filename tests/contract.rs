@@ -433,33 +433,33 @@ fn a_count_contract_without_an_answerer_or_leaving_no_ray_is_an_error() {
 }
 
 /// An entry origin strictly inside is within the contract only where f32 has no point on the entry
-/// face next to it: one step inside a face that holds f32 points is refused, the point on it held
-/// (the rule `holds` applies to every case a shrink tries).
+/// face next to it: one step inside a face that holds f32 points (and one step from outside it) is
+/// refused, the point on it held (the rule `holds` applies to every case a shrink tries).
 #[test]
 fn an_entry_origin_inside_next_to_a_point_on_the_face_is_outside_the_contract() {
     let entry = Contract {
         origin: Origin::Entry.into(),
         ..Contract::default()
     };
-    // Face 3 (opposite vertex 3) in the plane z = 0, the line entering it along +z.
+    // Face 1 (opposite vertex 1, the origin) in the plane x + y + z = 1, the line entering it along
+    // -(1, 1, 1).
     let flat = [Vec3::X, Vec3::ZERO, Vec3::Y, Vec3::Z];
     let at = |z: f32| Case {
         tet: flat,
         org: Vec3::new(0.25, 0.25, z),
-        dir: Vec3::Z,
-        entry: Some(3),
+        dir: -Vec3::ONE,
+        entry: Some(1),
     };
     let holds = |c: &Case| ExitFace::holds(&entry, c, &classify(c).unwrap());
-    assert!(holds(&at(0.0)), "on the face");
-    let inside = at(0.0f32.next_up());
+    assert!(holds(&at(0.5)), "on the face");
+    // One step below 0.5: strictly inside; (0.25, 0.25, 0.5) beside it lies on the face, and
+    // (0.25 stepped up, 0.25, 0.5) outside it.
+    let inside = at(0.5f32.next_down());
     assert!(
         broken(&entry, &inside).is_err(),
         "the checker refuses it too"
     );
-    assert!(
-        !holds(&inside),
-        "one step inside, next to a point on the face: {inside:?}"
-    );
+    assert!(!holds(&inside), "next to a point on the face: {inside:?}");
 }
 
 /// Shards of a count asked under a contract add up to the unsharded count, the rays each left out
