@@ -277,6 +277,19 @@ fn an_entry_origin_lies_on_the_entry_face_where_f32_can_place_it_there() {
     assert!(on < 100, "{on} of 200 on the face itself");
 }
 
+/// An exit-face case as a JSON line holds it (`tet`, `org`, `dir`, `entry`).
+fn case_of(v: &serde_json::Value) -> Case {
+    let p = |v: &serde_json::Value| {
+        Vec3::from_array(serde_json::from_value::<[f32; 3]>(v.clone()).unwrap())
+    };
+    Case {
+        tet: [0, 1, 2, 3].map(|i| p(&v["tet"][i])),
+        org: p(&v["org"]),
+        dir: p(&v["dir"]),
+        entry: v["entry"].as_u64().map(|e| e as u8),
+    }
+}
+
 /// An answerer in JSON Lines that writes every case it is sent to the file `$1` (one JSON line each)
 /// and answers each with the face a ray-plane test in f64 gives (Python, standard library only).
 const RECORDING: &str = r#"python3 -c '
@@ -381,15 +394,7 @@ fn a_count_asks_every_step_of_every_walk_within_its_contract() {
         let (mut steps, mut on_entry) = (0u64, 0u64);
         for line in std::fs::read_to_string(&sent).unwrap().lines() {
             let v: serde_json::Value = serde_json::from_str(line).unwrap();
-            let p = |v: &serde_json::Value| {
-                Vec3::from_array(serde_json::from_value::<[f32; 3]>(v.clone()).unwrap())
-            };
-            let c = Case {
-                tet: [0, 1, 2, 3].map(|i| p(&v["tet"][i])),
-                org: p(&v["org"]),
-                dir: p(&v["dir"]),
-                entry: v["entry"].as_u64().map(|e| e as u8),
-            };
+            let c = case_of(&v);
             let (held, _) =
                 broken(&k, &c).unwrap_or_else(|why| panic!("{} sent {c:?}: {why}", k.describe()));
             steps += 1;
@@ -568,16 +573,7 @@ for line in sys.stdin:
         .collect();
     assert!(lines.len() > 10, "{out}");
     for v in &lines {
-        let p = |v: &serde_json::Value| {
-            Vec3::from_array(serde_json::from_value::<[f32; 3]>(v.clone()).unwrap())
-        };
-        let c = &v["case"];
-        let case = Case {
-            tet: [0, 1, 2, 3].map(|i| p(&c["tet"][i])),
-            org: p(&c["org"]),
-            dir: p(&c["dir"]),
-            entry: c["entry"].as_u64().map(|e| e as u8),
-        };
+        let case = case_of(&v["case"]);
         broken(&k, &case).unwrap_or_else(|why| panic!("{case:?}: {why}"));
         let x = classify(&case).unwrap();
         assert!(!x.exit.contains(0), "face 0 is right for {case:?}");

@@ -763,11 +763,14 @@ pub(crate) fn walks_asking<E>(
                     face
                 }
             };
-            let (steps, stepped) = (g.steps, g.stepped.clone());
+            // How it is judged, copied only where the walk ends.
             let end = |outcome| {
                 Some(GivenWalk {
-                    walk: Walk { outcome, steps },
-                    stepped,
+                    walk: Walk {
+                        outcome,
+                        steps: g.steps,
+                    },
+                    stepped: g.stepped.clone(),
                 })
             };
             let link = face.map(|f| mesh.cells[tet as usize].links[f as usize]);
